@@ -1,0 +1,75 @@
+"""comcore: find the centre of mass of an unknown flat object by pushing it.
+
+The core is pure numpy/scipy: value types (:class:`Mask`, :class:`Action`,
+:class:`Motion`, :class:`Estimate`), contact geometry, Mason's Voting Theorem
+(:mod:`comcore.vt`), the paper's two estimators and the :class:`Predictor`
+protocol through which motion models plug in. Conventions (pixel frame, sign of
+theta, units) are defined once, in :mod:`comcore._conventions`.
+
+Examples
+--------
+>>> import numpy as np, comcore
+>>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4), resolution=0.0025)
+>>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+>>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
+>>> comcore.estimate_progressive(mask, actions, motions).com
+(10.5, 10.5)
+"""
+
+from . import vt
+from ._conventions import (
+    ANGLE_EPS,
+    DEFAULT_RESOLUTION,
+    LENGTH_EPS,
+    apply_motion,
+    ccw_cross,
+    rotation_matrix,
+    rotation_sign,
+)
+from ._errors import ComcoreError, PushFailedError
+from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
+from ._heatmap import estimate_heatmap, rotation_heatmap
+from ._mask import Mask
+from ._predictor import Predictor, check_predictor, predict_motions
+from ._progressive import equality_score, estimate_progressive
+from ._regions import largest_component
+from ._types import Action, Estimate, Motion
+from ._validation import check_actions, check_mask, check_motions, check_mu, check_points, check_priors
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ANGLE_EPS",
+    "DEFAULT_RESOLUTION",
+    "LENGTH_EPS",
+    "Action",
+    "ComcoreError",
+    "Contacts",
+    "Estimate",
+    "Mask",
+    "Motion",
+    "Predictor",
+    "PushFailedError",
+    "__version__",
+    "apply_motion",
+    "ccw_cross",
+    "check_actions",
+    "check_mask",
+    "check_motions",
+    "check_mu",
+    "check_points",
+    "check_predictor",
+    "check_priors",
+    "contacts",
+    "equality_score",
+    "estimate_heatmap",
+    "estimate_progressive",
+    "largest_component",
+    "predict_motions",
+    "rotation_heatmap",
+    "rotation_matrix",
+    "rotation_sign",
+    "signed_line_distance",
+    "split_by_line",
+    "vt",
+]

@@ -1,0 +1,158 @@
+"""Frames, signs and numeric tolerances: the one place that defines them.
+
+Everything in comcore (and in ``predictors`` and ``simulators``) that needs a
+frame convention calls a helper from this module instead of re-deriving it.
+
+Conventions
+-----------
+* **Pixel frame.** ``x`` is the column, ``y`` is the row, and ``y`` points
+  DOWN the screen. Pixel ``(row, col)`` has its centre at ``(x=col, y=row)``
+  and covers ``[col - 0.5, col + 0.5] x [row - 0.5, row + 0.5]``.
+* **Metres in the mask frame.** ``(x_m, y_m) = resolution * (x, y)``: the same
+  axes as the pixel frame (``y_m`` down), origin at the centre of pixel (0, 0).
+* **Rotation sign.** ``theta > 0`` is counter-clockwise *as seen on screen*
+  (row 0 at the top). Seen from above a table whose world ``y`` axis points up
+  the screen, this is the usual counter-clockwise. Because the pixel frame is
+  left-handed on screen, the rotation matrix that turns pixel coordinates by
+  ``theta`` counter-clockwise on screen is ``[[cos, sin], [-sin, cos]]``.
+* **Moments.** :func:`ccw_cross` is the 2-D cross product with the sign that
+  makes ``+1`` counter-clockwise on screen; the raw ``a_x b_y - a_y b_x`` in
+  pixel coordinates is positive for *clockwise* on screen.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "ANGLE_EPS",
+    "DEFAULT_RESOLUTION",
+    "LENGTH_EPS",
+    "apply_motion",
+    "ccw_cross",
+    "rotation_matrix",
+    "rotation_sign",
+]
+
+#: Default camera resolution in metres per pixel (2.5 mm, as in the simulator).
+DEFAULT_RESOLUTION = 0.0025
+#: Lengths (pixels) below this are treated as zero (e.g. zero-length actions).
+LENGTH_EPS = 1e-9
+#: Angles (radians) whose magnitude is at most this count as "no rotation".
+ANGLE_EPS = 1e-12
+
+
+def rotation_matrix(theta: float) -> np.ndarray:
+    """Return the 2 x 2 matrix turning pixel vectors by ``theta`` (CCW on screen).
+
+    Parameters
+    ----------
+    theta : float
+        Rotation in radians, positive counter-clockwise on screen.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 2)
+        ``R`` such that ``R @ v`` is the vector ``v`` (pixel frame, y down)
+        turned counter-clockwise on screen by ``theta``.
+
+    Examples
+    --------
+    The +x axis (pointing right) turned a quarter turn counter-clockwise on
+    screen points up the screen, i.e. towards -y in the pixel frame:
+
+    >>> import numpy as np
+    >>> np.round(rotation_matrix(np.pi / 2) @ [1.0, 0.0], 12) + 0.0
+    array([ 0., -1.])
+    """
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, s], [-s, c]])
+
+
+def apply_motion(points, theta, translation, center) -> np.ndarray:
+    """Move pixel points rigidly: rotate by ``theta`` about ``center``, then translate.
+
+    This is the single definition of how a :class:`comcore.Motion` acts on the
+    object: the object turns by ``theta`` (CCW on screen) about its area
+    centroid ``center`` and the centroid then moves by ``translation``.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (2,)
+        Pixel coordinates ``(x, y)``.
+    theta : float
+        Rotation in radians, positive counter-clockwise on screen.
+    translation : array_like, shape (2,)
+        Displacement ``(tx, ty)`` of ``center`` in pixels.
+    center : array_like, shape (2,)
+        Centre of rotation ``(x, y)`` in pixels (the mask's area centroid).
+
+    Returns
+    -------
+    numpy.ndarray
+        The moved points, same shape as ``points``.
+
+    Examples
+    --------
+    A point to the right of the centre, turned a quarter turn CCW on screen,
+    ends up above the centre (smaller row):
+
+    >>> apply_motion([[11.0, 5.0]], np.pi / 2, (0.0, 0.0), (10.0, 5.0)).round(12) + 0.0
+    array([[10.,  4.]])
+    """
+    pts = np.asarray(points, dtype=float)
+    c = np.asarray(center, dtype=float)
+    t = np.asarray(translation, dtype=float)
+    return (pts - c) @ rotation_matrix(theta).T + c + t
+
+
+def ccw_cross(a, b) -> np.ndarray:
+    """2-D cross product of pixel vectors, positive when ``a`` -> ``b`` turns CCW on screen.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 2)
+        Pixel-frame vectors; broadcast against each other.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        ``-(a_x b_y - a_y b_x)``. For a force ``b`` applied at offset ``a``
+        from a pivot, this is the moment about the pivot, positive when it
+        turns the object counter-clockwise on screen.
+
+    Examples
+    --------
+    Pushing right (+x) on a point above the pivot (smaller row) turns the
+    object clockwise on screen:
+
+    >>> float(ccw_cross([0.0, -1.0], [1.0, 0.0]))
+    -1.0
+    """
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    return -(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+
+
+def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
+    """Sense of rotation: +1 counter-clockwise, -1 clockwise, 0 within ``tol``.
+
+    Parameters
+    ----------
+    theta : array_like
+        Rotations in radians.
+    tol : float, optional
+        Magnitudes at most ``tol`` count as no rotation.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        Same shape as ``theta``.
+
+    Examples
+    --------
+    >>> rotation_sign([0.2, -0.1, 0.0])
+    array([ 1, -1,  0])
+    """
+    t = np.asarray(theta, dtype=float)
+    return np.where(np.abs(t) <= tol, 0, np.sign(t)).astype(int)

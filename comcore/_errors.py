@@ -1,0 +1,35 @@
+"""The exception hierarchy of comcore: one base, a few specific errors."""
+
+from __future__ import annotations
+
+__all__ = ["ComcoreError", "PushFailedError"]
+
+
+class ComcoreError(Exception):
+    """Base class of every error that comcore raises on its own account.
+
+    Input validation errors are plain :class:`ValueError` / :class:`TypeError`
+    (they name the argument and what was expected); this base is for failures
+    that are not about the shape of the input.
+    """
+
+
+class PushFailedError(ComcoreError, RuntimeError):
+    """A caller-supplied ``push`` callable failed or returned an invalid motion.
+
+    Attributes
+    ----------
+    index : int
+        Zero-based number of the push that failed.
+    action : comcore.Action
+        The action that was being executed.
+    partial : object
+        What the estimator had learned before the failure (an
+        :class:`comcore.Estimate`), or ``None``.
+    """
+
+    def __init__(self, message: str, *, index: int, action, partial=None):
+        super().__init__(message)
+        self.index = index
+        self.action = action
+        self.partial = partial

@@ -1,0 +1,179 @@
+"""The :class:`Mask` type: a boolean object image with a resolution."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy import ndimage
+
+from ._conventions import DEFAULT_RESOLUTION
+
+__all__ = ["Mask"]
+
+#: Gaussian sigma (pixels) of the smoothing used to estimate outline normals.
+NORMAL_SMOOTHING_PX = 2.0
+
+
+def _as_bool_image(data) -> np.ndarray:
+    if isinstance(data, Mask):
+        return data.data
+    try:
+        arr = np.asarray(data)
+    except Exception as e:  # pragma: no cover - exotic objects
+        raise TypeError(f"mask data must be array_like, got {type(data).__name__}") from e
+    if arr.ndim != 2:
+        raise ValueError(f"mask data must be a 2-D (H, W) array, got {arr.ndim}-D shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"mask data must not be empty, got shape {arr.shape}")
+    if arr.dtype == bool:
+        return arr.copy()
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(f"mask data must be boolean-like (bool or 0/1 numbers), got dtype {arr.dtype}")
+    if arr.dtype.kind == "f" and not np.isfinite(arr).all():
+        raise ValueError("mask data must not contain NaN or inf")
+    if not np.isin(arr, (0, 1)).all():
+        raise ValueError("mask data must be boolean-like: only 0 and 1 allowed for numeric arrays")
+    return arr.astype(bool)
+
+
+@dataclass(frozen=True, eq=False)
+class Mask:
+    """An object's footprint as seen by the camera.
+
+    Parameters
+    ----------
+    data : array_like of bool, shape (H, W)
+        ``True`` where the object is, indexed ``[row, col]``. Copied and made
+        read-only; numeric arrays may hold only 0 and 1.
+    resolution : float, optional
+        Metres per pixel (like a ROS ``OccupancyGrid``), default 2.5 mm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = Mask(np.pad(np.ones((4, 6), bool), 2), resolution=0.01)
+    >>> m.shape, m.area_px, round(m.area_m2, 6)
+    ((8, 10), 24, 0.0024)
+    >>> m.centroid
+    (4.5, 3.5)
+    >>> Mask(np.zeros((3, 3)))
+    Traceback (most recent call last):
+    ...
+    ValueError: mask must contain at least one object pixel, got an all-False image
+    """
+
+    data: np.ndarray
+    resolution: float = DEFAULT_RESOLUTION
+
+    def __post_init__(self):
+        data = _as_bool_image(self.data)
+        if not data.any():
+            raise ValueError("mask must contain at least one object pixel, got an all-False image")
+        data.setflags(write=False)
+        object.__setattr__(self, "data", data)
+        res = self.resolution
+        if isinstance(res, bool) or not isinstance(res, (int, float, np.integer, np.floating)):
+            raise TypeError(f"resolution must be a positive number (metres per pixel), got {type(res).__name__}")
+        res = float(res)
+        if not math.isfinite(res) or res <= 0:
+            raise ValueError(f"resolution must be a positive finite number (metres per pixel), got {res}")
+        object.__setattr__(self, "resolution", res)
+
+    # -- basic measures -------------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(H, W)`` of the image."""
+        return self.data.shape  # type: ignore[return-value]
+
+    @cached_property
+    def pixels(self) -> np.ndarray:
+        """Centres ``(x, y)`` of the object's pixels, shape (m, 2), row-major order."""
+        rows, cols = np.nonzero(self.data)
+        out = np.column_stack([cols, rows]).astype(float)
+        out.setflags(write=False)
+        return out
+
+    @property
+    def area_px(self) -> int:
+        """Area in pixels."""
+        return int(self.pixels.shape[0])
+
+    @property
+    def area_m2(self) -> float:
+        """Area in square metres."""
+        return self.area_px * self.resolution**2
+
+    @cached_property
+    def centroid(self) -> tuple[float, float]:
+        """Area centroid ``(x, y)`` in pixels."""
+        c = self.pixels.mean(axis=0)
+        return (float(c[0]), float(c[1]))
+
+    @property
+    def centroid_m(self) -> tuple[float, float]:
+        """Area centroid in metres in the mask frame."""
+        return self.to_metres(self.centroid)
+
+    @cached_property
+    def boundary(self) -> np.ndarray:
+        """Object pixels with a 4-neighbour outside the object (bool image, read-only)."""
+        inner = ndimage.binary_erosion(self.data, border_value=0)
+        out = self.data & ~inner
+        out.setflags(write=False)
+        return out
+
+    def to_metres(self, points_px):
+        """Pixel coordinates to metres in the mask frame (same axes, scaled).
+
+        Returns a tuple for a single point and an array otherwise.
+        """
+        p = np.asarray(points_px, dtype=float) * self.resolution
+        return (float(p[0]), float(p[1])) if p.shape == (2,) else p
+
+    def contains(self, points) -> np.ndarray:
+        """Whether points ``(x, y)`` fall on object pixels (nearest pixel), shape (n,)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        cols = np.floor(p[:, 0] + 0.5).astype(np.int64)
+        rows = np.floor(p[:, 1] + 0.5).astype(np.int64)
+        h, w = self.shape
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        out = np.zeros(len(p), dtype=bool)
+        out[inside] = self.data[rows[inside], cols[inside]]
+        return out
+
+    @cached_property
+    def _inward_field(self) -> tuple[np.ndarray, np.ndarray]:
+        """Gradient (d/dx, d/dy) of the smoothed indicator: points into the object."""
+        pad = int(4 * NORMAL_SMOOTHING_PX) + 2
+        smooth = ndimage.gaussian_filter(
+            np.pad(self.data.astype(float), pad), NORMAL_SMOOTHING_PX, mode="constant"
+        )
+        gy, gx = np.gradient(smooth)
+        return gx, gy
+
+    def inward_normals(self, points) -> np.ndarray:
+        """Unit inward normals of the outline near points ``(x, y)``, shape (n, 2).
+
+        Estimated from the gradient of the mask smoothed with a Gaussian of
+        ``NORMAL_SMOOTHING_PX`` pixels, interpolated at the (sub-pixel) points:
+        robust to the staircase of a pixel outline. Where the gradient vanishes
+        (deep inside or far outside the object) the normal is ``(0, 0)``.
+        """
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        gx, gy = self._inward_field
+        pad = int(4 * NORMAL_SMOOTHING_PX) + 2
+        coords = np.vstack([p[:, 1] + pad, p[:, 0] + pad])
+        nx = ndimage.map_coordinates(gx, coords, order=1, mode="constant")
+        ny = ndimage.map_coordinates(gy, coords, order=1, mode="constant")
+        v = np.column_stack([nx, ny])
+        norm = np.hypot(nx, ny)
+        good = norm > 1e-9
+        v[good] /= norm[good, None]
+        v[~good] = 0.0
+        return v
+
+    def __repr__(self) -> str:
+        return f"Mask(shape={self.shape}, area_px={self.area_px}, resolution={self.resolution})"

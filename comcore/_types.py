@@ -1,0 +1,194 @@
+"""Immutable value types: :class:`Action`, :class:`Motion` and :class:`Estimate`."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, NamedTuple
+
+import numpy as np
+
+__all__ = ["Action", "Estimate", "Motion"]
+
+
+def _finite_float(value, name: str, owner: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{owner}.{name} must be a real number, got {type(value).__name__}")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ValueError(f"{owner}.{name} must be finite, got {out}")
+    return out
+
+
+class _ActionFields(NamedTuple):
+    sx: float
+    """x (column) of the pusher's start, pixels."""
+    sy: float
+    """y (row, down) of the pusher's start, pixels."""
+    ex: float
+    """x (column) of the pusher's end, pixels."""
+    ey: float
+    """y (row, down) of the pusher's end, pixels."""
+
+
+class _MotionFields(NamedTuple):
+    theta: float
+    """Rotation in radians, positive counter-clockwise on screen."""
+    tx: float
+    """Displacement of the mask's area centroid along x (columns), pixels."""
+    ty: float
+    """Displacement of the mask's area centroid along y (rows, down), pixels."""
+
+
+class Action(_ActionFields):
+    """A push: the pusher's straight path in the image, in pixels.
+
+    Validated on construction: every field must be a finite real number and the
+    path must have non-zero length.
+
+    Examples
+    --------
+    >>> a = Action(0, 10, 20, 10)
+    >>> a.direction
+    (1.0, 0.0)
+    >>> a.length
+    20.0
+    >>> Action(1, 1, 1, 1)
+    Traceback (most recent call last):
+    ...
+    ValueError: Action must have non-zero length (start == end == (1.0, 1.0))
+    """
+
+    __slots__ = ()
+
+    def __new__(cls, sx, sy, ex, ey):
+        vals = [_finite_float(v, n, "Action") for v, n in zip((sx, sy, ex, ey), cls._fields)]
+        if math.hypot(vals[2] - vals[0], vals[3] - vals[1]) <= 1e-9:
+            raise ValueError(
+                f"Action must have non-zero length (start == end == ({vals[0]}, {vals[1]}))"
+            )
+        return super().__new__(cls, *vals)
+
+    @property
+    def start(self) -> tuple[float, float]:
+        """The start point ``(sx, sy)``."""
+        return (self.sx, self.sy)
+
+    @property
+    def end(self) -> tuple[float, float]:
+        """The end point ``(ex, ey)``."""
+        return (self.ex, self.ey)
+
+    @property
+    def length(self) -> float:
+        """Length of the path in pixels."""
+        return math.hypot(self.ex - self.sx, self.ey - self.sy)
+
+    @property
+    def direction(self) -> tuple[float, float]:
+        """Unit vector from start to end (pixel frame)."""
+        n = self.length
+        return ((self.ex - self.sx) / n, (self.ey - self.sy) / n)
+
+
+class Motion(_MotionFields):
+    """The object's answer to a push: a rotation and a translation.
+
+    Examples
+    --------
+    >>> Motion(0.1, 2.0, -1.0).sense
+    1
+    >>> Motion(float("nan"), 0, 0)
+    Traceback (most recent call last):
+    ...
+    ValueError: Motion.theta must be finite, got nan
+    """
+
+    __slots__ = ()
+
+    def __new__(cls, theta, tx=0.0, ty=0.0):
+        vals = [_finite_float(v, n, "Motion") for v, n in zip((theta, tx, ty), cls._fields)]
+        return super().__new__(cls, *vals)
+
+    @property
+    def sense(self) -> int:
+        """+1 counter-clockwise, -1 clockwise, 0 for no rotation."""
+        return (self.theta > 0) - (self.theta < 0)
+
+
+def _readonly(array: np.ndarray) -> np.ndarray:
+    out = np.array(array, copy=True)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """The result of every estimator.
+
+    An estimator that cannot do its job (no usable action, contradictory
+    observations, a zero budget) still returns an ``Estimate``: ``ok`` is then
+    ``False``, ``status`` says why, and ``com`` holds the documented fallback
+    (usually the mask's area centroid). It never returns NaN.
+
+    Attributes
+    ----------
+    com : tuple of float
+        Estimated CoM ``(x, y)`` in pixels.
+    com_m : tuple of float
+        The same in metres in the mask frame (``resolution * (x, y)``).
+    region : numpy.ndarray of bool, shape (H, W)
+        The CoM region the estimate is the mean of (read-only).
+    used : tuple of int
+        Indices of the actions the estimator used, in the order it used them.
+    status : str
+        ``"ok"`` or a short reason (``"no_actions"``, ``"contradiction"``,
+        ``"budget"``, ...).
+    covariance : numpy.ndarray, shape (2, 2), or None
+        Covariance of the CoM in pixels squared, where the estimator has one.
+    extras : Mapping[str, Any]
+        Estimator-specific outputs (Alg. 1's ``"heatmap"``, ...), read-only.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> e = Estimate(com=(1.0, 2.0), com_m=(0.01, 0.02), region=np.ones((3, 3), bool))
+    >>> e.ok, e.region.flags.writeable
+    (True, False)
+    """
+
+    com: tuple[float, float]
+    com_m: tuple[float, float]
+    region: np.ndarray
+    used: tuple[int, ...] = ()
+    status: str = "ok"
+    covariance: np.ndarray | None = None
+    extras: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self):
+        com = tuple(float(v) for v in self.com)
+        com_m = tuple(float(v) for v in self.com_m)
+        if len(com) != 2 or len(com_m) != 2 or not all(map(math.isfinite, com + com_m)):
+            raise ValueError(f"Estimate.com must be two finite numbers, got {self.com}")
+        object.__setattr__(self, "com", com)
+        object.__setattr__(self, "com_m", com_m)
+        object.__setattr__(self, "region", _readonly(np.asarray(self.region, dtype=bool)))
+        object.__setattr__(self, "used", tuple(int(i) for i in self.used))
+        if self.covariance is not None:
+            object.__setattr__(self, "covariance", _readonly(np.asarray(self.covariance, float)))
+        extras = {}
+        for key, value in dict(self.extras).items():
+            extras[key] = _readonly(value) if isinstance(value, np.ndarray) else value
+        object.__setattr__(self, "extras", MappingProxyType(extras))
+
+    @property
+    def ok(self) -> bool:
+        """``True`` when the estimator worked as intended (``status == "ok"``)."""
+        return self.status == "ok"
+
+    def error_px(self, true_com) -> float:
+        """Euclidean distance in pixels from ``com`` to ``true_com`` ``(x, y)``."""
+        t = np.asarray(true_com, dtype=float)
+        return float(np.hypot(self.com[0] - t[0], self.com[1] - t[1]))

@@ -1,0 +1,212 @@
+"""One validator per input kind. Each returns the cleaned value or raises.
+
+Every public function calls these first, so that bad input fails at the
+entrance with a message that names the argument, the expected form and what
+arrived.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ._conventions import LENGTH_EPS
+from ._mask import Mask
+from ._types import Action, Motion
+
+__all__ = [
+    "check_actions",
+    "check_mask",
+    "check_motions",
+    "check_mu",
+    "check_points",
+    "check_priors",
+    "check_probability",
+]
+
+
+def check_mask(mask, name: str = "mask") -> Mask:
+    """Return ``mask`` if it is a :class:`comcore.Mask`, else raise TypeError."""
+    if not isinstance(mask, Mask):
+        hint = " (wrap an image with comcore.Mask(image, resolution))" if isinstance(mask, np.ndarray) else ""
+        raise TypeError(f"{name} must be a comcore.Mask, got {type(mask).__name__}{hint}")
+    return mask
+
+
+def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
+    if isinstance(value, row_type):
+        arr = np.asarray([tuple(value)], dtype=float)
+    else:
+        if isinstance(value, (str, bytes)) or value is None:
+            raise TypeError(f"{name} must be array_like of shape (n, {width}), got {type(value).__name__}")
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise TypeError(
+                f"{name} must be array_like of real numbers with shape (n, {width}); {e}"
+            ) from e
+        if arr.ndim == 1 and arr.shape[0] == width:
+            arr = arr[None, :]
+        if arr.ndim == 1 and arr.shape[0] == 0:
+            arr = arr.reshape(0, width)
+    if arr.ndim != 2 or arr.shape[1] != width:
+        raise ValueError(f"{name} must have shape (n, {width}), got {arr.shape}")
+    if not np.isfinite(arr).all():
+        bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+        raise ValueError(f"{name} must be finite, got NaN or inf in row(s) {bad[:5].tolist()}")
+    arr = arr.copy()
+    arr.setflags(write=False)
+    return arr
+
+
+def check_actions(actions, name: str = "actions", allow_empty: bool = True) -> np.ndarray:
+    """Validate actions into a read-only float array of shape (n, 4).
+
+    Accepts an :class:`Action`, a sequence of them, or array_like of shape
+    (4,) or (n, 4) holding ``(sx, sy, ex, ey)`` rows in pixels.
+
+    Examples
+    --------
+    >>> check_actions([(0, 0, 1, 0), (0, 0, 0, 2)]).shape
+    (2, 4)
+    >>> check_actions([[0, 0, 1]])
+    Traceback (most recent call last):
+    ...
+    ValueError: actions must have shape (n, 4), got (1, 3)
+    """
+    arr = _as_float_rows(actions, 4, name, Action)
+    if not allow_empty and arr.shape[0] == 0:
+        raise ValueError(f"{name} must hold at least one action, got none")
+    length = np.hypot(arr[:, 2] - arr[:, 0], arr[:, 3] - arr[:, 1])
+    if (length <= LENGTH_EPS).any():
+        bad = np.flatnonzero(length <= LENGTH_EPS)
+        raise ValueError(f"{name} must have non-zero length, got zero-length action(s) at index {bad[:5].tolist()}")
+    return arr
+
+
+def check_motions(motions, n: int | None = None, name: str = "motions") -> np.ndarray:
+    """Validate motions into a read-only float array of shape (n, 3).
+
+    Accepts a :class:`Motion`, a sequence of them, or array_like of shape (3,)
+    or (n, 3) holding ``(theta, tx, ty)`` rows. When ``n`` is given the number
+    of rows must equal it.
+
+    Examples
+    --------
+    >>> check_motions([(0.1, 0, 0)], n=2)
+    Traceback (most recent call last):
+    ...
+    ValueError: motions must have one row per action: expected 2, got 1
+    """
+    arr = _as_float_rows(motions, 3, name, Motion)
+    if n is not None and arr.shape[0] != n:
+        raise ValueError(f"{name} must have one row per action: expected {n}, got {arr.shape[0]}")
+    return arr
+
+
+def check_points(points, name: str = "points") -> np.ndarray:
+    """Validate pixel points into a read-only float array of shape (n, 2)."""
+    return _as_float_rows(points, 2, name, tuple())  # type: ignore[arg-type]
+
+
+def check_priors(priors, name: str = "priors") -> tuple[np.ndarray, np.ndarray]:
+    """Validate prior pushes: a sequence of ``(Action, Motion)`` pairs.
+
+    Returns
+    -------
+    actions : numpy.ndarray, shape (k, 4)
+    motions : numpy.ndarray, shape (k, 3)
+
+    Examples
+    --------
+    >>> a, m = check_priors([(Action(0, 5, 9, 5), Motion(0.1, 1, 0))])
+    >>> a.shape, m.shape
+    ((1, 4), (1, 3))
+    >>> check_priors([(1, 2)])
+    Traceback (most recent call last):
+    ...
+    ValueError: priors[0] must be an (Action, Motion) pair of 4 and 3 numbers
+    """
+    if priors is None:
+        priors = ()
+    if not isinstance(priors, Sequence) or isinstance(priors, (str, bytes)):
+        raise TypeError(f"{name} must be a sequence of (Action, Motion) pairs, got {type(priors).__name__}")
+    acts, mots = [], []
+    for i, pair in enumerate(priors):
+        try:
+            a, m = pair
+            a = np.asarray(tuple(a) if isinstance(a, tuple) else a, dtype=float).reshape(-1)
+            m = np.asarray(tuple(m) if isinstance(m, tuple) else m, dtype=float).reshape(-1)
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{name}[{i}] must be an (Action, Motion) pair of 4 and 3 numbers") from e
+        if a.shape != (4,) or m.shape != (3,):
+            raise ValueError(f"{name}[{i}] must be an (Action, Motion) pair of 4 and 3 numbers")
+        acts.append(a)
+        mots.append(m)
+    actions = check_actions(np.array(acts).reshape(-1, 4), name=f"{name} actions")
+    motions = check_motions(np.array(mots).reshape(-1, 3), n=len(actions), name=f"{name} motions")
+    return actions, motions
+
+
+def check_mu(mu, name: str = "mu") -> tuple[float, float]:
+    """Validate a friction coefficient spec into a closed range ``(lo, hi)``.
+
+    ``None`` means unknown (any ``mu >= 0``: ``(0, inf)``); a number means
+    exactly that value; a pair means a range.
+
+    Examples
+    --------
+    >>> check_mu(None), check_mu(0.3), check_mu((0.1, 0.5))
+    ((0.0, inf), (0.3, 0.3), (0.1, 0.5))
+    >>> check_mu(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: mu must be >= 0, got -1.0
+    """
+    if mu is None:
+        return (0.0, math.inf)
+    if isinstance(mu, bool):
+        raise TypeError(f"{name} must be None, a number or a (lo, hi) pair, got bool")
+    if isinstance(mu, (int, float, np.integer, np.floating)):
+        lo = hi = float(mu)
+    else:
+        try:
+            lo, hi = (float(v) for v in mu)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"{name} must be None, a number or a (lo, hi) pair, got {mu!r}") from e
+    if math.isnan(lo) or math.isnan(hi):
+        raise ValueError(f"{name} must not be NaN")
+    if lo < 0 or hi < 0:
+        raise ValueError(f"{name} must be >= 0, got {min(lo, hi)}")
+    if lo > hi:
+        raise ValueError(f"{name} range must have lo <= hi, got ({lo}, {hi})")
+    if math.isinf(lo):
+        raise ValueError(f"{name} lower bound must be finite, got {lo}")
+    return (lo, hi)
+
+
+def check_probability(value, name: str, *, open_low: bool = False, open_high: bool = False) -> float:
+    """Validate a number in [0, 1] (ends optionally open)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number in [0, 1], got {type(value).__name__}")
+    v = float(value)
+    low_ok = v > 0 if open_low else v >= 0
+    high_ok = v < 1 if open_high else v <= 1
+    if not (math.isfinite(v) and low_ok and high_ok):
+        lo = "(" if open_low else "["
+        hi = ")" if open_high else "]"
+        raise ValueError(f"{name} must be in {lo}0, 1{hi}, got {v}")
+    return v
+
+
+def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
+    """Validate a finite positive (or non-negative) number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    v = float(value)
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        want = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be a finite number {want}, got {v}")
+    return v

@@ -1,0 +1,236 @@
+"""Mason's Voting Theorem: the sense of rotation and the CoM region it implies.
+
+Three rays leave the contact point: the two edges of the friction cone,
+``R_L`` and ``R_R`` (the inward normal turned by +/- ``atan(mu)``), and the
+push direction ``R_P``. Each votes the sense of the moment its line has about
+the CoM; the majority wins (Mason 1986). When the CoM lies outside the
+friction cone both edges agree and decide; inside it they disagree and the
+push direction decides.
+
+Choices (the paper is silent on them):
+
+* A vote is 0 when the CoM lies within ``band`` pixels of the ray's line, and
+  the sense is the sign of the sum of the three votes: a tie (0) means pure
+  translation. With ``band = 0`` this is exactly Mason's majority.
+* The region for an observed sense keeps every pixel for which that sense, or
+  a tie, is possible for SOME ``mu`` in the given range. Pixels on a deciding
+  line (within ``band``) are therefore kept on both sides; the true CoM is
+  never excluded by discretisation.
+* ``mu = None`` means unknown: any ``mu >= 0``, i.e. cone half-angles in
+  ``[0, pi/2]`` (the closed end is the limit ``mu -> inf``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._conventions import ANGLE_EPS, ccw_cross, rotation_sign
+from ._geometry import contacts
+from ._mask import Mask
+from ._validation import check_actions, check_mask, check_mu, check_points, check_positive
+
+__all__ = ["consistent", "region", "rotation_sense"]
+
+
+def _unit(v, name: str) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    if v.shape[-1] != 2:
+        raise ValueError(f"{name} must have shape (..., 2), got {v.shape}")
+    if not np.isfinite(v).all():
+        raise ValueError(f"{name} must be finite")
+    norm = np.hypot(v[..., 0], v[..., 1])
+    if (norm <= 1e-12).any():
+        raise ValueError(f"{name} must be a non-zero vector")
+    return v / norm[..., None]
+
+
+def _votes(r, normal, push_dir, alpha, band):
+    """Sense from the three votes. r = contact - com, shape (..., 2); alpha broadcastable."""
+    phi_norm = np.arctan2(ccw_cross(r, normal), np.einsum("...i,...i->...", r, normal))
+    dist = np.hypot(r[..., 0], r[..., 1])
+    alpha = np.asarray(alpha, dtype=float)
+    if alpha.ndim > phi_norm.ndim:
+        phi_norm, dist = phi_norm[..., None], dist[..., None]
+    m_left = dist * np.sin(phi_norm + alpha)
+    m_right = dist * np.sin(phi_norm - alpha)
+    m_push = ccw_cross(r, push_dir)
+    if m_push.ndim < m_left.ndim:
+        m_push = m_push[..., None]
+
+    def vote(m):
+        return np.where(np.abs(m) <= band, 0, np.sign(m))
+
+    return np.sign(vote(m_left) + vote(m_right) + vote(m_push)).astype(int)
+
+
+def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.ndarray:
+    """Sense of rotation predicted by the Voting Theorem for CoM candidates.
+
+    Parameters
+    ----------
+    com : array_like, shape (m, 2) or (2,)
+        CoM candidates ``(x, y)`` in pixels.
+    contact : array_like, shape (2,)
+        Contact point in pixels.
+    normal : array_like, shape (2,)
+        Inward normal of the object at the contact (normalised here).
+    push_dir : array_like, shape (2,)
+        Direction of the pusher's motion (normalised here).
+    mu : float
+        Coefficient of friction at the contact (>= 0; ``inf`` allowed).
+    band : float, optional
+        A ray whose line passes within ``band`` pixels of the CoM abstains.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (m,) or ()
+        +1 counter-clockwise, -1 clockwise, 0 pure translation.
+
+    Examples
+    --------
+    Pushing right (+x) along the normal of a left edge at row 5: a CoM above
+    the push line (row 3) turns the object counter-clockwise on screen.
+
+    >>> rotation_sense([[5, 3], [5, 7], [5, 5]], (0, 5), (1, 0), (1, 0), mu=0.3).tolist()
+    [1, -1, 0]
+    """
+    com_arr = np.asarray(com, dtype=float)
+    single = com_arr.shape == (2,)
+    pts = check_points(com_arr, "com")
+    c = check_points(contact, "contact")
+    if c.shape[0] != 1:
+        raise ValueError(f"contact must be a single point (2,), got shape {np.shape(contact)}")
+    n = _unit(normal, "normal")
+    v = _unit(push_dir, "push_dir")
+    lo, hi = check_mu(mu)
+    if lo != hi:
+        raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
+    band = check_positive(band, "band", allow_zero=True)
+    out = _votes(c[0] - pts, n, v, np.arctan(lo), band)
+    return out[0] if single else out
+
+
+def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 0.5) -> np.ndarray:
+    """Which CoM candidates can produce ``sense`` (or a tie) for some ``mu`` in range.
+
+    The vote changes with the cone half-angle ``alpha = atan(mu)`` only where a
+    cone edge's line crosses the candidate, so evaluating at the range's ends,
+    at those crossings and between them covers every ``mu`` exactly.
+
+    Parameters
+    ----------
+    points : array_like, shape (m, 2)
+        CoM candidates in pixels.
+    contact, normal, push_dir : array_like, shape (2,)
+    sense : int
+        Observed sense: +1, -1 or 0.
+    mu : None, float or (lo, hi), optional
+        Contact friction: unknown (default), known, or a range.
+    band : float, optional
+        Pixels within ``band`` of a deciding line are kept (default 0.5 px).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (m,)
+    """
+    pts = check_points(points, "points")
+    c = check_points(contact, "contact")[0]
+    n = _unit(normal, "normal")
+    v = _unit(push_dir, "push_dir")
+    if sense not in (-1, 0, 1):
+        raise ValueError(f"sense must be -1, 0 or +1, got {sense!r}")
+    lo, hi = check_mu(mu)
+    band = check_positive(band, "band", allow_zero=True)
+    a_lo, a_hi = float(np.arctan(lo)), float(np.arctan(hi))
+    r = c - pts
+    phi = np.arctan2(ccw_cross(r, n), r @ n)
+    # Where the left edge (phi + a = k pi) and right edge (phi - a = k pi) cross a candidate.
+    crossings = np.column_stack([np.mod(-phi, np.pi), np.mod(phi, np.pi)])
+    crossings = np.where((crossings >= a_lo) & (crossings <= a_hi), crossings, a_lo)
+    knots = np.sort(np.column_stack([np.full(len(pts), a_lo), crossings, np.full(len(pts), a_hi)]), axis=1)
+    alphas = np.concatenate([knots, 0.5 * (knots[:, 1:] + knots[:, :-1])], axis=1)  # (m, 7)
+    strict = _votes(r, n, v, alphas, 0.0)
+    tolerant = _votes(r, n, v, alphas, band)
+    ok = (strict == sense).any(axis=1) | (tolerant == sense).any(axis=1) | (tolerant == 0).any(axis=1)
+    return ok
+
+
+def _thetas(theta, single: bool) -> np.ndarray:
+    """Rotations from floats, Motions or (n, 3) motion arrays, as a flat array."""
+    try:
+        th = np.asarray(theta, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"theta must be a number, a Motion or an array of them; {e}") from e
+    if th.ndim == 2 and th.shape[1] == 3:
+        th = th[:, 0]
+    elif single and th.shape == (3,):
+        th = th[:1]
+    return th.reshape(-1)
+
+
+def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: float = ANGLE_EPS):
+    """The CoM positions on the mask consistent with an observed rotation.
+
+    Parameters
+    ----------
+    mask : Mask
+    action : Action or array_like, shape (4,) or (n, 4)
+        The push(es). Each must start outside the object and hit it.
+    theta : float, Motion, or array_like, shape (n,) or (n, 3)
+        Observed rotation(s) in radians (only the sign is used); a Motion or a
+        motions array is accepted.
+    mu : None, float or (lo, hi), optional
+        Contact friction: unknown (default, any ``mu >= 0``), known, or a
+        range. With a range or None the region is the union over ``mu``, so it
+        always contains the true CoM when the true ``mu`` is in range.
+    band : float, optional
+        Pixels within ``band`` of a deciding line are kept on both sides
+        (the paper's ``d_t``, default 0.5 px).
+    theta_tol : float, optional
+        ``|theta| <= theta_tol`` counts as no rotation (sense 0).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (H, W) for one action, (n, H, W) for a batch
+
+    Raises
+    ------
+    ValueError
+        If an action misses the object or starts inside it, or the numbers of
+        actions and rotations differ.
+
+    Examples
+    --------
+    A push along the normal: the region is the half of the object on the side
+    the rotation says, plus the pixels on the push line.
+
+    >>> import numpy as np
+    >>> from comcore import Mask, Action
+    >>> m = Mask(np.pad(np.ones((5, 5), bool), 1))
+    >>> r = region(m, Action(-2, 3, 2, 3), theta=0.1)
+    >>> r[1:6, 1:6].astype(int)
+    array([[1, 1, 1, 1, 1],
+           [1, 1, 1, 1, 1],
+           [1, 1, 1, 1, 1],
+           [0, 0, 0, 0, 0],
+           [0, 0, 0, 0, 0]])
+    """
+    mask = check_mask(mask)
+    acts = check_actions(action, "action", allow_empty=False)
+    single = np.ndim(action) == 1
+    th = _thetas(theta, single)
+    if th.shape[0] != acts.shape[0]:
+        raise ValueError(f"theta must have one value per action: expected {acts.shape[0]}, got {th.shape[0]}")
+    if not np.isfinite(th).all():
+        raise ValueError("theta must be finite")
+    check_mu(mu)
+    senses = rotation_sign(th, theta_tol)
+    con = contacts(mask, acts)
+    con.require_hits("action")
+    out = np.zeros((acts.shape[0],) + mask.shape, dtype=bool)
+    rows, cols = mask.pixels[:, 1].astype(int), mask.pixels[:, 0].astype(int)
+    direction = acts[:, 2:] - acts[:, :2]
+    for i in range(acts.shape[0]):
+        ok = consistent(mask.pixels, con.point[i], con.normal[i], direction[i], int(senses[i]), mu, band)
+        out[i, rows[ok], cols[ok]] = True
+    return out[0] if single else out
