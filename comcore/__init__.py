@@ -23,6 +23,7 @@ from ._conventions import (
     LENGTH_EPS,
     apply_motion,
     ccw_cross,
+    rotate_vectors,
     rotation_matrix,
     rotation_sign,
 )
@@ -30,11 +31,19 @@ from ._errors import ComcoreError, PushFailedError
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._mask import Mask
-from ._predictor import Predictor, check_predictor, predict_motions
+from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
 from ._regions import largest_component
+from ._sampling import sample_pushes
 from ._types import Action, Estimate, Motion
-from ._validation import check_actions, check_mask, check_motions, check_mu, check_points, check_priors
+from ._validation import (
+    check_actions,
+    check_mask,
+    check_motions,
+    check_mu,
+    check_points,
+    check_priors,
+)
 
 __version__ = "0.1.0"
 
@@ -46,6 +55,7 @@ __all__ = [
     "ComcoreError",
     "Contacts",
     "Estimate",
+    "HypothesisPredictor",
     "Mask",
     "Motion",
     "Predictor",
@@ -66,9 +76,11 @@ __all__ = [
     "estimate_progressive",
     "largest_component",
     "predict_motions",
+    "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",
     "rotation_sign",
+    "sample_pushes",
     "signed_line_distance",
     "split_by_line",
     "vt",

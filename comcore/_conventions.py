@@ -30,6 +30,7 @@ __all__ = [
     "LENGTH_EPS",
     "apply_motion",
     "ccw_cross",
+    "rotate_vectors",
     "rotation_matrix",
     "rotation_sign",
 ]
@@ -67,6 +68,30 @@ def rotation_matrix(theta: float) -> np.ndarray:
     """
     c, s = np.cos(theta), np.sin(theta)
     return np.array([[c, s], [-s, c]])
+
+
+def rotate_vectors(vectors, theta) -> np.ndarray:
+    """Turn pixel vectors counter-clockwise on screen, each by its own angle.
+
+    Parameters
+    ----------
+    vectors : array_like, shape (n, 2)
+    theta : float or array_like, shape (n,)
+        Angles in radians (CCW on screen), broadcast against the vectors.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
+
+    Examples
+    --------
+    >>> rotate_vectors([[1.0, 0.0], [1.0, 0.0]], [np.pi / 2, -np.pi / 2]).round(12) + 0.0
+    array([[ 0., -1.],
+           [ 0.,  1.]])
+    """
+    v = np.asarray(vectors, dtype=float)
+    c, s = np.cos(theta), np.sin(theta)
+    return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
 def apply_motion(points, theta, translation, center) -> np.ndarray:

@@ -60,7 +60,9 @@ class Contacts:
         """Raise ValueError naming the pushes that miss the object or start inside it."""
         if self.starts_inside.any():
             bad = np.flatnonzero(self.starts_inside)[:5].tolist()
-            raise ValueError(f"{name} must start outside the object; action(s) {bad} start inside it")
+            raise ValueError(
+                f"{name} must start outside the object; action(s) {bad} start inside it"
+            )
         if not self.hit.all():
             bad = np.flatnonzero(~self.hit)[:5].tolist()
             raise ValueError(f"{name} must hit the object; action(s) {bad} miss it")

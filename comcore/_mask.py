@@ -25,13 +25,17 @@ def _as_bool_image(data) -> np.ndarray:
     except Exception as e:  # pragma: no cover - exotic objects
         raise TypeError(f"mask data must be array_like, got {type(data).__name__}") from e
     if arr.ndim != 2:
-        raise ValueError(f"mask data must be a 2-D (H, W) array, got {arr.ndim}-D shape {arr.shape}")
+        raise ValueError(
+            f"mask data must be a 2-D (H, W) array, got {arr.ndim}-D shape {arr.shape}"
+        )
     if arr.size == 0:
         raise ValueError(f"mask data must not be empty, got shape {arr.shape}")
     if arr.dtype == bool:
         return arr.copy()
     if arr.dtype.kind not in "iuf":
-        raise TypeError(f"mask data must be boolean-like (bool or 0/1 numbers), got dtype {arr.dtype}")
+        raise TypeError(
+            f"mask data must be boolean-like (bool or 0/1 numbers), got dtype {arr.dtype}"
+        )
     if arr.dtype.kind == "f" and not np.isfinite(arr).all():
         raise ValueError("mask data must not contain NaN or inf")
     if not np.isin(arr, (0, 1)).all():
@@ -76,10 +80,14 @@ class Mask:
         object.__setattr__(self, "data", data)
         res = self.resolution
         if isinstance(res, bool) or not isinstance(res, (int, float, np.integer, np.floating)):
-            raise TypeError(f"resolution must be a positive number (metres per pixel), got {type(res).__name__}")
+            raise TypeError(
+                f"resolution must be a positive number (metres per pixel), got {type(res).__name__}"
+            )
         res = float(res)
         if not math.isfinite(res) or res <= 0:
-            raise ValueError(f"resolution must be a positive finite number (metres per pixel), got {res}")
+            raise ValueError(
+                f"resolution must be a positive finite number (metres per pixel), got {res}"
+            )
         object.__setattr__(self, "resolution", res)
 
     # -- basic measures -------------------------------------------------------------

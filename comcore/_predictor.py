@@ -9,7 +9,7 @@ import numpy as np
 from ._mask import Mask
 from ._validation import check_actions, check_motions
 
-__all__ = ["Predictor", "check_predictor", "predict_motions"]
+__all__ = ["HypothesisPredictor", "Predictor", "check_predictor", "predict_motions"]
 
 
 @runtime_checkable
@@ -47,6 +47,34 @@ class Predictor(Protocol):
         ...
 
 
+@runtime_checkable
+class HypothesisPredictor(Protocol):
+    """A motion model that predicts for given CoM hypotheses and contact friction.
+
+    Optional extension of :class:`Predictor` used by estimators that keep a
+    belief over the CoM (``comcore.estimate_active``): one method,
+    ``predict_hypotheses(mask, actions, coms, mu)`` returning an array of shape
+    ``(n_coms, n_actions, 3)``: the motion ``(theta, tx, ty)`` of each action if
+    the CoM were at each of ``coms`` (pixels, shape (n_coms, 2)) and the
+    contact friction were ``mu`` (a float).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import comcore
+    >>> class Lever:
+    ...     def predict_hypotheses(self, mask, actions, coms, mu):
+    ...         lever = comcore.signed_line_distance(coms, actions)  # (n_coms, n_actions)
+    ...         return np.stack([0.01 * lever, 0 * lever, 0 * lever], axis=-1)
+    >>> isinstance(Lever(), comcore.HypothesisPredictor)
+    True
+    """
+
+    def predict_hypotheses(self, mask: Mask, actions, coms, mu: float):  # pragma: no cover
+        """Return motions of shape (n_coms, n_actions, 3)."""
+        ...
+
+
 def check_predictor(predictor, name: str = "predictor") -> Predictor:
     """Raise TypeError unless ``predictor`` implements :class:`Predictor`."""
     if not isinstance(predictor, Predictor) or not callable(getattr(predictor, "predict", None)):
@@ -63,6 +91,8 @@ def predict_motions(predictor, mask: Mask, actions, priors=()) -> np.ndarray:
     acts = check_actions(actions)
     out = predictor.predict(mask, acts, priors)
     try:
-        return check_motions(out, n=acts.shape[0], name=f"{type(predictor).__name__}.predict output")
+        return check_motions(
+            out, n=acts.shape[0], name=f"{type(predictor).__name__}.predict output"
+        )
     except (TypeError, ValueError) as e:
         raise ValueError(f"predictor returned invalid motions: {e}") from e

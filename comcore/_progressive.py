@@ -139,7 +139,12 @@ def estimate_progressive(
     theta = mots[:, 0]
     keep = np.abs(theta) >= min_rotation
     if not keep.any():
-        return estimate_from_region(mask, mask.data, status="no_actions", extras={"region_sizes": [mask.area_px], "contradicted": []})
+        return estimate_from_region(
+            mask,
+            mask.data,
+            status="no_actions",
+            extras={"region_sizes": [mask.area_px], "contradicted": []},
+        )
 
     pixels = mask.pixels
     dist = signed_line_distance(pixels, acts).astype(np.float32)
@@ -165,7 +170,15 @@ def estimate_progressive(
             chosen = next(i for i in rotation_order if keep[i])
         keep[chosen] = False
         idx = np.flatnonzero(current)
-        allowed = consistent(pixels[idx], con.point[chosen], con.normal[chosen], direction[chosen], int(sense[chosen]), mu, band)
+        allowed = consistent(
+            pixels[idx],
+            con.point[chosen],
+            con.normal[chosen],
+            direction[chosen],
+            int(sense[chosen]),
+            mu,
+            band,
+        )
         if not allowed.any():
             contradicted.append(chosen)
             continue

@@ -30,7 +30,11 @@ __all__ = [
 def check_mask(mask, name: str = "mask") -> Mask:
     """Return ``mask`` if it is a :class:`comcore.Mask`, else raise TypeError."""
     if not isinstance(mask, Mask):
-        hint = " (wrap an image with comcore.Mask(image, resolution))" if isinstance(mask, np.ndarray) else ""
+        hint = (
+            " (wrap an image with comcore.Mask(image, resolution))"
+            if isinstance(mask, np.ndarray)
+            else ""
+        )
         raise TypeError(f"{name} must be a comcore.Mask, got {type(mask).__name__}{hint}")
     return mask
 
@@ -40,7 +44,9 @@ def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
         arr = np.asarray([tuple(value)], dtype=float)
     else:
         if isinstance(value, (str, bytes)) or value is None:
-            raise TypeError(f"{name} must be array_like of shape (n, {width}), got {type(value).__name__}")
+            raise TypeError(
+                f"{name} must be array_like of shape (n, {width}), got {type(value).__name__}"
+            )
         try:
             arr = np.asarray(value, dtype=float)
         except (TypeError, ValueError) as e:
@@ -82,7 +88,9 @@ def check_actions(actions, name: str = "actions", allow_empty: bool = True) -> n
     length = np.hypot(arr[:, 2] - arr[:, 0], arr[:, 3] - arr[:, 1])
     if (length <= LENGTH_EPS).any():
         bad = np.flatnonzero(length <= LENGTH_EPS)
-        raise ValueError(f"{name} must have non-zero length, got zero-length action(s) at index {bad[:5].tolist()}")
+        raise ValueError(
+            f"{name} must have non-zero length; zero-length action(s) at index {bad[:5].tolist()}"
+        )
     return arr
 
 
@@ -132,7 +140,9 @@ def check_priors(priors, name: str = "priors") -> tuple[np.ndarray, np.ndarray]:
     if priors is None:
         priors = ()
     if not isinstance(priors, Sequence) or isinstance(priors, (str, bytes)):
-        raise TypeError(f"{name} must be a sequence of (Action, Motion) pairs, got {type(priors).__name__}")
+        raise TypeError(
+            f"{name} must be a sequence of (Action, Motion) pairs, got {type(priors).__name__}"
+        )
     acts, mots = [], []
     for i, pair in enumerate(priors):
         try:
@@ -140,7 +150,9 @@ def check_priors(priors, name: str = "priors") -> tuple[np.ndarray, np.ndarray]:
             a = np.asarray(tuple(a) if isinstance(a, tuple) else a, dtype=float).reshape(-1)
             m = np.asarray(tuple(m) if isinstance(m, tuple) else m, dtype=float).reshape(-1)
         except (TypeError, ValueError) as e:
-            raise ValueError(f"{name}[{i}] must be an (Action, Motion) pair of 4 and 3 numbers") from e
+            raise ValueError(
+                f"{name}[{i}] must be an (Action, Motion) pair of 4 and 3 numbers"
+            ) from e
         if a.shape != (4,) or m.shape != (3,):
             raise ValueError(f"{name}[{i}] must be an (Action, Motion) pair of 4 and 3 numbers")
         acts.append(a)
@@ -187,7 +199,9 @@ def check_mu(mu, name: str = "mu") -> tuple[float, float]:
     return (lo, hi)
 
 
-def check_probability(value, name: str, *, open_low: bool = False, open_high: bool = False) -> float:
+def check_probability(
+    value, name: str, *, open_low: bool = False, open_high: bool = False
+) -> float:
     """Validate a number in [0, 1] (ends optionally open)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a number in [0, 1], got {type(value).__name__}")

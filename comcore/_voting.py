@@ -147,11 +147,17 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
     # Where the left edge (phi + a = k pi) and right edge (phi - a = k pi) cross a candidate.
     crossings = np.column_stack([np.mod(-phi, np.pi), np.mod(phi, np.pi)])
     crossings = np.where((crossings >= a_lo) & (crossings <= a_hi), crossings, a_lo)
-    knots = np.sort(np.column_stack([np.full(len(pts), a_lo), crossings, np.full(len(pts), a_hi)]), axis=1)
+    knots = np.sort(
+        np.column_stack([np.full(len(pts), a_lo), crossings, np.full(len(pts), a_hi)]), axis=1
+    )
     alphas = np.concatenate([knots, 0.5 * (knots[:, 1:] + knots[:, :-1])], axis=1)  # (m, 7)
     strict = _votes(r, n, v, alphas, 0.0)
     tolerant = _votes(r, n, v, alphas, band)
-    ok = (strict == sense).any(axis=1) | (tolerant == sense).any(axis=1) | (tolerant == 0).any(axis=1)
+    ok = (
+        (strict == sense).any(axis=1)
+        | (tolerant == sense).any(axis=1)
+        | (tolerant == 0).any(axis=1)
+    )
     return ok
 
 
@@ -220,17 +226,21 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
     single = np.ndim(action) == 1
     th = _thetas(theta, single)
     if th.shape[0] != acts.shape[0]:
-        raise ValueError(f"theta must have one value per action: expected {acts.shape[0]}, got {th.shape[0]}")
+        raise ValueError(
+            f"theta must have one value per action: expected {acts.shape[0]}, got {th.shape[0]}"
+        )
     if not np.isfinite(th).all():
         raise ValueError("theta must be finite")
     check_mu(mu)
     senses = rotation_sign(th, theta_tol)
     con = contacts(mask, acts)
     con.require_hits("action")
-    out = np.zeros((acts.shape[0],) + mask.shape, dtype=bool)
+    out = np.zeros((acts.shape[0], *mask.shape), dtype=bool)
     rows, cols = mask.pixels[:, 1].astype(int), mask.pixels[:, 0].astype(int)
     direction = acts[:, 2:] - acts[:, :2]
     for i in range(acts.shape[0]):
-        ok = consistent(mask.pixels, con.point[i], con.normal[i], direction[i], int(senses[i]), mu, band)
+        ok = consistent(
+            mask.pixels, con.point[i], con.normal[i], direction[i], int(senses[i]), mu, band
+        )
         out[i, rows[ok], cols[ok]] = True
     return out[0] if single else out

@@ -1,0 +1,1 @@
+"""Motion predictors for comcore (filled in by the predictors issue)."""

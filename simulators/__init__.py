@@ -1,0 +1,1 @@
+"""Pusher-slider simulators for comcore (filled in by the simulators issue)."""
