@@ -180,8 +180,11 @@ def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
     return np.where(hit, hi, 0.0), hit, starts_inside
 
 
-def _twist(rx, ry, nx, ny, ux, uy, c2, mu):
-    """Component form of :func:`body_twist` (the hot loop of :func:`simulate`)."""
+def _twist(rx, ry, nx, ny, ux, uy, c2, mu, cos_a, sin_a):
+    """Component form of :func:`body_twist` (the hot loop of :func:`simulate`).
+
+    ``cos_a, sin_a`` are the cosine and sine of the friction cone's half-angle ``atan(mu)``.
+    """
     # w = (r_y, -r_x): the contact's velocity per unit CCW-on-screen rotation about the CoM.
     wx, wy = ry, -rx
     wu = wx * ux + wy * uy
@@ -192,9 +195,7 @@ def _twist(rx, ry, nx, ny, ux, uy, c2, mu):
     f_tangent = ny * fx - nx * fy  # comcore.ccw_cross(n, f)
     sticking = (f_normal > 0) & (np.abs(f_tangent) <= mu * f_normal)
     # The friction-cone edge on the force's side: n turned by +/- atan(mu) (CCW on screen).
-    cos_a = 1.0 / np.sqrt(1.0 + mu * mu)
-    sin_a = np.where(f_tangent >= 0, 1.0, -1.0) * mu * cos_a
-    sin_a = np.where(np.isinf(mu), np.where(f_tangent >= 0, 1.0, -1.0), sin_a)
+    sin_a = np.where(f_tangent >= 0, sin_a, -sin_a)
     ex = cos_a * nx + sin_a * ny
     ey = -sin_a * nx + cos_a * ny
     w_edge = wx * ex + wy * ey
@@ -223,9 +224,11 @@ def body_twist(r, normal, u, c2, mu):
     """
     r, normal, u = (np.asarray(a, dtype=float) for a in (r, normal, u))
     mu = np.asarray(mu, dtype=float)
+    alpha = np.arctan(mu)
     vx, vy, omega, sticking = _twist(
-        r[..., 0], r[..., 1], normal[..., 0], normal[..., 1], u[..., 0], u[..., 1], c2, mu
-    )
+        r[..., 0], r[..., 1], normal[..., 0], normal[..., 1], u[..., 0], u[..., 1], c2, mu,
+        np.cos(alpha), np.sin(alpha),
+    )  # fmt: skip
     return np.stack([vx, vy], axis=-1), omega, sticking
 
 
@@ -275,6 +278,7 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     comx, comy = coms[:, 0:1], coms[:, 1:2]  # (H, 1)
     c2 = np.asarray(c2, dtype=float)[:, None]
     mu = np.asarray(mu, dtype=float)[:, None]
+    cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
     theta = np.zeros((len(coms), len(actions)))
     px, py = comx + theta, comy + theta  # CoM position (world)
     for k in range(1, n_steps + 1):
@@ -297,6 +301,8 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
             my - along * ny,
             c2,
             mu,
+            cos_a,
+            sin_a,
         )
         pushing = (gap < 0) & hit
         px = px + np.where(pushing, cos_t * vx + sin_t * vy, 0.0)
