@@ -20,8 +20,9 @@ MU_GRID = (0.1, 0.2, 0.3, 0.45, 0.65, 0.9, 1.2)
 MAX_COARSE = 300
 #: Coarse cells (best first) refined at full pixel resolution.
 MAX_REFINED_CELLS = 40
-#: Integration steps of the coarse pass (the fine pass uses the predictor's).
-COARSE_STEPS = 12
+#: Integration steps of the coarse and refined passes (the polish uses the predictor's).
+COARSE_STEPS = 8
+REFINED_STEPS = 12
 #: Local polishing passes: (CoM grid spacing px, half-width of log(mu) range, number of mus).
 POLISH_PASSES = ((0.5, 0.7, 7), (0.15, 0.2, 5))
 #: Degrees of freedom of the Student-t residual model (robust to outliers).
@@ -185,11 +186,11 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n
        ``MAX_COARSE``) against ``MU_GRID`` (or the given ``mu``) with
        ``COARSE_STEPS`` integration steps.
     2. The ``MAX_REFINED_CELLS`` best coarse cells are scored at every pixel,
-       with ``mu`` refined around its best value; residual scales are then
+       (``REFINED_STEPS``) with ``mu`` refined around its best value; residual scales are then
        estimated from the best fit and the posterior over these pixels gives
        the covariance (the coarse grid's when the belief is wider than them).
     3. Two shrinking local grids polish the best pixel to sub-pixel precision
-       and ``mu`` to a few per cent.
+       and ``mu`` to a few per cent, with the predictor's own ``n_steps``.
 
     See :class:`EllipsoidFit` for what is returned.
     """
@@ -212,7 +213,7 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n
         w_coarse, _, cov_coarse = _posterior(coarse_log, coms)
         coarse_ok = w_coarse[cells].sum() >= 0.99
         mus = _mu_refinement(mus, int(best_mu)) if mu is None else mus
-    pred = _evaluate(mask, field, actions, fine_coms, mus, n_steps=n_steps, **kw)
+    pred = _evaluate(mask, field, actions, fine_coms, mus, n_steps=REFINED_STEPS, **kw)
     nll = _nll(pred, motions, scales)
     best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
     scales = _scales(pred[best_com, best_mu], motions)
