@@ -138,12 +138,12 @@ def _mu_refinement(grid: np.ndarray, best: int) -> np.ndarray:
     return np.array(mus)
 
 
-def _evaluate(mask, field, actions, coms, mus, *, pressure, radius, n_steps):
+def _evaluate(mask, field, actions, coms, mus, *, support, radius, n_steps):
     """Predictions for every (com, mu) pair: shape (n_coms, n_mus, n_actions, 3)."""
-    c2 = characteristic_length_sq(mask, coms, pressure)
+    c2 = characteristic_length_sq(mask, coms, *support)
     all_coms = np.repeat(coms, len(mus), axis=0)
     out = simulate(
-        mask, field, actions, all_coms, np.repeat(c2, len(mus)), np.tile(mus, len(coms)),
+        mask, field, actions, all_coms, np.repeat(c2, len(mus), axis=0), np.tile(mus, len(coms)),
         radius, n_steps,
     )  # fmt: skip
     return out.reshape(len(coms), len(mus), len(actions), 3)
@@ -179,7 +179,7 @@ def _polish(mask, field, actions, motions, com, mu, scales, *, fixed, **kw):
     return com, mu, best
 
 
-def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n_steps):
+def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_steps):
     """Fit the CoM (over the mask's pixels) and mu to observed motions.
 
     1. A coarse pass scores a sub-grid of the mask's pixels (at most
@@ -195,7 +195,7 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n
     See :class:`EllipsoidFit` for what is returned.
     """
     field = distance_field(mask)
-    kw = {"pressure": pressure, "radius": radius}
+    kw = {"support": support, "radius": radius}
     mus = np.array(MU_GRID if mu is None else (mu,), dtype=float)
     scales = (MIN_THETA_SCALE * 4, MIN_TRANSLATION_SCALE * 4)
     if com is not None:

@@ -27,6 +27,7 @@ slides along the outline as the object turns and contact may break and resume.
 
 from __future__ import annotations
 
+import math
 import weakref
 
 import numpy as np
@@ -36,11 +37,14 @@ from comcore import Mask
 
 __all__ = [
     "DistanceField",
+    "Support",
     "body_twist",
     "characteristic_length_sq",
     "distance_field",
     "first_contact",
+    "pusher_paths",
     "simulate",
+    "support",
 ]
 
 #: Gaussian sigma (pixels) that smooths the pixel outline's signed distance.
@@ -51,6 +55,11 @@ FIELD_PAD_PX = 24
 CONTACT_MARCH_PX = 0.25
 #: Bisection steps refining the first contact.
 CONTACT_BISECTIONS = 8
+#: Newton steps, and the cap on one step, of the exponential tilt ("tilted" pressure).
+TILT_NEWTON_STEPS = 8
+TILT_MAX_STEP = 4.0
+#: Most support points (blocks of pixels) behind the limit surface.
+MAX_SUPPORT_POINTS = 400
 #: Largest number of (hypothesis, pixel) pairs held in memory at once.
 _CHUNK = 2_000_000
 
@@ -104,53 +113,202 @@ def distance_field(mask: Mask) -> DistanceField:
     return field
 
 
-def characteristic_length_sq(mask: Mask, coms, pressure: str = "uniform") -> np.ndarray:
-    """Squared characteristic length ``c^2`` (pixels^2) of the support for each CoM.
+class Support:
+    """A mask's pixels gathered into square blocks: the support behind the limit surface.
 
-    ``c = m_max / f_max = integral |r - com| p(r) dA / integral p(r) dA``: the
-    ratio of the largest friction moment about the CoM to the largest friction
-    force, for a pressure distribution ``p`` over the mask's pixels.
+    Attributes
+    ----------
+    points : numpy.ndarray, shape (k, 2)
+        Centroids of the blocks' object pixels.
+    counts : numpy.ndarray, shape (k,)
+        Object pixels per block.
+    spread : numpy.ndarray, shape (k, 3)
+        Second moments ``(xx, xy, yy)`` of each block's pixel squares about its centroid.
+    """
 
-    ``pressure="uniform"`` takes ``p`` constant (the default). ``"linear"``
-    takes the planar pressure ``p = 1 + g . (x - centroid)`` (clipped at 0)
-    whose centre of pressure is the CoM, as it must be for a rigid object
-    resting on a flat floor.
+    def __init__(self, mask: Mask, max_points: int = MAX_SUPPORT_POINTS):
+        pix = mask.pixels
+        block = max(1, math.ceil(math.sqrt(len(pix) / max_points)))
+        cols, rows = (pix[:, 0] // block).astype(np.int64), (pix[:, 1] // block).astype(np.int64)
+        _, index = np.unique(rows * (cols.max() + 1) + cols, return_inverse=True)
+        counts = np.bincount(index).astype(float)
+
+        def mean(v):
+            return np.bincount(index, weights=v) / counts
+
+        x, y = pix[:, 0], pix[:, 1]
+        mx, my = mean(x), mean(y)
+        self.points = np.column_stack([mx, my])
+        self.counts = counts
+        # 1/12: the spread of a unit pixel square about its centre.
+        self.spread = np.column_stack(
+            [mean(x * x) - mx * mx + 1 / 12, mean(x * y) - mx * my, mean(y * y) - my * my + 1 / 12]
+        )
+
+
+_SUPPORTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def support(mask: Mask) -> Support:
+    """The (cached) :class:`Support` of an immutable mask."""
+    out = _SUPPORTS.get(mask)
+    if out is None:
+        out = _SUPPORTS[mask] = Support(mask)
+    return out
+
+
+def _tilted_weights(points: np.ndarray, coms: np.ndarray, counts=None) -> np.ndarray:
+    """Pressures ``counts * exp(lam . x)`` at points, with weighted mean at each CoM, (n, k).
+
+    ``lam`` solves a convex problem (the log-partition function's gradient is
+    the weighted mean) by damped Newton steps from the linear (small-tilt)
+    solution, vectorised over CoMs. For a CoM on the outline the tilt
+    diverges; the step cap keeps it finite.
+    """
+    counts = np.ones(len(points)) if counts is None else np.asarray(counts, dtype=float)
+    base = counts / counts.sum()
+    centre = base @ points
+    scale = max(float(np.ptp(points, axis=0).max()), 1.0)
+    x = (points - centre) / scale
+    feats = np.column_stack([np.ones(len(x)), x, x[:, 0] ** 2, x[:, 0] * x[:, 1], x[:, 1] ** 2])
+    feats *= base[:, None]
+    target = (coms - centre) / scale
+    cov = (x * base[:, None]).T @ x + 1e-12 * np.eye(2)
+    lam = np.linalg.solve(cov, target.T).T
+
+    def tilt(lam):
+        z = lam[:, :1] * x[:, 0] + lam[:, 1:] * x[:, 1]
+        z -= z.max(axis=1, keepdims=True)
+        # exp() of very negative numbers gives slow subnormals and adds nothing: clip.
+        return np.exp(np.maximum(z, -40.0, out=z), out=z)
+
+    for _ in range(TILT_NEWTON_STEPS):
+        sums = tilt(lam) @ feats  # (n, 6): every moment in one product
+        mean = sums[:, 1:3] / sums[:, :1]
+        hxx = sums[:, 3] / sums[:, 0] - mean[:, 0] ** 2
+        hxy = sums[:, 4] / sums[:, 0] - mean[:, 0] * mean[:, 1]
+        hyy = sums[:, 5] / sums[:, 0] - mean[:, 1] ** 2
+        det = np.maximum(hxx * hyy - hxy**2, 1e-12)
+        gx, gy = target[:, 0] - mean[:, 0], target[:, 1] - mean[:, 1]
+        step = np.column_stack([(hyy * gx - hxy * gy) / det, (hxx * gy - hxy * gx) / det])
+        norm = np.hypot(step[:, 0], step[:, 1])
+        lam += step * np.minimum(1.0, TILT_MAX_STEP / np.maximum(norm, 1e-12))[:, None]
+    return tilt(lam) * counts
+
+
+def characteristic_length_sq(
+    mask: Mask, coms, pressure: str = "uniform", limit_surface: str = "rotation"
+) -> np.ndarray:
+    """The support's characteristic length ``c`` (squared, pixels^2) for each CoM.
+
+    The ellipsoid ``fx^2 + fy^2 + (m / c)^2 = const`` cannot match the true
+    limit surface everywhere; ``limit_surface`` says where it is matched:
+
+    * ``"rotation"``: at pure rotation about the CoM,
+      ``c = m_max / f_max = <|r|>`` (the pressure-weighted mean distance to
+      the CoM): the classic choice (Lynch et al. 1992). Returns shape (n,).
+    * ``"translation"``: its curvature at pure translation, averaged over
+      directions: ``c^2 = <|r|^2> / 2``. Returns shape (n,).
+    * ``"directional"``: its curvature at pure translation along the motion
+      direction ``d``: ``c^2 = <(r . d)^2>``; a small rotation ``omega`` of a
+      body sliding at speed ``v`` along ``d`` costs the moment
+      ``mu N <(r . d)^2> omega / v``. Returns the second-moment tensor
+      ``(<rx^2>, <rx ry>, <ry^2>)``, shape (n, 3), which :func:`simulate`
+      contracts with the direction of the push at every step.
+
+    The pressure ``p`` behind the averages ``<.>`` is spread over the mask's
+    pixels, gathered into at most ``MAX_SUPPORT_POINTS`` blocks (:class:`Support`):
+
+    * ``"uniform"``: constant (no assumption beyond the footprint).
+    * ``"linear"``: the planar ``p = 1 + g . (x - centroid)`` (clipped at 0)
+      whose centre of pressure is the CoM, as it must be for a rigid object on
+      a flat floor.
+    * ``"tilted"``: ``p = exp(lam . x)``, the distribution closest to uniform
+      (in relative entropy) whose centre of pressure is the CoM.
 
     Parameters
     ----------
     mask : Mask
     coms : array_like, shape (n, 2)
-    pressure : {"uniform", "linear"}
+    pressure : {"uniform", "linear", "tilted"}
+    limit_surface : {"rotation", "translation", "directional"}
 
     Returns
     -------
-    numpy.ndarray, shape (n,)
+    numpy.ndarray, shape (n,) or (n, 3)
     """
-    pix = mask.pixels
+    sup = support(mask)
+    pts = sup.points
     coms = np.asarray(coms, dtype=float).reshape(-1, 2)
-    out = np.empty(len(coms))
+    mean_dist = np.empty(len(coms))
+    moments = np.empty((len(coms), 3))
     centroid = np.asarray(mask.centroid)
-    rel = pix - centroid
     if pressure == "linear":
-        cov = rel.T @ rel / len(pix) + 1e-9 * np.eye(2)
+        rel = pts - centroid
+        cov = (rel * sup.counts[:, None]).T @ rel / sup.counts.sum() + 1e-9 * np.eye(2)
         slope = np.linalg.solve(cov, (coms - centroid).T).T  # (n, 2)
-    step = max(1, _CHUNK // max(len(pix), 1))
+    step = max(1, _CHUNK // len(pts))
     for lo in range(0, len(coms), step):
         sl = slice(lo, lo + step)
-        dist = np.hypot(pix[None, :, 0] - coms[sl, None, 0], pix[None, :, 1] - coms[sl, None, 1])
-        if pressure == "linear":
-            weight = np.maximum(1.0 + slope[sl] @ rel.T, 0.0)
-            out[sl] = np.einsum("ij,ij->i", weight, dist) / weight.sum(axis=1)
+        dx = pts[None, :, 0] - coms[sl, None, 0]
+        dy = pts[None, :, 1] - coms[sl, None, 1]
+        if pressure == "uniform":
+            weight = np.broadcast_to(sup.counts, dx.shape)
+        elif pressure == "linear":
+            weight = np.maximum(1.0 + slope[sl] @ rel.T, 0.0) * sup.counts
         else:
-            out[sl] = dist.mean(axis=1)
+            weight = _tilted_weights(pts, coms[sl], sup.counts)
+        weight = weight / weight.sum(axis=1, keepdims=True)
+        mean_dist[sl] = np.einsum("ij,ij->i", weight, np.hypot(dx, dy))
+        moments[sl] = np.column_stack(
+            [np.einsum("ij,ij->i", weight, a * b) for a, b in ((dx, dx), (dx, dy), (dy, dy))]
+        )
+        moments[sl] += weight @ sup.spread  # the blocks' own spread
+    if limit_surface == "directional":
+        return moments
+    if limit_surface == "translation":
+        return 0.5 * (moments[:, 0] + moments[:, 2])
     # A one-pixel object still has the spread of its pixel square (mean |r| = 0.38 px).
-    return np.maximum(out, 0.38) ** 2
+    return np.maximum(mean_dist, 0.38) ** 2
 
 
-def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
+def pusher_paths(field: DistanceField, actions: np.ndarray, radius: float):
+    """Paths of the disc's centre and the disc's radius, per action.
+
+    An action is the path of the disc's leading point; its centre runs
+    ``radius`` behind. Where a disc that large would overlap the outline at
+    the start (in a concave corner, or through the smoothing of the outline),
+    the largest disc that surely fits is used instead (``0.45`` times the
+    leading point's distance to the outline).
+
+    Returns
+    -------
+    centres : numpy.ndarray, shape (n, 4)
+    radii : numpy.ndarray, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        If an action's leading point starts inside the object.
+    """
+    delta = actions[:, 2:] - actions[:, :2]
+    unit = delta / np.hypot(delta[:, 0], delta[:, 1])[:, None]
+    lead = field.sample(actions[:, :2])[0]
+    if (lead <= 0).any():
+        bad = np.flatnonzero(lead <= 0)[:5].tolist()
+        raise ValueError(f"actions must start outside the object; action(s) {bad} start inside it")
+    radii = np.full(len(actions), float(radius))
+    if radius > 0:
+        overlap = field.sample(actions[:, :2] - radius * unit)[0] <= radius
+        radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
+    return actions - np.tile(radii[:, None] * unit, 2), radii
+
+
+def first_contact(field: DistanceField, actions: np.ndarray, radius):
     """Pusher travel to first contact, and hit / starts-inside flags, per action.
 
-    The pusher is a disc of ``radius`` pixels whose centre follows the action.
+    The pusher is a disc of ``radius`` pixels (a number or one per action)
+    whose centre follows the action.
 
     Returns
     -------
@@ -164,7 +322,8 @@ def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
     unit = delta / length[:, None]
     n_samples = int(np.ceil(length.max(initial=0.0) / CONTACT_MARCH_PX)) + 1
     t = np.minimum(np.arange(n_samples)[None, :] * CONTACT_MARCH_PX, length[:, None])
-    gap = field.sample(start[:, None, :] + t[..., None] * unit[:, None, :])[0] - radius
+    radius = np.broadcast_to(np.asarray(radius, dtype=float), length.shape)
+    gap = field.sample(start[:, None, :] + t[..., None] * unit[:, None, :])[0] - radius[:, None]
     touching = gap <= 0
     starts_inside = touching[:, 0]
     hit = touching.any(axis=1) & ~starts_inside
@@ -242,12 +401,17 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         ``distance_field(mask)``.
     actions : numpy.ndarray, shape (n_actions, 4)
     coms : numpy.ndarray, shape (n_hyp, 2)
-    c2 : numpy.ndarray, shape (n_hyp,)
-        Squared characteristic length of each hypothesis.
+    c2 : numpy.ndarray, shape (n_hyp,) or (n_hyp, 3)
+        Squared characteristic length of each hypothesis, or the support's
+        second-moment tensor (``limit_surface="directional"`` of
+        :func:`characteristic_length_sq`), contracted at every step with the
+        direction of the pusher's motion relative to the object.
     mu : numpy.ndarray, shape (n_hyp,)
         Contact friction of each hypothesis (``inf`` allowed).
     radius : float
-        Pusher radius in pixels.
+        Pusher radius in pixels. The actions are the paths of the disc's
+        leading point (as in :mod:`simulators`); its centre runs ``radius``
+        behind.
     n_steps : int
         Integration steps between first contact and the end of the push.
 
@@ -260,23 +424,23 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     Raises
     ------
     ValueError
-        If a push starts inside the object (or within ``radius`` of it).
+        If a push starts inside the object.
     """
-    travel, hit, starts_inside = first_contact(field, actions, radius)
-    if starts_inside.any():
-        bad = np.flatnonzero(starts_inside)[:5].tolist()
-        raise ValueError(
-            f"actions must start outside the object (clear of the pusher radius); "
-            f"action(s) {bad} start inside it"
-        )
     delta = actions[:, 2:] - actions[:, :2]
     length = np.hypot(delta[:, 0], delta[:, 1])
+    actions, radius = pusher_paths(field, actions, radius)
+    travel, hit, _ = first_contact(field, actions, radius)
     step = np.where(hit, (length - travel) / n_steps, 0.0)
     ux, uy = delta[:, 0] / length, delta[:, 1] / length
     sx, sy = actions[:, 0] + travel * ux, actions[:, 1] + travel * uy  # first contact
     dx, dy = step * ux, step * uy  # pusher displacement per step (world)
     comx, comy = coms[:, 0:1], coms[:, 1:2]  # (H, 1)
-    c2 = np.asarray(c2, dtype=float)[:, None]
+    c2 = np.asarray(c2, dtype=float)
+    directional = c2.ndim == 2
+    if directional:
+        sxx, sxy, syy = (c2[:, i : i + 1] for i in range(3))
+    else:
+        c2 = c2[:, None]
     mu = np.asarray(mu, dtype=float)[:, None]
     cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
     theta = np.zeros((len(coms), len(actions)))
@@ -292,6 +456,11 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         nx, ny = -gx, -gy
         mx, my = cos_t * dx - sin_t * dy, sin_t * dx + cos_t * dy
         along = mx * nx + my * ny + gap
+        if directional:  # c^2 = d^T S d along the pusher's direction in the body frame
+            c2 = (sxx * mx * mx + 2.0 * sxy * mx * my + syy * my * my) / np.maximum(
+                mx * mx + my * my, 1e-300
+            )
+            c2 = np.maximum(c2, 1.0 / 12.0)
         vx, vy, omega, _ = _twist(
             qx - dist * gx - comx,
             qy - dist * gy - comy,

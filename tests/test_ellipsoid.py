@@ -41,8 +41,8 @@ def test_push_through_com_along_normal_does_not_rotate(mu, com_x):
     com_y = 17.0
     p = EllipsoidPredictor(com=(com_x, com_y), mu_contact=mu)
     out = p.predict(mask, [(0, com_y, 21.5, com_y), (com_x, 0, com_x, 21.5)])
-    assert np.abs(out[:, 0]).max() < 1e-6  # radians; float round-off of the smoothed outline
-    np.testing.assert_allclose(out[:, 1:], [[12.0, 0.0], [0.0, 12.0]], atol=1e-5)
+    assert np.abs(out[:, 0]).max() < 1e-5  # radians; float round-off of the smoothed outline
+    np.testing.assert_allclose(out[:, 1:], [[12.0, 0.0], [0.0, 12.0]], atol=1e-4)
 
 
 def test_oblique_push_through_com_while_sticking_does_not_rotate():
@@ -123,7 +123,10 @@ def test_instantaneous_sense_is_the_voting_theorem(blob, mu):
         np.testing.assert_array_equal(np.sign(omega)[off_line], sense[off_line])
 
 
-def test_integrated_sense_agrees_with_voting_theorem_away_from_its_lines(blob):
+def test_integrated_sense_agrees_with_voting_theorem_away_from_its_lines():
+    # A smooth outline: at corners the contact normal (hence the vote) is ill-defined.
+    yy, xx = np.mgrid[:80, :80]
+    blob = comcore.Mask(((xx - 40) ** 2 / 30**2 + (yy - 40) ** 2 / 22**2) < 1)
     mu = 0.3
     rng = np.random.default_rng(5)
     acts = comcore.sample_pushes(blob, 40, cone=0.7, rng=6)
@@ -177,7 +180,8 @@ def test_mirror_symmetry():
     flip = acts * [-1, 1, -1, 1] + [w, 0, w, 0]
     a = EllipsoidPredictor(com=(30.0, 35.0), mu_contact=0.3).predict(mask, acts)
     b = EllipsoidPredictor(com=(w - 30.0, 35.0), mu_contact=0.3).predict(mirrored, flip)
-    np.testing.assert_allclose(b, a * [-1, -1, 1], atol=1e-7)
+    # exact but for the pixel blocks of the support, which are not mirror images
+    np.testing.assert_allclose(b, a * [-1, -1, 1], atol=1e-3)
 
 
 def test_rotation_grows_with_the_lever_arm():
@@ -197,13 +201,16 @@ def test_missing_push_does_not_move():
     np.testing.assert_array_equal(out, np.zeros((1, 3)))
 
 
-def test_pusher_radius_makes_contact_earlier():
-    mask = plate()
-    point = EllipsoidPredictor(com=mask.centroid).predict(mask, [(0, 19.5, 20, 19.5)])
-    disc = EllipsoidPredictor(com=mask.centroid, pusher_radius=0.005).predict(
-        mask, [(0, 19.5, 20, 19.5)]
-    )
-    np.testing.assert_allclose(disc[0, 1] - point[0, 1], 0.005 / mask.resolution, atol=0.05)
+def test_disc_pusher_is_led_by_its_leading_point():
+    mask = plate()  # object rows 10..29, columns 10..39
+    normal_push = [(0, 19.5, 20, 19.5)]
+    point = EllipsoidPredictor(com=mask.centroid).predict(mask, normal_push)
+    disc = EllipsoidPredictor(com=mask.centroid, pusher_radius=0.004)
+    np.testing.assert_allclose(disc.predict(mask, normal_push), point, atol=1e-9)
+    # A path 1 px past the top-left corner: a point misses, a 1.6 px disc clips the corner.
+    grazing = [(0, 8.5, 30, 8.5)]
+    assert not EllipsoidPredictor(com=mask.centroid).predict(mask, grazing).any()
+    assert disc.predict(mask, grazing)[0, 0] > 0.01  # clipped above the CoM: CCW on screen
 
 
 def test_characteristic_length_of_a_uniform_disc():
@@ -211,9 +218,21 @@ def test_characteristic_length_of_a_uniform_disc():
     disc = comcore.Mask((xx - 80) ** 2 + (yy - 80) ** 2 <= 75**2)
     c2 = characteristic_length_sq(disc, [disc.centroid], "uniform")
     assert np.sqrt(c2[0]) == pytest.approx(2 * 75 / 3, rel=0.01)
-    lin = characteristic_length_sq(disc, [disc.centroid, (100.0, 80.0)], "linear")
-    assert lin[0] == pytest.approx(c2[0], rel=1e-9)
-    assert lin[1] < characteristic_length_sq(disc, [(100.0, 80.0)], "uniform")[0]
+    off = (110.0, 80.0)
+    uniform_off = characteristic_length_sq(disc, [off], "uniform")[0]
+    for pressure in ("linear", "tilted"):
+        c2p = characteristic_length_sq(disc, [disc.centroid, off], pressure)
+        assert c2p[0] == pytest.approx(c2[0], rel=1e-9)
+        assert c2p[1] < uniform_off  # pressure concentrated near the CoM
+
+
+def test_tilted_pressure_has_its_centre_at_the_com(blob):
+    from predictors._ellipsoid_model import _tilted_weights
+
+    coms = blob.pixels[::37]
+    coms = coms[distance_field(blob).sample(coms)[0] < -2.0]  # 2 px inside the outline
+    w = _tilted_weights(blob.pixels, coms)
+    np.testing.assert_allclose(w @ blob.pixels / w.sum(axis=1, keepdims=True), coms, atol=1e-3)
 
 
 # -- vectorisation, protocol, fit -------------------------------------------------------
