@@ -10,7 +10,8 @@ from scipy.special import logsumexp
 
 from comcore import Estimate, Mask
 
-from ._ellipsoid_model import characteristic_length_sq, distance_field, simulate
+from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["MU_GRID", "EllipsoidFit", "fit_priors"]
 

@@ -14,7 +14,8 @@ import numpy as np
 from comcore import check_actions, check_mask, check_points, check_priors
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
-from ._ellipsoid_model import characteristic_length_sq, distance_field, simulate
+from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["DEFAULT_MU_CONTACT", "MU_GRID", "EllipsoidFit", "EllipsoidPredictor"]
 
@@ -71,7 +72,7 @@ class EllipsoidPredictor:
         pure translation (default: pushes mostly translate), its pure-rotation
         pole (the classic ``c = m_max / f_max``), or its curvature along the
         push direction. See
-        :func:`predictors._ellipsoid_model.characteristic_length_sq` and
+        :func:`predictors._ellipsoid_support.characteristic_length_sq` and
         ``docs/predictor-ellipsoid.md`` for the measurements behind the defaults.
     pusher_radius : float, optional
         Radius of the round pusher in metres (0: a point). As in

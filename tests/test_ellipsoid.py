@@ -8,11 +8,8 @@ import pytest
 
 import comcore
 from predictors import EllipsoidFit, EllipsoidPredictor
-from predictors._ellipsoid_model import (
-    body_twist,
-    characteristic_length_sq,
-    distance_field,
-)
+from predictors._ellipsoid_model import body_twist, distance_field
+from predictors._ellipsoid_support import _tilted_weights, characteristic_length_sq
 
 
 def plate(h=20, w=30, pad=10):
@@ -227,8 +224,6 @@ def test_characteristic_length_of_a_uniform_disc():
 
 
 def test_tilted_pressure_has_its_centre_at_the_com(blob):
-    from predictors._ellipsoid_model import _tilted_weights
-
     coms = blob.pixels[::37]
     coms = coms[distance_field(blob).sample(coms)[0] < -2.0]  # 2 px inside the outline
     w = _tilted_weights(blob.pixels, coms)
