@@ -80,6 +80,8 @@ def estimate_progressive(
       (contradictory predictions), the action is skipped, listed in
       ``extras["contradicted"]``, and ``status`` becomes ``"contradiction"``;
       the estimate uses the consistent actions (a fallback, never a NaN).
+    * The loop also stops when no kept action has region pixels on both
+      sides of its line (best score 0): such a push cannot cut the region.
     * No action with ``|theta| >= min_rotation``: the estimate is the mask's
       centroid and ``status == "no_actions"``.
     * ``selection="rotation"`` is the paper's ablation (Fig. 7): actions are
@@ -165,6 +167,8 @@ def estimate_progressive(
         if selection == "equality":
             scores = equality_score(weight @ ccw_side, weight @ cw_side)
             chosen = int(np.argmax(np.where(keep, scores, -1.0)))
+            if scores[chosen] <= 0.0:
+                break  # no kept action splits the region: nothing more to learn
             keep &= scores >= min_score
         else:
             chosen = next(i for i in rotation_order if keep[i])
