@@ -1,7 +1,6 @@
 import numpy as np
 import pytest
 
-import comcore
 from comcore import Mask
 
 
