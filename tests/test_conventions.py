@@ -80,3 +80,9 @@ def test_ccw_cross_sign_matches_rotation_direction():
 
 def test_rotation_sign():
     assert comcore.rotation_sign([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
+
+
+def test_quarter_turn_is_exact_and_agrees_with_rotate_vectors():
+    v = np.array([[1.0, 0.0], [0.3, -2.0]])
+    assert comcore.quarter_turn_ccw(v).tolist() == [[0.0, -1.0], [-2.0, -0.3]]
+    assert np.allclose(comcore.quarter_turn_ccw(v), comcore.rotate_vectors(v, np.pi / 2))
