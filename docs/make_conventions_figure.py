@@ -39,7 +39,10 @@ def main(out: Path) -> None:
     ax.text(10.5, 1.8, "+x", fontsize=11)
     ax.text(1.5, 11.5, "+y", fontsize=11)
     ax.annotate(
-        "", xy=action.end, xytext=action.start, arrowprops={"arrowstyle": "->", "lw": 2.5, "color": "k"}
+        "",
+        xy=action.end,
+        xytext=action.start,
+        arrowprops={"arrowstyle": "->", "lw": 2.5, "color": "k"},
     )
     ax.text(2, 14.3, "Action (push)", fontsize=10)
     ax.text(20, 9, "CCW side of the push\n(signed distance > 0)", color=(0.1, 0.3, 0.8), fontsize=9)
@@ -52,7 +55,13 @@ def main(out: Path) -> None:
     ax.imshow(img, origin="upper", cmap="Greys", alpha=0.25)
     pts = mask.pixels
     moved = comcore.apply_motion(pts, np.deg2rad(30), (4.0, -2.0), mask.centroid)
-    ax.scatter(moved[:, 0], moved[:, 1], s=4, c="tab:blue", label="after Motion(theta=+30 deg, tx=4, ty=-2)")
+    ax.scatter(
+        moved[:, 0],
+        moved[:, 1],
+        s=4,
+        c="tab:blue",
+        label="after Motion(theta=+30 deg, tx=4, ty=-2)",
+    )
     ax.set_xlim(-0.5, 39.5)
     ax.set_ylim(29.5, -0.5)
     t = np.linspace(0.2, 1.6, 30)
@@ -73,4 +82,8 @@ def main(out: Path) -> None:
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).parent / "img" / "conventions.png")
+    main(
+        Path(sys.argv[1])
+        if len(sys.argv) > 1
+        else Path(__file__).parent / "img" / "conventions.png"
+    )
