@@ -43,3 +43,13 @@ def test_sampling_is_seeded(l_mask):
 def test_sampling_errors(square_mask, kwargs, match):
     with pytest.raises(ValueError, match=match):
         comcore.sample_pushes(square_mask, **kwargs)
+
+
+def test_starts_keep_clear_of_a_concave_object(l_mask):
+    pushes = comcore.sample_pushes(l_mask, 100, cone=0.6, clearance=0.02, rng=2)
+    assert np.all(l_mask.distance_to_object(pushes[:, :2]) * l_mask.resolution >= 0.02)
+
+
+def test_distance_to_object_off_the_image(square_mask):
+    d = square_mask.distance_to_object([[-10.0, 20.0], [5.0, 20.0]])
+    assert d[1] == 5.0 and d[0] == 20.0
