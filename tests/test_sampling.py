@@ -46,7 +46,7 @@ def test_sampling_errors(square_mask, kwargs, match):
 
 
 def test_starts_keep_clear_of_a_concave_object(l_mask):
-    pushes = comcore.sample_pushes(l_mask, 100, cone=0.6, clearance=0.02, rng=2)
+    pushes = comcore.sample_pushes(l_mask, 100, cone=0.6, standoff=0.03, clearance=0.02, rng=2)
     assert np.all(l_mask.distance_to_object(pushes[:, :2]) * l_mask.resolution >= 0.02)
 
 
