@@ -15,6 +15,8 @@ __all__ = ["sample_pushes"]
 DEFAULT_TRAVEL_M = 0.03
 #: Default distance from the start of a push to the object, metres.
 DEFAULT_STANDOFF_M = 0.01
+#: Default free space around a push's start, metres (twice a 4 mm pusher radius, plus slack).
+DEFAULT_CLEARANCE_M = 0.009
 
 
 def sample_pushes(
@@ -24,6 +26,7 @@ def sample_pushes(
     cone: float = 0.0,
     travel: float = DEFAULT_TRAVEL_M,
     standoff: float = DEFAULT_STANDOFF_M,
+    clearance: float = DEFAULT_CLEARANCE_M,
     rng=None,
 ) -> np.ndarray:
     """Random candidate pushes onto the object's outline.
@@ -31,8 +34,10 @@ def sample_pushes(
     Each push aims at a uniformly drawn outline pixel, along the inward normal
     turned by an angle drawn uniformly in ``[-cone, cone]``; it starts
     ``standoff`` metres before the contact (outside the object) and ends
-    ``travel`` metres after it. Pushes whose path starts inside the object or
-    does not reach it (possible on concave outlines) are redrawn.
+    ``travel`` metres after it. Pushes whose path does not reach the object
+    first at the aimed contact's side, or whose start lies within
+    ``clearance`` metres of the object (a round pusher must fit there; this
+    matters on concave outlines) are redrawn.
 
     Parameters
     ----------
@@ -46,6 +51,9 @@ def sample_pushes(
         Pusher travel after contact, metres (default 0.03).
     standoff : float, optional
         Distance from start to contact, metres (default 0.01).
+    clearance : float, optional
+        Minimum distance from the start to any object pixel, metres
+        (default 0.009); 0 disables the check.
     rng : None, int or numpy.random.Generator, optional
         Seed or generator; ``None`` draws a fresh generator.
 
@@ -73,6 +81,7 @@ def sample_pushes(
         raise ValueError(f"cone must be in [0, pi/2), got {cone}")
     travel_px = check_positive(travel, "travel") / mask.resolution
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
+    clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
     rng = np.random.default_rng(rng)
     rows, cols = np.nonzero(mask.boundary)
     outline = np.column_stack([cols, rows]).astype(float)
@@ -89,7 +98,7 @@ def sample_pushes(
         start = target - (standoff_px + 0.5) * direction
         candidate = np.hstack([start, target + travel_px * direction])
         con = contacts(mask, candidate)
-        good = con.hit
+        good = con.hit & (mask.distance_to_object(start) >= clearance_px)
         candidate = candidate[good]
         # Exactly `travel` of pusher motion after the (refined) contact.
         end = con.point[good] + travel_px * direction[good]
