@@ -163,10 +163,14 @@ def test_sliding_pusher_stays_on_the_moved_outline(blob):
     acts = comcore.sample_pushes(blob, 30, cone=1.0, rng=7)
     out = EllipsoidPredictor(com=(35.0, 30.0), mu_contact=0.1).predict(blob, acts)
     field = distance_field(blob)
-    # The pusher's end, taken back into the object's initial frame, is on the outline.
+    # The pusher's end, taken back into the object's initial frame, is on the
+    # outline, or off it when the pusher slid past the end of an edge; never inside.
+    gap = np.empty(len(acts))
     for i in range(len(acts)):
         body = comcore.apply_motion(acts[i, 2:] - out[i, 1:], -out[i, 0], (0, 0), blob.centroid)
-        assert abs(field.sample(body)[0]) < 0.3
+        gap[i] = field.sample(body)[0]
+    assert gap.min() > -0.15
+    assert np.mean(gap < 0.15) >= 0.9
 
 
 def test_mirror_symmetry():
