@@ -90,8 +90,11 @@ def run_trial(sim, args, rng, anp):
     t0 = time.perf_counter()
     fit = EllipsoidPredictor(pusher_radius=radius).fit(mask, priors)
     extras["fit_s"] = time.perf_counter() - t0
-    error_px = float(np.hypot(*np.subtract(fit.com, sim.com_px)))
-    extras["com_error_mm"] = 1000 * mask.resolution * error_px
+    for key, com in (("com_error_mm", fit.com), ("com_mean_error_mm", fit.com_mean)):
+        extras[key] = 1000 * mask.resolution * float(np.hypot(*np.subtract(com, sim.com_px)))
+    cov = fit.com_cov
+    err = np.subtract(fit.com, sim.com_px)
+    extras["mahalanobis"] = float(np.sqrt(err @ np.linalg.solve(cov, err)))
     fitted = EllipsoidPredictor(com=fit.com, mu_contact=fit.mu_contact, pusher_radius=radius)
     out["ellipsoid (fitted)"] = fitted.predict(mask, queries)
     if anp is not None:
@@ -169,7 +172,7 @@ def main(argv=None):
         print(f"AnpPredictor skipped ({why})", file=sys.stderr)
     rng = np.random.default_rng(args.seed)
     results: dict = {"low": {}, "high": {}}
-    fit_s, com_err = [], []
+    fit_s, com_err, mean_err, maha = [], [], [], []
     t0 = time.perf_counter()
     for obj in args.objects:
         for friction in ("low", "high"):
@@ -180,13 +183,17 @@ def main(argv=None):
                     results[friction].setdefault(name, []).append(pair)
                 fit_s.append(extras["fit_s"])
                 com_err.append(extras["com_error_mm"])
+                mean_err.append(extras["com_mean_error_mm"])
+                maha.append(extras["mahalanobis"])
         print(f"{obj} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     resolution = comcore.DEFAULT_RESOLUTION
     print(table(results, resolution))
     print(
-        f"\nEllipsoid fit: CoM error {np.mean(com_err):.1f} mm mean, {np.median(com_err):.1f} mm "
-        f"median; fit time {np.median(fit_s):.2f} s median, {np.max(fit_s):.2f} s max "
-        f"({len(fit_s)} trials, {time.perf_counter() - t0:.0f} s in all)"
+        f"\nEllipsoid fit ({len(fit_s)} trials): CoM error {np.mean(com_err):.1f} mm mean, "
+        f"{np.median(com_err):.1f} mm median (posterior mean: {np.mean(mean_err):.1f} / "
+        f"{np.median(mean_err):.1f} mm); truth within 2 sigma of the fitted covariance in "
+        f"{np.mean(np.array(maha) < 2.0):.0%} of trials; fit time {np.median(fit_s):.2f} s "
+        f"median, {np.max(fit_s):.2f} s max; {time.perf_counter() - t0:.0f} s in all"
     )
     if args.out.lower() != "none":
         plot(results, args.out)
