@@ -15,7 +15,8 @@ Predictors:
   the weights are missing);
 * ``trivial (centroid)``: the ellipsoid with the CoM at the mask's centroid
   (mu fitted to the priors);
-* ``ellipsoid (true CoM, mu)``: the ellipsoid told the truth: the model's own error.
+* ``ellipsoid (true CoM, mu)``: the ellipsoid told the truth: the model's own error
+  (with ``--variants``, also for each pressure and limit-surface option).
 
 Metrics per friction class: sense-of-rotation accuracy on queries whose true
 ``|theta| > 5 deg``, mean absolute error of theta (deg) and of the translation
@@ -54,6 +55,13 @@ def parse_args(argv=None):
     p.add_argument("--queries", type=int, default=50)
     p.add_argument("--cone", type=float, default=0.5, help="push directions within this (rad)")
     p.add_argument("--anp-weights", default=None, help="ANP weights file (default: shipped)")
+    p.add_argument(
+        "--variants",
+        action="store_true",
+        help="also compare the ellipsoid's pressure / limit-surface variants, told the truth",
+    )
+    p.add_argument("--fit-figure", default=str(ROOT / "docs" / "img" / "pred_fit.png"),
+                   help="picture of the first trial's CoM fit ('none': no picture)")  # fmt: skip
     args = p.parse_args(argv)
     if args.objects == "all":
         args.objects = list(simulators.BENCHMARK_OBJECTS)
@@ -75,6 +83,11 @@ def load_anp(weights):
         return AnpPredictor(weights) if weights else AnpPredictor(), ""
     except (ImportError, FileNotFoundError, ValueError) as e:
         return None, f"{type(e).__name__}: {e}"
+
+
+VARIANTS = [
+    (p, ls) for p in ("uniform", "tilted") for ls in ("rotation", "translation", "directional")
+]
 
 
 def run_trial(sim, args, rng, anp):
@@ -103,6 +116,10 @@ def run_trial(sim, args, rng, anp):
     out["trivial (centroid)"] = trivial.predict(mask, queries, priors)
     told = EllipsoidPredictor(com=sim.com_px, mu_contact=sim.mu_contact, pusher_radius=radius)
     out["ellipsoid (true CoM, mu)"] = told.predict(mask, queries)
+    for pressure, surface in VARIANTS if args.variants else ():
+        model = EllipsoidPredictor(sim.com_px, sim.mu_contact, pressure, surface, radius)
+        out[f"model {pressure}/{surface} (true CoM, mu)"] = model.predict(mask, queries)
+    extras["fit"], extras["priors"] = fit, priors
     return {k: (v, true) for k, v in out.items()}, extras
 
 
@@ -143,7 +160,7 @@ def plot(results, path):
     except ImportError:
         print("matplotlib missing (pip install comcore[plot]): no plot", file=sys.stderr)
         return
-    names = list(dict.fromkeys(name for fr in results for name in results[fr]))
+    names = [n for n in dict.fromkeys(n for fr in results for n in results[fr]) if "model" not in n]
     fig, axes = plt.subplots(1, len(names), figsize=(3.3 * len(names), 3.4), squeeze=False)
     for ax, name in zip(axes[0], names):
         for fr, colour in (("low", "tab:blue"), ("high", "tab:orange")):
@@ -165,6 +182,37 @@ def plot(results, path):
     print(f"saved {path}", file=sys.stderr)
 
 
+def fit_figure(sim, fit, priors, path):
+    """The posterior over the CoM of one trial, with its priors and the truth."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    fig, ax = plt.subplots(figsize=(4.6, 4.0))
+    ax.imshow(sim.mask.data, cmap="Greys", alpha=0.35)
+    logw = np.log10(np.maximum(fit.weights, 1e-4))
+    sc = ax.scatter(*fit.candidates.T, c=logw, s=7, cmap="viridis", marker="s", vmin=-4)
+    fig.colorbar(sc, ax=ax, label="log10 posterior weight (refined pixels)")
+    for (sx, sy, ex, ey), (theta, _, _) in priors:
+        colour = "tab:red" if theta > 0 else "tab:blue"
+        ax.annotate("", (ex, ey), (sx, sy), arrowprops={"arrowstyle": "->", "color": colour})
+    vals, vecs = np.linalg.eigh(fit.com_cov)
+    t = np.linspace(0, 2 * np.pi, 100)
+    ellipse = (vecs @ (2 * np.sqrt(vals)[:, None] * np.array([np.cos(t), np.sin(t)]))).T
+    ax.plot(*(ellipse + fit.com).T, "w-", lw=1, label="2 sigma")
+    ax.plot(*sim.com_px, "kx", ms=9, mew=2, label="true CoM")
+    ax.plot(*fit.com, "r+", ms=11, mew=2, label="fitted CoM")
+    ax.set_title(f"{sim.shape.name}: 12 priors (red CCW, blue CW)", fontsize=9)
+    ax.legend(fontsize=7, loc="best", framealpha=0.6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"saved {path}", file=sys.stderr)
+
+
 def main(argv=None):
     args = parse_args(argv)
     anp, why = load_anp(args.anp_weights)
@@ -181,6 +229,8 @@ def main(argv=None):
                 out, extras = run_trial(sim, args, rng, anp)
                 for name, pair in out.items():
                     results[friction].setdefault(name, []).append(pair)
+                if not fit_s and args.fit_figure.lower() != "none":
+                    fit_figure(sim, extras["fit"], extras["priors"], args.fit_figure)
                 fit_s.append(extras["fit_s"])
                 com_err.append(extras["com_error_mm"])
                 mean_err.append(extras["com_mean_error_mm"])

@@ -1,7 +1,9 @@
 """Tests of predictors.ellipsoid: the ellipsoidal limit-surface model and its fit."""
 
+import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -375,3 +377,19 @@ def test_import_is_light():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.slow
+def test_eval_script_runs(tmp_path):
+    pytest.importorskip("pymunk")
+    pytest.importorskip("shapely")
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "eval_predictors.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--objects", "Obj3", "--priors", "4", "--queries", "4",
+         "--out", str(tmp_path / "theta.png"), "--fit-figure", "none"],
+        capture_output=True, text=True, check=True, cwd=script.parents[1],
+        env={**os.environ, "PYTHONPATH": str(script.parents[1])},
+    )  # fmt: skip
+    assert "| ellipsoid (fitted) | all |" in out.stdout
+    assert "| trivial (centroid) | all |" in out.stdout
+    assert (tmp_path / "theta.png").stat().st_size > 10_000
