@@ -213,6 +213,20 @@ def fit_figure(sim, fit, priors, path):
     print(f"saved {path}", file=sys.stderr)
 
 
+def draw_simulator(obj, friction, rng, attempts=5):
+    """``random_simulator``, drawn again when the drawn mass distribution cannot be built.
+
+    (With the simulator of commit 4b37f91, ``tilt_to_com`` sometimes rejects a
+    drawn CoM as outside the support; the redraw is reported on stderr.)
+    """
+    for _ in range(attempts):
+        try:
+            return simulators.random_simulator(obj, friction=friction, rng=rng)
+        except ValueError as e:
+            print(f"{obj} {friction}: redrawn ({e})", file=sys.stderr)
+    raise RuntimeError(f"could not draw a simulator of {obj} in {attempts} attempts")
+
+
 def main(argv=None):
     args = parse_args(argv)
     anp, why = load_anp(args.anp_weights)
@@ -225,7 +239,7 @@ def main(argv=None):
     for obj in args.objects:
         for friction in ("low", "high"):
             for _ in range(args.trials):
-                sim = simulators.random_simulator(obj, friction=friction, rng=rng)
+                sim = draw_simulator(obj, friction, rng)
                 out, extras = run_trial(sim, args, rng, anp)
                 for name, pair in out.items():
                     results[friction].setdefault(name, []).append(pair)
