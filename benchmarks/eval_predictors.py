@@ -85,6 +85,29 @@ def load_anp(weights):
         return None, f"{type(e).__name__}: {e}"
 
 
+def simulated_pushes(sim, n, cone, rng):
+    """``n`` pushes from ``comcore.sample_pushes`` and their true motions (the oracle's).
+
+    A push the simulator rejects (its disc pusher would overlap the object at the
+    start: the sampler's clearance is measured to pixel centres, the disc to the
+    true outline) is replaced by a fresh draw.
+    """
+    oracle = OraclePredictor(sim)
+    pushes, motions = np.empty((0, 4)), np.empty((0, 3))
+    for _ in range(20):
+        if len(pushes) == n:
+            break
+        for push in comcore.sample_pushes(sim.mask, n - len(pushes), cone=cone, rng=rng):
+            try:
+                motion = oracle.predict(sim.mask, push[None])
+            except ValueError:
+                continue
+            pushes, motions = np.vstack([pushes, push]), np.vstack([motions, motion])
+    if len(pushes) < n:
+        raise RuntimeError(f"the simulator rejected too many pushes on {sim.shape.name}")
+    return pushes, motions
+
+
 VARIANTS = [
     (p, ls) for p in ("uniform", "tilted") for ls in ("rotation", "translation", "directional")
 ]
@@ -93,8 +116,7 @@ VARIANTS = [
 def run_trial(sim, args, rng, anp):
     """Predictions of every predictor on one trial: {name: (pred, true)}, and extras."""
     mask = sim.mask
-    pushes = comcore.sample_pushes(mask, args.priors + args.queries, cone=args.cone, rng=rng)
-    motions = OraclePredictor(sim).predict(mask, pushes)
+    pushes, motions = simulated_pushes(sim, args.priors + args.queries, args.cone, rng)
     priors = [(comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(pushes, motions)]
     priors = priors[: args.priors]
     queries, true = pushes[args.priors :], motions[args.priors :]
