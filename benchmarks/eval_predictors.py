@@ -20,7 +20,8 @@ Predictors:
 
 Metrics per friction class: sense-of-rotation accuracy on queries whose true
 ``|theta| > 5 deg``, mean absolute error of theta (deg) and of the translation
-(mm). Prints a Markdown table and saves a predicted-vs-true theta plot.
+(mm), and the median ratio of predicted to true ``|theta|`` on those queries
+(1: no bias in magnitude). Prints a Markdown table and saves a predicted-vs-true theta plot.
 
 Usage::
 
@@ -149,15 +150,18 @@ def metrics(pred, true, resolution):
     big = np.abs(true[:, 0]) > np.radians(BIG_ROTATION_DEG)
     sense = float(np.mean(np.sign(pred[big, 0]) == np.sign(true[big, 0]))) if big.any() else np.nan
     mae_theta = float(np.degrees(np.abs(pred[:, 0] - true[:, 0])).mean())
+    # Bias of the magnitude: median of predicted over true |theta| on the big rotations.
+    ratio = float(np.median(np.abs(pred[big, 0]) / np.abs(true[big, 0]))) if big.any() else np.nan
     move = np.hypot(pred[:, 1] - true[:, 1], pred[:, 2] - true[:, 2])
-    return sense, mae_theta, float(move.mean() * resolution * 1000), int(big.sum()), len(true)
+    mae_move = float(move.mean() * resolution * 1000)
+    return sense, mae_theta, ratio, mae_move, int(big.sum()), len(true)
 
 
 def table(results, resolution):
     lines = [
         f"| predictor | friction | sense acc. (true abs(theta) > {BIG_ROTATION_DEG:g} deg) "
-        "| MAE theta (deg) | MAE translation (mm) | queries (big) |",
-        "|---|---|---|---|---|---|",
+        "| MAE theta (deg) | median abs(theta) ratio | MAE translation (mm) | queries (big) |",
+        "|---|---|---|---|---|---|---|",
     ]
     names = list(dict.fromkeys(name for fr in results for name in results[fr]))
     for name in names:
@@ -168,8 +172,10 @@ def table(results, resolution):
                 continue
             pred = np.vstack([p for p, _ in pairs])
             true = np.vstack([t for _, t in pairs])
-            s, mt, mm, nb, n = metrics(pred, true, resolution)
-            lines.append(f"| {name} | {fr} | {s:.3f} | {mt:.2f} | {mm:.2f} | {n} ({nb}) |")
+            s, mt, ratio, mm, nb, n = metrics(pred, true, resolution)
+            lines.append(
+                f"| {name} | {fr} | {s:.3f} | {mt:.2f} | {ratio:.2f} | {mm:.2f} | {n} ({nb}) |"
+            )
     return "\n".join(lines)
 
 
