@@ -42,7 +42,7 @@ NEWTON_DECREMENT, MAX_NEWTON_ITERATIONS = 1e-11, 30
 #: A full Newton step taken from a decrement below this ends the iterations.
 NEWTON_FINAL_DECREMENT = 1e-6
 #: Steps are this many times shorter while the pusher touches a vertex of the outline.
-VERTEX_REFINEMENT = 8
+VERTEX_REFINEMENT = 4
 #: Halvings of a Newton step tried before it is accepted.
 LINE_SEARCH_STEPS = 30
 #: A contact point may move out of the pusher at no less than this fraction of its speed.
@@ -283,25 +283,57 @@ class QuasiStaticEngine:
         uy = x[:, 1:2] + x[:, 2:3] * self._rho[:, 1]
         return np.sqrt(ux * ux + uy * uy + self._eps2) @ self.weights
 
+    def _wrench(self, c, n, side):
+        """Unit contact wrenches on the friction cone's edge ``side`` (+1 or -1), (m, 3)."""
+        edge = math.cos(self.cone) * n + side[:, None] * math.sin(self.cone) * _perp(n)
+        return np.column_stack([edge, c[:, 0] * edge[:, 1] - c[:, 1] * edge[:, 0]])
+
     def _twist(self, c, n, p, depth, state):
-        """Body-frame displacement twists (m, 3) that push each body out by ``depth``."""
-        omega, force = self._stick(c, p, state[:, 0])
-        state[:, 0] = omega
+        """Body-frame displacement twists (m, 3) that push each body out by ``depth``.
+
+        ``state`` (m, 5) carries each push's last sticking omega, sliding twist and
+        mode (0 stick, +-1 the cone edge it slid on) from step to step.
+        """
+        m = len(c)
+        xi = np.empty((m, 3))
         t = _perp(n)
-        fn, ft = np.einsum("mk,mk->m", force, n), np.einsum("mk,mk->m", force, t)
         pn = np.einsum("mk,mk->m", p, n)
-        stick = (fn > 0) & (np.abs(ft) <= self.tan_cone * fn) & (pn > 1e-9)
-        xi = np.empty((len(c), 3))
-        xi[:, :2] = p - omega[:, None] * _perp(c)
-        xi[:, 2] = omega
-        slide = ~stick
-        if slide.any():
-            side = np.where(ft[slide] >= 0, 1.0, -1.0)[:, None]
-            edge = math.cos(self.cone) * n[slide] + side * math.sin(self.cone) * t[slide]
-            cs = c[slide]
-            wrench = np.column_stack([edge, cs[:, 0] * edge[:, 1] - cs[:, 1] * edge[:, 0]])
-            xi[slide] = self._slide(wrench, state[slide, 1:])
-            state[slide, 1:] = xi[slide]
+        done = np.zeros(m, bool)
+        # A push that slid on the previous step most likely still slides on the same
+        # edge: solve that first and keep it if its slip opposes the friction force
+        # (the single-contact solution is unique, so a consistent one is the one).
+        again = np.flatnonzero(state[:, 4] != 0)
+        if len(again):
+            side = state[again, 4]
+            trial = self._slide(self._wrench(c[again], n[again], side), state[again, 1:4])
+            u_c = trial[:, :2] + trial[:, 2:3] * _perp(c[again])
+            un = np.einsum("mk,mk->m", u_c, n[again])
+            ut = np.einsum("mk,mk->m", u_c, t[again])
+            slip = ut / np.maximum(un, 1e-12) - np.einsum("mk,mk->m", p[again], t[again]) / (
+                np.maximum(pn[again], 1e-12)
+            )
+            ok = (side * slip <= 0) | (pn[again] <= 1e-9)
+            xi[again[ok]] = trial[ok]
+            state[again[ok], 1:4] = trial[ok]
+            done[again[ok]] = True
+        rest = np.flatnonzero(~done)
+        if len(rest):
+            cr, nr, pr = c[rest], n[rest], p[rest]
+            omega, force = self._stick(cr, pr, state[rest, 0])
+            state[rest, 0] = omega
+            fn = np.einsum("mk,mk->m", force, nr)
+            ft = np.einsum("mk,mk->m", force, t[rest])
+            stick = (fn > 0) & (np.abs(ft) <= self.tan_cone * fn) & (pn[rest] > 1e-9)
+            xi[rest, :2] = pr - omega[:, None] * _perp(cr)
+            xi[rest, 2] = omega
+            state[rest, 4] = 0.0
+            slide = np.flatnonzero(~stick)
+            if len(slide):
+                rows = rest[slide]
+                side = np.where(ft[slide] >= 0, 1.0, -1.0)
+                xi[rows] = self._slide(self._wrench(c[rows], n[rows], side), state[rows, 1:4])
+                state[rows, 1:4] = xi[rows]
+                state[rows, 4] = side
         u_c = xi[:, :2] + xi[:, 2:3] * _perp(c)
         un = np.einsum("mk,mk->m", u_c, n)
         speed = np.hypot(u_c[:, 0], u_c[:, 1])
@@ -361,7 +393,7 @@ class QuasiStaticEngine:
         n_steps = np.maximum(np.ceil(remaining / self.step - 1e-9), 1)
         base = remaining / n_steps
         xs, angs = x[idx], ang[idx]
-        state = np.zeros((len(idx), 4))  # sticking omega, sliding twist
+        state = np.zeros((len(idx), 5))  # sticking omega, sliding twist, mode
         c0, d0 = centre0[idx] + t_hit[idx, None] * d[idx], d[idx]
         progress = np.zeros(len(idx))
         on_vertex = first_vertex.copy() if len(idx) else np.zeros(0, bool)

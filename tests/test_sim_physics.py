@@ -185,7 +185,7 @@ def test_motion_convention_on_a_drawn_example():
     # A 8 cm x 5 cm box, pushed to the right (+x on screen) on its left edge 6 px
     # above the CoM (smaller row): it turns clockwise on screen (theta < 0) and
     # moves right.
-    sim = PushSimulator.from_polygon(RECT, mu_contact=0.5, margin=0.0511)
+    sim = PushSimulator.from_polygon(RECT, mu_contact=0.5, margin=0.05)
     cx, cy = sim.com_px
     res = sim.push((cx - 24, cy - 6, cx - 4, cy - 6))
     theta, tx, ty = res.motion
