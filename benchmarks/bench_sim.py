@@ -118,6 +118,45 @@ def accuracy(args):
         )
 
 
+def figure(path):
+    """Draw pushed objects' trajectories (outline every few steps, CoM path, pusher)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
+    cases = (("Obj19", "low", 3, 0.0), ("Obj7", "high", 8, 0.5))
+    for ax, (name, friction, seed, cone) in zip(axes, cases):
+        sim = simulators.random_simulator(name, friction=friction, rng=seed)
+        action = comcore.sample_pushes(sim.mask, 1, cone=cone, rng=seed, travel=0.05)[0]
+        res = sim.push(action, record=True)
+        traj = res.trajectory
+        for k in np.linspace(0, len(traj) - 1, 6).astype(int):
+            outline = sim.outline_at(traj[k]) * 100
+            shade = 0.25 + 0.75 * k / (len(traj) - 1)
+            ax.fill(*outline.T, color=(0.2, 0.4, 0.8, 0.12), lw=0)
+            ax.plot(*np.vstack([outline, outline[:1]]).T, color=(0.1, 0.2, 0.6, shade), lw=1)
+        ax.plot(traj[:, 0] * 100, traj[:, 1] * 100, "r-", lw=1.5, label="CoM path")
+        ax.plot(*(np.asarray(sim.com_m) * 100), "r+", ms=12, mew=2)
+        ends = sim.to_world(action.reshape(2, 2)) * 100
+        d = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+        r = sim.pusher_radius * 100
+        for centre, alpha in ((ends[0] - r * d, 0.3), (ends[1] - r * d, 0.8)):
+            ax.add_patch(plt.Circle(centre, r, color="k", alpha=alpha))
+        ax.annotate("", ends[1], ends[0], arrowprops={"arrowstyle": "->", "color": "k"})
+        ax.set_title(
+            f"{name}, mu_contact {sim.mu_contact:.2f}: theta {np.degrees(res.motion.theta):.1f} deg"
+        )
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (cm, world)")
+        ax.set_ylabel("y (cm, world, up)")
+        ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--object", default="Obj7", help="benchmark object for the speed test")
@@ -125,8 +164,11 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5, help="timing repeats (median)")
     parser.add_argument("--accuracy", action="store_true", help="accuracy vs speed table")
     parser.add_argument("--pymunk", action="store_true", help="include pymunk in --accuracy")
+    parser.add_argument("--figure", metavar="PNG", help="draw pushed objects' trajectories")
     args = parser.parse_args(argv)
-    if args.accuracy:
+    if args.figure:
+        figure(args.figure)
+    elif args.accuracy:
         accuracy(args)
     else:
         speed(args)
