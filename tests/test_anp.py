@@ -320,3 +320,17 @@ def test_training_is_deterministic_and_resumable(tmp_path, monkeypatch):
         assert torch.equal(pa, pb), name
     record = json.loads((tmp_path / "a.json").read_text())
     assert record["train_episodes"] == 16 and "loss" in record["validation"]
+
+
+def test_simulated_episodes_are_seeded_and_in_comcore_conventions():
+    pytest.importorskip("pymunk")
+    mask_data, resolution, actions, motions, com, mu = anp_data.make_episode(11, 1, 4)
+    again = anp_data.make_episode(11, 1, 4)
+    np.testing.assert_array_equal(motions, again[3])
+    assert actions.shape == (4, 4) and motions.shape == (4, 3) and 0.5 <= mu <= 0.9
+    mask = comcore.Mask(mask_data, resolution)
+    assert mask.contains([com])[0]
+    assert comcore.contacts(mask, actions).hit.all()
+    # the pushes move the centroid forward, along the push
+    direction = actions[:, 2:] - actions[:, :2]
+    assert (np.einsum("ij,ij->i", motions[:, 1:], direction) > 0).all()

@@ -127,6 +127,28 @@ def toy_motions(mask: Mask, actions, com, mu: float) -> np.ndarray:
     return np.column_stack([theta, t])
 
 
+def _simulate(sim, n_pushes: int, cone: float, rng):
+    """Sample and simulate pushes; redraw those the simulator refuses.
+
+    On concave outlines a sampled start point can lie within the pusher's
+    radius of another part of the object; the simulator rejects such a push
+    (ValueError) and it is replaced by a new draw.
+    """
+    actions, motions = [], []
+    for _ in range(50):
+        if len(actions) == n_pushes:
+            break
+        for a in sample_pushes(sim.mask, n_pushes - len(actions), cone=cone, rng=rng):
+            try:
+                motions.append(tuple(sim.push(a).motion))
+            except ValueError:
+                continue
+            actions.append(a)
+    if len(actions) < n_pushes:  # pragma: no cover - needs a pathological outline
+        raise RuntimeError("could not simulate enough pushes on this object")
+    return np.array(actions), np.array(motions)
+
+
 def _crop(mask: Mask, actions, com):
     rows, cols = np.nonzero(mask.data)
     r0 = max(rows.min() - _STORE_MARGIN, 0)
@@ -163,8 +185,7 @@ def make_episode(seed, index: int, n_pushes: int, source: str = "sim"):
         shape = simulators.ObjectShape.from_vertices(vertices)
         sim = simulators.random_simulator(shape, friction=friction, rng=rng)
         mask, com, mu, resolution = sim.mask, sim.com_px, sim.mu_contact, sim.mask.resolution
-        actions = sample_pushes(mask, n_pushes, cone=cone, rng=rng)
-        motions = sim.push_motions(actions)
+        actions, motions = _simulate(sim, n_pushes, cone, rng)
     else:
         raise ValueError(f"source must be 'sim' or 'toy', got {source!r}")
     data, actions, com = _crop(mask, actions, com)
