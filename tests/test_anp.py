@@ -149,6 +149,16 @@ def test_bad_input_is_named(scene):
         anp.predict_distribution(mask, queries, n_samples=-1)
     with pytest.raises(TypeError, match="model must be an AnpModel"):
         AnpPredictor(model=object())
+    with pytest.raises(ValueError, match="threads must be None or an int >= 1"):
+        AnpPredictor(model=AnpModel(TINY), threads=0)
+
+
+def test_thread_setting_is_restored(scene):
+    mask, queries, priors = scene
+    before = torch.get_num_threads()
+    anp = AnpPredictor(model=AnpModel(TINY), threads=before + 1)
+    anp.predict(mask, queries, priors)
+    assert torch.get_num_threads() == before
 
 
 def test_cost_is_linear_in_the_number_of_priors():
@@ -310,6 +320,8 @@ def test_training_is_deterministic_and_resumable(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         main([*common, "--out", str(tmp_path / "b.pt")])
     monkeypatch.setattr(train_module, "train_epoch", original)
+    with pytest.raises(ValueError, match="was written by a run with other arguments"):
+        main([*common[:-1], "3", "--out", str(tmp_path / "b.pt"), "--resume"])
     resumed = main([*common, "--out", str(tmp_path / "b.pt"), "--resume"])
     assert [h["train_loss"] for h in resumed["history"]] == [
         h["train_loss"] for h in full["history"]
@@ -334,3 +346,13 @@ def test_simulated_episodes_are_seeded_and_in_comcore_conventions():
     # the pushes move the centroid forward, along the push
     direction = actions[:, 2:] - actions[:, :2]
     assert (np.einsum("ij,ij->i", motions[:, 1:], direction) > 0).all()
+
+
+def test_benchmark_evaluation_reports_per_trial_metrics():
+    pytest.importorskip("pymunk")
+    from predictors.anp.evaluate import evaluate_on_benchmark
+
+    rows = evaluate_on_benchmark(tiny_predictor(), ["Obj3"], n_priors=3, n_queries=4)
+    assert [(r["object"], r["friction"]) for r in rows] == [("Obj3", "low"), ("Obj3", "high")]
+    assert all(0 <= r["sense_acc"] <= 1 or r["n_sense"] == 0 for r in rows)
+    assert all(r["theta_mae_deg"] >= 0 and r["t_mae_mm"] > 0 for r in rows)

@@ -162,7 +162,8 @@ def make_episode(seed, index: int, n_pushes: int, source: str = "sim"):
     """Simulate episode ``index`` of ``seed``: ``(mask, resolution, actions, motions, com, mu)``.
 
     Friction class alternates with ``index`` (even: low, odd: high); the
-    push cone half-angle is uniform in [0, 0.6] rad.
+    push cone half-angle is uniform in [0, 0.6] rad. An object (with its mass
+    distribution) that the simulator refuses to build is replaced by a new draw.
     """
     rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(index),)))
     friction = "low" if index % 2 == 0 else "high"
@@ -182,8 +183,15 @@ def make_episode(seed, index: int, n_pushes: int, source: str = "sim"):
             import simulators
         except ImportError as e:  # pragma: no cover
             raise ImportError("simulated training data need pip install comcore[sim]") from e
-        shape = simulators.ObjectShape.from_vertices(vertices)
-        sim = simulators.random_simulator(shape, friction=friction, rng=rng)
+        for _ in range(20):
+            try:
+                shape = simulators.ObjectShape.from_vertices(vertices)
+                sim = simulators.random_simulator(shape, friction=friction, rng=rng)
+                break
+            except ValueError:  # the simulator refuses this draw: take another object
+                vertices = random_polygon(rng)
+        else:  # pragma: no cover
+            raise RuntimeError("the simulator refused 20 random objects in a row")
         mask, com, mu, resolution = sim.mask, sim.com_px, sim.mu_contact, sim.mask.resolution
         actions, motions = _simulate(sim, n_pushes, cone, rng)
     else:

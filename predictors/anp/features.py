@@ -110,7 +110,7 @@ def object_frame(mask: Mask, size: int = 64) -> ObjectFrame:
     >>> from comcore import Mask
     >>> f = object_frame(Mask(np.pad(np.ones((10, 20), bool), 5)), size=32)
     >>> f.image.shape, f.center, round(f.length_px, 2)
-    ((32, 32), (14.5, 9.5), 12.15)
+    ((32, 32), (14.5, 9.5), 12.66)
     >>> float(f.image[16, 16]), float(f.image[0, 0])
     (1.0, 0.0)
     """

@@ -3,8 +3,8 @@
 Generates (or loads from ``--cache``) simulated episodes, trains with the ANP
 evidence lower bound, keeps the model with the lowest validation loss and
 writes it to ``--out`` with a ``.json`` record next to it (command, data size,
-time, validation metrics, date). A checkpoint (``OUT.ckpt``) is written after
-every epoch; ``--resume`` continues from it. Each epoch's randomness is drawn
+time, validation metrics, date). A checkpoint (``CACHE/<OUT stem>.ckpt``) is
+written after every epoch; ``--resume`` continues from it. Each epoch's randomness is drawn
 from ``(seed, epoch)``, so a resumed run matches an uninterrupted one.
 """
 
@@ -122,6 +122,11 @@ def evaluate(model, data: dict, n_priors: int = 12, batch: int = 64) -> dict:
     }
 
 
+#: Arguments a resumed run must share with the run that wrote the checkpoint.
+_RUN_KEYS = ("episodes", "val_episodes", "epochs", "seed", "source", "pushes", "batch", "lr",
+             "width", "channels", "no_com_loss")  # fmt: skip
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m predictors.anp.train", description=__doc__)
     p.add_argument("--episodes", type=int, default=4000, help="training episodes")
@@ -130,7 +135,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, default=DEFAULT_WEIGHTS, help="weights file to write")
     p.add_argument("--cache", type=Path, default=Path(".cache/anp"), help="episode cache dir")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--resume", action="store_true", help="continue from OUT.ckpt")
+    p.add_argument("--resume", action="store_true", help="continue from CACHE/<OUT stem>.ckpt")
     p.add_argument("--source", choices=("sim", "toy"), default="sim")
     p.add_argument("--pushes", type=int, default=32, help="pushes per episode")
     p.add_argument("--batch", type=int, default=32)
@@ -163,10 +168,17 @@ def main(argv=None) -> dict:
         optimizer, lambda s: min(1.0, (s + 1) / 200) * 0.5 * (1 + math.cos(math.pi * s / steps))
     )
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    ckpt = args.out.with_suffix(".ckpt")
+    args.cache.mkdir(parents=True, exist_ok=True)
+    ckpt = args.cache / f"{args.out.stem}.ckpt"
     history, first, best, t_train = [], 0, None, 0.0
+    run = json.dumps({k: v for k, v in vars(args).items() if k in _RUN_KEYS}, sort_keys=True)
     if args.resume and ckpt.exists():
         state = torch.load(ckpt, map_location="cpu", weights_only=True)
+        if state["run"] != run:
+            raise ValueError(
+                f"--resume: checkpoint {str(ckpt)!r} was written by a run with other "
+                f"arguments ({state['run']}); this run has {run}"
+            )
         model.load_state_dict(state["model"])
         optimizer.load_state_dict(state["optimizer"])
         schedule.load_state_dict(state["schedule"])
@@ -189,7 +201,7 @@ def main(argv=None) -> dict:
                         sense=f"{metrics['sense_acc']:.3f}")  # fmt: skip
         torch.save({"model": model.state_dict(), "optimizer": optimizer.state_dict(),
                     "schedule": schedule.state_dict(), "epoch": epoch, "time": t_train,
-                    "history": json.dumps(history), "best": best}, ckpt)  # fmt: skip
+                    "history": json.dumps(history), "best": best, "run": run}, ckpt)  # fmt: skip
     model.load_state_dict(best)
     final = evaluate(model, val)
     record = {
