@@ -1,1 +1,42 @@
-"""Pusher-slider simulators for comcore (filled in by the simulators issue)."""
+"""Pusher-slider simulators for comcore (needs ``pip install comcore[sim]``).
+
+A quasi-static pymunk simulation of a flat object pushed by a round pusher on
+a flat, uniform floor with distributed Coulomb friction, seen by a top-down
+camera. Objects come from vertex arrays, from SVG/DXF outlines or from meshes
+(trimesh), or from the 20-object benchmark set (``load_object("Obj7")``).
+The physics model and its measured parameters are in ``docs/simulators.md``.
+
+Examples
+--------
+>>> import comcore, simulators
+>>> sim = simulators.random_simulator("Obj7", friction="low", rng=0)
+>>> actions = comcore.sample_pushes(sim.mask, 3, cone=0.3, rng=0)
+>>> sim.push_motions(actions).shape
+(3, 3)
+"""
+
+from ._engine import EngineSettings
+from ._mass import MassDistribution, tilt_to_com
+from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
+from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
+from ._shapes import ObjectShape, check_polygon, load_shape
+from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
+
+__all__ = [
+    "BENCHMARK_AREAS_CM2",
+    "BENCHMARK_OBJECTS",
+    "DEFAULT_PUSHER_RADIUS",
+    "FRICTION_CLASSES",
+    "MASS_STYLES",
+    "EngineSettings",
+    "MassDistribution",
+    "ObjectShape",
+    "PushResult",
+    "PushSimulator",
+    "check_polygon",
+    "load_object",
+    "load_shape",
+    "random_com",
+    "random_simulator",
+    "tilt_to_com",
+]

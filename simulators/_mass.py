@@ -1,0 +1,214 @@
+"""Mass distributions over a footprint: support points, their masses, the CoM.
+
+The floor carries the object at ``n`` support points; point ``i`` presses on
+it with the weight of the mass ``m_i`` above it (flat, uniform floor), so the
+pressure distribution *is* the mass distribution. Support points are the
+centroids of a square grid's cells clipped to the footprint (a cell's mass is
+its clipped area times the local density), plus one point per point mass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._deps import require_shapely
+from ._shapes import ObjectShape
+
+__all__ = ["DEFAULT_SUPPORT_POINTS", "MassDistribution", "tilt_to_com"]
+
+#: Default number of grid support points over the footprint (see docs/simulators.md).
+DEFAULT_SUPPORT_POINTS = 96
+
+
+def _readonly(a) -> np.ndarray:
+    out = np.array(a, dtype=float, copy=True)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class MassDistribution:
+    """Masses at support points of a footprint (world metres, initial pose).
+
+    Attributes
+    ----------
+    points_m : numpy.ndarray, shape (n, 2)
+        Support points in metres.
+    masses : numpy.ndarray, shape (n,)
+        Mass (kg) pressing on the floor at each point, all > 0.
+    cell_size_m : float
+        Side of the grid cells (their own inertia is added to the moment).
+    """
+
+    points_m: np.ndarray
+    masses: np.ndarray
+    cell_size_m: float
+
+    def __post_init__(self):
+        pts, m = _readonly(self.points_m), _readonly(self.masses)
+        if pts.ndim != 2 or pts.shape[1] != 2 or m.shape != (pts.shape[0],):
+            raise ValueError(f"points_m (n, 2) and masses (n,) disagree: {pts.shape}, {m.shape}")
+        if not (np.isfinite(pts).all() and np.isfinite(m).all() and (m > 0).all()):
+            raise ValueError("masses must be finite and > 0 at every support point")
+        object.__setattr__(self, "points_m", pts)
+        object.__setattr__(self, "masses", m)
+
+    @property
+    def total_mass(self) -> float:
+        """Total mass (kg)."""
+        return float(self.masses.sum())
+
+    @property
+    def com_m(self) -> tuple[float, float]:
+        """Centre of mass ``(x, y)`` in metres."""
+        c = self.masses @ self.points_m / self.masses.sum()
+        return (float(c[0]), float(c[1]))
+
+    @property
+    def moment_of_inertia(self) -> float:
+        """Moment of inertia about the CoM (kg m^2), cells counted as squares."""
+        d = self.points_m - np.asarray(self.com_m)
+        own = self.cell_size_m**2 / 6.0
+        return float(self.masses @ (np.einsum("ij,ij->i", d, d) + own))
+
+    def tilted(self, com_m) -> MassDistribution:
+        """The same distribution exponentially tilted so that its CoM is ``com_m``."""
+        return MassDistribution(
+            self.points_m, tilt_to_com(self.points_m, self.masses, com_m), self.cell_size_m
+        )
+
+    @classmethod
+    def on_shape(
+        cls,
+        shape: ObjectShape,
+        *,
+        mass: float = 1.0,
+        point_masses=(),
+        density_gradient=(0.0, 0.0),
+        com=None,
+        n_support: int = DEFAULT_SUPPORT_POINTS,
+    ) -> MassDistribution:
+        """Build a distribution on a footprint.
+
+        Parameters
+        ----------
+        shape : ObjectShape
+        mass : float, optional
+            Mass (kg) of the body without the point masses.
+        point_masses : sequence of (x, y, m), optional
+            Extra masses (kg) at points (metres) inside the footprint.
+        density_gradient : (gx, gy), optional
+            Relative density change per metre: density ``1 + g . (p - centroid)``,
+            which must stay positive over the footprint.
+        com : (x, y) or None, optional
+            Required CoM in metres. When given, the distribution above is
+            exponentially tilted (:func:`tilt_to_com`) to put its CoM there.
+            ``None`` keeps the CoM the distribution has (for a mesh shape with
+            no point masses or gradient: the mesh's uniform-density CoM).
+        n_support : int, optional
+            About how many grid support points to spread over the footprint.
+        """
+        if isinstance(n_support, bool) or not isinstance(n_support, (int, np.integer)):
+            raise TypeError(f"n_support must be an integer, got {type(n_support).__name__}")
+        if n_support < 4:
+            raise ValueError(f"n_support must be >= 4, got {n_support}")
+        if not (isinstance(mass, (int, float)) and math.isfinite(mass) and mass > 0):
+            raise ValueError(f"mass must be a positive number (kg), got {mass!r}")
+        shapely = require_shapely()
+        poly = shape.polygon()
+        centers, areas, h = _grid_cells(poly, shapely, int(n_support))
+        grad = np.asarray(density_gradient, dtype=float)
+        if grad.shape != (2,) or not np.isfinite(grad).all():
+            raise ValueError(f"density_gradient must be two finite numbers, got {density_gradient}")
+        density = 1.0 + (centers - np.asarray(shape.centroid_m)) @ grad
+        if (density <= 0).any():
+            raise ValueError(
+                "density_gradient is too steep: the density must stay positive over the footprint"
+            )
+        cell_mass = areas * density
+        cell_mass *= mass / cell_mass.sum()
+        pm = np.asarray(point_masses, dtype=float).reshape(-1, 3) if len(point_masses) else None
+        if pm is not None:
+            if not np.isfinite(pm).all() or (pm[:, 2] <= 0).any():
+                raise ValueError("point_masses must be finite (x, y, m) rows with m > 0")
+            if not shapely.contains_xy(poly, pm[:, 0], pm[:, 1]).all():
+                raise ValueError("point_masses must lie inside the footprint")
+            centers = np.vstack([centers, pm[:, :2]])
+            cell_mass = np.concatenate([cell_mass, pm[:, 2]])
+        dist = cls(centers, cell_mass, h)
+        if com is None and pm is None and not grad.any() and shape.uniform_com_m is not None:
+            com = shape.uniform_com_m
+        if com is not None:
+            com = np.asarray(com, dtype=float)
+            if com.shape != (2,) or not np.isfinite(com).all():
+                raise ValueError(f"com must be two finite numbers (metres), got {com.tolist()}")
+            if not shapely.contains_xy(poly, com[0], com[1]):
+                raise ValueError(f"com {tuple(com.tolist())} must lie inside the footprint")
+            dist = dist.tilted(com)
+        return dist
+
+
+def _grid_cells(poly, shapely, n_support: int):
+    """Centroids, areas and spacing of grid cells clipped to the polygon."""
+    h = math.sqrt(poly.area / n_support)
+    x0, y0, x1, y1 = poly.bounds
+    nx, ny = math.ceil((x1 - x0) / h), math.ceil((y1 - y0) / h)
+    ox = x0 - 0.5 * (nx * h - (x1 - x0))
+    oy = y0 - 0.5 * (ny * h - (y1 - y0))
+    ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
+    lo_x, lo_y = ox + ix.ravel() * h, oy + iy.ravel() * h
+    boxes = shapely.box(lo_x, lo_y, lo_x + h, lo_y + h)
+    clipped = shapely.intersection(boxes, poly)
+    areas = shapely.area(clipped)
+    keep = areas > 1e-6 * h * h
+    cent = shapely.get_coordinates(shapely.centroid(clipped[keep]))
+    return cent, areas[keep], h
+
+
+def tilt_to_com(points, weights, target, tol: float = 1e-12) -> np.ndarray:
+    """Reweight ``w_i -> w_i exp(lam . p_i)`` so that the weighted mean is ``target``.
+
+    The tilt is the distribution closest to the original in relative entropy
+    with the required mean; it exists for every target strictly inside the
+    convex hull of the points and is found by Newton's method on the convex
+    log-partition function. The total weight is preserved.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    >>> w = tilt_to_com(p, np.ones(4), (0.25, 0.5))
+    >>> (w @ p / w.sum()).round(9).tolist(), round(float(w.sum()), 9)
+    ([0.25, 0.5], 4.0)
+    """
+    p = np.asarray(points, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    t = np.asarray(target, dtype=float)
+    scale = float(np.ptp(p, axis=0).max()) or 1.0
+    x = (p - t) / scale
+    lam = np.zeros(2)
+    logw = np.log(w)
+    for _ in range(200):
+        z = logw + x @ lam
+        q = np.exp(z - z.max())
+        q /= q.sum()
+        grad = q @ x
+        if np.abs(grad).max() * scale <= tol:
+            break
+        xc = x - grad
+        hess = (xc * q[:, None]).T @ xc + 1e-15 * np.eye(2)
+        step = np.linalg.solve(hess, -grad)
+        # Backtracking on the log-partition function keeps Newton globally convergent.
+        f0 = np.log(np.exp(z - z.max()).sum()) + z.max()
+        for _ in range(50):
+            zn = logw + x @ (lam + step)
+            if np.log(np.exp(zn - zn.max()).sum()) + zn.max() <= f0 + 1e-4 * grad @ step:
+                break
+            step *= 0.5
+        lam = lam + step
+    else:
+        raise ValueError(f"target {tuple(t.tolist())} is not strictly inside the support points")
+    return q * w.sum()

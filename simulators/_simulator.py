@@ -1,0 +1,312 @@
+"""The :class:`PushSimulator`: a footprint, its mass, a camera and the pymunk engine."""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+from typing import NamedTuple
+
+import numpy as np
+
+import comcore
+from comcore import Mask, Motion
+
+from ._deps import require_shapely
+from ._engine import EngineSettings, simulate_push
+from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
+from ._shapes import ObjectShape, load_shape
+
+__all__ = ["DEFAULT_PUSHER_RADIUS", "PushResult", "PushSimulator"]
+
+#: Radius of the round pusher, metres (an 8 mm dowel, a typical fingertip).
+DEFAULT_PUSHER_RADIUS = 0.004
+#: Floor friction coefficient (the quasi-static motion does not depend on it).
+DEFAULT_MU_FLOOR = 0.5
+#: Empty border around the footprint in the mask, metres.
+DEFAULT_MARGIN = 0.02
+
+
+class PushResult(NamedTuple):
+    """The outcome of :meth:`PushSimulator.push`."""
+
+    motion: Motion
+    """Rotation (CCW on screen) and displacement (pixels) of the mask's area centroid."""
+    pose: tuple[float, float, float]
+    """Final pose: CoM ``(x, y)`` in world metres and body angle (radians, CCW)."""
+    contact_px: tuple[float, float] | None = None
+    """Where the pusher's disc first touched the outline (pixels); ``None``: a miss."""
+    normal_px: tuple[float, float] | None = None
+    """Unit inward normal at that contact (pixel frame); ``None``: a miss."""
+    trajectory: np.ndarray | None = None
+    """Poses along the push, shape (k, 3), when asked for with ``record=True``."""
+
+
+def _positive(value, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    v = float(value)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {v}")
+    return v
+
+
+class PushSimulator:
+    """A flat object on a table, pushed by a round pusher and seen from above.
+
+    World frame: metres, ``y`` up. The camera looks straight down; its mask
+    (:attr:`mask`) shows the footprint at the initial pose with a margin, and
+    :meth:`to_pixels` / :meth:`to_world` map between the two frames (pixel
+    ``y`` points down). An action is the path of the pusher's leading point
+    (the point of the disc farthest along the push); the disc's centre runs
+    ``pusher_radius`` behind it. Every push starts from the initial pose unless
+    ``pose=`` says otherwise, so all actions refer to the same mask.
+
+    Build one with :meth:`from_polygon`, :meth:`from_shape`, :meth:`from_file`
+    or :func:`simulators.random_simulator`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sim = PushSimulator.from_polygon([(0, 0), (0.08, 0), (0.08, 0.06), (0, 0.06)])
+    >>> sim.com_px, sim.mask.shape
+    ((24.0, 20.0), (41, 49))
+    >>> res = sim.push((0, 20, 20, 20))  # along +x through the CoM, 3 cm after contact
+    >>> m = res.motion
+    >>> abs(m.theta) < 0.01, round(m.tx), abs(m.ty) < 0.5
+    (True, 12, True)
+    """
+
+    def __init__(
+        self,
+        shape: ObjectShape,
+        mass: MassDistribution,
+        *,
+        mu_contact: float = 0.3,
+        resolution: float = comcore.DEFAULT_RESOLUTION,
+        margin: float = DEFAULT_MARGIN,
+        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+        mu_floor: float = DEFAULT_MU_FLOOR,
+        settings: EngineSettings | None = None,
+    ):
+        if not isinstance(shape, ObjectShape):
+            raise TypeError(f"shape must be a simulators.ObjectShape, got {type(shape).__name__}")
+        if not isinstance(mass, MassDistribution):
+            raise TypeError(f"mass must be a MassDistribution, got {type(mass).__name__}")
+        lo, hi = comcore.check_mu(mu_contact, "mu_contact")
+        if lo != hi or math.isinf(lo):
+            raise ValueError(f"mu_contact must be one finite number >= 0, got {mu_contact!r}")
+        self.shape = shape
+        self.mass = mass
+        self.mu_contact = lo
+        self.resolution = _positive(resolution, "resolution")
+        self.margin = _positive(margin, "margin")
+        self.pusher_radius = _positive(pusher_radius, "pusher_radius")
+        self.mu_floor = _positive(mu_floor, "mu_floor")
+        self.settings = EngineSettings() if settings is None else settings
+        if not isinstance(self.settings, EngineSettings):
+            raise TypeError(f"settings must be an EngineSettings, got {type(settings).__name__}")
+        x_min, _, _, y_max = shape.bounds_m
+        self._origin = np.array([x_min - self.margin, y_max + self.margin])
+        self.com_m = mass.com_m
+        self._com = np.asarray(self.com_m)
+        self._outline_body = shape.vertices_m - self._com
+        self._support_body = mass.points_m - self._com
+        self._moment = mass.moment_of_inertia
+
+    # -- construction ---------------------------------------------------------------
+    @classmethod
+    def from_shape(
+        cls,
+        shape: ObjectShape,
+        com=None,
+        mu_contact: float = 0.3,
+        resolution: float = comcore.DEFAULT_RESOLUTION,
+        point_masses=(),
+        *,
+        mass: float = 1.0,
+        density_gradient=(0.0, 0.0),
+        n_support: int = DEFAULT_SUPPORT_POINTS,
+        **options,
+    ) -> PushSimulator:
+        """Simulator of a shape; ``com`` (metres) tilts the mass to put the CoM there.
+
+        ``point_masses`` are ``(x, y, m)`` rows (metres, kg); ``mass`` is the
+        mass of the rest of the body. ``options`` go to the constructor
+        (``margin``, ``pusher_radius``, ``mu_floor``, ``settings``).
+        """
+        if not isinstance(shape, ObjectShape):
+            raise TypeError(f"shape must be a simulators.ObjectShape, got {type(shape).__name__}")
+        dist = MassDistribution.on_shape(
+            shape,
+            mass=mass,
+            point_masses=point_masses,
+            density_gradient=density_gradient,
+            com=com,
+            n_support=n_support,
+        )
+        return cls(shape, dist, mu_contact=mu_contact, resolution=resolution, **options)
+
+    @classmethod
+    def from_polygon(
+        cls, vertices_m, com=None, mu_contact: float = 0.3, resolution=0.0025, point_masses=(), **kw
+    ) -> PushSimulator:
+        """Simulator of a polygon (vertices in metres, ``y`` up); see :meth:`from_shape`."""
+        shape = ObjectShape.from_vertices(vertices_m)
+        return cls.from_shape(shape, com, mu_contact, resolution, point_masses, **kw)
+
+    @classmethod
+    def from_file(cls, path, com=None, mu_contact: float = 0.3, *, scale=0.001, **kw):
+        """Simulator of the object in a file (:func:`simulators.load_shape`)."""
+        return cls.from_shape(load_shape(path, scale=scale), com, mu_contact, **kw)
+
+    # -- camera ---------------------------------------------------------------------
+    def to_pixels(self, points_m) -> np.ndarray:
+        """World metres (``y`` up) to pixels (``x`` = column, ``y`` = row, down), (n, 2)."""
+        p = np.atleast_2d(np.asarray(points_m, dtype=float))
+        return np.column_stack([p[:, 0] - self._origin[0], self._origin[1] - p[:, 1]]) / (
+            self.resolution
+        )
+
+    def to_world(self, points_px) -> np.ndarray:
+        """Pixels to world metres, (n, 2); the inverse of :meth:`to_pixels`."""
+        p = np.atleast_2d(np.asarray(points_px, dtype=float)) * self.resolution
+        return np.column_stack([p[:, 0] + self._origin[0], self._origin[1] - p[:, 1]])
+
+    @property
+    def com_px(self) -> tuple[float, float]:
+        """True CoM ``(x, y)`` in pixels."""
+        c = self.to_pixels(self._com)[0]
+        return (float(c[0]), float(c[1]))
+
+    @property
+    def initial_pose(self) -> tuple[float, float, float]:
+        """The CoM ``(x, y)`` in metres and angle 0."""
+        return (self.com_m[0], self.com_m[1], 0.0)
+
+    @cached_property
+    def image_shape(self) -> tuple[int, int]:
+        """``(H, W)`` of the camera image."""
+        x_min, y_min, x_max, y_max = self.shape.bounds_m
+        w = math.ceil((x_max - x_min + 2 * self.margin) / self.resolution) + 1
+        h = math.ceil((y_max - y_min + 2 * self.margin) / self.resolution) + 1
+        return (h, w)
+
+    def outline_at(self, pose=None) -> np.ndarray:
+        """The outline in world metres at ``pose`` (default: the initial pose), (k, 2)."""
+        x, y, a = self.initial_pose if pose is None else pose
+        c, s = math.cos(a), math.sin(a)
+        return self._outline_body @ np.array([[c, s], [-s, c]]) + (x, y)
+
+    def mask_at(self, pose=None) -> Mask:
+        """The camera's mask of the footprint at ``pose`` (pixel centres inside)."""
+        shapely = require_shapely()
+        h, w = self.image_shape
+        rows, cols = np.mgrid[0:h, 0:w]
+        centres = self.to_world(np.column_stack([cols.ravel(), rows.ravel()]))
+        poly = shapely.Polygon(self.outline_at(pose))
+        inside = shapely.contains_xy(poly, centres[:, 0], centres[:, 1]).reshape(h, w)
+        if not inside.any():
+            raise ValueError("the object is outside the camera image at this pose")
+        return Mask(inside, resolution=self.resolution)
+
+    @cached_property
+    def mask(self) -> Mask:
+        """The mask at the initial pose."""
+        return self.mask_at(None)
+
+    @cached_property
+    def _reference_body(self) -> np.ndarray:
+        """The initial mask's area centroid as a body point (metres, relative to CoM)."""
+        return self.to_world(self.mask.centroid)[0] - self._com
+
+    # -- pushing --------------------------------------------------------------------
+    def _material_point(self, pose) -> np.ndarray:
+        x, y, a = pose
+        c, s = math.cos(a), math.sin(a)
+        return self._reference_body @ np.array([[c, s], [-s, c]]) + (x, y)
+
+    def push(self, action, pose=None, record: bool = False) -> PushResult:
+        """Push once and return the motion, the final pose and the real contact.
+
+        Parameters
+        ----------
+        action : Action or array_like, shape (4,)
+            Path of the pusher's leading point in pixels of :attr:`mask`.
+        pose : (x, y, angle), optional
+            Start pose (CoM in metres, angle in radians); default the initial
+            pose. Pass a previous result's ``pose`` to push in sequence.
+        record : bool, optional
+            Also return the poses along the push (``trajectory``).
+
+        Returns
+        -------
+        PushResult
+            ``motion.theta`` is the change of angle (CCW on screen);
+            ``(motion.tx, motion.ty)`` is the displacement in pixels of the
+            material point under the initial mask's area centroid (exactly the
+            area centroid's displacement when starting from the initial pose).
+
+        Raises
+        ------
+        ValueError
+            A malformed action, or a pusher that overlaps the object at its start.
+        """
+        acts = comcore.check_actions(action, "action", allow_empty=False)
+        if acts.shape[0] != 1:
+            raise ValueError(f"action must be a single action, got {acts.shape[0]}")
+        start_pose = self.initial_pose if pose is None else tuple(float(v) for v in pose)
+        if len(start_pose) != 3 or not all(map(math.isfinite, start_pose)):
+            raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
+        ends = self.to_world(acts[0].reshape(2, 2))
+        out = simulate_push(
+            self._outline_body,
+            self._support_body,
+            self.mass.masses,
+            self._moment,
+            start_pose,
+            ends[0],
+            ends[1],
+            pusher_radius=self.pusher_radius,
+            mu_contact=self.mu_contact,
+            mu_floor=self.mu_floor,
+            settings=self.settings,
+            record=record,
+        )
+        moved = self._material_point(out.pose) - self._material_point(start_pose)
+        motion = Motion(
+            out.pose[2] - start_pose[2], moved[0] / self.resolution, -moved[1] / self.resolution
+        )
+        contact = normal = None
+        if out.contact_m is not None:
+            c = self.to_pixels(out.contact_m)[0]
+            contact = (float(c[0]), float(c[1]))
+            normal = (out.normal[0], -out.normal[1])
+        return PushResult(motion, out.pose, contact, normal, out.trajectory)
+
+    def push_motions(self, actions) -> np.ndarray:
+        """Motions of a batch of pushes, each from the initial pose, shape (n, 3)."""
+        acts = comcore.check_actions(actions)
+        out = np.zeros((acts.shape[0], 3))
+        for i, a in enumerate(acts):
+            out[i] = self.push(a).motion
+        return out
+
+    def with_com(self, com_m=None, mu_contact=None) -> PushSimulator:
+        """The same object with its mass tilted to ``com_m`` and/or another ``mu_contact``."""
+        mass = self.mass if com_m is None else self.mass.tilted(com_m)
+        return PushSimulator(
+            self.shape,
+            mass,
+            mu_contact=self.mu_contact if mu_contact is None else mu_contact,
+            resolution=self.resolution,
+            margin=self.margin,
+            pusher_radius=self.pusher_radius,
+            mu_floor=self.mu_floor,
+            settings=self.settings,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"PushSimulator(shape={self.shape!r}, com_px=({self.com_px[0]:.1f}, "
+            f"{self.com_px[1]:.1f}), mu_contact={self.mu_contact:.3f})"
+        )
