@@ -10,7 +10,8 @@ from scipy.special import logsumexp
 
 from comcore import Estimate, Mask
 
-from ._ellipsoid_model import characteristic_length_sq, distance_field, simulate
+from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["MU_GRID", "EllipsoidFit", "fit_priors"]
 
@@ -20,8 +21,11 @@ MU_GRID = (0.1, 0.2, 0.3, 0.45, 0.65, 0.9, 1.2)
 MAX_COARSE = 300
 #: Coarse cells (best first) refined at full pixel resolution.
 MAX_REFINED_CELLS = 40
-#: Integration steps of the coarse pass (the fine pass uses the predictor's).
-COARSE_STEPS = 12
+#: Integration steps of the coarse and refined passes (the polish uses the predictor's).
+COARSE_STEPS = 8
+REFINED_STEPS = 12
+#: Local polishing passes: (CoM grid spacing px, half-width of log(mu) range, number of mus).
+POLISH_PASSES = ((0.5, 0.7, 7), (0.15, 0.2, 5))
 #: Degrees of freedom of the Student-t residual model (robust to outliers).
 STUDENT_NU = 4.0
 #: Smallest residual scales: rotation (radians, 0.5 deg) and translation (pixels).
@@ -42,12 +46,11 @@ class EllipsoidFit:
     Attributes
     ----------
     com : tuple of float
-        Fitted CoM ``(x, y)`` in pixels: the posterior mean over the CoM grid,
-        or the best grid pixel when the mean falls off the object.
+        Fitted CoM ``(x, y)`` in pixels: the most likely CoM, to sub-pixel precision.
     com_cov : numpy.ndarray, shape (2, 2)
         Posterior covariance of the CoM, pixels squared (read-only).
     mu_contact : float
-        Contact friction of the best hypothesis.
+        Contact friction of the most likely hypothesis.
     log_likelihood : float
         Robust (Student-t) log-likelihood of the priors under the best
         hypothesis, up to a constant.
@@ -55,8 +58,8 @@ class EllipsoidFit:
         Residual scales ``(theta in radians, translation in pixels)`` used by
         the likelihood: robust estimates from the best fit, floored at
         ``MIN_THETA_SCALE`` and ``MIN_TRANSLATION_SCALE``.
-    com_map : tuple of float
-        The best single CoM pixel.
+    com_mean : tuple of float
+        Posterior mean of the CoM over the refined grid (pixels).
     candidates : numpy.ndarray, shape (k, 2)
         CoM hypotheses of the refined grid (pixels, read-only).
     weights : numpy.ndarray, shape (k,)
@@ -70,7 +73,7 @@ class EllipsoidFit:
     mu_contact: float
     log_likelihood: float
     residual_scale: tuple[float, float]
-    com_map: tuple[float, float]
+    com_mean: tuple[float, float]
     candidates: np.ndarray
     weights: np.ndarray
     resolution: float
@@ -136,12 +139,12 @@ def _mu_refinement(grid: np.ndarray, best: int) -> np.ndarray:
     return np.array(mus)
 
 
-def _evaluate(mask, field, actions, coms, mus, pressure, radius, n_steps):
+def _evaluate(mask, field, actions, coms, mus, *, support, radius, n_steps):
     """Predictions for every (com, mu) pair: shape (n_coms, n_mus, n_actions, 3)."""
-    c2 = characteristic_length_sq(mask, coms, pressure)
+    c2 = characteristic_length_sq(mask, coms, *support)
     all_coms = np.repeat(coms, len(mus), axis=0)
     out = simulate(
-        mask, field, actions, all_coms, np.repeat(c2, len(mus)), np.tile(mus, len(coms)),
+        mask, field, actions, all_coms, np.repeat(c2, len(mus), axis=0), np.tile(mus, len(coms)),
         radius, n_steps,
     )  # fmt: skip
     return out.reshape(len(coms), len(mus), len(actions), 3)
@@ -163,36 +166,55 @@ def _posterior(log_post, coms):
     return w, mean, (w[:, None] * rel).T @ rel
 
 
-def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n_steps):
-    """Grid fit of the CoM (over the mask's pixels) and mu to observed motions.
+def _polish(mask, field, actions, motions, com, mu, scales, *, fixed, **kw):
+    """Sub-pixel CoM and finer mu around a grid optimum: two shrinking local grids."""
+    fix_com, fix_mu = fixed
+    for spacing, spread, n_mu in POLISH_PASSES:
+        offsets = spacing * np.arange(-2, 3)
+        grid = np.stack(np.meshgrid(offsets, offsets), axis=-1).reshape(-1, 2)
+        coms = com[None, :] + (np.zeros((1, 2)) if fix_com else grid)
+        mus = np.array([mu]) if fix_mu else mu * np.exp(np.linspace(-spread, spread, n_mu))
+        nll = _nll(_evaluate(mask, field, actions, coms, mus, **kw), motions, scales)
+        i, j = np.unravel_index(np.argmin(nll), nll.shape)
+        com, mu, best = coms[i], float(mus[j]), float(nll[i, j])
+    return com, mu, best
 
-    A coarse pass scores a sub-grid of the mask's pixels against ``MU_GRID``
-    (or the given ``mu``) with ``COARSE_STEPS`` integration steps; the best
-    coarse cells are then refined at every pixel with ``mu`` refined around
-    the best value. See :class:`EllipsoidFit` for what is returned.
+
+def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_steps):
+    """Fit the CoM (over the mask's pixels) and mu to observed motions.
+
+    1. A coarse pass scores a sub-grid of the mask's pixels (at most
+       ``MAX_COARSE``) against ``MU_GRID`` (or the given ``mu``) with
+       ``COARSE_STEPS`` integration steps.
+    2. The ``MAX_REFINED_CELLS`` best coarse cells are scored at every pixel,
+       (``REFINED_STEPS``) with ``mu`` refined around its best value; residual scales are then
+       estimated from the best fit and the posterior over these pixels gives
+       the covariance (the coarse grid's when the belief is wider than them).
+    3. Two shrinking local grids polish the best pixel to sub-pixel precision
+       and ``mu`` to a few per cent, with the predictor's own ``n_steps``.
+
+    See :class:`EllipsoidFit` for what is returned.
     """
     field = distance_field(mask)
-    pixels = mask.pixels
+    kw = {"support": support, "radius": radius}
     mus = np.array(MU_GRID if mu is None else (mu,), dtype=float)
     scales = (MIN_THETA_SCALE * 4, MIN_TRANSLATION_SCALE * 4)
     if com is not None:
-        coms = np.asarray([com], dtype=float)
-        fine_coms, stride, coarse_ok = coms, 1, True
-        mus = np.linspace(mus.min(), mus.max(), 13) if mu is None else mus
+        fine_coms, stride, coarse_ok = np.asarray([com], dtype=float), 1, True
     else:
+        pixels = mask.pixels
         coms, stride = _coarse_grid(pixels)
-        pred = _evaluate(mask, field, actions, coms, mus, pressure, radius, COARSE_STEPS)
+        pred = _evaluate(mask, field, actions, coms, mus, n_steps=COARSE_STEPS, **kw)
         nll = _nll(pred, motions, scales)  # (n_coms, n_mus)
         best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
-        coarse_scales = _scales(pred[best_com, best_mu], motions)
-        coarse_log = logsumexp(-_nll(pred, motions, coarse_scales), axis=1)
+        coarse_log = logsumexp(-_nll(pred, motions, _scales(pred[best_com, best_mu], motions)), 1)
         cells = np.argsort(-coarse_log)[:MAX_REFINED_CELLS]
         near = np.max(np.abs(pixels[:, None, :] - coms[None, cells, :]), axis=2) <= stride // 2
         fine_coms = pixels[near.any(axis=1)]
         w_coarse, _, cov_coarse = _posterior(coarse_log, coms)
         coarse_ok = w_coarse[cells].sum() >= 0.99
         mus = _mu_refinement(mus, int(best_mu)) if mu is None else mus
-    pred = _evaluate(mask, field, actions, fine_coms, mus, pressure, radius, n_steps)
+    pred = _evaluate(mask, field, actions, fine_coms, mus, n_steps=REFINED_STEPS, **kw)
     nll = _nll(pred, motions, scales)
     best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
     scales = _scales(pred[best_com, best_mu], motions)
@@ -202,15 +224,17 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, pressure, radius, n
     if not coarse_ok:  # the belief is wider than the refined cells: use the coarse grid's
         cov = cov_coarse
     cov = cov + np.eye(2) * (stride**2 if not coarse_ok else 1.0) / 12.0
-    com_map = fine_coms[best_com]
-    com_out = mean if mask.contains(mean[None])[0] else com_map
+    best, mu_best, nll_best = _polish(
+        mask, field, actions, motions, fine_coms[best_com], float(mus[best_mu]), scales,
+        fixed=(com is not None, mu is not None), n_steps=n_steps, **kw,
+    )  # fmt: skip
     return EllipsoidFit(
-        com=(float(com_out[0]), float(com_out[1])),
+        com=(float(best[0]), float(best[1])),
         com_cov=cov if com is None else np.zeros((2, 2)),
-        mu_contact=float(mus[best_mu]),
-        log_likelihood=-float(nll[best_com, best_mu]),
+        mu_contact=mu_best,
+        log_likelihood=-nll_best,
         residual_scale=(float(scales[0]), float(scales[1])),
-        com_map=(float(com_map[0]), float(com_map[1])),
+        com_mean=(float(mean[0]), float(mean[1])),
         candidates=fine_coms,
         weights=weights,
         resolution=mask.resolution,

@@ -5,8 +5,9 @@ object's body frame with the CoM as origin and everything in pixels:
 
 * The limit surface is the ellipsoid ``fx^2 + fy^2 + (m / c)^2 = (mu_f N)^2``,
   with ``c`` the support's characteristic length (see
-  :func:`characteristic_length_sq`). By maximum dissipation a wrench
-  ``(f, m)`` makes the object move with the twist ``(v, omega) ~ (f, m / c^2)``.
+  :func:`predictors._ellipsoid_support.characteristic_length_sq`). By maximum
+  dissipation a wrench ``(f, m)`` makes the object move with the twist
+  ``(v, omega) ~ (f, m / c^2)``.
 * A point contact at ``r`` (from the CoM) with inward normal ``n`` moves with
   ``v + omega * w``, ``w = (r_y, -r_x)`` (pixel frame, ``omega`` CCW on
   screen), so a contact force ``f`` moves the contact with ``A f``,
@@ -23,6 +24,9 @@ contact. At each step the pusher's end-of-step position is taken into the body
 frame; the outline's signed distance there gives the contact point, its normal
 and the penetration (or gap) that this step must remove, so the contact point
 slides along the outline as the object turns and contact may break and resume.
+The normal is the gradient of the smoothed signed distance: on straight edges
+it equals :meth:`comcore.Mask.inward_normals` (to round-off), at corners it
+points from the corner to the disc's centre, as for a real round pusher.
 """
 
 from __future__ import annotations
@@ -37,9 +41,9 @@ from comcore import Mask
 __all__ = [
     "DistanceField",
     "body_twist",
-    "characteristic_length_sq",
     "distance_field",
     "first_contact",
+    "pusher_paths",
     "simulate",
 ]
 
@@ -51,8 +55,6 @@ FIELD_PAD_PX = 24
 CONTACT_MARCH_PX = 0.25
 #: Bisection steps refining the first contact.
 CONTACT_BISECTIONS = 8
-#: Largest number of (hypothesis, pixel) pairs held in memory at once.
-_CHUNK = 2_000_000
 
 
 class DistanceField:
@@ -104,53 +106,43 @@ def distance_field(mask: Mask) -> DistanceField:
     return field
 
 
-def characteristic_length_sq(mask: Mask, coms, pressure: str = "uniform") -> np.ndarray:
-    """Squared characteristic length ``c^2`` (pixels^2) of the support for each CoM.
+def pusher_paths(field: DistanceField, actions: np.ndarray, radius: float):
+    """Paths of the disc's centre and the disc's radius, per action.
 
-    ``c = m_max / f_max = integral |r - com| p(r) dA / integral p(r) dA``: the
-    ratio of the largest friction moment about the CoM to the largest friction
-    force, for a pressure distribution ``p`` over the mask's pixels.
-
-    ``pressure="uniform"`` takes ``p`` constant (the default). ``"linear"``
-    takes the planar pressure ``p = 1 + g . (x - centroid)`` (clipped at 0)
-    whose centre of pressure is the CoM, as it must be for a rigid object
-    resting on a flat floor.
-
-    Parameters
-    ----------
-    mask : Mask
-    coms : array_like, shape (n, 2)
-    pressure : {"uniform", "linear"}
+    An action is the path of the disc's leading point; its centre runs
+    ``radius`` behind. Where a disc that large would overlap the outline at
+    the start (in a concave corner, or through the smoothing of the outline),
+    the largest disc that surely fits is used instead (``0.45`` times the
+    leading point's distance to the outline).
 
     Returns
     -------
-    numpy.ndarray, shape (n,)
+    centres : numpy.ndarray, shape (n, 4)
+    radii : numpy.ndarray, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        If an action's leading point starts inside the object.
     """
-    pix = mask.pixels
-    coms = np.asarray(coms, dtype=float).reshape(-1, 2)
-    out = np.empty(len(coms))
-    centroid = np.asarray(mask.centroid)
-    rel = pix - centroid
-    if pressure == "linear":
-        cov = rel.T @ rel / len(pix) + 1e-9 * np.eye(2)
-        slope = np.linalg.solve(cov, (coms - centroid).T).T  # (n, 2)
-    step = max(1, _CHUNK // max(len(pix), 1))
-    for lo in range(0, len(coms), step):
-        sl = slice(lo, lo + step)
-        dist = np.hypot(pix[None, :, 0] - coms[sl, None, 0], pix[None, :, 1] - coms[sl, None, 1])
-        if pressure == "linear":
-            weight = np.maximum(1.0 + slope[sl] @ rel.T, 0.0)
-            out[sl] = np.einsum("ij,ij->i", weight, dist) / weight.sum(axis=1)
-        else:
-            out[sl] = dist.mean(axis=1)
-    # A one-pixel object still has the spread of its pixel square (mean |r| = 0.38 px).
-    return np.maximum(out, 0.38) ** 2
+    delta = actions[:, 2:] - actions[:, :2]
+    unit = delta / np.hypot(delta[:, 0], delta[:, 1])[:, None]
+    lead = field.sample(actions[:, :2])[0]
+    if (lead <= 0).any():
+        bad = np.flatnonzero(lead <= 0)[:5].tolist()
+        raise ValueError(f"actions must start outside the object; action(s) {bad} start inside it")
+    radii = np.full(len(actions), float(radius))
+    if radius > 0:
+        overlap = field.sample(actions[:, :2] - radius * unit)[0] <= radius
+        radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
+    return actions - np.tile(radii[:, None] * unit, 2), radii
 
 
-def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
+def first_contact(field: DistanceField, actions: np.ndarray, radius):
     """Pusher travel to first contact, and hit / starts-inside flags, per action.
 
-    The pusher is a disc of ``radius`` pixels whose centre follows the action.
+    The pusher is a disc of ``radius`` pixels (a number or one per action)
+    whose centre follows the action.
 
     Returns
     -------
@@ -164,7 +156,8 @@ def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
     unit = delta / length[:, None]
     n_samples = int(np.ceil(length.max(initial=0.0) / CONTACT_MARCH_PX)) + 1
     t = np.minimum(np.arange(n_samples)[None, :] * CONTACT_MARCH_PX, length[:, None])
-    gap = field.sample(start[:, None, :] + t[..., None] * unit[:, None, :])[0] - radius
+    radius = np.broadcast_to(np.asarray(radius, dtype=float), length.shape)
+    gap = field.sample(start[:, None, :] + t[..., None] * unit[:, None, :])[0] - radius[:, None]
     touching = gap <= 0
     starts_inside = touching[:, 0]
     hit = touching.any(axis=1) & ~starts_inside
@@ -180,8 +173,11 @@ def first_contact(field: DistanceField, actions: np.ndarray, radius: float):
     return np.where(hit, hi, 0.0), hit, starts_inside
 
 
-def _twist(rx, ry, nx, ny, ux, uy, c2, mu):
-    """Component form of :func:`body_twist` (the hot loop of :func:`simulate`)."""
+def _twist(rx, ry, nx, ny, ux, uy, c2, mu, cos_a, sin_a):
+    """Component form of :func:`body_twist` (the hot loop of :func:`simulate`).
+
+    ``cos_a, sin_a`` are the cosine and sine of the friction cone's half-angle ``atan(mu)``.
+    """
     # w = (r_y, -r_x): the contact's velocity per unit CCW-on-screen rotation about the CoM.
     wx, wy = ry, -rx
     wu = wx * ux + wy * uy
@@ -192,9 +188,7 @@ def _twist(rx, ry, nx, ny, ux, uy, c2, mu):
     f_tangent = ny * fx - nx * fy  # comcore.ccw_cross(n, f)
     sticking = (f_normal > 0) & (np.abs(f_tangent) <= mu * f_normal)
     # The friction-cone edge on the force's side: n turned by +/- atan(mu) (CCW on screen).
-    cos_a = 1.0 / np.sqrt(1.0 + mu * mu)
-    sin_a = np.where(f_tangent >= 0, 1.0, -1.0) * mu * cos_a
-    sin_a = np.where(np.isinf(mu), np.where(f_tangent >= 0, 1.0, -1.0), sin_a)
+    sin_a = np.where(f_tangent >= 0, sin_a, -sin_a)
     ex = cos_a * nx + sin_a * ny
     ey = -sin_a * nx + cos_a * ny
     w_edge = wx * ex + wy * ey
@@ -223,9 +217,11 @@ def body_twist(r, normal, u, c2, mu):
     """
     r, normal, u = (np.asarray(a, dtype=float) for a in (r, normal, u))
     mu = np.asarray(mu, dtype=float)
+    alpha = np.arctan(mu)
     vx, vy, omega, sticking = _twist(
-        r[..., 0], r[..., 1], normal[..., 0], normal[..., 1], u[..., 0], u[..., 1], c2, mu
-    )
+        r[..., 0], r[..., 1], normal[..., 0], normal[..., 1], u[..., 0], u[..., 1], c2, mu,
+        np.cos(alpha), np.sin(alpha),
+    )  # fmt: skip
     return np.stack([vx, vy], axis=-1), omega, sticking
 
 
@@ -239,12 +235,18 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         ``distance_field(mask)``.
     actions : numpy.ndarray, shape (n_actions, 4)
     coms : numpy.ndarray, shape (n_hyp, 2)
-    c2 : numpy.ndarray, shape (n_hyp,)
-        Squared characteristic length of each hypothesis.
+    c2 : numpy.ndarray, shape (n_hyp,) or (n_hyp, 3)
+        Squared characteristic length of each hypothesis, or the support's
+        second-moment tensor (``limit_surface="directional"`` of
+        :func:`predictors._ellipsoid_support.characteristic_length_sq`),
+        contracted at every step with the direction of the pusher's motion
+        relative to the object.
     mu : numpy.ndarray, shape (n_hyp,)
         Contact friction of each hypothesis (``inf`` allowed).
     radius : float
-        Pusher radius in pixels.
+        Pusher radius in pixels. The actions are the paths of the disc's
+        leading point (as in :mod:`simulators`); its centre runs ``radius``
+        behind.
     n_steps : int
         Integration steps between first contact and the end of the push.
 
@@ -257,24 +259,25 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     Raises
     ------
     ValueError
-        If a push starts inside the object (or within ``radius`` of it).
+        If a push starts inside the object.
     """
-    travel, hit, starts_inside = first_contact(field, actions, radius)
-    if starts_inside.any():
-        bad = np.flatnonzero(starts_inside)[:5].tolist()
-        raise ValueError(
-            f"actions must start outside the object (clear of the pusher radius); "
-            f"action(s) {bad} start inside it"
-        )
     delta = actions[:, 2:] - actions[:, :2]
     length = np.hypot(delta[:, 0], delta[:, 1])
+    actions, radius = pusher_paths(field, actions, radius)
+    travel, hit, _ = first_contact(field, actions, radius)
     step = np.where(hit, (length - travel) / n_steps, 0.0)
     ux, uy = delta[:, 0] / length, delta[:, 1] / length
     sx, sy = actions[:, 0] + travel * ux, actions[:, 1] + travel * uy  # first contact
     dx, dy = step * ux, step * uy  # pusher displacement per step (world)
     comx, comy = coms[:, 0:1], coms[:, 1:2]  # (H, 1)
-    c2 = np.asarray(c2, dtype=float)[:, None]
+    c2 = np.asarray(c2, dtype=float)
+    directional = c2.ndim == 2
+    if directional:
+        sxx, sxy, syy = (c2[:, i : i + 1] for i in range(3))
+    else:
+        c2 = c2[:, None]
     mu = np.asarray(mu, dtype=float)[:, None]
+    cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
     theta = np.zeros((len(coms), len(actions)))
     px, py = comx + theta, comy + theta  # CoM position (world)
     for k in range(1, n_steps + 1):
@@ -288,6 +291,11 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         nx, ny = -gx, -gy
         mx, my = cos_t * dx - sin_t * dy, sin_t * dx + cos_t * dy
         along = mx * nx + my * ny + gap
+        if directional:  # c^2 = d^T S d along the pusher's direction in the body frame
+            c2 = (sxx * mx * mx + 2.0 * sxy * mx * my + syy * my * my) / np.maximum(
+                mx * mx + my * my, 1e-300
+            )
+            c2 = np.maximum(c2, 1.0 / 12.0)
         vx, vy, omega, _ = _twist(
             qx - dist * gx - comx,
             qy - dist * gy - comy,
@@ -297,6 +305,8 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
             my - along * ny,
             c2,
             mu,
+            cos_a,
+            sin_a,
         )
         pushing = (gap < 0) & hit
         px = px + np.where(pushing, cos_t * vx + sin_t * vy, 0.0)

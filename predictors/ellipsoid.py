@@ -14,14 +14,17 @@ import numpy as np
 from comcore import check_actions, check_mask, check_points, check_priors
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
-from ._ellipsoid_model import characteristic_length_sq, distance_field, simulate
+from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["DEFAULT_MU_CONTACT", "MU_GRID", "EllipsoidFit", "EllipsoidPredictor"]
 
 #: Contact friction assumed when none is given and there are no priors to fit it.
 DEFAULT_MU_CONTACT = 0.5
 #: Pressure distributions of the support that the model knows.
-PRESSURES = ("uniform", "linear")
+PRESSURES = ("uniform", "linear", "tilted")
+#: Where the ellipsoid matches the true limit surface (see ``characteristic_length_sq``).
+LIMIT_SURFACES = ("rotation", "translation", "directional")
 
 
 def _check_com(com):
@@ -60,11 +63,22 @@ class EllipsoidPredictor:
     mu_contact : float or None, optional
         Pusher-object friction (``inf``: the contact never slides); ``None``
         fits it to the priors, or uses ``DEFAULT_MU_CONTACT`` when there are none.
-    pressure : {"uniform", "linear"}, optional
-        Support pressure behind the characteristic length (see
-        :func:`predictors._ellipsoid_model.characteristic_length_sq`).
+    pressure : {"tilted", "uniform", "linear"}, optional
+        Pressure of the support on the floor. The default ``"tilted"`` is the
+        distribution closest to uniform whose centre of pressure is the CoM
+        (as it must be); ``"uniform"`` ignores that.
+    limit_surface : {"translation", "rotation", "directional"}, optional
+        Where the ellipsoid matches the true limit surface: its curvature at
+        pure translation (default: pushes mostly translate), its pure-rotation
+        pole (the classic ``c = m_max / f_max``), or its curvature along the
+        push direction. See
+        :func:`predictors._ellipsoid_support.characteristic_length_sq` and
+        ``docs/predictor-ellipsoid.md`` for the measurements behind the defaults.
     pusher_radius : float, optional
-        Radius of the round pusher in metres (0: a point).
+        Radius of the round pusher in metres (0: a point). As in
+        :mod:`simulators`, an action is the path of the disc's leading point
+        (the point farthest along the push); its centre runs ``pusher_radius``
+        behind it, so a push along the normal of a flat edge is unchanged.
     n_steps : int, optional
         Integration steps over the push after first contact (default 24).
 
@@ -79,7 +93,7 @@ class EllipsoidPredictor:
     >>> p = EllipsoidPredictor(com=mask.centroid, mu_contact=0.3)
     >>> p.predict(mask, [(0, 19.5, 24, 19.5), (0, 14.5, 24, 14.5)]).round(2)
     array([[ 0.  , 14.5 ,  0.  ],
-           [-0.29, 12.45,  4.08]])
+           [-0.34, 11.97,  4.72]])
     >>> EllipsoidPredictor().predict(mask, [(0, 19.5, 24, 19.5)])
     Traceback (most recent call last):
     ...
@@ -88,7 +102,8 @@ class EllipsoidPredictor:
 
     com: tuple[float, float] | None = None
     mu_contact: float | None = None
-    pressure: str = "uniform"
+    pressure: str = "tilted"
+    limit_surface: str = "translation"
     pusher_radius: float = 0.0
     n_steps: int = 24
 
@@ -97,6 +112,10 @@ class EllipsoidPredictor:
         object.__setattr__(self, "mu_contact", _check_mu_value(self.mu_contact))
         if self.pressure not in PRESSURES:
             raise ValueError(f"pressure must be one of {PRESSURES}, got {self.pressure!r}")
+        if self.limit_surface not in LIMIT_SURFACES:
+            raise ValueError(
+                f"limit_surface must be one of {LIMIT_SURFACES}, got {self.limit_surface!r}"
+            )
         radius = _check_mu_value(self.pusher_radius, "pusher_radius")
         if radius is None or math.isinf(radius):
             raise ValueError(f"pusher_radius must be a finite number >= 0, got {radius}")
@@ -139,7 +158,7 @@ class EllipsoidPredictor:
             raise TypeError("mu must be a number >= 0, got None")
         if len(acts) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(acts), 3))
-        c2 = characteristic_length_sq(mask, pts, self.pressure)
+        c2 = characteristic_length_sq(mask, pts, self.pressure, self.limit_surface)
         return simulate(
             mask, distance_field(mask), acts, pts, c2, np.full(len(pts), mu),
             self._radius_px(mask), self.n_steps,
@@ -180,7 +199,8 @@ class EllipsoidPredictor:
         if len(acts) == 0:
             raise ValueError("priors must hold at least one (Action, Motion) pair to fit to")
         return fit_priors(
-            mask, acts, mots, com=self.com, mu=self.mu_contact, pressure=self.pressure,
+            mask, acts, mots, com=self.com, mu=self.mu_contact,
+            support=(self.pressure, self.limit_surface),
             radius=self._radius_px(mask), n_steps=self.n_steps,
         )  # fmt: skip
 
