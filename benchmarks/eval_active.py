@@ -27,15 +27,15 @@ import numpy as np
 import comcore
 
 
-def _model(name: str, pressure: str):
+def _model(name: str):
     if name == "none":
         return None
     if name == "ellipsoid":
         import simulators
         from predictors import EllipsoidPredictor
 
-        # The robot knows its pusher's radius; the pressure is a modelling choice.
-        return EllipsoidPredictor(pressure=pressure, pusher_radius=simulators.DEFAULT_PUSHER_RADIUS)
+        # The robot knows its pusher's radius; the rest is the model's defaults.
+        return EllipsoidPredictor(pusher_radius=simulators.DEFAULT_PUSHER_RADIUS)
     raise ValueError(f"--model must be 'ellipsoid' or 'none', got {name!r}")
 
 
@@ -80,9 +80,12 @@ def run_trial(name, friction, seed, args, model):
         flips.append(flip)
         return comcore.Motion(-motion.theta, motion.tx, motion.ty) if flip else motion
 
-    kwargs = {}
+    kwargs = {"selection": args.selection}
     if args.flip_prob is not None:
         kwargs["flip_prob"] = args.flip_prob
+    for key in ("theta_noise", "translation_noise"):
+        if getattr(args, key) is not None:
+            kwargs[key] = tuple(getattr(args, key))
     if args.target_radius is not None:
         kwargs["target_radius"] = args.target_radius
     cands = candidates_for(
@@ -139,16 +142,18 @@ def main(argv=None):
     parser.add_argument("--trials", type=int, default=1, help="trials per object and class")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--model", default="ellipsoid", help="'ellipsoid' or 'none'")
-    parser.add_argument("--pressure", default="linear", help="ellipsoid model's pressure")
+    parser.add_argument("--theta-noise", type=float, nargs=2, default=None)
+    parser.add_argument("--translation-noise", type=float, nargs=2, default=None)
     parser.add_argument("--max-pushes", type=int, default=6)
     parser.add_argument("--target-radius", type=float, default=None, help="metres")
     parser.add_argument("--flip", type=float, default=0.0, help="probability to flip a sense")
     parser.add_argument("--flip-prob", type=float, default=None, help="estimator's flip_prob")
     parser.add_argument("--cone", type=float, default=0.3)
+    parser.add_argument("--selection", default="auto", help="auto, sense or model")
     parser.add_argument("--per-object", action="store_true")
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
     args = parser.parse_args(argv)
-    model = _model(args.model, args.pressure)
+    model = _model(args.model)
     rows = []
     for k, (name, friction, _) in enumerate(
         (n, f, t) for f in args.friction for n in args.objects for t in range(args.trials)

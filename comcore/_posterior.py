@@ -28,7 +28,6 @@ __all__ = [
     "binary_entropy",
     "force_lines",
     "line_distances",
-    "motion_log_likelihood",
     "push_log_likelihood",
     "sense_information",
     "side_probability",
@@ -272,38 +271,6 @@ class GridPosterior:
         chosen = np.zeros(len(w), dtype=bool)
         chosen[order[: k + 1]] = True
         return chosen, float(k + min(max(fraction, 0.0), 1.0))
-
-
-def _student_t(residual_sq, scale, dof: float, dim: int):
-    """Log density (up to a constant) of a ``dim``-variate Student-t, isotropic scale."""
-    return -0.5 * (dof + dim) * np.log1p(residual_sq / (dof * scale**2)) - dim * np.log(scale)
-
-
-def motion_log_likelihood(observed, predicted, theta_noise, translation_noise, dof: float):
-    """Log-likelihood of an observed motion under predicted ones, shape (p, m).
-
-    Heavy-tailed (Student-t) in the rotation and in the translation, with
-    scales ``absolute + relative * |predicted|`` so that a model that is off by
-    a fraction of a large motion is not punished like one that is off by the
-    whole of a small one.
-
-    Parameters
-    ----------
-    observed : numpy.ndarray, shape (3,)
-    predicted : numpy.ndarray, shape (p, m, 3)
-    theta_noise, translation_noise : tuple of float
-        ``(absolute, relative)`` scales: radians and pixels.
-    dof : float
-        Degrees of freedom of the Student-t.
-    """
-    th_abs, th_rel = theta_noise
-    tr_abs, tr_rel = translation_noise
-    th_scale = th_abs + th_rel * np.abs(predicted[..., 0])
-    out = _student_t((observed[0] - predicted[..., 0]) ** 2, th_scale, dof, 1)
-    t_pred = predicted[..., 1:]
-    tr_scale = tr_abs + tr_rel * np.hypot(t_pred[..., 0], t_pred[..., 1])
-    res_sq = ((observed[1:] - t_pred) ** 2).sum(axis=-1)
-    return out + _student_t(res_sq, tr_scale, dof, 2)
 
 
 def push_log_likelihood(

@@ -74,7 +74,7 @@ def _robot(mask, com, mu, model=None, flips=()):
 
 
 def _posterior_at(estimate, com):
-    return estimate.extras["posterior"][int(round(com[1])), int(round(com[0]))]
+    return estimate.extras["posterior"][round(com[1]), round(com[0])]
 
 
 # -- the force-line form of the Voting Theorem -------------------------------------------
@@ -152,13 +152,21 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     assert _posterior_at(est, com) >= allowed * post.max() * (1 - 1e-9)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_with_the_true_model_the_credible_region_holds_the_com(seed):
+@pytest.mark.parametrize(("seed", "selection"), [(0, "sense"), (1, "sense"), (2, "model")])
+def test_with_the_true_model_the_credible_region_holds_the_com(seed, selection):
     mask = _ell()
     rng = np.random.default_rng(seed)
     com = tuple(mask.pixels[rng.integers(mask.area_px)])
     push = _robot(mask, com, 0.4)
-    est = comcore.estimate_active(mask, push, model=ToyModel(), rng=seed, target_radius=0.002)
+    est = comcore.estimate_active(
+        mask,
+        push,
+        model=ToyModel(),
+        rng=seed,
+        target_radius=0.002,
+        selection=selection,
+        n_candidates=60,
+    )
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 1.5
     assert est.status in ("ok", "budget")
@@ -204,7 +212,13 @@ def test_stops_when_the_credible_region_is_small_enough():
     mask = _plate()
     com = (25.0, 20.0)
     est = comcore.estimate_active(
-        mask, _robot(mask, com, 0.3), max_pushes=30, model=ToyModel(), target_radius=0.004, rng=1
+        mask,
+        _robot(mask, com, 0.3),
+        max_pushes=30,
+        model=ToyModel(),
+        target_radius=0.004,
+        rng=1,
+        selection="sense",
     )
     assert est.status == "ok"
     assert est.extras["credible_radius_px"] * mask.resolution <= 0.004
@@ -226,9 +240,10 @@ def test_zero_budget_returns_the_prior_with_a_flag():
 def test_a_flipped_sense_is_survived():
     mask = _ell()
     com = (34.0, 24.0)
-    clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), model=ToyModel(), rng=5)
+    kwargs = {"model": ToyModel(), "rng": 5, "selection": "sense"}
+    clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), **kwargs)
     flipped = comcore.estimate_active(
-        mask, _robot(mask, com, 0.4, flips=(0,)), model=ToyModel(), rng=5, max_pushes=8
+        mask, _robot(mask, com, 0.4, flips=(0,)), max_pushes=8, **kwargs
     )
     assert clean.error_px(com) < 1.5
     assert flipped.error_px(com) < 2.0
@@ -289,7 +304,13 @@ def test_a_prior_off_the_object_is_allowed():
     hull[5:35, 5:35] = True
     com = (18.0, 20.0)  # in the C's mouth
     est = comcore.estimate_active(
-        mask, _robot(mask, com, 0.3), prior=hull, model=ToyModel(), rng=0, max_pushes=8
+        mask,
+        _robot(mask, com, 0.3),
+        prior=hull,
+        model=ToyModel(),
+        rng=0,
+        max_pushes=8,
+        selection="sense",
     )
     assert est.error_px(com) < 2.0
     assert not mask.data[20, 18] and est.extras["posterior"][20, 18] > 0
@@ -311,8 +332,10 @@ def test_a_prior_off_the_object_is_allowed():
         ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must hit the object"),
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
-        ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must have absolute > 0"),
-        ({"translation_noise": "ab"}, TypeError, "translation_noise must be an"),
+        ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
+        ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
+        ({"selection": "best"}, ValueError, "selection must be one of"),
+        ({"selection": "model"}, ValueError, "selection='model' needs a model"),
     ],
 )
 def test_bad_arguments_are_named(kwargs, error, match):
@@ -322,7 +345,7 @@ def test_bad_arguments_are_named(kwargs, error, match):
 
 
 def test_bad_mask_and_push():
-    with pytest.raises(TypeError, match="mask must be a comcore.Mask"):
+    with pytest.raises(TypeError, match=r"mask must be a comcore\.Mask"):
         comcore.estimate_active(np.ones((5, 5), bool), lambda a: (0, 0, 0))
     with pytest.raises(TypeError, match="push must be callable"):
         comcore.estimate_active(_plate(), "robot")

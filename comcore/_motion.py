@@ -1,0 +1,160 @@
+"""Motion-model likelihood and information for :func:`comcore.estimate_active`.
+
+A :class:`comcore.HypothesisPredictor` predicts each push's motion for CoM and
+friction hypotheses; this module scores observed motions against those
+predictions with error scales measured against the simulator, and estimates
+how much a candidate push's motion would tell the hypotheses apart.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import logsumexp
+
+from ._posterior import GridPosterior, line_distances
+
+__all__ = [
+    "model_gains",
+    "model_information",
+    "model_predictions",
+    "motion_log_likelihood",
+    "theta_scale",
+]
+
+#: Degrees of freedom of the Student-t likelihoods (heavy tails; fitted: 2-3).
+STUDENT_DOF = 3.0
+#: Hypotheses (pixel, friction) drawn from the posterior to score candidates with the model.
+MODEL_PARTICLES = 64
+
+
+def _student_t(residual_sq, scale, dof: float, dim: int):
+    """Log density (up to a constant) of a ``dim``-variate Student-t, isotropic scale."""
+    return -0.5 * (dof + dim) * np.log1p(residual_sq / (dof * scale**2)) - dim * np.log(scale)
+
+
+def theta_scale(lever, theta_noise, near_line_px: float):
+    """Scale (rad) of the model's rotation error for each hypothesis.
+
+    ``absolute + near / (1 + (lever / near_line_px)^2)``: a push whose line
+    passes near the CoM balances on an unstable equilibrium, and over a long
+    push its rotation is far less predictable than that of a push with a long
+    lever arm (measured against the simulator, docs/active.md).
+    """
+    absolute, near = theta_noise
+    return absolute + near / (1 + (lever / near_line_px) ** 2)
+
+
+def motion_log_likelihood(observed, predicted, lever, theta_noise, translation_noise, near_line_px):
+    """Log-likelihood of an observed motion under predicted ones, shape (p, m).
+
+    Heavy-tailed (Student-t, 3 degrees of freedom) in the rotation and in the
+    translation. The rotation's scale comes from :func:`theta_scale`; the
+    translation's is ``absolute + relative * |predicted translation|`` (px).
+
+    Parameters
+    ----------
+    observed : numpy.ndarray, shape (3,)
+    predicted : numpy.ndarray, shape (p, m, 3)
+    lever : numpy.ndarray, shape (p, m)
+        Distance (px) of each hypothesis' CoM to its force line.
+    theta_noise, translation_noise : tuple of float
+        ``(absolute, near)`` radians and ``(absolute, relative)`` pixels.
+    near_line_px : float
+    """
+    th_scale = theta_scale(lever, theta_noise, near_line_px)
+    out = _student_t((observed[0] - predicted[..., 0]) ** 2, th_scale, STUDENT_DOF, 1)
+    tr_abs, tr_rel = translation_noise
+    t_pred = predicted[..., 1:]
+    tr_scale = tr_abs + tr_rel * np.hypot(t_pred[..., 0], t_pred[..., 1])
+    res_sq = ((observed[1:] - t_pred) ** 2).sum(axis=-1)
+    return out + _student_t(res_sq, tr_scale, STUDENT_DOF, 2)
+
+
+def model_information(predicted, lever, weights, theta_noise, translation_noise, near_line_px):
+    """Expected information (nats) from each push's motion about weighted hypotheses.
+
+    ``I = sum_i w_i [log p(y_i | i) - log sum_j w_j p(y_i | j)]`` with ``y_i``
+    the motion hypothesis ``i`` predicts: how well the observed motion will
+    tell the hypotheses apart, given the model's error scales.
+
+    Parameters
+    ----------
+    predicted : numpy.ndarray, shape (n, a, 3)
+        Motions of ``a`` candidate pushes under ``n`` hypotheses.
+    lever : numpy.ndarray, shape (n, a)
+    weights : numpy.ndarray, shape (n,)
+        Hypothesis weights, summing to 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (a,)
+    """
+    pred = np.moveaxis(predicted, 1, 0)  # (a, n, 3)
+    th_scale = theta_scale(lever.T, theta_noise, near_line_px)  # (a, n)
+    tr_abs, tr_rel = translation_noise
+    tr_scale = tr_abs + tr_rel * np.hypot(pred[..., 1], pred[..., 2])
+    # log p(y_i | j): observation i (axis 1) under hypothesis j (axis 2).
+    d_theta = (pred[:, :, None, 0] - pred[:, None, :, 0]) ** 2
+    d_trans = ((pred[:, :, None, 1:] - pred[:, None, :, 1:]) ** 2).sum(axis=-1)
+    log_p = _student_t(d_theta, th_scale[:, None, :], STUDENT_DOF, 1)
+    log_p += _student_t(d_trans, tr_scale[:, None, :], STUDENT_DOF, 2)
+    own = np.einsum("aii->ai", log_p)
+    log_mix = logsumexp(log_p + np.log(weights)[None, None, :], axis=2)
+    return (own - log_mix) @ weights
+
+
+def model_predictions(model, mask, actions, pixels, mus, alive) -> np.ndarray:
+    """The model's motions of ``actions`` per (pixel, mu) where ``alive``, shape (p, m, a, 3).
+
+    Hypotheses that are not alive are left NaN (the model is not asked).
+    """
+    out = np.full((len(pixels), len(mus), len(actions), 3), np.nan)
+    for j, mu_j in enumerate(mus):
+        idx = np.flatnonzero(alive[:, j])
+        if len(idx) == 0:
+            continue
+        pred = np.asarray(model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j)))
+        shape = (len(idx), len(actions), 3)
+        if pred.shape != shape or not np.isfinite(pred).all():
+            raise ValueError(
+                f"model.predict_hypotheses must return finite motions of shape {shape}, "
+                f"got shape {pred.shape}"
+            )
+        out[idx, j] = pred
+    return out
+
+
+def particles(post: GridPosterior, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Deterministic systematic draw of ``n`` (pixel, mu) hypotheses from the posterior.
+
+    Returns the flat indices of the distinct hypotheses drawn (pixel-major,
+    as in ``post.weights.ravel()``) and their weights (draw counts / n).
+    """
+    cum = np.cumsum(post.weights.ravel())
+    picks = np.searchsorted(cum, (np.arange(n) + 0.5) / n * cum[-1])
+    flat, counts = np.unique(np.minimum(picks, len(cum) - 1), return_counts=True)
+    return flat, counts / n
+
+
+def model_gains(model, mask, post, actions, lines, theta_noise, translation_noise, near_px):
+    """Expected information (nats) of each candidate's motion, from posterior particles.
+
+    Parameters
+    ----------
+    actions : numpy.ndarray, shape (a, 4)
+    lines : numpy.ndarray, shape (a, m, 3)
+        Force lines of the candidates for each friction value of ``post``.
+    """
+    flat, weights = particles(post, MODEL_PARTICLES)
+    pix, mu_idx = np.divmod(flat, len(post.mus))
+    pred = np.empty((len(flat), len(actions), 3))
+    lever = np.empty((len(flat), len(actions)))
+    for j in np.unique(mu_idx):
+        sel = mu_idx == j
+        alive = np.zeros((len(flat), 1), dtype=bool)
+        alive[sel] = True
+        pred[sel] = model_predictions(
+            model, mask, actions, post.pixels[pix[sel]], post.mus[j : j + 1], alive[sel]
+        )[:, 0]
+        lever[sel] = np.abs(line_distances(post.pixels[pix[sel]], lines[:, j]))
+    return model_information(pred, lever, weights, theta_noise, translation_noise, near_px)
