@@ -61,16 +61,22 @@ def candidates_for(mask, n, cone, radius_m, rng):
     return out[:n]
 
 
-def run_trial(name, friction, seed, args, model):
-    """One estimation on a fresh random simulator; returns a dict of results."""
+def make_simulator(name, friction, seed):
+    """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
     import simulators
 
-    for attempt in range(10):  # (a few draws fail in the simulator's mass tilting: redraw)
+    for attempt in range(10):
         try:
-            sim = simulators.random_simulator(name, friction=friction, rng=[seed, attempt])
-            break
+            return simulators.random_simulator(name, friction=friction, rng=[seed, attempt])
         except ValueError as e:
             print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
+    raise RuntimeError(f"no simulator for {name} {friction} seed {seed}")
+
+
+def run_trial(name, friction, seed, args, model):
+    """One estimation on a fresh random simulator; returns a dict of results."""
+
+    sim = make_simulator(name, friction, seed)
     flip_rng = np.random.default_rng([seed, 1])
     flips = []
 
@@ -110,6 +116,52 @@ def run_trial(name, friction, seed, args, model):
         "in_region": bool(est.region[round(sim.com_px[1]), round(sim.com_px[0])]),
         "seconds": time.perf_counter() - start,
     }
+
+
+def plot_posterior(name, friction, seed, args, model, path):
+    """Plot the posterior after each push of one trial (re-run with growing budgets)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sim = make_simulator(name, friction, seed)
+    cands = candidates_for(
+        sim.mask, 200, args.cone, sim.pusher_radius, np.random.default_rng([seed, 2])
+    )
+    kwargs = {"model": model, "selection": args.selection}
+    final = comcore.estimate_active(
+        sim.mask, lambda a: sim.push(a).motion, cands, args.max_pushes, **kwargs
+    )
+    steps = len(final.used)
+    fig, axes = plt.subplots(1, steps + 1, figsize=(2.6 * (steps + 1), 2.9))
+    ys, xs = np.nonzero(sim.mask.data)
+    box = (xs.min() - 3, xs.max() + 3, ys.max() + 3, ys.min() - 3)
+    for k, ax in enumerate(np.atleast_1d(axes)):
+        est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, k, **kwargs)
+        post = np.ma.masked_where(~sim.mask.data, est.extras["posterior"])
+        ax.imshow(sim.mask.data, cmap="Greys", alpha=0.25)
+        ax.imshow(post, cmap="viridis")
+        ax.contour(est.region, levels=[0.5], colors="w", linewidths=0.8)
+        for a in est.extras["actions"]:
+            ax.annotate("", a[2:], a[:2], arrowprops={"arrowstyle": "->", "color": "tab:red"})
+        ax.plot(*sim.com_px, "r+", ms=10, mew=1.5)
+        ax.plot(*est.com, "wx", ms=7, mew=1.5)
+        err = est.error_px(sim.com_px) * sim.mask.resolution * 100
+        radius = est.extras["credible_radius_px"] * sim.mask.resolution * 100
+        ax.set_title(f"{k} pushes\nerr {err:.2f} cm, r90 {radius:.2f} cm", fontsize=8)
+        ax.set_xlim(box[0], box[1])
+        ax.set_ylim(box[2], box[3])
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.suptitle(
+        f"{name}, {friction} friction (mu={sim.mu_contact:.2f}): posterior push by push "
+        "(+ true CoM, x estimate, white: 90% region)",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"saved {path}")
 
 
 def summarise(rows, key):
@@ -152,8 +204,13 @@ def main(argv=None):
     parser.add_argument("--selection", default="auto", help="auto, sense or model")
     parser.add_argument("--per-object", action="store_true")
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
+    parser.add_argument("--plot", default=None, help="plot the first trial's posterior here")
     args = parser.parse_args(argv)
     model = _model(args.model)
+    if args.plot:
+        seed = int(np.random.SeedSequence([args.seed, 0]).generate_state(1)[0])
+        plot_posterior(args.objects[0], args.friction[0], seed, args, model, args.plot)
+        return
     rows = []
     for k, (name, friction, _) in enumerate(
         (n, f, t) for f in args.friction for n in args.objects for t in range(args.trials)

@@ -127,7 +127,7 @@ def estimate_active(
     n_mu: int = 6,
     theta_tol: float = ANGLE_EPS,
     theta_noise=(0.01, 0.13),
-    translation_noise=(0.55, 0.03),
+    translation_noise=(0.4, 0.056),
     selection: str = "auto",
     prior=None,
     min_information: float = 1e-3,
@@ -149,8 +149,11 @@ def estimate_active(
       ``theta_noise[0] + theta_noise[1] / (1 + (lever / 3.75 cm)^2)`` (rad):
       a push whose line passes near the CoM balances on an unstable
       equilibrium and turns the object unpredictably; the translation's is
-      ``translation_noise[0] + translation_noise[1] * |t|`` (px). The defaults
-      were fitted to the ellipsoid model's errors against the simulator.
+      ``translation_noise[0] + translation_noise[1] * |t|`` (px), on the
+      displacement of the hypothesis' CoM (the centroid's displacement also
+      carries the rotation's error times its distance to the CoM). The
+      defaults were fitted to the ellipsoid model's errors against the
+      simulator (docs/active.md).
 
     Choosing the next push (``selection``):
 
@@ -218,7 +221,7 @@ def estimate_active(
         Rotation error scale of the model (rad): everywhere, and extra near
         the force line.
     translation_noise : (float, float), optional
-        Translation error scale of the model: absolute (px) and relative.
+        Error scale of the model's CoM displacement: absolute (px) and relative.
     selection : {"auto", "sense", "model"}, optional
         How to choose pushes; ``"auto"`` is ``"model"`` when a model is given.
     prior : array_like, shape (H, W), optional
@@ -368,7 +371,8 @@ def estimate_active(
             predicted = model_predictions(
                 model, mask, cands[chosen : chosen + 1], post.pixels, mus, alive
             )[:, :, 0]
-            args = (np.abs(distances), theta_noise, translation_noise, near_px)
+            offset = (post.pixels - np.asarray(mask.centroid))[:, None, :]
+            args = (np.abs(distances), offset, theta_noise, translation_noise, near_px)
             flipped = observed * np.array([-1.0, 1.0, 1.0])
             model_term = np.where(alive, motion_log_likelihood(observed, predicted, *args), -np.inf)
             flipped_term = np.where(
