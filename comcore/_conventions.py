@@ -30,6 +30,7 @@ __all__ = [
     "LENGTH_EPS",
     "apply_motion",
     "ccw_cross",
+    "quarter_turn_ccw",
     "rotate_vectors",
     "rotation_matrix",
     "rotation_sign",
@@ -92,6 +93,21 @@ def rotate_vectors(vectors, theta) -> np.ndarray:
     v = np.asarray(vectors, dtype=float)
     c, s = np.cos(theta), np.sin(theta)
     return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
+
+
+def quarter_turn_ccw(vectors) -> np.ndarray:
+    """Turn pixel vectors a quarter turn counter-clockwise on screen, exactly.
+
+    Equal to ``rotate_vectors(vectors, pi / 2)`` without rounding error:
+    ``(x, y) -> (y, -x)`` in the pixel frame.
+
+    Examples
+    --------
+    >>> quarter_turn_ccw([[1.0, 0.0]])  # right -> up the screen
+    array([[ 0., -1.]])
+    """
+    v = np.asarray(vectors, dtype=float)
+    return np.stack([v[..., 1], -v[..., 0]], axis=-1)
 
 
 def apply_motion(points, theta, translation, center) -> np.ndarray:

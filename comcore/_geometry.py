@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._conventions import ccw_cross
+from ._conventions import quarter_turn_ccw
 from ._mask import Mask
 from ._validation import check_actions, check_mask, check_points, check_positive
 
@@ -154,13 +154,23 @@ def signed_line_distance(points, actions) -> np.ndarray:
     >>> signed_line_distance([[5.0, 3.0], [5.0, 7.0]], [(0, 5, 10, 5)]).ravel().tolist()
     [2.0, -2.0]
     """
-    pts = check_points(points)
-    acts = check_actions(actions)
-    start = acts[:, :2]
-    delta = acts[:, 2:] - start
+    return line_distances(check_points(points), check_actions(actions))
+
+
+def line_distances(points: np.ndarray, actions: np.ndarray, dtype=np.float64) -> np.ndarray:
+    """Unvalidated core of :func:`signed_line_distance`: one (m, 2) x (2, n) product.
+
+    The signed distance is ``(p - start) . left`` with ``left`` the push
+    direction turned a quarter turn counter-clockwise on screen.
+    """
+    start = actions[:, :2]
+    delta = actions[:, 2:] - start
     direction = delta / np.hypot(delta[:, 0], delta[:, 1])[:, None]
-    rel = pts[:, None, :] - start[None, :, :]
-    return ccw_cross(direction[None, :, :], rel)
+    left = quarter_turn_ccw(direction)  # (n, 2)
+    offset = np.einsum("ij,ij->i", left, start)
+    out = points.astype(dtype, copy=False) @ left.T.astype(dtype)
+    out -= offset.astype(dtype)
+    return out
 
 
 def split_by_line(mask: Mask, action, band: float = 0.5) -> tuple[np.ndarray, np.ndarray]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._geometry import contacts
+from ._geometry import contacts, line_distances
 from ._mask import Mask
 from ._regions import estimate_from_region, largest_component
 from ._types import Estimate
@@ -36,14 +36,7 @@ def rotation_heatmap(mask: Mask, actions, motions, length_scale: float = 1.0) ->
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
     length_scale = check_positive(length_scale, "length_scale")
-    pts = mask.pixels.astype(np.float32)
-    start = acts[:, :2]
-    delta = acts[:, 2:] - start
-    unit = delta / np.hypot(delta[:, 0], delta[:, 1])[:, None]
-    normal = np.column_stack([-unit[:, 1], unit[:, 0]]).astype(np.float32)  # (n, 2)
-    offset = np.einsum("ij,ij->i", normal, start).astype(np.float32)
-    dist = pts @ normal.T  # (m, n) float32, vectorised over pixels x actions
-    dist -= offset
+    dist = line_distances(mask.pixels, acts, np.float32)  # (m, n): pixels x actions
     np.abs(dist, out=dist)
     dist *= np.float32(-1.0 / length_scale)
     np.exp(dist, out=dist)

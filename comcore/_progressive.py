@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._geometry import contacts, signed_line_distance
+from ._geometry import contacts, line_distances
 from ._mask import Mask
 from ._regions import estimate_from_region, largest_component
 from ._types import Estimate
@@ -16,7 +16,7 @@ from ._validation import (
     check_positive,
     check_probability,
 )
-from ._voting import consistent
+from ._voting import _consistent
 
 __all__ = ["equality_score", "estimate_progressive"]
 
@@ -80,6 +80,8 @@ def estimate_progressive(
       (contradictory predictions), the action is skipped, listed in
       ``extras["contradicted"]``, and ``status`` becomes ``"contradiction"``;
       the estimate uses the consistent actions (a fallback, never a NaN).
+    * The loop also stops when no kept action has region pixels on both
+      sides of its line (best score 0): such a push cannot cut the region.
     * No action with ``|theta| >= min_rotation``: the estimate is the mask's
       centroid and ``status == "no_actions"``.
     * ``selection="rotation"`` is the paper's ablation (Fig. 7): actions are
@@ -147,7 +149,8 @@ def estimate_progressive(
         )
 
     pixels = mask.pixels
-    dist = signed_line_distance(pixels, acts).astype(np.float32)
+    candidates = np.flatnonzero(keep)  # only these can ever be chosen
+    dist = line_distances(pixels, acts[candidates], np.float32)  # (m, k)
     ccw_side = (dist > band).astype(np.float32)
     cw_side = (dist < -band).astype(np.float32)
     del dist
@@ -158,26 +161,26 @@ def estimate_progressive(
     contradicted: list[int] = []
     sizes = [int(current.sum())]
     direction = acts[:, 2:] - acts[:, :2]
+    unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    a_lo, a_hi = (float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
     sense = np.sign(theta).astype(int)
 
     while current.sum() > target and keep.any():
         weight = current.astype(np.float32)
         if selection == "equality":
-            scores = equality_score(weight @ ccw_side, weight @ cw_side)
+            scores = np.full(n_actions, -1.0)
+            scores[candidates] = equality_score(weight @ ccw_side, weight @ cw_side)
             chosen = int(np.argmax(np.where(keep, scores, -1.0)))
+            if scores[chosen] <= 0.0:
+                break  # no kept action splits the region: nothing more to learn
             keep &= scores >= min_score
         else:
             chosen = next(i for i in rotation_order if keep[i])
         keep[chosen] = False
         idx = np.flatnonzero(current)
-        allowed = consistent(
-            pixels[idx],
-            con.point[chosen],
-            con.normal[chosen],
-            direction[chosen],
-            int(sense[chosen]),
-            mu,
-            band,
+        r = con.point[chosen] - pixels[idx]
+        allowed = _consistent(
+            r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
         )
         if not allowed.any():
             contradicted.append(chosen)

@@ -14,7 +14,12 @@ __all__ = ["sample_pushes"]
 #: Default pusher travel after contact, metres (the paper's 3 cm pushes).
 DEFAULT_TRAVEL_M = 0.03
 #: Default distance from the start of a push to the object, metres.
-DEFAULT_STANDOFF_M = 0.01
+DEFAULT_STANDOFF_M = 0.012
+#: Default free space around a push's start, metres: a 4 mm disc pusher trailing
+#: its leading point sweeps points up to 8 mm from the start; plus 1 mm slack.
+DEFAULT_CLEARANCE_M = 0.009
+#: A pixel's outline can lie this far (pixels) from its centre: half the diagonal.
+HALF_PIXEL_DIAGONAL = 0.5 * np.sqrt(2.0)
 
 
 def sample_pushes(
@@ -24,6 +29,7 @@ def sample_pushes(
     cone: float = 0.0,
     travel: float = DEFAULT_TRAVEL_M,
     standoff: float = DEFAULT_STANDOFF_M,
+    clearance: float = DEFAULT_CLEARANCE_M,
     rng=None,
 ) -> np.ndarray:
     """Random candidate pushes onto the object's outline.
@@ -31,8 +37,10 @@ def sample_pushes(
     Each push aims at a uniformly drawn outline pixel, along the inward normal
     turned by an angle drawn uniformly in ``[-cone, cone]``; it starts
     ``standoff`` metres before the contact (outside the object) and ends
-    ``travel`` metres after it. Pushes whose path starts inside the object or
-    does not reach it (possible on concave outlines) are redrawn.
+    ``travel`` metres after it. Pushes whose path does not reach the object
+    first at the aimed contact's side, or whose start lies within
+    ``clearance`` metres of the object (a round pusher must fit there; this
+    matters on concave outlines) are redrawn.
 
     Parameters
     ----------
@@ -45,7 +53,11 @@ def sample_pushes(
     travel : float, optional
         Pusher travel after contact, metres (default 0.03).
     standoff : float, optional
-        Distance from start to contact, metres (default 0.01).
+        Distance from start to contact, metres (default 0.012).
+    clearance : float, optional
+        Minimum distance from the start to the object's outline, metres
+        (default 0.009), measured conservatively (to the nearest object pixel
+        centre, minus half a pixel diagonal); 0 disables the check.
     rng : None, int or numpy.random.Generator, optional
         Seed or generator; ``None`` draws a fresh generator.
 
@@ -73,6 +85,7 @@ def sample_pushes(
         raise ValueError(f"cone must be in [0, pi/2), got {cone}")
     travel_px = check_positive(travel, "travel") / mask.resolution
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
+    clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
     rng = np.random.default_rng(rng)
     rows, cols = np.nonzero(mask.boundary)
     outline = np.column_stack([cols, rows]).astype(float)
@@ -89,7 +102,8 @@ def sample_pushes(
         start = target - (standoff_px + 0.5) * direction
         candidate = np.hstack([start, target + travel_px * direction])
         con = contacts(mask, candidate)
-        good = con.hit
+        free = mask.distance_to_object(start) - HALF_PIXEL_DIAGONAL
+        good = con.hit & ((free >= clearance_px) | (clearance_px == 0))
         candidate = candidate[good]
         # Exactly `travel` of pusher motion after the (refined) contact.
         end = con.point[good] + travel_px * direction[good]

@@ -44,23 +44,28 @@ def _unit(v, name: str) -> np.ndarray:
     return v / norm[..., None]
 
 
-def _votes(r, normal, push_dir, alpha, band):
-    """Sense from the three votes. r = contact - com, shape (..., 2); alpha broadcastable."""
-    phi_norm = np.arctan2(ccw_cross(r, normal), np.einsum("...i,...i->...", r, normal))
-    dist = np.hypot(r[..., 0], r[..., 1])
+def _moments(r, normal, push_dir, alpha):
+    """Moments (signed distances) of the three rays' lines about CoMs at ``contact - r``.
+
+    ``r``: (m, 2); ``alpha``: scalar or (m, k) cone half-angles. Returns the
+    left edge, right edge and push moments, broadcast to a common shape.
+    """
+    across = ccw_cross(r, normal)  # |r| sin(phi), phi = angle from r to the normal
+    along = r @ normal  # |r| cos(phi)
     alpha = np.asarray(alpha, dtype=float)
-    if alpha.ndim > phi_norm.ndim:
-        phi_norm, dist = phi_norm[..., None], dist[..., None]
-    m_left = dist * np.sin(phi_norm + alpha)
-    m_right = dist * np.sin(phi_norm - alpha)
-    m_push = ccw_cross(r, push_dir)
-    if m_push.ndim < m_left.ndim:
-        m_push = m_push[..., None]
+    push = ccw_cross(r, push_dir)
+    if alpha.ndim == 2:
+        across, along, push = across[:, None], along[:, None], push[:, None]
+    cos_a, sin_a = np.cos(alpha), np.sin(alpha)
+    left = across * cos_a + along * sin_a  # |r| sin(phi + alpha)
+    right = across * cos_a - along * sin_a  # |r| sin(phi - alpha)
+    return np.broadcast_arrays(left, right, push)
 
-    def vote(m):
-        return np.where(np.abs(m) <= band, 0, np.sign(m))
 
-    return np.sign(vote(m_left) + vote(m_right) + vote(m_push)).astype(int)
+def _majority(left, right, push, band: float) -> np.ndarray:
+    """Sign of the sum of the three votes; a ray within ``band`` of the CoM abstains."""
+    total = sum(np.sign(m) * (np.abs(m) > band) for m in (left, right, push))
+    return np.sign(total).astype(int)
 
 
 def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.ndarray:
@@ -106,7 +111,8 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     if lo != hi:
         raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
     band = check_positive(band, "band", allow_zero=True)
-    out = _votes(c[0] - pts, n, v, np.arctan(lo), band)
+    left, right, push = _moments(c[0] - pts, n, v, np.arctan(lo))
+    out = _majority(left, right, push, band)
     return out[0] if single else out
 
 
@@ -115,7 +121,7 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
 
     The vote changes with the cone half-angle ``alpha = atan(mu)`` only where a
     cone edge's line crosses the candidate, so evaluating at the range's ends,
-    at those crossings and between them covers every ``mu`` exactly.
+    at that crossing and between them covers every ``mu`` exactly.
 
     Parameters
     ----------
@@ -141,24 +147,28 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
         raise ValueError(f"sense must be -1, 0 or +1, got {sense!r}")
     lo, hi = check_mu(mu)
     band = check_positive(band, "band", allow_zero=True)
-    a_lo, a_hi = float(np.arctan(lo)), float(np.arctan(hi))
-    r = c - pts
-    phi = np.arctan2(ccw_cross(r, n), r @ n)
-    # Where the left edge (phi + a = k pi) and right edge (phi - a = k pi) cross a candidate.
-    crossings = np.column_stack([np.mod(-phi, np.pi), np.mod(phi, np.pi)])
-    crossings = np.where((crossings >= a_lo) & (crossings <= a_hi), crossings, a_lo)
-    knots = np.sort(
-        np.column_stack([np.full(len(pts), a_lo), crossings, np.full(len(pts), a_hi)]), axis=1
-    )
-    alphas = np.concatenate([knots, 0.5 * (knots[:, 1:] + knots[:, :-1])], axis=1)  # (m, 7)
-    strict = _votes(r, n, v, alphas, 0.0)
-    tolerant = _votes(r, n, v, alphas, band)
-    ok = (
-        (strict == sense).any(axis=1)
-        | (tolerant == sense).any(axis=1)
-        | (tolerant == 0).any(axis=1)
-    )
-    return ok
+    return _consistent(c - pts, n, v, sense, float(np.arctan(lo)), float(np.arctan(hi)), band)
+
+
+def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
+    """Unvalidated core of :func:`consistent`; ``r = contact - candidates``, (m, 2).
+
+    Over cone half-angles ``alpha`` in [0, pi/2] exactly one cone edge's line
+    crosses a candidate, at ``alpha* = atan(|across| / |along|)`` (the
+    candidate's offset across and along the normal); the outcome is constant
+    on either side of it. Evaluating at the range's ends, at ``alpha*`` and
+    between them therefore covers every ``mu`` in range.
+    """
+    across = np.abs(ccw_cross(r, normal))
+    along = np.abs(r @ normal)
+    crit = np.clip(np.arctan2(across, along), a_lo, a_hi)
+    lo = np.full_like(crit, a_lo)
+    hi = np.full_like(crit, a_hi)
+    alphas = np.column_stack([lo, 0.5 * (lo + crit), crit, 0.5 * (crit + hi), hi])  # (m, 5)
+    left, right, push = _moments(r, normal, push_dir, alphas)
+    strict = _majority(left, right, push, 0.0)
+    tolerant = _majority(left, right, push, band)
+    return ((strict == sense) | (tolerant == sense) | (tolerant == 0)).any(axis=1)
 
 
 def _thetas(theta, single: bool) -> np.ndarray:
@@ -231,16 +241,16 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
         )
     if not np.isfinite(th).all():
         raise ValueError("theta must be finite")
-    check_mu(mu)
     senses = rotation_sign(th, theta_tol)
     con = contacts(mask, acts)
     con.require_hits("action")
     out = np.zeros((acts.shape[0], *mask.shape), dtype=bool)
     rows, cols = mask.pixels[:, 1].astype(int), mask.pixels[:, 0].astype(int)
     direction = acts[:, 2:] - acts[:, :2]
+    a_lo, a_hi = (float(np.arctan(v)) for v in check_mu(mu))
+    unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     for i in range(acts.shape[0]):
-        ok = consistent(
-            mask.pixels, con.point[i], con.normal[i], direction[i], int(senses[i]), mu, band
-        )
+        r = con.point[i] - mask.pixels
+        ok = _consistent(r, con.normal[i], unit[i], int(senses[i]), a_lo, a_hi, band)
         out[i, rows[ok], cols[ok]] = True
     return out[0] if single else out

@@ -1,0 +1,54 @@
+"""Hypothesis strategies shared by the property tests: polygons, masks, pushes, CoMs."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import strategies as st
+
+import comcore
+
+
+def rasterise_polygon(vertices: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Even-odd rule rasterisation of a polygon (pixel centres), numpy only."""
+    h, w = shape
+    ys, xs = np.mgrid[0:h, 0:w]
+    px, py = xs.ravel().astype(float), ys.ravel().astype(float)
+    inside = np.zeros(px.shape, bool)
+    x0, y0 = vertices[:, 0], vertices[:, 1]
+    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    for a, b, c, d in zip(x0, y0, x1, y1):
+        crosses = (b > py) != (d > py)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x_at = a + (py - b) * (c - a) / (d - b)
+        inside ^= crosses & (px < x_at)
+    return inside.reshape(h, w)
+
+
+@st.composite
+def star_polygons(draw, min_vertices=3, max_vertices=9, size=40.0):
+    """Star-shaped polygons (convex or concave) around (size, size), in pixels."""
+    k = draw(st.integers(min_vertices, max_vertices))
+    angles = np.sort(draw(st.lists(st.floats(0, 2 * np.pi), min_size=k, max_size=k, unique=True)))
+    radii = np.array(draw(st.lists(st.floats(0.45 * size, size), min_size=k, max_size=k)))
+    center = size + 8.0
+    return np.column_stack([center + radii * np.cos(angles), center + radii * np.sin(angles)])
+
+
+@st.composite
+def masks(draw, size=24.0):
+    """Masks of star-shaped polygons with at least 200 pixels in one piece."""
+    poly = draw(star_polygons(size=size))
+    side = int(2 * size + 17)
+    img = rasterise_polygon(poly, (side, side))
+    img = comcore.largest_component(img)
+    from hypothesis import assume
+
+    assume(img.sum() >= 200)
+    return comcore.Mask(img, resolution=0.0025)
+
+
+seeds = st.integers(0, 2**32 - 1)
+friction = st.floats(0.0, 2.0)
+angles = st.floats(-np.pi, np.pi, allow_nan=False)
+unit_vectors = angles.map(lambda a: np.array([np.cos(a), np.sin(a)]))
+points = st.tuples(st.floats(-50, 50), st.floats(-50, 50)).map(np.array)

@@ -1,0 +1,88 @@
+import numpy as np
+import pytest
+
+import comcore
+
+# A drawn example: an arrow pointing right (+x) on screen.
+ARROW = np.array(
+    [
+        "........",
+        "....#...",
+        "....##..",
+        "#######.",
+        "....##..",
+        "....#...",
+        "........",
+        "........",
+    ]
+)
+
+
+def drawn(rows):
+    return np.array([[ch == "#" for ch in row] for row in rows])
+
+
+def points_of(img):
+    r, c = np.nonzero(img)
+    return np.column_stack([c, r]).astype(float)
+
+
+def image_of(points, shape):
+    img = np.zeros(shape, bool)
+    p = np.rint(points).astype(int)
+    img[p[:, 1], p[:, 0]] = True
+    return img
+
+
+def test_quarter_turn_ccw_matches_rot90_on_screen():
+    # np.rot90 turns an image counter-clockwise as displayed (row 0 on top).
+    img = drawn(ARROW)
+    center = (3.5, 3.5)  # the centre of the 8 x 8 image
+    moved = comcore.apply_motion(points_of(img), np.pi / 2, (0.0, 0.0), center)
+    assert np.array_equal(image_of(moved, img.shape), np.rot90(img))
+
+
+def test_the_arrow_points_up_the_screen_after_a_positive_quarter_turn():
+    img = drawn(ARROW)
+    moved = comcore.apply_motion(points_of(img), np.pi / 2, (0.0, 0.0), (3.5, 3.5))
+    tip_before = points_of(img)[np.argmax(points_of(img)[:, 0])]
+    tip_after = moved[np.argmin(moved[:, 1])]  # the smallest row is the top of the screen
+    assert tuple(tip_before) == (6.0, 3.0)
+    # 2.5 px right of the centre becomes 2.5 px above it (smaller row).
+    assert tip_after == pytest.approx((3.0, 1.0))
+
+
+def test_translation_is_applied_after_rotation():
+    out = comcore.apply_motion([[1.0, 0.0]], np.pi, (2.0, 3.0), (0.0, 0.0))
+    assert np.allclose(out, [[1.0, 3.0]])
+
+
+def test_rotation_matrix_is_a_rotation_and_composes():
+    a, b = 0.3, -1.1
+    ra, rb = comcore.rotation_matrix(a), comcore.rotation_matrix(b)
+    assert np.allclose(ra @ rb, comcore.rotation_matrix(a + b))
+    assert np.isclose(np.linalg.det(ra), 1.0)
+
+
+def test_rotate_vectors_agrees_with_rotation_matrix():
+    rng = np.random.default_rng(0)
+    v = rng.normal(size=(5, 2))
+    t = rng.uniform(-3, 3, size=5)
+    expected = np.array([comcore.rotation_matrix(ti) @ vi for ti, vi in zip(t, v)])
+    assert np.allclose(comcore.rotate_vectors(v, t), expected)
+
+
+def test_ccw_cross_sign_matches_rotation_direction():
+    # Turning +x by a small CCW angle: the moment of the turned vector is positive.
+    v = comcore.rotate_vectors([[1.0, 0.0]], 0.1)[0]
+    assert comcore.ccw_cross([1.0, 0.0], v) > 0
+
+
+def test_rotation_sign():
+    assert comcore.rotation_sign([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
+
+
+def test_quarter_turn_is_exact_and_agrees_with_rotate_vectors():
+    v = np.array([[1.0, 0.0], [0.3, -2.0]])
+    assert comcore.quarter_turn_ccw(v).tolist() == [[0.0, -1.0], [-2.0, -0.3]]
+    assert np.allclose(comcore.quarter_turn_ccw(v), comcore.rotate_vectors(v, np.pi / 2))

@@ -1,0 +1,67 @@
+import numpy as np
+import pytest
+
+import comcore
+from comcore import Action
+
+
+def test_contact_on_a_square_edge(square_mask):
+    c = comcore.contacts(square_mask, [Action(0, 20, 30, 20), Action(25, 60, 25, 30)])
+    assert c.hit.tolist() == [True, True]
+    assert np.allclose(c.point, [[9.5, 20.0], [25.0, 39.5]], atol=0.02)
+    assert np.allclose(c.normal, [[1, 0], [0, -1]], atol=1e-6)
+    assert np.allclose(c.travel, [9.5, 20.5], atol=0.02)
+
+
+def test_contact_normal_is_robust_on_a_pixelated_circle(disk_mask):
+    # An oblique approach onto the disk: the normal must point to the centre, not along a pixel step.
+    angle = np.deg2rad(37)
+    start = 26 + 40 * np.array([np.cos(angle), np.sin(angle)])
+    c = comcore.contacts(disk_mask, [(*start, 26.0, 26.0)])
+    expected = -np.array([np.cos(angle), np.sin(angle)])
+    assert float(c.normal[0] @ expected) > np.cos(np.deg2rad(5))
+
+
+def test_miss_and_start_inside_are_reported(square_mask):
+    c = comcore.contacts(square_mask, [(0, 0, 5, 0), (20, 20, 60, 20), (0, 20, 40, 20)])
+    assert c.status.tolist() == ["miss", "starts_inside", "hit"]
+    assert np.allclose(c.normal[:2], 0)
+    with pytest.raises(ValueError, match=r"action\(s\) \[1\] start inside"):
+        c.require_hits()
+    with pytest.raises(ValueError, match=r"action\(s\) \[0\] miss"):
+        comcore.contacts(square_mask, [(0, 0, 5, 0)]).require_hits()
+
+
+def test_first_entry_on_a_concave_shape(l_mask):
+    # Along row 30 from the left: the L's foot is entered at column 5, not later.
+    c = comcore.contacts(l_mask, [(0, 30, 45, 30)])
+    assert c.point[0] == pytest.approx((4.5, 30.0), abs=0.02)
+
+
+def test_signed_line_distance_sign_and_batch():
+    d = comcore.signed_line_distance([[0, -1], [0, 1], [3, 0]], [(0, 0, 1, 0), (0, 0, 0, 1)])
+    # push right: the row above (y=-1) is on the CCW side; push down: +x is on the CCW side.
+    assert d.tolist() == [[1.0, 0.0], [-1.0, 0.0], [0.0, 3.0]]
+
+
+def test_split_by_line_excludes_the_band(square_mask):
+    ccw, cw = comcore.split_by_line(square_mask, (0, 24, 50, 24), band=0.5)
+    assert ccw.sum() == 14 * 30 and cw.sum() == 15 * 30
+    assert not (ccw & cw).any()
+    assert not ccw[24].any() and not cw[24].any()
+    ccw2, cw2 = comcore.split_by_line(square_mask, (0, 24, 50, 24), band=0.0)
+    assert ccw2.sum() + cw2.sum() == 870  # row 24 lies exactly on the line
+
+
+def test_split_by_line_rejects_batches_and_bad_band(square_mask):
+    with pytest.raises(ValueError, match="single action"):
+        comcore.split_by_line(square_mask, [(0, 0, 1, 0), (0, 0, 0, 1)])
+    with pytest.raises(ValueError, match="band must be a finite number >= 0"):
+        comcore.split_by_line(square_mask, (0, 0, 1, 0), band=-1)
+
+
+def test_contacts_do_not_mutate_inputs(square_mask):
+    acts = np.array([[0.0, 20.0, 30.0, 20.0]])
+    before = acts.copy()
+    comcore.contacts(square_mask, acts)
+    assert np.array_equal(acts, before)

@@ -1,0 +1,78 @@
+import math
+
+import numpy as np
+import pytest
+
+import comcore
+from comcore import Action, Estimate, Motion
+
+
+def test_action_fields_and_derived_values():
+    a = Action(1, 2, 4, 6)
+    assert a.start == (1.0, 2.0) and a.end == (4.0, 6.0)
+    assert a.length == 5.0
+    assert a.direction == pytest.approx((0.6, 0.8))
+    assert isinstance(a.sx, float)
+
+
+@pytest.mark.parametrize(
+    ("args", "error", "match"),
+    [
+        ((0, 0, 0, 0), ValueError, "non-zero length"),
+        ((0, float("nan"), 1, 1), ValueError, r"Action.sy must be finite"),
+        ((0, 0, float("inf"), 1), ValueError, r"Action.ex must be finite"),
+        (("a", 0, 1, 1), TypeError, r"Action.sx must be a real number"),
+        ((True, 0, 1, 1), TypeError, r"Action.sx must be a real number"),
+    ],
+)
+def test_action_rejects_bad_values(args, error, match):
+    with pytest.raises(error, match=match):
+        Action(*args)
+
+
+def test_motion_validation_and_sense():
+    assert Motion(-0.2, 1, 2).sense == -1
+    assert Motion(0.0).sense == 0
+    with pytest.raises(ValueError, match="Motion.tx must be finite"):
+        Motion(0.1, math.inf, 0)
+
+
+def test_value_types_are_immutable():
+    a = Action(0, 0, 1, 0)
+    with pytest.raises(AttributeError):
+        a.sx = 3.0  # type: ignore[misc]
+    e = Estimate(com=(1, 2), com_m=(0.1, 0.2), region=np.ones((2, 2)), extras={"h": np.zeros(3)})
+    with pytest.raises(AttributeError):
+        e.com = (0, 0)  # type: ignore[misc]
+    with pytest.raises(ValueError):
+        e.region[0, 0] = False
+    with pytest.raises(ValueError):
+        e.extras["h"][0] = 1.0
+    with pytest.raises(TypeError):
+        e.extras["new"] = 1  # type: ignore[index]
+
+
+def test_estimate_copies_the_callers_arrays():
+    region = np.ones((2, 2), bool)
+    e = Estimate(com=(0, 0), com_m=(0, 0), region=region)
+    region[0, 0] = False
+    assert e.region.all()
+    assert region.flags.writeable
+
+
+def test_estimate_rejects_nan_com():
+    with pytest.raises(ValueError, match="two finite numbers"):
+        Estimate(com=(float("nan"), 0), com_m=(0, 0), region=np.ones((1, 1)))
+
+
+def test_estimate_error_px():
+    e = Estimate(com=(3, 4), com_m=(0, 0), region=np.ones((1, 1)))
+    assert e.error_px((0, 0)) == 5.0
+    assert e.ok and Estimate(com=(0, 0), com_m=(0, 0), region=[[1]], status="x").ok is False
+
+
+def test_batches_accept_namedtuples_and_arrays_alike():
+    a = comcore.check_actions([Action(0, 0, 1, 0), (0, 0, 0, 1)])
+    assert a.shape == (2, 4) and not a.flags.writeable
+    m = comcore.check_motions(Motion(0.1, 1, 2))
+    assert m.tolist() == [[0.1, 1.0, 2.0]]
