@@ -39,28 +39,6 @@ def _model(name: str):
     raise ValueError(f"--model must be 'ellipsoid' or 'none', got {name!r}")
 
 
-def candidates_for(mask, n, cone, radius_m, rng):
-    """``n`` pushes from comcore.sample_pushes whose round pusher starts clear of the object.
-
-    ``sample_pushes`` plans the path of the pusher's leading point; the disc of
-    radius ``radius_m`` trails it and must not overlap the object at the start.
-    """
-    from scipy import ndimage
-
-    clearance = ndimage.distance_transform_edt(~mask.data)
-    radius = radius_m / mask.resolution
-    out = np.empty((0, 4))
-    while len(out) < n:
-        acts = comcore.sample_pushes(mask, 2 * n, cone=cone, rng=rng)
-        direction = acts[:, 2:] - acts[:, :2]
-        direction /= np.hypot(direction[:, 0], direction[:, 1])[:, None]
-        centre = acts[:, :2] - radius * direction
-        rows = np.clip(np.round(centre[:, 1]).astype(int), 0, mask.shape[0] - 1)
-        cols = np.clip(np.round(centre[:, 0]).astype(int), 0, mask.shape[1] - 1)
-        out = np.vstack([out, acts[clearance[rows, cols] > radius + 1.0]])
-    return out[:n]
-
-
 def make_simulator(name, friction, seed):
     """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
     import simulators
@@ -94,12 +72,15 @@ def run_trial(name, friction, seed, args, model):
             kwargs[key] = tuple(getattr(args, key))
     if args.target_radius is not None:
         kwargs["target_radius"] = args.target_radius
-    cands = candidates_for(
-        sim.mask, 200, args.cone, sim.pusher_radius, np.random.default_rng([seed, 2])
-    )
     start = time.perf_counter()
     est = comcore.estimate_active(
-        sim.mask, push, cands, max_pushes=args.max_pushes, model=model, **kwargs
+        sim.mask,
+        push,
+        max_pushes=args.max_pushes,
+        model=model,
+        cone=args.cone,
+        rng=np.random.default_rng([seed, 2]),
+        **kwargs,
     )
     cm = 100 * sim.mask.resolution
     return {
@@ -126,8 +107,8 @@ def plot_posterior(name, friction, seed, args, model, path):
     import matplotlib.pyplot as plt
 
     sim = make_simulator(name, friction, seed)
-    cands = candidates_for(
-        sim.mask, 200, args.cone, sim.pusher_radius, np.random.default_rng([seed, 2])
+    cands = comcore.sample_pushes(
+        sim.mask, 200, cone=args.cone, rng=np.random.default_rng([seed, 2])
     )
     kwargs = {"model": model, "selection": args.selection}
     final = comcore.estimate_active(

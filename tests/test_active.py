@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import re
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -19,8 +16,6 @@ from comcore._posterior import (
     sense_information,
     side_probability,
 )
-
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "active.md"
 
 
 def _plate(h=26, w=34, pad=8):
@@ -359,11 +354,3 @@ def test_a_model_returning_garbage_is_reported():
     mask = _plate()
     with pytest.raises(ValueError, match="predict_hypotheses must return finite motions"):
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), model=Broken(), rng=0)
-
-
-def test_docs_examples_run():
-    text = DOCS.read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks
-    for block in blocks:
-        exec(compile(block, str(DOCS), "exec"), {})
