@@ -19,6 +19,8 @@ pushes x frictions x pixels are one matrix product.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._conventions import ccw_cross, rotate_vectors
@@ -40,6 +42,8 @@ __all__ = [
 #: blur the line. Against the simulator (docs/active.md) the sense is wrong
 #: 15 % of the time at 1-2 px, 10 % at 2-3 px, 5 % at 3-5 px, 3 % at 5-8 px.
 LINE_SCALE_PX = 1.2
+#: Above this many pixels, hypotheses are gathered into blocks to score candidates.
+MAX_SCORING_POINTS = 2500
 #: Posterior mass below which pixels are skipped when scoring candidates.
 PRUNE_MASS = 1e-7
 
@@ -123,6 +127,32 @@ def _tanh_into(out, tmp, x, y, lines, scale: float):
     return np.tanh(out, out=out)
 
 
+def _coarse(pixels, weights):
+    """Hypotheses with posterior mass, gathered into square blocks when there are many.
+
+    Pixels below ``PRUNE_MASS`` of the largest mass are dropped. Above
+    ``MAX_SCORING_POINTS`` pixels, blocks of ``b x b`` pixels become one
+    hypothesis at their mass-weighted mean with their summed (pixel, friction)
+    mass: a choice of push does not need the grid finer than the force lines
+    are sharp (``b`` <= 2 px for masks up to 10,000 pixels).
+    """
+    marginal = weights.sum(axis=1)
+    keep = marginal > PRUNE_MASS * marginal.max()
+    pts, w = pixels[keep], weights[keep]
+    block = math.ceil(math.sqrt(len(pts) / MAX_SCORING_POINTS))
+    if block <= 1:
+        return pts, w
+    cells = np.floor(pts / block).astype(np.int64)
+    cells -= cells.min(axis=0)
+    _, index = np.unique(cells[:, 0] * (cells[:, 1].max() + 1) + cells[:, 1], return_inverse=True)
+    mass = np.bincount(index, weights=w.sum(axis=1))
+    joint = np.stack([np.bincount(index, weights=w[:, j]) for j in range(w.shape[1])], axis=1)
+    centre = np.stack(
+        [np.bincount(index, weights=w.sum(axis=1) * pts[:, k]) for k in range(2)], axis=1
+    )
+    return centre / np.maximum(mass, 1e-300)[:, None], joint
+
+
 def sense_information(pixels, weights, lines, flip_prob: float, scale: float = LINE_SCALE_PX):
     """Expected information (bits) about the CoM from the observed sense of each push.
 
@@ -149,12 +179,11 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
     numpy.ndarray, shape (n,)
     """
     n_lines, n_mu = lines.shape[:2]
-    marginal = weights.sum(axis=1)
-    keep = marginal > PRUNE_MASS * marginal.max()
-    x = pixels[keep, :1].astype(np.float32)
-    y = pixels[keep, 1:].astype(np.float32)
-    w_pix = marginal[keep]
-    cond = weights[keep] / w_pix[:, None]
+    points, joint = _coarse(pixels, weights)
+    x = points[:, :1].astype(np.float32)
+    y = points[:, 1:].astype(np.float32)
+    w_pix = joint.sum(axis=1)
+    cond = joint / w_pix[:, None]
     w_pix = (w_pix / w_pix.sum()).astype(np.float32)
     # Tail sums over the wider cones: tail[:, k] = sum_{j >= k} cond[:, j], tail[:, m] = 0.
     tail = np.zeros((len(x), n_mu + 1), dtype=np.float32)

@@ -112,6 +112,29 @@ def test_sense_information_equals_brute_force():
     assert gains.min() >= -1e-6
 
 
+def test_scoring_on_blocks_picks_what_the_full_grid_picks(monkeypatch):
+    """Large masks are scored on 2x2 blocks: the choice and the gains barely change."""
+    import comcore._posterior as posterior
+
+    yy, xx = np.mgrid[:90, :110]
+    mask = comcore.Mask(((xx - 55) / 50) ** 2 + ((yy - 45) / 40) ** 2 < 1)
+    rng = np.random.default_rng(4)
+    cands = comcore.sample_pushes(mask, 80, cone=0.4, rng=rng)
+    con = comcore.contacts(mask, cands)
+    direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
+    lines = force_lines(con.point, con.normal, direction, np.linspace(0.05, 1.0, 4))
+    centre = mask.pixels[rng.integers(mask.area_px)]
+    blob = np.exp(-((mask.pixels - centre) ** 2).sum(axis=1) / (2 * 15.0**2))
+    weights = blob[:, None] * rng.random((mask.area_px, 4))
+    weights /= weights.sum()
+    assert mask.area_px > posterior.MAX_SCORING_POINTS
+    coarse = sense_information(mask.pixels, weights, lines, 0.05)
+    monkeypatch.setattr(posterior, "MAX_SCORING_POINTS", 10**9)
+    exact = sense_information(mask.pixels, weights, lines, 0.05)
+    assert np.argmax(coarse) == np.argmax(exact)
+    np.testing.assert_allclose(coarse, exact, atol=0.05)
+
+
 def test_credible_region_counts_the_last_pixel_fractionally():
     post = GridPosterior(np.array([[0.0, 0], [1, 0], [2, 0], [3, 0]]), [0.5, 0.3, 0.1, 0.1], [0.3])
     chosen, area = post.credible(0.6)
