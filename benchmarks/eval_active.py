@@ -27,15 +27,19 @@ import numpy as np
 import comcore
 
 
-def _model(name: str):
+def _model(name: str, limit_surfaces):
     if name == "none":
         return None
     if name == "ellipsoid":
         import simulators
         from predictors import EllipsoidPredictor
 
-        # The robot knows its pusher's radius; the rest is the model's defaults.
-        return EllipsoidPredictor(pusher_radius=simulators.DEFAULT_PUSHER_RADIUS)
+        # The robot knows its pusher's radius; the rest is the model's defaults, or a
+        # mixture of limit-surface variants (weighed by the estimator like the friction).
+        radius = simulators.DEFAULT_PUSHER_RADIUS
+        if not limit_surfaces:
+            return EllipsoidPredictor(pusher_radius=radius)
+        return [EllipsoidPredictor(pusher_radius=radius, limit_surface=s) for s in limit_surfaces]
     raise ValueError(f"--model must be 'ellipsoid' or 'none', got {name!r}")
 
 
@@ -64,7 +68,7 @@ def run_trial(name, friction, seed, args, model):
         flips.append(flip)
         return comcore.Motion(-motion.theta, motion.tx, motion.ty) if flip else motion
 
-    kwargs = {"selection": args.selection}
+    kwargs = {"selection": args.selection, "model_weight": args.model_weight}
     if args.flip_prob is not None:
         kwargs["flip_prob"] = args.flip_prob
     for key in ("theta_noise", "translation_noise"):
@@ -96,6 +100,10 @@ def run_trial(name, friction, seed, args, model):
         "radius_cm": est.extras["credible_radius_px"] * cm,
         "in_region": bool(est.region[round(sim.com_px[1]), round(sim.com_px[0])]),
         "seconds": time.perf_counter() - start,
+        "history_error_cm": [
+            float(np.hypot(*np.subtract(h["com"], sim.com_px))) * cm for h in est.extras["history"]
+        ],
+        "history_radius_cm": [h["credible_radius_px"] * cm for h in est.extras["history"]],
     }
 
 
@@ -175,6 +183,9 @@ def main(argv=None):
     parser.add_argument("--trials", type=int, default=1, help="trials per object and class")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--model", default="ellipsoid", help="'ellipsoid' or 'none'")
+    parser.add_argument(
+        "--limit-surfaces", nargs="*", default=None, help="ellipsoid variants to weigh"
+    )
     parser.add_argument("--theta-noise", type=float, nargs=2, default=None)
     parser.add_argument("--translation-noise", type=float, nargs=2, default=None)
     parser.add_argument("--max-pushes", type=int, default=6)
@@ -183,11 +194,12 @@ def main(argv=None):
     parser.add_argument("--flip-prob", type=float, default=None, help="estimator's flip_prob")
     parser.add_argument("--cone", type=float, default=0.3)
     parser.add_argument("--selection", default="auto", help="auto, sense or model")
+    parser.add_argument("--model-weight", type=float, default=1.0, help="likelihood power")
     parser.add_argument("--per-object", action="store_true")
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
     parser.add_argument("--plot", default=None, help="plot the first trial's posterior here")
     args = parser.parse_args(argv)
-    model = _model(args.model)
+    model = _model(args.model, args.limit_surfaces)
     if args.plot:
         seed = int(np.random.SeedSequence([args.seed, 0]).generate_state(1)[0])
         plot_posterior(args.objects[0], args.friction[0], seed, args, model, args.plot)

@@ -83,6 +83,22 @@ def _pair(value, name: str) -> tuple[float, float]:
     return a, r
 
 
+def _check_models(model) -> tuple:
+    """``model`` as a tuple of HypothesisPredictors (empty for None)."""
+    if model is None:
+        return ()
+    models = tuple(model) if isinstance(model, (list, tuple)) else (model,)
+    for m in models:
+        if not isinstance(m, HypothesisPredictor):
+            raise TypeError(
+                "model must implement comcore.HypothesisPredictor (a predict_hypotheses(mask, "
+                f"actions, coms, mu) method) or be a sequence of them, got {type(m).__name__}"
+            )
+    if not models:
+        raise ValueError("model must not be an empty sequence")
+    return models
+
+
 def _build(mask, post, level, candidates, used, motions, history, status) -> Estimate:
     region_idx, area = post.credible(level)
     rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
@@ -105,6 +121,7 @@ def _build(mask, post, level, candidates, used, motions, history, status) -> Est
             "credible_radius_px": math.sqrt(area / math.pi),
             "mu_grid": post.mus.copy(),
             "mu_posterior": post.mu_marginal,
+            "model_posterior": post.model_marginal,
             "history": tuple(history),
         },
     )
@@ -129,6 +146,7 @@ def estimate_active(
     theta_noise=(0.01, 0.13),
     translation_noise=(0.4, 0.056),
     selection: str = "auto",
+    model_weight: float = 1.0,
     prior=None,
     min_information: float = 1e-3,
 ) -> Estimate:
@@ -193,8 +211,10 @@ def estimate_active(
         (a round pusher needs candidates that start clear of the object).
     max_pushes : int, optional
         Budget of real pushes (>= 0).
-    model : HypothesisPredictor, optional
-        Motion model for the likelihood of the whole motion.
+    model : HypothesisPredictor or sequence of them, optional
+        Motion model for the likelihood of the whole motion. Several models
+        (say, different pressure assumptions) are weighed against each other
+        like the friction: a uniform prior, marginalised.
     mu : None, float or (lo, hi), optional
         Contact friction: unknown (default, marginalised over ``[0, 2]``), known,
         or a range (marginalised over it).
@@ -222,6 +242,11 @@ def estimate_active(
         the force line.
     translation_noise : (float, float), optional
         Error scale of the model's CoM displacement: absolute (px) and relative.
+    model_weight : float, optional
+        Power in (0, 1] on the model's likelihood. A model errs alike on
+        similar pushes of one object, so treating its errors as independent
+        overstates what several pushes tell; a power below 1 (a tempered
+        likelihood) widens the posterior accordingly.
     selection : {"auto", "sense", "model"}, optional
         How to choose pushes; ``"auto"`` is ``"model"`` when a model is given.
     prior : array_like, shape (H, W), optional
@@ -240,9 +265,11 @@ def estimate_active(
         indices into ``candidates`` in execution order. ``extras``:
         ``"motions"`` (k, 3) and ``"actions"`` (k, 4) executed, in order;
         ``"posterior"`` (H, W) CoM posterior; ``"credible_radius_px"``;
-        ``"mu_grid"`` and ``"mu_posterior"``; ``"history"``: one dict per
-        state (prior first) with ``"entropy_bits"``, ``"credible_radius_px"``
-        and ``"expected_gain_bits"`` of the push chosen next (``None`` if none).
+        ``"mu_grid"`` and ``"mu_posterior"``; ``"model_posterior"`` (one weight
+        per model); ``"history"``: one dict per
+        state (prior first) with the posterior mean ``"com"``,
+        ``"entropy_bits"``, ``"credible_radius_px"`` and ``"expected_gain_bits"``
+        of the push chosen next (``None`` if none).
 
     Raises
     ------
@@ -278,11 +305,7 @@ def estimate_active(
         raise TypeError(f"max_pushes must be an int, got {type(max_pushes).__name__}")
     if max_pushes < 0:
         raise ValueError(f"max_pushes must be >= 0, got {max_pushes}")
-    if model is not None and not isinstance(model, HypothesisPredictor):
-        raise TypeError(
-            "model must implement comcore.HypothesisPredictor (a predict_hypotheses(mask, "
-            f"actions, coms, mu) method), got {type(model).__name__}"
-        )
+    models = _check_models(model)
     target_px = check_positive(target_radius, "target_radius") / mask.resolution
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
     flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
@@ -293,9 +316,10 @@ def estimate_active(
     theta_noise = _pair(theta_noise, "theta_noise")
     if selection not in SELECTIONS:
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
-    if selection == "model" and model is None:
+    if selection == "model" and not models:
         raise ValueError("selection='model' needs a model")
-    by_model = model is not None and selection != "sense"
+    by_model = bool(models) and selection != "sense"
+    model_weight = check_probability(model_weight, "model_weight", open_low=True)
     near_px = NEAR_LINE_M / mask.resolution
     translation_noise = _pair(translation_noise, "translation_noise")
     for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
@@ -314,7 +338,7 @@ def estimate_active(
     direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     lines = force_lines(con.point, con.normal, direction, np.arctan(mus))
 
-    post = GridPosterior(pixels, prior_w, mus)
+    post = GridPosterior(pixels, prior_w, mus, max(len(models), 1))
     used: list[int] = []
     motions: list[tuple[float, float, float]] = []
     history: list[dict] = []
@@ -324,6 +348,7 @@ def estimate_active(
         radius = math.sqrt(area / math.pi)
         history.append(
             {
+                "com": tuple(float(v) for v in post.mean()),
                 "entropy_bits": post.entropy_bits(),
                 "credible_radius_px": radius,
                 "expected_gain_bits": None,
@@ -341,10 +366,10 @@ def estimate_active(
         idx = np.flatnonzero(available)
         if by_model:
             gains = model_gains(
-                model, mask, post, cands[idx], lines[idx], theta_noise, translation_noise, near_px
+                models, mask, post, cands[idx], lines[idx], theta_noise, translation_noise, near_px
             ) / math.log(2)
         else:
-            gains = sense_information(post.pixels, post.weights, lines[idx], flip_prob)
+            gains = sense_information(post.pixels, post.sense_weights, lines[idx], flip_prob)
         best = int(np.argmax(gains))
         if gains[best] <= min_information:
             status = "uninformative"
@@ -364,19 +389,21 @@ def estimate_active(
                 action=action,
                 partial=partial,
             ) from e
-        distances = line_distances(post.pixels, lines[chosen])
+        distances = line_distances(post.pixels, lines[chosen])[:, :, None]  # (p, m, 1)
         model_term = flipped_term = None
-        if model is not None:
+        if models:
             alive = post.log_w > post.log_w.max() - PRUNE_LOG
             predicted = model_predictions(
-                model, mask, cands[chosen : chosen + 1], post.pixels, mus, alive
-            )[:, :, 0]
-            offset = (post.pixels - np.asarray(mask.centroid))[:, None, :]
+                models, mask, cands[chosen : chosen + 1], post.pixels, mus, alive
+            )[..., 0, :]
+            offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
             args = (np.abs(distances), offset, theta_noise, translation_noise, near_px)
             flipped = observed * np.array([-1.0, 1.0, 1.0])
-            model_term = np.where(alive, motion_log_likelihood(observed, predicted, *args), -np.inf)
+            model_term = np.where(
+                alive, model_weight * motion_log_likelihood(observed, predicted, *args), -np.inf
+            )
             flipped_term = np.where(
-                alive, motion_log_likelihood(flipped, predicted, *args), -np.inf
+                alive, model_weight * motion_log_likelihood(flipped, predicted, *args), -np.inf
             )
         post.update(
             push_log_likelihood(distances, observed, flip_prob, theta_tol, model_term, flipped_term)

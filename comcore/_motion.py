@@ -131,40 +131,41 @@ def model_information(
     return (own - log_mix) @ weights
 
 
-def model_predictions(model, mask, actions, pixels, mus, alive) -> np.ndarray:
-    """The model's motions of ``actions`` per (pixel, mu) where ``alive``, shape (p, m, a, 3).
+def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
+    """Motions of ``actions`` per (pixel, mu, model) where ``alive``, shape (p, m, k, a, 3).
 
-    Hypotheses that are not alive are left NaN (the model is not asked).
+    Hypotheses that are not alive are left NaN (the models are not asked).
     """
-    out = np.full((len(pixels), len(mus), len(actions), 3), np.nan)
+    out = np.full((*alive.shape, len(actions), 3), np.nan)
     for j, mu_j in enumerate(mus):
-        idx = np.flatnonzero(alive[:, j])
-        if len(idx) == 0:
-            continue
-        pred = np.asarray(model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j)))
-        shape = (len(idx), len(actions), 3)
-        if pred.shape != shape or not np.isfinite(pred).all():
-            raise ValueError(
-                f"model.predict_hypotheses must return finite motions of shape {shape}, "
-                f"got shape {pred.shape}"
-            )
-        out[idx, j] = pred
+        for k, model in enumerate(models):
+            idx = np.flatnonzero(alive[:, j, k])
+            if len(idx) == 0:
+                continue
+            pred = np.asarray(model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j)))
+            shape = (len(idx), len(actions), 3)
+            if pred.shape != shape or not np.isfinite(pred).all():
+                raise ValueError(
+                    f"model.predict_hypotheses must return finite motions of shape {shape}, "
+                    f"got shape {pred.shape}"
+                )
+            out[idx, j, k] = pred
     return out
 
 
 def particles(post: GridPosterior, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Deterministic systematic draw of ``n`` (pixel, mu) hypotheses from the posterior.
+    """Deterministic systematic draw of ``n`` (pixel, mu, model) hypotheses from the posterior.
 
-    Returns the flat indices of the distinct hypotheses drawn (pixel-major,
-    as in ``post.weights.ravel()``) and their weights (draw counts / n).
+    Returns the distinct hypotheses drawn as an (h, 3) index array and their
+    weights (draw counts / n).
     """
     cum = np.cumsum(post.weights.ravel())
     picks = np.searchsorted(cum, (np.arange(n) + 0.5) / n * cum[-1])
     flat, counts = np.unique(np.minimum(picks, len(cum) - 1), return_counts=True)
-    return flat, counts / n
+    return np.column_stack(np.unravel_index(flat, post.log_w.shape)), counts / n
 
 
-def model_gains(model, mask, post, actions, lines, theta_noise, translation_noise, near_px):
+def model_gains(models, mask, post, actions, lines, theta_noise, translation_noise, near_px):
     """Expected information (nats) of each candidate's motion, from posterior particles.
 
     Parameters
@@ -173,17 +174,16 @@ def model_gains(model, mask, post, actions, lines, theta_noise, translation_nois
     lines : numpy.ndarray, shape (a, m, 3)
         Force lines of the candidates for each friction value of ``post``.
     """
-    flat, weights = particles(post, MODEL_PARTICLES)
-    pix, mu_idx = np.divmod(flat, len(post.mus))
-    pred = np.empty((len(flat), len(actions), 3))
-    lever = np.empty((len(flat), len(actions)))
-    for j in np.unique(mu_idx):
-        sel = mu_idx == j
-        alive = np.zeros((len(flat), 1), dtype=bool)
-        alive[sel] = True
+    index, weights = particles(post, MODEL_PARTICLES)
+    pred = np.empty((len(index), len(actions), 3))
+    lever = np.empty((len(index), len(actions)))
+    for j, k in {(int(j), int(k)) for _, j, k in index}:
+        sel = (index[:, 1] == j) & (index[:, 2] == k)
+        pixels = post.pixels[index[sel, 0]]
+        alive = np.ones((len(pixels), 1, 1), dtype=bool)
         pred[sel] = model_predictions(
-            model, mask, actions, post.pixels[pix[sel]], post.mus[j : j + 1], alive[sel]
-        )[:, 0]
-        lever[sel] = np.abs(line_distances(post.pixels[pix[sel]], lines[:, j]))
-    offset = post.pixels[pix] - np.asarray(mask.centroid)
+            models[k : k + 1], mask, actions, pixels, post.mus[j : j + 1], alive
+        )[:, 0, 0]
+        lever[sel] = np.abs(line_distances(pixels, lines[:, j]))
+    offset = post.pixels[index[:, 0]] - np.asarray(mask.centroid)
     return model_information(pred, lever, offset, weights, theta_noise, translation_noise, near_px)

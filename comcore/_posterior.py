@@ -228,46 +228,53 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
 
 
 class GridPosterior:
-    """Joint log-posterior over CoM pixels and contact-friction values (internal, mutable)."""
+    """Joint log-posterior over CoM pixels, friction values and models (internal, mutable).
 
-    def __init__(self, pixels, prior_weights, mus):
+    ``log_w`` has shape (p, m, k): pixel, friction value, motion model (``k = 1``
+    without a model or with one).
+    """
+
+    def __init__(self, pixels, prior_weights, mus, n_models: int = 1):
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
-        self.alphas = np.arctan(self.mus)
         log_prior = np.log(np.asarray(prior_weights, dtype=float))
-        self.log_w = np.repeat(log_prior[:, None], len(self.mus), axis=1) - np.log(len(self.mus))
+        shape = (len(self.pixels), len(self.mus), n_models)
+        self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
         self._normalise()
 
     def _normalise(self):
         self.log_w -= self.log_w.max()
         self.log_w -= np.log(np.exp(self.log_w).sum())
 
-    def copy(self) -> GridPosterior:
-        """An independent copy."""
-        out = object.__new__(GridPosterior)
-        out.pixels, out.mus, out.alphas = self.pixels, self.mus, self.alphas
-        out.log_w = self.log_w.copy()
-        return out
-
     def update(self, log_likelihood):
-        """Multiply in a likelihood given as logs, shape (p, m)."""
+        """Multiply in a likelihood given as logs, broadcast to (p, m, k)."""
         self.log_w = self.log_w + log_likelihood
         self._normalise()
 
     @property
     def weights(self) -> np.ndarray:
-        """Joint posterior (p, m), summing to 1."""
+        """Joint posterior (p, m, k), summing to 1."""
         return np.exp(self.log_w)
+
+    @property
+    def sense_weights(self) -> np.ndarray:
+        """Posterior of (pixel, friction), shape (p, m): what the Voting Theorem sees."""
+        return self.weights.sum(axis=2)
 
     @property
     def marginal(self) -> np.ndarray:
         """Posterior of the CoM pixel, shape (p,)."""
-        return self.weights.sum(axis=1)
+        return self.weights.sum(axis=(1, 2))
 
     @property
     def mu_marginal(self) -> np.ndarray:
         """Posterior of the friction values, shape (m,)."""
-        return self.weights.sum(axis=0)
+        return self.weights.sum(axis=(0, 2))
+
+    @property
+    def model_marginal(self) -> np.ndarray:
+        """Posterior of the models, shape (k,)."""
+        return self.weights.sum(axis=(0, 1))
 
     def mean(self) -> np.ndarray:
         """Posterior mean of the CoM (x, y) in pixels."""
@@ -305,7 +312,7 @@ class GridPosterior:
 def push_log_likelihood(
     distances, motion, flip_prob: float, theta_tol: float, model_term=None, flipped_term=None
 ):
-    """Log-likelihood of one observed push over the grid, shape (p, m).
+    """Log-likelihood of one observed push over the grid, shape (p, m, 1) or (p, m, k).
 
     With probability ``1 - flip_prob`` the observed sense is the true one; with
     ``flip_prob`` it is flipped (and then the unflipped rotation is what the
@@ -315,11 +322,11 @@ def push_log_likelihood(
 
     Parameters
     ----------
-    distances : numpy.ndarray, shape (p, m)
+    distances : numpy.ndarray, shape (p, m, 1)
         Signed distances of the grid pixels to the push's force lines.
     motion : numpy.ndarray, shape (3,)
     flip_prob, theta_tol : float
-    model_term, flipped_term : numpy.ndarray, shape (p, m), optional
+    model_term, flipped_term : numpy.ndarray, shape (p, m, k), optional
         :func:`motion_log_likelihood` of the motion as observed and with its
         rotation negated (both or neither).
     """

@@ -32,10 +32,13 @@ def _ell(h=40, w=52):
 class ToyModel:
     """Toy physics: the Voting Theorem's sense, |theta| growing with the lever arm.
 
-    ``theta = sense * 0.4 * tanh(|d| / 8)`` where ``d`` is the CoM's distance to
-    the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
+    ``theta = sense * 0.4 * tanh(|d| / length)`` where ``d`` is the CoM's distance
+    to the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
     the centroid moves along the push, less when the object turns.
     """
+
+    def __init__(self, length=8.0):
+        self.length = length
 
     def predict_hypotheses(self, mask, actions, coms, mu):
         acts = comcore.check_actions(actions)
@@ -46,7 +49,7 @@ class ToyModel:
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
             sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
             lever = comcore.signed_line_distance(coms, a[None])[:, 0]
-            theta = sense * 0.4 * np.tanh(np.abs(lever) / 8.0)
+            theta = sense * 0.4 * np.tanh(np.abs(lever) / self.length)
             out[:, j, 0] = theta
             out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
         return out
@@ -188,6 +191,19 @@ def test_with_the_true_model_the_credible_region_holds_the_com(seed, selection):
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 1.5
     assert est.status in ("ok", "budget")
+
+
+def test_several_models_are_weighed_by_the_data():
+    mask = _ell()
+    com = (30.0, 26.0)
+    truth = ToyModel(length=16.0)
+    models = [ToyModel(length=6.0), truth]
+    est = comcore.estimate_active(
+        mask, _robot(mask, com, 0.4, model=truth), model=models, rng=0, selection="sense"
+    )
+    assert est.extras["model_posterior"].shape == (2,)
+    assert est.extras["model_posterior"][1] > 0.99
+    assert est.error_px(com) < 1.5
 
 
 def test_same_seed_same_result():
@@ -347,12 +363,16 @@ def test_a_prior_off_the_object_is_allowed():
         ({"mu": -0.2}, ValueError, "mu must be >= 0"),
         ({"n_mu": 0}, ValueError, "n_mu must be a positive int"),
         ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"model": []}, ValueError, "model must not be an empty sequence"),
         ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must hit the object"),
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
         ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
         ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
         ({"selection": "best"}, ValueError, "selection must be one of"),
+        ({"model_weight": 0.0}, ValueError, "model_weight"),
+        ({"model_weight": 1.5}, ValueError, "model_weight"),
         ({"selection": "model"}, ValueError, "selection='model' needs a model"),
     ],
 )
