@@ -60,7 +60,7 @@ def main(argv=None):
     post = GridPosterior(mask.pixels, np.full(mask.area_px, 1 / mask.area_px), mus)
 
     def choose():
-        return sense_information(post.pixels, post.weights, lines, 0.05)
+        return sense_information(post.pixels, post.sense_weights, lines, 0.05)
 
     print(
         f"mask {mask.area_px} px, {len(cands)} candidates, {len(mus)} friction values "
@@ -76,7 +76,7 @@ def main(argv=None):
         return comcore.Motion(0.1 * sense, 0.0, 0.0)
 
     est = comcore.estimate_active(mask, push, cands, max_pushes=3)
-    post.update(np.log(est.extras["posterior"][mask.data] + 1e-300)[:, None])
+    post.update(np.log(est.extras["posterior"][mask.data] + 1e-300)[:, None, None])
     print(f"choose a push, after 3 pushes:  {median_ms(choose, args.repeats):6.1f} ms (median)")
 
     def run():

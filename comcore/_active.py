@@ -183,10 +183,10 @@ def estimate_active(
       score is the special case of a flat posterior, a known force line and
       no noise.
     * ``"model"`` (the default with one): the candidate whose motion is
-      expected to tell the most apart among 64 hypotheses drawn from the
-      posterior (``I = E_i[log p(y_i | i) - log E_j p(y_i | j)]``, ``y_i`` the
-      motion hypothesis ``i`` predicts), using the same error scales as the
-      update. Unlike the sense it knows that rotations near the CoM are
+      expected to tell the most apart among 64 CoMs drawn from the posterior
+      (``I = E_i[log p(y_i | i) - log E_j p(y_i | j)]``, ``y_i`` the motion CoM
+      ``i`` predicts at the most probable friction), using the same error
+      scales as the update. Unlike the sense it knows that rotations near the CoM are
       unreliable and that long lever arms measure the CoM's distance.
 
     Pushes already made are not repeated. The loop stops when the

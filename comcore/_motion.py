@@ -154,19 +154,23 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
 
 
 def particles(post: GridPosterior, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Deterministic systematic draw of ``n`` (pixel, mu, model) hypotheses from the posterior.
+    """Deterministic systematic draw of ``n`` CoM pixels from the posterior.
 
-    Returns the distinct hypotheses drawn as an (h, 3) index array and their
-    weights (draw counts / n).
+    Returns the distinct pixel indices drawn and their weights (counts / n).
     """
-    cum = np.cumsum(post.weights.ravel())
+    cum = np.cumsum(post.marginal)
     picks = np.searchsorted(cum, (np.arange(n) + 0.5) / n * cum[-1])
-    flat, counts = np.unique(np.minimum(picks, len(cum) - 1), return_counts=True)
-    return np.column_stack(np.unravel_index(flat, post.log_w.shape)), counts / n
+    index, counts = np.unique(np.minimum(picks, len(cum) - 1), return_counts=True)
+    return index, counts / n
 
 
 def model_gains(models, mask, post, actions, lines, theta_noise, translation_noise, near_px):
-    """Expected information (nats) of each candidate's motion, from posterior particles.
+    """Expected information (nats) about the CoM from each candidate's motion.
+
+    The CoM hypotheses are 64 particles drawn from the posterior; the friction
+    and the model are held at their most probable values, so that what is
+    measured is information about the CoM, not about the friction (a push
+    that only tells the friction apart is worth nothing here).
 
     Parameters
     ----------
@@ -175,15 +179,13 @@ def model_gains(models, mask, post, actions, lines, theta_noise, translation_noi
         Force lines of the candidates for each friction value of ``post``.
     """
     index, weights = particles(post, MODEL_PARTICLES)
-    pred = np.empty((len(index), len(actions), 3))
-    lever = np.empty((len(index), len(actions)))
-    for j, k in {(int(j), int(k)) for _, j, k in index}:
-        sel = (index[:, 1] == j) & (index[:, 2] == k)
-        pixels = post.pixels[index[sel, 0]]
-        alive = np.ones((len(pixels), 1, 1), dtype=bool)
-        pred[sel] = model_predictions(
-            models[k : k + 1], mask, actions, pixels, post.mus[j : j + 1], alive
-        )[:, 0, 0]
-        lever[sel] = np.abs(line_distances(pixels, lines[:, j]))
-    offset = post.pixels[index[:, 0]] - np.asarray(mask.centroid)
-    return model_information(pred, lever, offset, weights, theta_noise, translation_noise, near_px)
+    j = int(np.argmax(post.mu_marginal))
+    k = int(np.argmax(post.model_marginal))
+    pixels = post.pixels[index]
+    alive = np.ones((len(pixels), 1, 1), dtype=bool)
+    pred = model_predictions(models[k : k + 1], mask, actions, pixels, post.mus[j : j + 1], alive)
+    lever = np.abs(line_distances(pixels, lines[:, j]))
+    offset = pixels - np.asarray(mask.centroid)
+    return model_information(
+        pred[:, 0, 0], lever, offset, weights, theta_noise, translation_noise, near_px
+    )

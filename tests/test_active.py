@@ -397,3 +397,43 @@ def test_a_model_returning_garbage_is_reported():
     mask = _plate()
     with pytest.raises(ValueError, match="predict_hypotheses must return finite motions"):
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), model=Broken(), rng=0)
+
+
+# -- the scripts ------------------------------------------------------------------------
+
+
+def _run_script(*args):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {"PYTHONPATH": str(root), "PATH": ""}
+    out = subprocess.run(
+        [sys.executable, *args], cwd=root, env=env, capture_output=True, text=True, timeout=300
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def test_bench_script_runs():
+    out = _run_script(
+        "benchmarks/bench_active.py", "--pixels", "600", "--candidates", "20", "--repeats", "2"
+    )
+    assert "choose a push, uniform prior" in out
+
+
+def test_eval_script_runs():
+    pytest.importorskip("pymunk")
+    out = _run_script(
+        "benchmarks/eval_active.py",
+        "--objects",
+        "Obj3",
+        "--friction",
+        "low",
+        "--model",
+        "none",
+        "--max-pushes",
+        "2",
+    )
+    assert "| low | 1 |" in out
