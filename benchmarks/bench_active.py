@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 import comcore
-from comcore._active import UNKNOWN_MU_RANGE, _mu_grid
+from comcore._active_setup import UNKNOWN_MU_RANGE, mu_grid
 from comcore._posterior import GridPosterior, force_lines, sense_information
 
 
@@ -55,7 +55,7 @@ def main(argv=None):
     con = comcore.contacts(mask, cands)
     direction = cands[:, 2:] - cands[:, :2]
     direction /= np.hypot(direction[:, 0], direction[:, 1])[:, None]
-    mus = _mu_grid(None, 6)
+    mus = mu_grid(None, 6)
     lines = force_lines(con.point, con.normal, direction, np.arctan(mus))
     post = GridPosterior(mask.pixels, np.full(mask.area_px, 1 / mask.area_px), mus)
 

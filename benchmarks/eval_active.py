@@ -148,7 +148,7 @@ def plot_posterior(name, friction, seed, args, model, path):
         "(+ true CoM, x estimate, white: 90% region)",
         fontsize=9,
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.86))
     fig.savefig(path, dpi=110)
     print(f"saved {path}")
 

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ._active_setup import build_estimate, check_models, mu_grid, pair, prior_grid
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._geometry import contacts
@@ -18,22 +19,18 @@ from ._posterior import (
     push_log_likelihood,
     sense_information,
 )
-from ._predictor import HypothesisPredictor
 from ._sampling import sample_pushes
 from ._types import Action, Estimate
 from ._validation import (
     check_actions,
     check_mask,
     check_motions,
-    check_mu,
     check_positive,
     check_probability,
 )
 
 __all__ = ["estimate_active"]
 
-#: Friction range searched when ``mu`` is unknown (covers common pusher materials).
-UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: Length (metres) over which the rotation's model error falls off with the
 #: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
 NEAR_LINE_M = 0.0375
@@ -42,89 +39,6 @@ SELECTIONS = ("sense", "model")
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
 PRUNE_LOG = 25.0
-#: Largest cone half-angle used for an unbounded friction range (radians).
-MAX_ALPHA = math.pi / 2 - 1e-3
-
-
-def _mu_grid(mu, n_mu: int) -> np.ndarray:
-    """Friction values at the mid-points of ``n_mu`` equal bins of cone half-angle."""
-    lo, hi = UNKNOWN_MU_RANGE if mu is None else check_mu(mu)
-    a_lo, a_hi = math.atan(lo), min(math.atan(hi), MAX_ALPHA)
-    if a_hi - a_lo < 1e-12:
-        return np.array([lo])
-    alphas = a_lo + (np.arange(n_mu) + 0.5) * (a_hi - a_lo) / n_mu
-    return np.tan(alphas)
-
-
-def _prior_grid(mask: Mask, prior) -> tuple[np.ndarray, np.ndarray]:
-    """Pixels with positive prior weight and their normalised weights."""
-    if prior is None:
-        return mask.pixels, np.full(mask.area_px, 1.0 / mask.area_px)
-    try:
-        weights = np.asarray(prior, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"prior must be an array_like of numbers of shape {mask.shape}") from e
-    if weights.shape != mask.shape:
-        raise ValueError(f"prior must have the mask's shape {mask.shape}, got {weights.shape}")
-    if not np.isfinite(weights).all() or (weights < 0).any() or weights.sum() <= 0:
-        raise ValueError("prior must be finite, non-negative and not all zero")
-    rows, cols = np.nonzero(weights > 0)
-    w = weights[rows, cols]
-    return np.column_stack([cols, rows]).astype(float), w / w.sum()
-
-
-def _pair(value, name: str) -> tuple[float, float]:
-    try:
-        a, r = (float(v) for v in value)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
-    if not (a > 0 and math.isfinite(a) and r >= 0 and math.isfinite(r)):
-        raise ValueError(f"{name} must be a pair with absolute > 0 and other >= 0, got ({a}, {r})")
-    return a, r
-
-
-def _check_models(model) -> tuple:
-    """``model`` as a tuple of HypothesisPredictors (empty for None)."""
-    if model is None:
-        return ()
-    models = tuple(model) if isinstance(model, (list, tuple)) else (model,)
-    for m in models:
-        if not isinstance(m, HypothesisPredictor):
-            raise TypeError(
-                "model must implement comcore.HypothesisPredictor (a predict_hypotheses(mask, "
-                f"actions, coms, mu) method) or be a sequence of them, got {type(m).__name__}"
-            )
-    if not models:
-        raise ValueError("model must not be an empty sequence")
-    return models
-
-
-def _build(mask, post, level, candidates, used, motions, history, status) -> Estimate:
-    region_idx, area = post.credible(level)
-    rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
-    region = np.zeros(mask.shape, dtype=bool)
-    region[rows[region_idx], cols[region_idx]] = True
-    image = np.zeros(mask.shape)
-    np.add.at(image, (rows, cols), post.marginal)
-    com = tuple(float(v) for v in post.mean())
-    return Estimate(
-        com=com,
-        com_m=mask.to_metres(com),
-        region=region,
-        used=tuple(used),
-        status=status,
-        covariance=post.covariance(),
-        extras={
-            "motions": np.array(motions, dtype=float).reshape(-1, 3),
-            "actions": candidates[list(used)].reshape(-1, 4),
-            "posterior": image,
-            "credible_radius_px": math.sqrt(area / math.pi),
-            "mu_grid": post.mus.copy(),
-            "mu_posterior": post.mu_marginal,
-            "model_posterior": post.model_marginal,
-            "history": tuple(history),
-        },
-    )
 
 
 def estimate_active(
@@ -310,7 +224,7 @@ def estimate_active(
         raise TypeError(f"max_pushes must be an int, got {type(max_pushes).__name__}")
     if max_pushes < 0:
         raise ValueError(f"max_pushes must be >= 0, got {max_pushes}")
-    models = _check_models(model)
+    models = check_models(model)
     target_px = check_positive(target_radius, "target_radius") / mask.resolution
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
     flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
@@ -318,7 +232,7 @@ def estimate_active(
         raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
     theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
     min_information = check_positive(min_information, "min_information", allow_zero=True)
-    theta_noise = _pair(theta_noise, "theta_noise")
+    theta_noise = pair(theta_noise, "theta_noise")
     if selection not in SELECTIONS:
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
     if selection == "model" and not models:
@@ -326,12 +240,12 @@ def estimate_active(
     by_model = selection == "model"
     model_weight = check_probability(model_weight, "model_weight", open_low=True)
     near_px = NEAR_LINE_M / mask.resolution
-    translation_noise = _pair(translation_noise, "translation_noise")
+    translation_noise = pair(translation_noise, "translation_noise")
     for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
             raise ValueError(f"{name} must be a positive int, got {value!r}")
-    mus = _mu_grid(mu, int(n_mu))
-    pixels, prior_w = _prior_grid(mask, prior)
+    mus = mu_grid(mu, int(n_mu))
+    pixels, prior_w = prior_grid(mask, prior)
     rng = np.random.default_rng(rng)
     if candidates is None:
         cands = sample_pushes(mask, int(n_candidates), cone=cone, rng=rng)
@@ -386,7 +300,9 @@ def estimate_active(
         try:
             observed = check_motions(push(action), n=1, name="push result")[0]
         except Exception as e:
-            partial = _build(mask, post, credible, cands, used, motions, history, "push_failed")
+            partial = build_estimate(
+                mask, post, credible, cands, used, motions, history, "push_failed"
+            )
             raise PushFailedError(
                 f"push {n_done} (candidates[{chosen}] = {tuple(action)}) failed: "
                 f"{type(e).__name__}: {e}",
@@ -416,4 +332,4 @@ def estimate_active(
         used.append(chosen)
         motions.append(tuple(float(v) for v in observed))
         available[chosen] = False
-    return _build(mask, post, credible, cands, used, motions, history, status)
+    return build_estimate(mask, post, credible, cands, used, motions, history, status)
