@@ -1,0 +1,335 @@
+"""The active estimator: push, update a grid posterior, choose the next push, repeat."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._active_setup import build_estimate, check_models, mu_grid, pair, prior_grid
+from ._conventions import ANGLE_EPS
+from ._errors import PushFailedError
+from ._geometry import contacts
+from ._mask import Mask
+from ._motion import model_gains, model_predictions, motion_log_likelihood
+from ._posterior import (
+    GridPosterior,
+    force_lines,
+    line_distances,
+    push_log_likelihood,
+    sense_information,
+)
+from ._sampling import sample_pushes
+from ._types import Action, Estimate
+from ._validation import (
+    check_actions,
+    check_mask,
+    check_motions,
+    check_positive,
+    check_probability,
+)
+
+__all__ = ["estimate_active"]
+
+#: Length (metres) over which the rotation's model error falls off with the
+#: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
+NEAR_LINE_M = 0.0375
+#: Ways to choose the next push.
+SELECTIONS = ("sense", "model")
+#: Hypotheses this many nats below the best are dropped before the model is asked
+#: about them (their posterior is below 1e-11 of the best; saves model calls).
+PRUNE_LOG = 25.0
+
+
+def estimate_active(
+    mask: Mask,
+    push,
+    candidates=None,
+    max_pushes: int = 6,
+    *,
+    model=None,
+    mu=None,
+    target_radius: float = 0.004,
+    credible: float = 0.9,
+    flip_prob: float = 0.05,
+    rng=None,
+    cone: float = 0.0,
+    n_candidates: int = 200,
+    n_mu: int = 6,
+    theta_tol: float = ANGLE_EPS,
+    theta_noise=(0.01, 0.13),
+    translation_noise=(0.4, 0.056),
+    selection: str = "sense",
+    model_weight: float = 1.0,
+    prior=None,
+    min_information: float = 1e-3,
+) -> Estimate:
+    """Find the CoM by pushing the real object, choosing each push from what was seen.
+
+    A posterior over (CoM pixel, contact friction) starts from ``prior``
+    (uniform over the object) and a uniform grid of friction cone angles:
+    friction is one unknown shared by all pushes, marginalised, never assumed.
+    Each push's observed motion multiplies in a likelihood:
+
+    * **Voting Theorem.** The sense of rotation tells the side of the push's
+      force line (the push direction clipped to the friction cone) the CoM
+      lies on: soft over about a pixel (:data:`comcore._posterior.LINE_SCALE_PX`),
+      and wrong with probability ``flip_prob`` (noise, slip).
+    * **Motion model** (``model``, a :class:`comcore.HypothesisPredictor`):
+      the rotation and translation it predicts for each (CoM, mu) hypothesis,
+      scored with heavy-tailed Student-t residuals. The rotation's scale is
+      ``theta_noise[0] + theta_noise[1] / (1 + (lever / 3.75 cm)^2)`` (rad):
+      a push whose line passes near the CoM balances on an unstable
+      equilibrium and turns the object unpredictably; the translation's is
+      ``translation_noise[0] + translation_noise[1] * |t|`` (px), on the
+      displacement of the hypothesis' CoM (the centroid's displacement also
+      carries the rotation's error times its distance to the CoM). The
+      defaults were fitted to the ellipsoid model's errors against the
+      simulator (docs/active.md).
+
+    Choosing the next push (``selection``):
+
+    * ``"sense"`` (the default): the candidate with the
+      highest expected information about the CoM from its observed sense,
+      ``I(com; sense) = H(sense) - E[H(sense | com)]``, friction marginalised
+      per hypothesis, computed exactly over the whole grid. It favours force
+      lines that cut the posterior's mass in halves; the paper's equality
+      score is the special case of a flat posterior, a known force line and
+      no noise.
+    * ``"model"``: the candidate whose motion is
+      expected to tell the most apart among 64 CoMs drawn from the posterior
+      (``I = E_i[log p(y_i | i) - log E_j p(y_i | j)]``, ``y_i`` the motion CoM
+      ``i`` predicts at the most probable friction), using the same error
+      scales as the update. Against the simulator it chose worse pushes than
+      the sense (0.46 cm mean error against 0.28 cm after 5 pushes): it steers
+      towards pushes whose predicted motions differ most, which is where the
+      model is least right. It is slower too (the model is asked about every
+      candidate).
+
+    Pushes already made are not repeated. The loop stops when the
+    equivalent-circle radius ``sqrt(area / pi)`` of the ``credible``
+    highest-posterior region is at most ``target_radius`` (status ``"ok"``),
+    when ``max_pushes`` pushes are spent (``"budget"``), when no candidate is
+    left (``"exhausted"``) or when none is expected to teach more than
+    ``min_information`` bits (``"uninformative"``).
+
+    Parameters
+    ----------
+    mask : Mask
+        The object as seen before the first push. Every action is given in this
+        frame: ``push`` must execute it on the object in this pose (reset the
+        object, or map the action through the motions observed so far).
+    push : callable
+        ``push(action: Action) -> Motion`` (or three numbers ``(theta, tx, ty)``):
+        the robot or simulator.
+    candidates : array_like, shape (n, 4), optional
+        Pushes to choose from; each must start outside the object and hit it.
+        Default: ``comcore.sample_pushes(mask, n_candidates, cone=cone, rng=rng)``
+        (a round pusher needs candidates that start clear of the object).
+    max_pushes : int, optional
+        Budget of real pushes (>= 0).
+    model : HypothesisPredictor or sequence of them, optional
+        Motion model for the likelihood of the whole motion. Several models
+        (say, different pressure assumptions) are weighed against each other
+        like the friction: a uniform prior, marginalised.
+    mu : None, float or (lo, hi), optional
+        Contact friction: unknown (default, marginalised over ``[0, 2]``), known,
+        or a range (marginalised over it).
+    target_radius : float, optional
+        Stop when the credible region's equivalent-circle radius is at most
+        this, in **metres** (default 4 mm). A region can be no smaller than a
+        pixel (radius ``0.56 * resolution``).
+    credible : float, optional
+        Mass of the credible region, in (0, 1).
+    flip_prob : float, optional
+        Probability that an observed sense is wrong, in (0, 0.5).
+    rng : None, int or numpy.random.Generator, optional
+        Seeds the default candidates (the only random choice).
+    cone : float, optional
+        Half-angle (radians) of the default candidates' directions about the
+        inward normal. The default 0 pushes along the normal: the contact
+        sticks for any friction, so the force line is the push line (against
+        the simulator: 0.32 cm after 4 pushes, against 0.37 cm with 0.3 rad).
+    n_candidates : int, optional
+        Number of default candidates.
+    n_mu : int, optional
+        Number of friction values the unknown friction is marginalised over.
+    theta_tol : float, optional
+        Rotations with ``|theta| <= theta_tol`` (radians) carry no sense.
+    theta_noise : (float, float), optional
+        Rotation error scale of the model (rad): everywhere, and extra near
+        the force line.
+    translation_noise : (float, float), optional
+        Error scale of the model's CoM displacement: absolute (px) and relative.
+    model_weight : float, optional
+        Power in (0, 1] on the model's likelihood. A model errs alike on
+        similar pushes of one object, so treating its errors as independent
+        overstates what several pushes tell; a power below 1 (a tempered
+        likelihood) widens the posterior accordingly.
+    selection : {"sense", "model"}, optional
+        How to choose pushes (see above).
+    prior : array_like, shape (H, W), optional
+        Non-negative prior weights of the CoM over the image (default uniform
+        over the object; pass e.g. the convex hull if the CoM may lie off it).
+    min_information : float, optional
+        Stop when no push is expected to teach more bits than this.
+
+    Returns
+    -------
+    Estimate
+        ``com`` is the posterior mean (it minimises the expected squared error;
+        the MAP of a pixel grid is quantised and ill-defined on the flat
+        plateaus the Voting Theorem leaves). ``covariance`` is the posterior
+        covariance (px^2), ``region`` the credible region and ``used`` the
+        indices into ``candidates`` in execution order. ``extras``:
+        ``"motions"`` (k, 3) and ``"actions"`` (k, 4) executed, in order;
+        ``"posterior"`` (H, W) CoM posterior; ``"credible_radius_px"``;
+        ``"mu_grid"`` and ``"mu_posterior"``; ``"model_posterior"`` (one weight
+        per model); ``"history"``: one dict per
+        state (prior first) with the posterior mean ``"com"``,
+        ``"entropy_bits"``, ``"credible_radius_px"`` and ``"expected_gain_bits"``
+        of the push chosen next (``None`` if none).
+
+    Raises
+    ------
+    PushFailedError
+        If ``push`` raises or returns an invalid or non-finite motion; its
+        ``index`` says which push, ``partial`` holds the estimate so far.
+    TypeError, ValueError
+        On invalid arguments (each named).
+
+    Examples
+    --------
+    A toy robot whose object turns 0.1 rad in the Voting Theorem's sense:
+
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    >>> true_com = np.array([17.0, 20.0])
+    >>> def push(action):
+    ...     c = comcore.contacts(mask, action)
+    ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+    ...     return comcore.Motion(0.1 * s, 0.0, 0.0)
+    >>> est = comcore.estimate_active(mask, push, max_pushes=8, rng=0)
+    >>> est.status, len(est.used), round(est.error_px(true_com), 1)
+    ('budget', 8, 1.2)
+    >>> comcore.estimate_active(mask, push, max_pushes=0).com  # the prior: the centroid
+    (22.5, 22.5)
+    """
+    mask = check_mask(mask)
+    if not callable(push):
+        raise TypeError(
+            f"push must be callable as push(action) -> Motion, got {type(push).__name__}"
+        )
+    if isinstance(max_pushes, bool) or not isinstance(max_pushes, (int, np.integer)):
+        raise TypeError(f"max_pushes must be an int, got {type(max_pushes).__name__}")
+    if max_pushes < 0:
+        raise ValueError(f"max_pushes must be >= 0, got {max_pushes}")
+    models = check_models(model)
+    target_px = check_positive(target_radius, "target_radius") / mask.resolution
+    credible = check_probability(credible, "credible", open_low=True, open_high=True)
+    flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
+    if flip_prob >= 0.5:
+        raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
+    theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
+    min_information = check_positive(min_information, "min_information", allow_zero=True)
+    theta_noise = pair(theta_noise, "theta_noise")
+    if selection not in SELECTIONS:
+        raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
+    if selection == "model" and not models:
+        raise ValueError("selection='model' needs a model")
+    by_model = selection == "model"
+    model_weight = check_probability(model_weight, "model_weight", open_low=True)
+    near_px = NEAR_LINE_M / mask.resolution
+    translation_noise = pair(translation_noise, "translation_noise")
+    for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be a positive int, got {value!r}")
+    mus = mu_grid(mu, int(n_mu))
+    pixels, prior_w = prior_grid(mask, prior)
+    rng = np.random.default_rng(rng)
+    if candidates is None:
+        cands = sample_pushes(mask, int(n_candidates), cone=cone, rng=rng)
+    else:
+        cands = check_actions(candidates, "candidates", allow_empty=False)
+    con = contacts(mask, cands)
+    con.require_hits("candidates")
+    direction = cands[:, 2:] - cands[:, :2]
+    direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    lines = force_lines(con.point, con.normal, direction, np.arctan(mus))
+
+    post = GridPosterior(pixels, prior_w, mus, max(len(models), 1))
+    used: list[int] = []
+    motions: list[tuple[float, float, float]] = []
+    history: list[dict] = []
+    available = np.ones(len(cands), dtype=bool)
+    while True:
+        _, area = post.credible(credible)
+        radius = math.sqrt(area / math.pi)
+        history.append(
+            {
+                "com": tuple(float(v) for v in post.mean()),
+                "entropy_bits": post.entropy_bits(),
+                "credible_radius_px": radius,
+                "expected_gain_bits": None,
+            }
+        )
+        if radius <= target_px:
+            status = "ok"
+            break
+        if len(used) >= max_pushes:
+            status = "budget"
+            break
+        if not available.any():
+            status = "exhausted"
+            break
+        idx = np.flatnonzero(available)
+        if by_model:
+            gains = model_gains(
+                models, mask, post, cands[idx], lines[idx], theta_noise, translation_noise, near_px
+            ) / math.log(2)
+        else:
+            gains = sense_information(post.pixels, post.sense_weights, lines[idx], flip_prob)
+        best = int(np.argmax(gains))
+        if gains[best] <= min_information:
+            status = "uninformative"
+            break
+        chosen = int(idx[best])
+        history[-1]["expected_gain_bits"] = float(gains[best])
+        action = Action(*cands[chosen])
+        n_done = len(used)
+        try:
+            observed = check_motions(push(action), n=1, name="push result")[0]
+        except Exception as e:
+            partial = build_estimate(
+                mask, post, credible, cands, used, motions, history, "push_failed"
+            )
+            raise PushFailedError(
+                f"push {n_done} (candidates[{chosen}] = {tuple(action)}) failed: "
+                f"{type(e).__name__}: {e}",
+                index=n_done,
+                action=action,
+                partial=partial,
+            ) from e
+        distances = line_distances(post.pixels, lines[chosen])[:, :, None]  # (p, m, 1)
+        model_term = flipped_term = None
+        if models:
+            alive = post.log_w > post.log_w.max() - PRUNE_LOG
+            predicted = model_predictions(
+                models, mask, cands[chosen : chosen + 1], post.pixels, mus, alive
+            )[..., 0, :]
+            offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
+            args = (np.abs(distances), offset, theta_noise, translation_noise, near_px)
+            flipped = observed * np.array([-1.0, 1.0, 1.0])
+            model_term = np.where(
+                alive, model_weight * motion_log_likelihood(observed, predicted, *args), -np.inf
+            )
+            flipped_term = np.where(
+                alive, model_weight * motion_log_likelihood(flipped, predicted, *args), -np.inf
+            )
+        post.update(
+            push_log_likelihood(distances, observed, flip_prob, theta_tol, model_term, flipped_term)
+        )
+        used.append(chosen)
+        motions.append(tuple(float(v) for v in observed))
+        available[chosen] = False
+    return build_estimate(mask, post, credible, cands, used, motions, history, status)
