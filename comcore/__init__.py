@@ -17,6 +17,7 @@ Examples
 """
 
 from . import vt
+from ._active import estimate_active
 from ._conventions import (
     ANGLE_EPS,
     DEFAULT_RESOLUTION,
@@ -73,6 +74,7 @@ __all__ = [
     "check_priors",
     "contacts",
     "equality_score",
+    "estimate_active",
     "estimate_heatmap",
     "estimate_progressive",
     "largest_component",

@@ -1,0 +1,346 @@
+"""Tests of comcore.estimate_active and its grid posterior (comcore/_active.py, _posterior.py)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import comcore
+from comcore._posterior import (
+    GridPosterior,
+    binary_entropy,
+    force_lines,
+    line_distances,
+    sense_information,
+    side_probability,
+)
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "active.md"
+
+
+def _plate(h=26, w=34, pad=8):
+    return comcore.Mask(np.pad(np.ones((h, w), bool), pad))
+
+
+def _ell(h=40, w=52):
+    yy, xx = np.mgrid[:h, :w]
+    img = ((xx - w / 2) / (w / 2 - 4)) ** 2 + ((yy - h / 2) / (h / 2 - 4)) ** 2 < 1
+    img[: h // 2, : w // 3] = False  # an L-ish, non-convex outline
+    return comcore.Mask(img)
+
+
+class ToyModel:
+    """Toy physics: the Voting Theorem's sense, |theta| growing with the lever arm.
+
+    ``theta = sense * 0.4 * tanh(|d| / 8)`` where ``d`` is the CoM's distance to
+    the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
+    the centroid moves along the push, less when the object turns.
+    """
+
+    def predict_hypotheses(self, mask, actions, coms, mu):
+        acts = comcore.check_actions(actions)
+        coms = np.asarray(coms, dtype=float)
+        con = comcore.contacts(mask, acts)
+        out = np.zeros((len(coms), len(acts), 3))
+        for j, a in enumerate(acts):
+            direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
+            sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
+            lever = comcore.signed_line_distance(coms, a[None])[:, 0]
+            theta = sense * 0.4 * np.tanh(np.abs(lever) / 8.0)
+            out[:, j, 0] = theta
+            out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
+        return out
+
+
+def _robot(mask, com, mu, model=None, flips=()):
+    """A push callable from the toy physics with a known CoM and friction."""
+    model = model or ToyModel()
+    calls = []
+
+    def push(action):
+        motion = model.predict_hypotheses(mask, [action], [com], mu)[0, 0]
+        if len(calls) in flips:
+            motion = motion * [-1, 1, 1]
+        calls.append(action)
+        return comcore.Motion(*motion)
+
+    push.calls = calls
+    return push
+
+
+def _posterior_at(estimate, com):
+    return estimate.extras["posterior"][int(round(com[1])), int(round(com[0]))]
+
+
+# -- the force-line form of the Voting Theorem -------------------------------------------
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    com=st.tuples(st.floats(-30, 30), st.floats(-30, 30)),
+    normal_angle=st.floats(-np.pi, np.pi),
+    beta=st.floats(-1.4, 1.4),
+    mu=st.floats(0.0, 3.0),
+)
+def test_force_line_side_is_the_voting_theorem_sense(com, normal_angle, beta, mu):
+    """The side of the force line is the sense comcore.vt.rotation_sense votes."""
+    normal = np.array([np.cos(normal_angle), np.sin(normal_angle)])
+    push_dir = comcore.rotate_vectors(normal[None], beta)[0]
+    lines = force_lines(np.zeros((1, 2)), normal[None], push_dir[None], np.array([np.arctan(mu)]))
+    d = line_distances(np.array([com]), lines)[0, 0, 0]
+    if abs(d) > 1e-6:
+        expected = comcore.vt.rotation_sense(com, (0, 0), normal, push_dir, mu)
+        assert np.sign(d) == expected
+
+
+def test_sense_information_equals_brute_force():
+    mask = _ell()
+    rng = np.random.default_rng(3)
+    cands = comcore.sample_pushes(mask, 40, cone=0.4, rng=rng)
+    con = comcore.contacts(mask, cands)
+    direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
+    alphas = np.linspace(0.05, 1.0, 5)
+    lines = force_lines(con.point, con.normal, direction, alphas)
+    weights = rng.random((mask.area_px, 5))
+    weights /= weights.sum()
+    gains = sense_information(mask.pixels, weights, lines, 0.07)
+    w_pix = weights.sum(axis=1)
+    side = side_probability(line_distances(mask.pixels, lines))  # (p, n, m)
+    q = 0.07 + 0.86 * np.einsum("pnm,pm->pn", side, weights / w_pix[:, None])
+    brute = binary_entropy(w_pix @ q) - w_pix @ binary_entropy(q)
+    np.testing.assert_allclose(gains, brute, atol=1e-5)
+    assert gains.min() >= -1e-6
+
+
+def test_credible_region_counts_the_last_pixel_fractionally():
+    post = GridPosterior(np.array([[0.0, 0], [1, 0], [2, 0], [3, 0]]), [0.5, 0.3, 0.1, 0.1], [0.3])
+    chosen, area = post.credible(0.6)
+    assert chosen.tolist() == [True, True, False, False]
+    assert area == pytest.approx(1 + 0.1 / 0.3)
+
+
+# -- the estimator -----------------------------------------------------------------------
+
+
+@settings(max_examples=12, deadline=None)
+@given(
+    row=st.integers(12, 27),
+    col=st.integers(12, 35),
+    mu=st.sampled_from([0.2, 0.7]),
+    seed=st.integers(0, 2**16),
+)
+def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
+    """With noise-free senses the true CoM keeps the highest posterior (up to the line edge)."""
+    mask = _plate()
+    com = (float(col), float(row))
+    push = _robot(mask, com, mu)
+    est = comcore.estimate_active(mask, push, max_pushes=5, cone=0.0, rng=seed, mu=mu)
+    acts = est.extras["actions"]
+    con = comcore.contacts(mask, acts)
+    direction = (acts[:, 2:] - acts[:, :2]) / np.hypot(*(acts[:, 2:] - acts[:, :2]).T)[:, None]
+    lines = force_lines(con.point, con.normal, direction, np.array([np.arctan(mu)]))
+    distance = np.abs(line_distances(np.array([com]), lines)[0, :, 0])
+    # Per push the true CoM scores eps + (1 - 2 eps) side(|d|); no pixel scores above 1 - eps.
+    eps = 0.05
+    allowed = np.prod((eps + (1 - 2 * eps) * side_probability(distance)) / (1 - eps))
+    post = est.extras["posterior"]
+    assert _posterior_at(est, com) >= allowed * post.max() * (1 - 1e-9)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_with_the_true_model_the_credible_region_holds_the_com(seed):
+    mask = _ell()
+    rng = np.random.default_rng(seed)
+    com = tuple(mask.pixels[rng.integers(mask.area_px)])
+    push = _robot(mask, com, 0.4)
+    est = comcore.estimate_active(mask, push, model=ToyModel(), rng=seed, target_radius=0.002)
+    assert est.region[int(com[1]), int(com[0])]
+    assert est.error_px(com) < 1.5
+    assert est.status in ("ok", "budget")
+
+
+def test_same_seed_same_result():
+    mask = _ell()
+    com = (30.0, 25.0)
+    runs = [
+        comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=11)
+        for _ in range(2)
+    ]
+    assert runs[0].used == runs[1].used
+    assert runs[0].com == runs[1].com
+    np.testing.assert_array_equal(runs[0].extras["posterior"], runs[1].extras["posterior"])
+    other = comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=12)
+    assert other.used != runs[0].used
+
+
+def test_result_fields_and_history():
+    mask = _plate()
+    com = (20.0, 15.0)
+    push = _robot(mask, com, 0.3)
+    est = comcore.estimate_active(mask, push, max_pushes=3, rng=0, target_radius=1e-4)
+    assert est.status == "budget" and len(est.used) == 3 == len(set(est.used))
+    motions, actions = est.extras["motions"], est.extras["actions"]
+    assert motions.shape == (3, 3) and actions.shape == (3, 4)
+    np.testing.assert_array_equal(actions, np.array([tuple(a) for a in push.calls]))
+    assert est.extras["posterior"].sum() == pytest.approx(1.0)
+    assert not est.extras["posterior"][~mask.data].any()
+    assert est.covariance.shape == (2, 2)
+    assert np.all(np.linalg.eigvalsh(est.covariance) > 0)
+    history = est.extras["history"]
+    assert len(history) == 4 and history[-1]["expected_gain_bits"] is None
+    entropies = [h["entropy_bits"] for h in history]
+    assert entropies[0] == pytest.approx(np.log2(mask.area_px))
+    assert entropies[-1] < entropies[0] - 1.0  # about 0.5 bit per noisy, blurred sense
+    assert history[-1]["credible_radius_px"] == pytest.approx(est.extras["credible_radius_px"])
+    assert est.extras["mu_posterior"].sum() == pytest.approx(1.0)
+
+
+def test_stops_when_the_credible_region_is_small_enough():
+    mask = _plate()
+    com = (25.0, 20.0)
+    est = comcore.estimate_active(
+        mask, _robot(mask, com, 0.3), max_pushes=30, model=ToyModel(), target_radius=0.004, rng=1
+    )
+    assert est.status == "ok"
+    assert est.extras["credible_radius_px"] * mask.resolution <= 0.004
+    assert len(est.used) < 30
+    radii = [h["credible_radius_px"] for h in est.extras["history"]]
+    assert radii[-2] * mask.resolution > 0.004  # it did not push once more than needed
+
+
+def test_zero_budget_returns_the_prior_with_a_flag():
+    mask = _ell()
+    push = _robot(mask, (30.0, 25.0), 0.3)
+    est = comcore.estimate_active(mask, push, max_pushes=0)
+    assert est.status == "budget" and not est.ok
+    assert est.com == pytest.approx(mask.centroid)
+    assert est.used == () and push.calls == []
+    assert est.region.sum() == pytest.approx(0.9 * mask.area_px, abs=1)
+
+
+def test_a_flipped_sense_is_survived():
+    mask = _ell()
+    com = (34.0, 24.0)
+    clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), model=ToyModel(), rng=5)
+    flipped = comcore.estimate_active(
+        mask, _robot(mask, com, 0.4, flips=(0,)), model=ToyModel(), rng=5, max_pushes=8
+    )
+    assert clean.error_px(com) < 1.5
+    assert flipped.error_px(com) < 2.0
+
+
+@pytest.mark.parametrize(
+    ("failure", "match"),
+    [
+        (RuntimeError("gripper lost the object"), "RuntimeError: gripper lost the object"),
+        ((float("nan"), 1.0, 0.0), "must be finite"),
+        ((0.1, 2.0), "shape"),
+    ],
+)
+def test_a_failing_push_names_the_push_and_keeps_what_was_learned(failure, match):
+    mask = _ell()
+    good = _robot(mask, (30.0, 25.0), 0.3)
+
+    def push(action):
+        if len(good.calls) == 2:
+            if isinstance(failure, Exception):
+                raise failure
+            return failure
+        return good(action)
+
+    with pytest.raises(comcore.PushFailedError, match=f"push 2 .*{match}") as info:
+        comcore.estimate_active(mask, push, max_pushes=5, rng=0)
+    err = info.value
+    assert err.index == 2 and isinstance(err.action, comcore.Action)
+    assert isinstance(err.partial, comcore.Estimate)
+    assert err.partial.status == "push_failed" and len(err.partial.used) == 2
+    expected = comcore.estimate_active(mask, _robot(mask, (30.0, 25.0), 0.3), max_pushes=2, rng=0)
+    assert err.partial.com == pytest.approx(expected.com)
+
+
+def test_candidates_are_used_as_given_and_exhausted():
+    mask = _plate()
+    cands = [(0, 20, 20, 20), (20, 0, 20, 20)]
+    est = comcore.estimate_active(mask, _robot(mask, (21.0, 19.0), 0.3), cands, max_pushes=5)
+    assert sorted(est.used) == [0, 1] and est.status == "exhausted"
+
+
+def test_caller_input_is_not_mutated():
+    mask = _plate()
+    cands = comcore.sample_pushes(mask, 30, rng=0)
+    cands.setflags(write=False)
+    prior = mask.data.astype(float)
+    before = prior.copy()
+    comcore.estimate_active(mask, _robot(mask, (21.0, 19.0), 0.3), cands, 2, prior=prior)
+    np.testing.assert_array_equal(prior, before)
+
+
+def test_a_prior_off_the_object_is_allowed():
+    """A CoM may lie off a concave footprint: a hull prior lets the posterior put it there."""
+    img = np.zeros((40, 40), bool)
+    img[5:35, 5:12] = img[5:12, 5:35] = img[28:35, 5:35] = True  # a C
+    mask = comcore.Mask(img)
+    hull = np.zeros_like(img)
+    hull[5:35, 5:35] = True
+    com = (18.0, 20.0)  # in the C's mouth
+    est = comcore.estimate_active(
+        mask, _robot(mask, com, 0.3), prior=hull, model=ToyModel(), rng=0, max_pushes=8
+    )
+    assert est.error_px(com) < 2.0
+    assert not mask.data[20, 18] and est.extras["posterior"][20, 18] > 0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"max_pushes": -1}, ValueError, "max_pushes must be >= 0"),
+        ({"max_pushes": 2.0}, TypeError, "max_pushes must be an int"),
+        ({"max_pushes": True}, TypeError, "max_pushes must be an int"),
+        ({"flip_prob": 0.0}, ValueError, "flip_prob"),
+        ({"flip_prob": 0.5}, ValueError, r"flip_prob must be in \(0, 0.5\)"),
+        ({"credible": 1.0}, ValueError, "credible"),
+        ({"target_radius": 0.0}, ValueError, "target_radius"),
+        ({"mu": -0.2}, ValueError, "mu must be >= 0"),
+        ({"n_mu": 0}, ValueError, "n_mu must be a positive int"),
+        ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must hit the object"),
+        ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
+        ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
+        ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must have absolute > 0"),
+        ({"translation_noise": "ab"}, TypeError, "translation_noise must be an"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, error, match):
+    mask = _plate()
+    with pytest.raises(error, match=match):
+        comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **kwargs)
+
+
+def test_bad_mask_and_push():
+    with pytest.raises(TypeError, match="mask must be a comcore.Mask"):
+        comcore.estimate_active(np.ones((5, 5), bool), lambda a: (0, 0, 0))
+    with pytest.raises(TypeError, match="push must be callable"):
+        comcore.estimate_active(_plate(), "robot")
+
+
+def test_a_model_returning_garbage_is_reported():
+    class Broken:
+        def predict_hypotheses(self, mask, actions, coms, mu):
+            return np.zeros((len(coms), 2))
+
+    mask = _plate()
+    with pytest.raises(ValueError, match="predict_hypotheses must return finite motions"):
+        comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), model=Broken(), rng=0)
+
+
+def test_docs_examples_run():
+    text = DOCS.read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, str(DOCS), "exec"), {})
