@@ -137,14 +137,15 @@ def test_learned_predictor_gets_twelve_prior_pushes(registry):
             return np.zeros((len(actions), 3))
 
     PREDICTORS["recorder"] = PredictorSpec("recorder", lambda ctx: Recorder(), prior_pushes=12)
-    rows = run_trial(
-        TrialSpec("Obj3", "low", 0, predictor="recorder", candidates=6, estimators=("alg2",))
-    )
+    spec = TrialSpec("Obj3", "low", 0, predictor="recorder", candidates=6,
+                     estimators=("alg2", "centroid"))  # fmt: skip
+    rows = run_trial(spec)
     assert len(seen["priors"]) == 12
     assert isinstance(seen["priors"][0][1], comcore.Motion)
     assert rows[0]["prior_pushes"] == 12
     assert rows[0]["total_pushes"] == 12 + rows[0]["pushes_used"]
     assert rows[0]["status"] == "no_actions"  # zero predicted rotation: nothing to cut with
+    assert rows[1]["prior_pushes"] == rows[1]["total_pushes"] == 0  # the centroid pushes nothing
 
 
 def test_unavailable_estimators_are_skipped_and_predictors_refused(registry):
@@ -185,3 +186,14 @@ def test_config_specs_cover_every_trial_in_order():
     assert keys[:3] == [("Obj1", "low", 0), ("Obj1", "low", 1), ("Obj1", "high", 0)]
     assert len(keys) == len(set(keys)) == 8
     assert dataclasses.replace(cfg, seed=1).specs()[0].seed == 1
+
+
+def test_active_estimator_counts_the_pushes_it_executes():
+    if not hasattr(comcore, "estimate_active"):
+        pytest.skip("comcore.estimate_active is not in this build (branch 'active')")
+    spec = TrialSpec("Obj3", "low", 0, candidates=10, estimators=("active-vt(max_pushes=2)",))
+    outcome = run_trial(spec, keep=True)
+    row, est = outcome.rows[0], outcome.estimates["active-vt(max_pushes=2)"]
+    assert row["status"] == est.status != "error", row["message"]
+    assert row["pushes_used"] == len(est.used) <= 2
+    assert row["prior_pushes"] == 0 and row["total_pushes"] == row["pushes_used"]

@@ -75,7 +75,10 @@ register_estimator(
     description="Alg. 2 taking pushes in ascending |theta| (the paper's Fig. 7 ablation)",
 )
 register_estimator(
-    "centroid", _centroid, description="baseline: the mask's area centroid (no push)"
+    "centroid",
+    _centroid,
+    description="baseline: the mask's area centroid (no push)",
+    uses_motions=False,
 )
 register_estimator(
     "active",

@@ -85,8 +85,8 @@ class EstimatorSpec:
     uses_motions : bool
         ``True``: it works on the predicted motions of the candidates and its
         real pushes are ``len(Estimate.used)`` (plus the predictor's priors).
-        ``False``: it pushes the object itself through ``ctx.push`` and its
-        real pushes are the calls it made.
+        ``False``: it ignores the predictor (``ctx.motions`` may be ``None``);
+        its real pushes are the calls it made to ``ctx.push``.
     requires : callable
         ``requires() -> str | None``: why it cannot run in this build, or ``None``.
     """
