@@ -197,3 +197,41 @@ def test_active_estimator_counts_the_pushes_it_executes():
     assert row["status"] == est.status != "error", row["message"]
     assert row["pushes_used"] == len(est.used) <= 2
     assert row["prior_pushes"] == 0 and row["total_pushes"] == row["pushes_used"]
+
+
+def test_pushes_the_simulator_refuses_are_redrawn(registry):
+    class Picky:
+        """Refuses every third push it is asked about, like a simulator refusing a start pose."""
+
+        calls = 0
+
+        def predict(self, mask, actions, priors=()):
+            Picky.calls += 1
+            if Picky.calls % 3 == 0:
+                raise ValueError("the pusher would start inside the object")
+            return np.tile([0.1, 1.0, 0.0], (len(actions), 1))
+
+    PREDICTORS["picky"] = PredictorSpec("picky", lambda ctx: Picky(), pushes_object=True)
+    outcome = run_trial(
+        TrialSpec("Obj3", "low", 0, predictor="picky", candidates=6, estimators=("alg1",)),
+        keep=True,
+    )
+    assert outcome.context.candidates.shape == (6, 4)
+    assert outcome.context.motions.shape == (6, 3)
+    assert "candidate push(es) redrawn" in outcome.rows[0]["message"]
+    assert outcome.rows[0]["status"] == "ok"
+
+
+def test_a_failing_predictor_fails_only_the_estimators_that_need_it(registry):
+    def broken(ctx):
+        raise RuntimeError("weights missing")
+
+    PREDICTORS["broken"] = PredictorSpec("broken", broken)
+    rows = run_trial(
+        TrialSpec(
+            "Obj3", "low", 0, predictor="broken", candidates=4, estimators=("alg2", "centroid")
+        )
+    )
+    assert rows[0]["status"] == "error"
+    assert "predictor 'broken' failed: RuntimeError: weights missing" in rows[0]["message"]
+    assert rows[1]["status"] == "ok" and rows[1]["message"] == ""

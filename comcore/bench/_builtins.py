@@ -114,6 +114,6 @@ def _anp(ctx: TrialContext):
     return AnpPredictor()
 
 
-PREDICTORS["oracle"] = PredictorSpec("oracle", _oracle, 0, _ORACLE)
+PREDICTORS["oracle"] = PredictorSpec("oracle", _oracle, 0, _ORACLE, pushes_object=True)
 PREDICTORS["ellipsoid"] = PredictorSpec("ellipsoid", _ellipsoid, 12, _ELLIPSOID)
 PREDICTORS["anp"] = PredictorSpec("anp", _anp, 12, missing("predictors", "AnpPredictor", "anp"))

@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -98,8 +97,3 @@ def paper_table(number: int) -> dict[str, dict]:
         raise ValueError(f"number must be 1 or 2, got {number!r}")
     rows = _paper_csv(f"paper_table{number}.csv")
     return {row["object"]: dict(row) for row in rows}
-
-
-def finite(value) -> bool:
-    """Whether ``value`` is a finite number."""
-    return isinstance(value, (int, float)) and math.isfinite(value)

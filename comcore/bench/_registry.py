@@ -109,6 +109,9 @@ class PredictorSpec:
         ``make(ctx: TrialContext) -> comcore.Predictor`` (``ctx.motions`` is ``None``).
     prior_pushes : int
         Real pushes run in the simulator to condition it (12 for the learned ones).
+    pushes_object : bool
+        Its predictions are pushes of the true object (the oracle): candidates
+        are predicted one by one and those the simulator refuses are redrawn.
     requires : callable
         ``requires() -> str | None``: why it cannot run in this build, or ``None``.
     """
@@ -117,6 +120,7 @@ class PredictorSpec:
     make: Callable[[TrialContext], Any]
     prior_pushes: int = 0
     requires: Callable[[], str | None] = lambda: None
+    pushes_object: bool = False
 
 
 ESTIMATORS: dict[str, EstimatorSpec] = {}

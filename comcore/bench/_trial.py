@@ -32,6 +32,8 @@ DEFAULT_CONE = 0.3
 DEFAULT_ESTIMATORS = ("alg1", "alg2", "alg2-rotation", "centroid")
 #: Draws of a random simulator before a trial gives up.
 SIMULATOR_ATTEMPTS = 4
+#: Batches of fresh pushes drawn to replace pushes the simulator refuses.
+PUSH_DRAWS = 20
 #: Columns of a result row, in order.
 ROW_FIELDS = (
     "object", "friction", "trial", "estimator", "predictor", "status", "error_cm", "error_px",
@@ -166,17 +168,69 @@ def _random_simulator(spec: TrialSpec):
                 raise
 
 
+def _accepted_pushes(respond, mask, n: int, cone: float, rng):
+    """``n`` sampled pushes that ``respond(push) -> motion`` accepts, with its motions.
+
+    A push it rejects with a ``ValueError`` (the simulator refuses a pusher
+    that would start overlapping the object) is replaced by a fresh draw.
+    Returns ``(pushes (n, 4), motions (n, 3), number rejected)``.
+    """
+    pushes: list[np.ndarray] = []
+    motions: list[np.ndarray] = []
+    rejected = 0
+    for _ in range(PUSH_DRAWS):
+        if len(pushes) >= n:
+            break
+        for push in comcore.sample_pushes(mask, n - len(pushes), cone=cone, rng=rng):
+            try:
+                motions.append(np.asarray(respond(push), float).reshape(3))
+            except ValueError:
+                rejected += 1
+                continue
+            pushes.append(push)
+    if len(pushes) < n:
+        raise RuntimeError(f"the simulator rejected {rejected} pushes; {len(pushes)} of {n} drawn")
+    return np.reshape(pushes, (-1, 4)), np.reshape(motions, (-1, 3)), rejected
+
+
+def _predictions(spec: TrialSpec, ctx: TrialContext):
+    """The context with candidates, priors and motions, and a note on redrawn pushes."""
+    predictor, sim, mask = PREDICTORS[spec.predictor], ctx.simulator, ctx.mask
+    note, priors = "", ()
+    if predictor.prior_pushes:
+        acts, mots, rejected = _accepted_pushes(
+            lambda a: sim.push(a).motion, mask, predictor.prior_pushes, spec.cone, spec.rng("prior")
+        )
+        priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
+        note += f"{rejected} prior push(es) redrawn; " if rejected else ""
+    model = predictor.make(replace(ctx, priors=priors))
+    rng = spec.rng("cand")
+    if predictor.pushes_object:  # predicting is pushing: redraw what the simulator refuses
+        predict_one = lambda a: comcore.predict_motions(model, mask, a[None], priors)[0]  # noqa: E731
+        cands, motions, rejected = _accepted_pushes(
+            predict_one, mask, spec.candidates, spec.cone, rng
+        )
+        note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
+    else:
+        cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=rng)
+        motions = comcore.predict_motions(model, mask, cands, priors)
+    return replace(ctx, candidates=cands, motions=motions, priors=priors), note
+
+
 def run_trial(spec: TrialSpec, *, keep: bool = False):
     """Run one trial: every estimator of ``spec`` on one random object instance.
 
     The object's mass distribution and ``mu_contact`` come from
     ``simulators.random_simulator`` (friction class ``spec.friction``), the
     candidates from :func:`comcore.sample_pushes`, their motions from the
-    predictor (conditioned on 12 prior pushes for learned predictors). If
-    ``random_simulator`` fails, the instance is redrawn from the streams
-    ``"simulator#1"``, ... and every row's ``message`` says so. An estimator
-    that raises is recorded with ``status`` ``"error"``, the
-    centroid as its estimate and the exception in ``message``.
+    predictor (conditioned on prior pushes run in the simulator for learned
+    predictors). Every failure is recorded, never raised, and said in the
+    rows' ``message``: a failed ``random_simulator`` draw is redrawn from the
+    streams ``"simulator#1"``, ...; a push the simulator refuses (a prior, or
+    a candidate of the oracle) is replaced by a fresh draw; if the predictor
+    fails, the estimators that need its motions get ``status`` ``"error"``;
+    an estimator that raises gets ``status`` ``"error"``. Errors come with the
+    centroid as the estimate.
 
     Parameters
     ----------
@@ -190,28 +244,28 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
         One row per estimator, with the keys :data:`ROW_FIELDS`.
     """
     parsed = [(label, *parse_estimator(label)) for label in spec.estimators]
-    predictor = PREDICTORS[spec.predictor]
     sim, note = _random_simulator(spec)
     mask = sim.mask
-    candidates = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=spec.rng("cand"))
-    ctx = TrialContext(spec.object, spec.friction, spec.trial, sim, mask, candidates, None)
-    prior_count = 0
+    ctx = TrialContext(spec.object, spec.friction, spec.trial, sim, mask, np.empty((0, 4)), None)
+    failure = ""
     if any(est.uses_motions for _, est, _ in parsed):
-        prior_count = predictor.prior_pushes
-        priors: tuple = ()
-        if prior_count:
-            acts = comcore.sample_pushes(mask, prior_count, cone=spec.cone, rng=spec.rng("prior"))
-            mots = sim.push_motions(acts)
-            priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
-        ctx = replace(ctx, priors=priors)
-        model = predictor.make(ctx)
-        ctx = replace(ctx, motions=comcore.predict_motions(model, mask, candidates, priors))
+        try:
+            ctx, more = _predictions(spec, ctx)
+            note += more
+        except Exception as e:  # one bad trial must not end a long benchmark
+            failure = f"predictor {spec.predictor!r} failed: {type(e).__name__}: {e}"
+    if not len(ctx.candidates):
+        cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=spec.rng("cand"))
+        ctx = replace(ctx, candidates=cands)
+    prior_count = len(ctx.priors)
     rows, estimates = [], {}
     for label, est_spec, options in parsed:
         counter = _CountingPush(sim)
         run_ctx = replace(ctx, rng=spec.rng("estimator:" + label), push=counter)
         message = note
         try:
+            if est_spec.uses_motions and failure:
+                raise RuntimeError(failure)
             est = est_spec.run(run_ctx, **options)
         except Exception as e:  # one bad trial must not end a long benchmark
             message = f"{note}{type(e).__name__}: {e}"
