@@ -162,7 +162,7 @@ def estimate_progressive(
     sizes = [int(current.sum())]
     direction = acts[:, 2:] - acts[:, :2]
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
-    alpha = tuple(float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
+    a_lo, a_hi = (float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
     sense = np.sign(theta).astype(int)
 
     while current.sum() > target and keep.any():
@@ -179,7 +179,9 @@ def estimate_progressive(
         keep[chosen] = False
         idx = np.flatnonzero(current)
         r = con.point[chosen] - pixels[idx]
-        allowed = _consistent(r, con.normal[chosen], unit[chosen], int(sense[chosen]), *alpha, band)
+        allowed = _consistent(
+            r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
+        )
         if not allowed.any():
             contradicted.append(chosen)
             continue

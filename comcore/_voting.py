@@ -111,7 +111,8 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     if lo != hi:
         raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
     band = check_positive(band, "band", allow_zero=True)
-    out = _majority(*_moments(c[0] - pts, n, v, np.arctan(lo)), band)
+    left, right, push = _moments(c[0] - pts, n, v, np.arctan(lo))
+    out = _majority(left, right, push, band)
     return out[0] if single else out
 
 
@@ -164,9 +165,9 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     lo = np.full_like(crit, a_lo)
     hi = np.full_like(crit, a_hi)
     alphas = np.column_stack([lo, 0.5 * (lo + crit), crit, 0.5 * (crit + hi), hi])  # (m, 5)
-    moments = _moments(r, normal, push_dir, alphas)
-    strict = _majority(*moments, 0.0)
-    tolerant = _majority(*moments, band)
+    left, right, push = _moments(r, normal, push_dir, alphas)
+    strict = _majority(left, right, push, 0.0)
+    tolerant = _majority(left, right, push, band)
     return ((strict == sense) | (tolerant == sense) | (tolerant == 0)).any(axis=1)
 
 
