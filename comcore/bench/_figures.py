@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._io import paper_table
 from ._report import group_stats
 from ._trial import TrialOutcome
 
@@ -114,6 +115,10 @@ def figure_pushes(
                 values = [c["pushes"][stat] for c in cells]  # type: ignore[index]
                 label = f"{name} {stat}"
                 ax.plot(x, values, style, color=color, marker=marker, ms=4, label=label)
+        paper = paper_table(2)
+        if all(o in paper for o in objects):
+            values = [paper[o][f"{friction}_push_mean"] for o in objects]
+            ax.plot(x, values, ":", color="k", marker="s", ms=3, label="paper's Alg. 2 mean")
         ax.set_xticks(x, objects, rotation=60, fontsize=7)
         ax.set_ylabel("pushes used")
         ax.set_title(f"{friction} friction: equality score (dashed) vs rotation order (solid)",
@@ -125,7 +130,11 @@ def figure_pushes(
 
 
 def figure_errors(rows: Sequence[Mapping], path) -> Path:
-    """Mean error per object (bars: one standard deviation) for every estimator."""
+    """Mean error per object (bars: one standard deviation) for every estimator.
+
+    Black markers: the paper's mean error of Alg. 1 (Table I) and Alg. 2 (Table II)
+    above the bars of ``alg1`` and ``alg2``.
+    """
     stats = group_stats(rows)
     objects, frictions = _objects(rows), _frictions(rows)
     estimators = list(dict.fromkeys(r["estimator"] for r in rows))
@@ -138,8 +147,18 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
             cells = [stats.get((name, o, friction)) for o in objects]
             mean = [c["error"]["mean"] if c else np.nan for c in cells]
             std = [c["error"]["std"] if c else 0.0 for c in cells]
-            ax.bar(x + (j - (len(estimators) - 1) / 2) * width, mean, width, yerr=std,
-                   label=name, capsize=1.5, error_kw={"lw": 0.6})  # fmt: skip
+            offset = x + (j - (len(estimators) - 1) / 2) * width
+            ax.bar(offset, mean, width, yerr=std, label=name, capsize=1.5, error_kw={"lw": 0.6})
+            table, column = {"alg1": (1, "{}_mean_cm"), "alg2": (2, "{}_err_mean_cm")}.get(
+                name, (0, "")
+            )
+            if table:
+                paper = paper_table(table)
+                values = [paper[o][column.format(friction)] if o in paper else np.nan
+                          for o in objects]  # fmt: skip
+                marker = "k_" if table == 1 else "k*"
+                label = f"paper's {'Alg. 1' if table == 1 else 'Alg. 2'} mean"
+                ax.plot(offset, values, marker, ms=7, mew=1.5, label=label)
         ax.set_xticks(x, objects, rotation=60, fontsize=7)
         ax.set_ylabel("error (cm)")
         ax.set_title(f"{friction} friction: CoM error per object (mean ± std)", fontsize=9)

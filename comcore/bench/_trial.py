@@ -24,8 +24,8 @@ __all__ = [
     "trial_rng",
 ]
 
-#: Candidate pushes per trial (see docs/bench.md for why 60).
-DEFAULT_CANDIDATES = 60
+#: Candidate pushes per trial (see docs/bench.md for why 30).
+DEFAULT_CANDIDATES = 30
 #: Half-angle (radians) of the candidate push directions about the inward normal.
 DEFAULT_CONE = 0.3
 #: Estimators run by default: the paper's two algorithms, the Fig. 7 ablation, the baseline.
