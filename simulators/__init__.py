@@ -15,10 +15,10 @@ Examples
 (3, 3)
 """
 
-from ._engine import EngineSettings
 from ._mass import MassDistribution, tilt_to_com
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
+from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
 
@@ -26,6 +26,7 @@ __all__ = [
     "BENCHMARK_AREAS_CM2",
     "BENCHMARK_OBJECTS",
     "DEFAULT_PUSHER_RADIUS",
+    "ENGINES",
     "FRICTION_CLASSES",
     "MASS_STYLES",
     "EngineSettings",

@@ -168,7 +168,7 @@ def _grid_cells(poly, shapely, n_support: int):
     return cent, areas[keep], h
 
 
-def tilt_to_com(points, weights, target, tol: float = 1e-12) -> np.ndarray:
+def tilt_to_com(points, weights, target, tol: float = 1e-10) -> np.ndarray:
     """Reweight ``w_i -> w_i exp(lam . p_i)`` so that the weighted mean is ``target``.
 
     The tilt is the distribution closest to the original in relative entropy
@@ -201,9 +201,10 @@ def tilt_to_com(points, weights, target, tol: float = 1e-12) -> np.ndarray:
         xc = x - grad
         hess = (xc * q[:, None]).T @ xc + 1e-15 * np.eye(2)
         step = np.linalg.solve(hess, -grad)
-        # Backtracking on the log-partition function keeps Newton globally convergent.
+        # Backtracking on the log-partition function keeps Newton globally convergent;
+        # near the solution (tiny decrement) the full step is taken.
         f0 = np.log(np.exp(z - z.max()).sum()) + z.max()
-        for _ in range(50):
+        for _ in range(50 if -(grad @ step) > 1e-16 else 0):
             zn = logw + x @ (lam + step)
             if np.log(np.exp(zn - zn.max()).sum()) + zn.max() <= f0 + 1e-4 * grad @ step:
                 break

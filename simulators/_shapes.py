@@ -166,17 +166,18 @@ class ObjectShape:
 
 
 def _single_polygon(polygons, path: Path):
-    polys = [p for p in polygons if p.area > 0]
+    """The one outline among closed curves (shapely polygons), or a clear error."""
+    polys = [p for p in polygons if p is not None and p.area > 0]
     if not polys:
         raise ValueError(f"{path.name} holds no closed outline with a non-zero area")
+    polys.sort(key=lambda p: -p.area)
     if len(polys) > 1:
+        if any(polys[0].contains(p) for p in polys[1:]):
+            raise ValueError(f"{path.name}: outlines with holes are not supported")
         raise ValueError(
             f"{path.name} holds {len(polys)} disjoint pieces; an object must be one piece"
         )
-    poly = polys[0]
-    if len(poly.interiors):
-        raise ValueError(f"{path.name}: outlines with holes are not supported")
-    return np.asarray(poly.exterior.coords, dtype=float)
+    return np.asarray(polys[0].exterior.coords, dtype=float)
 
 
 def load_shape(path, scale: float = DEFAULT_FILE_SCALE, name: str | None = None) -> ObjectShape:
@@ -218,7 +219,7 @@ def load_shape(path, scale: float = DEFAULT_FILE_SCALE, name: str | None = None)
     uniform_com = None
     if suffix in _PATH_SUFFIXES:
         loaded = trimesh.load_path(str(path))
-        vertices = _single_polygon(loaded.polygons_full, path)
+        vertices = _single_polygon(loaded.polygons_closed, path)
         if suffix == ".svg":
             vertices = vertices * (1.0, -1.0)
     elif suffix in _MESH_SUFFIXES:
@@ -235,7 +236,7 @@ def load_shape(path, scale: float = DEFAULT_FILE_SCALE, name: str | None = None)
         if section is None:
             raise ValueError(f"{path.name}: the mesh has no section near its base")
         planar, to_3d = section.to_2D(normal=(0.0, 0.0, 1.0))
-        vertices = _single_polygon(planar.polygons_full, path)
+        vertices = _single_polygon(planar.polygons_closed, path)
         vertices = trimesh.transform_points(np.column_stack([vertices, 0 * vertices[:, 0]]), to_3d)
         vertices = vertices[:, :2]
         uniform_com = tuple(float(c) * scale for c in mesh.center_mass[:2])

@@ -12,8 +12,9 @@ import comcore
 from comcore import Mask, Motion
 
 from ._deps import require_shapely
-from ._engine import EngineSettings, simulate_push
 from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
+from ._quasistatic import QuasiStaticEngine
+from ._settings import EngineSettings
 from ._shapes import ObjectShape, load_shape
 
 __all__ = ["DEFAULT_PUSHER_RADIUS", "PushResult", "PushSimulator"]
@@ -24,6 +25,8 @@ DEFAULT_PUSHER_RADIUS = 0.004
 DEFAULT_MU_FLOOR = 0.5
 #: Empty border around the footprint in the mask, metres.
 DEFAULT_MARGIN = 0.02
+#: Pushes integrated together by :meth:`PushSimulator.push_motions`.
+BATCH_SIZE = 256
 
 
 class PushResult(NamedTuple):
@@ -215,15 +218,48 @@ class PushSimulator:
         return self.mask_at(None)
 
     @cached_property
+    def _engine(self):
+        settings = self.settings
+        if settings.engine == "pymunk":
+            from ._pymunk import PymunkEngine
+
+            return PymunkEngine(
+                self._outline_body,
+                self._support_body,
+                self.mass.masses,
+                self._moment,
+                pusher_radius=self.pusher_radius,
+                mu_contact=self.mu_contact,
+                mu_floor=self.mu_floor,
+                settings=settings,
+            )
+        return QuasiStaticEngine(
+            self._outline_body,
+            self._support_body,
+            self.mass.masses,
+            pusher_radius=self.pusher_radius,
+            mu_contact=self.mu_contact,
+            step_m=settings.step_m,
+            projections=settings.projections,
+        )
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state.pop("_engine", None)  # pymunk spaces are rebuilt, not pickled
+        return state
+
+    @cached_property
     def _reference_body(self) -> np.ndarray:
         """The initial mask's area centroid as a body point (metres, relative to CoM)."""
         return self.to_world(self.mask.centroid)[0] - self._com
 
     # -- pushing --------------------------------------------------------------------
-    def _material_point(self, pose) -> np.ndarray:
-        x, y, a = pose
-        c, s = math.cos(a), math.sin(a)
-        return self._reference_body @ np.array([[c, s], [-s, c]]) + (x, y)
+    def _material_points(self, poses) -> np.ndarray:
+        """World position (n, 2) of the reference body point at each pose (n, 3)."""
+        p = np.asarray(poses, dtype=float)
+        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
+        rx, ry = self._reference_body
+        return np.column_stack([p[:, 0] + c * rx - s * ry, p[:, 1] + s * rx + c * ry])
 
     def push(self, action, pose=None, record: bool = False) -> PushResult:
         """Push once and return the motion, the final pose and the real contact.
@@ -245,50 +281,59 @@ class PushSimulator:
             ``(motion.tx, motion.ty)`` is the displacement in pixels of the
             material point under the initial mask's area centroid (exactly the
             area centroid's displacement when starting from the initial pose).
-
-        Raises
-        ------
-        ValueError
-            A malformed action, or a pusher that overlaps the object at its start.
+            A pusher that misses the object leaves it where it was.
         """
         acts = comcore.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action, got {acts.shape[0]}")
+        return self.push_many(acts, pose=pose, record=record)[0]
+
+    def push_many(self, actions, pose=None, record: bool = False) -> list[PushResult]:
+        """Push each action from the same start pose (batched); one :class:`PushResult` each."""
+        acts = comcore.check_actions(actions)
         start_pose = self.initial_pose if pose is None else tuple(float(v) for v in pose)
         if len(start_pose) != 3 or not all(map(math.isfinite, start_pose)):
             raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
-        ends = self.to_world(acts[0].reshape(2, 2))
-        out = simulate_push(
-            self._outline_body,
-            self._support_body,
-            self.mass.masses,
-            self._moment,
-            start_pose,
-            ends[0],
-            ends[1],
-            pusher_radius=self.pusher_radius,
-            mu_contact=self.mu_contact,
-            mu_floor=self.mu_floor,
-            settings=self.settings,
-            record=record,
-        )
-        moved = self._material_point(out.pose) - self._material_point(start_pose)
-        motion = Motion(
-            out.pose[2] - start_pose[2], moved[0] / self.resolution, -moved[1] / self.resolution
-        )
-        contact = normal = None
-        if out.contact_m is not None:
-            c = self.to_pixels(out.contact_m)[0]
-            contact = (float(c[0]), float(c[1]))
-            normal = (out.normal[0], -out.normal[1])
-        return PushResult(motion, out.pose, contact, normal, out.trajectory)
+        if acts.shape[0] == 0:
+            return []
+        ends = self.to_world(acts.reshape(-1, 2)).reshape(-1, 4)
+        poses = np.tile(start_pose, (len(acts), 1))
+        out = self._engine.push_batch(poses, ends[:, :2], ends[:, 2:], record=record)
+        moved = self._material_points(out.poses) - self._material_points(poses)
+        results = []
+        for i in range(len(acts)):
+            motion = Motion(
+                out.poses[i, 2] - start_pose[2],
+                moved[i, 0] / self.resolution,
+                -moved[i, 1] / self.resolution,
+            )
+            contact = normal = None
+            if out.hit[i]:
+                c = self.to_pixels(out.contact[i])[0]
+                contact = (float(c[0]), float(c[1]))
+                normal = (float(out.normal[i, 0]), float(-out.normal[i, 1]))
+            traj = None if out.trajectories is None else out.trajectories[i]
+            pose_i = tuple(float(v) for v in out.poses[i])
+            results.append(PushResult(motion, pose_i, contact, normal, traj))
+        return results
 
     def push_motions(self, actions) -> np.ndarray:
-        """Motions of a batch of pushes, each from the initial pose, shape (n, 3)."""
+        """Motions of a batch of pushes, each from the initial pose, shape (n, 3).
+
+        Examples
+        --------
+        >>> import comcore
+        >>> sim = PushSimulator.from_polygon([(0, 0), (0.06, 0), (0.06, 0.06), (0, 0.06)])
+        >>> actions = comcore.sample_pushes(sim.mask, 4, rng=0)
+        >>> motions = sim.push_motions(actions)
+        >>> motions.shape, bool(np.allclose(motions[1], sim.push(actions[1]).motion))
+        ((4, 3), True)
+        """
         acts = comcore.check_actions(actions)
         out = np.zeros((acts.shape[0], 3))
-        for i, a in enumerate(acts):
-            out[i] = self.push(a).motion
+        for lo in range(0, acts.shape[0], BATCH_SIZE):
+            for i, res in enumerate(self.push_many(acts[lo : lo + BATCH_SIZE])):
+                out[lo + i] = res.motion
         return out
 
     def with_com(self, com_m=None, mu_contact=None) -> PushSimulator:

@@ -1,0 +1,139 @@
+"""Footprints: polygon validation, ObjectShape and loading from files (trimesh)."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pymunk")
+trimesh = pytest.importorskip("trimesh")
+shapely = pytest.importorskip("shapely")
+
+import simulators  # noqa: E402
+from simulators import ObjectShape, check_polygon, load_shape  # noqa: E402
+
+SQUARE = [(0, 0), (0.05, 0), (0.05, 0.05), (0, 0.05)]
+L_SHAPE = [(0, 0), (0.06, 0), (0.06, 0.02), (0.02, 0.02), (0.02, 0.05), (0, 0.05)]
+
+
+def test_check_polygon_orients_counter_clockwise_and_drops_duplicates():
+    v = check_polygon([*SQUARE[::-1], SQUARE[-1]])
+    assert v.shape == (4, 2)
+    x, y = v[:, 0], v[:, 1]
+    assert np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y) > 0
+    assert not v.flags.writeable
+
+
+@pytest.mark.parametrize(
+    ("vertices", "message"),
+    [
+        ([(0, 0), (1, 1)], "at least 3 distinct vertices"),
+        ([(0, 0), (0.1, 0), (0.2, 0)], "non-zero area"),
+        ([(0, 0), (0.1, 0.1), (0.1, 0), (0, 0.1)], "intersects itself"),
+        ([(0, 0), (0.1, 0), (np.nan, 0.1)], "finite"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], r"shape \(k, 2\)"),
+    ],
+)
+def test_bad_polygons_are_rejected(vertices, message):
+    with pytest.raises(ValueError, match=message):
+        check_polygon(vertices)
+
+
+def test_check_polygon_type_error_names_argument():
+    with pytest.raises(TypeError, match="vertices_m"):
+        ObjectShape("not a polygon")
+
+
+def test_object_shape_measures():
+    s = ObjectShape.from_vertices(L_SHAPE, name="L")
+    poly = shapely.Polygon(L_SHAPE)
+    assert s.area_m2 == pytest.approx(poly.area)
+    assert s.centroid_m == pytest.approx((poly.centroid.x, poly.centroid.y))
+    assert not s.is_convex and ObjectShape(SQUARE).is_convex
+    assert s.bounds_m == pytest.approx((0, 0, 0.06, 0.05))
+
+
+def _svg(path, d, extra=""):
+    path.write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" '
+        f'viewBox="0 0 100 100"><path d="{d}"/>{extra}</svg>'
+    )
+    return path
+
+
+def test_svg_is_flipped_so_it_looks_like_the_drawing(tmp_path):
+    # A right triangle with its right angle at the top-left corner of the drawing.
+    f = _svg(tmp_path / "tri.svg", "M 10 10 L 50 10 L 10 30 Z")
+    s = load_shape(f)
+    assert s.name == "tri"
+    assert s.area_m2 == pytest.approx(0.5 * 0.04 * 0.02)
+    # The drawing's top edge (y = 10 mm, y down) is the highest in the world (y up).
+    top = s.vertices_m[:, 1].max()
+    assert np.sum(np.isclose(s.vertices_m[:, 1], top)) == 2
+    assert top == pytest.approx(-0.010)
+
+
+def test_svg_with_several_pieces_or_holes_is_rejected(tmp_path):
+    two = _svg(tmp_path / "two.svg", "M 0 0 L 10 0 L 10 10 Z M 50 50 L 60 50 L 60 60 Z")
+    with pytest.raises(ValueError, match="2 disjoint pieces"):
+        load_shape(two)
+    ring = _svg(
+        tmp_path / "ring.svg", "M 0 0 L 40 0 L 40 40 L 0 40 Z M 10 10 L 10 30 L 30 30 L 30 10 Z"
+    )
+    with pytest.raises(ValueError, match="holes"):
+        load_shape(ring)
+
+
+def test_dxf_round_trip(tmp_path):
+    path = trimesh.load_path(np.array([*L_SHAPE, L_SHAPE[0]]) * 1000.0)
+    f = tmp_path / "ell.dxf"
+    f.write_text(trimesh.path.exchange.dxf.export_dxf(path))
+    s = load_shape(f)
+    assert s.area_m2 == pytest.approx(ObjectShape(L_SHAPE).area_m2, rel=1e-6)
+
+
+def _prism(outline_mm, triangles, z0, z1):
+    """A closed prism over a counter-clockwise outline, caps from the given triangles."""
+    k = len(outline_mm)
+    verts = np.vstack([np.column_stack([outline_mm, np.full(k, z)]) for z in (z0, z1)])
+    faces = [tuple(t[::-1]) for t in triangles] + [tuple(np.add(t, k)) for t in triangles]
+    for i in range(k):
+        j = (i + 1) % k
+        faces += [(i, j, j + k), (i, j + k, i + k)]
+    return trimesh.Trimesh(verts, np.array(faces), process=True)
+
+
+def test_mesh_footprint_and_uniform_com(tmp_path):
+    # An L-shaped plate 10 mm thick and a block resting on one of its arms: the
+    # real object's CoM is not the footprint's centroid.
+    ell = np.array(L_SHAPE) * 1000.0
+    plate = _prism(ell, [(0, 1, 2), (0, 2, 3), (0, 3, 4), (0, 4, 5)], 0.0, 10.0)
+    square = np.array([(35, 2), (55, 2), (55, 18), (35, 18)], float)
+    block = _prism(square, [(0, 1, 2), (0, 2, 3)], 10.0, 50.0)
+    mesh = trimesh.util.concatenate([plate, block])
+    assert mesh.is_watertight
+    f = tmp_path / "part.stl"
+    mesh.export(f)
+    s = load_shape(f)
+    assert s.area_m2 == pytest.approx(ObjectShape(L_SHAPE).area_m2, rel=1e-6)
+    expected = mesh.center_mass[:2] / 1000.0
+    assert s.uniform_com_m == pytest.approx(tuple(expected), abs=1e-9)
+    assert np.hypot(*(expected - s.centroid_m)) > 0.005
+    sim = simulators.PushSimulator.from_shape(s)
+    assert sim.com_m == pytest.approx(s.uniform_com_m, abs=1e-9)
+
+
+def test_open_mesh_is_rejected(tmp_path):
+    box = trimesh.creation.box((10, 10, 10))
+    box.update_faces(np.arange(len(box.faces)) != 0)  # punch a hole
+    f = tmp_path / "open.stl"
+    box.export(f)
+    with pytest.raises(ValueError, match="not a watertight mesh"):
+        load_shape(f)
+
+
+def test_unknown_suffix_and_missing_file(tmp_path):
+    f = tmp_path / "x.txt"
+    f.write_text("hello")
+    with pytest.raises(ValueError, match="must end in one of"):
+        load_shape(f)
+    with pytest.raises(ValueError, match="existing file"):
+        load_shape(tmp_path / "missing.svg")
