@@ -169,28 +169,33 @@ def _random_simulator(spec: TrialSpec):
 
 
 def _accepted_pushes(respond, mask, n: int, cone: float, rng):
-    """``n`` sampled pushes that ``respond(push) -> motion`` accepts, with its motions.
+    """``n`` sampled pushes that ``respond(pushes (k, 4)) -> motions (k, 3)`` accepts.
 
-    A push it rejects with a ``ValueError`` (the simulator refuses a pusher
-    that would start overlapping the object) is replaced by a fresh draw.
-    Returns ``(pushes (n, 4), motions (n, 3), number rejected)``.
+    The pushes go to ``respond`` as one batch (the simulator is batched). If it
+    refuses the batch with a ``ValueError`` (the simulator refuses a pusher that
+    would start overlapping the object), the pushes are tried one by one and
+    each refused push is replaced by a fresh draw.
+    Returns ``(pushes (n, 4), motions (n, 3), number refused)``.
     """
-    pushes: list[np.ndarray] = []
-    motions: list[np.ndarray] = []
-    rejected = 0
+    pushes, motions = np.empty((0, 4)), np.empty((0, 3))
+    refused = 0
     for _ in range(PUSH_DRAWS):
         if len(pushes) >= n:
             break
-        for push in comcore.sample_pushes(mask, n - len(pushes), cone=cone, rng=rng):
-            try:
-                motions.append(np.asarray(respond(push), float).reshape(3))
-            except ValueError:
-                rejected += 1
-                continue
-            pushes.append(push)
+        batch = comcore.sample_pushes(mask, n - len(pushes), cone=cone, rng=rng)
+        try:
+            answers, ok = np.asarray(respond(batch), float), np.ones(len(batch), bool)
+        except ValueError:
+            answers, ok = np.zeros((len(batch), 3)), np.zeros(len(batch), bool)
+            for i, push in enumerate(batch):
+                try:
+                    answers[i], ok[i] = np.asarray(respond(push[None]), float)[0], True
+                except ValueError:
+                    refused += 1
+        pushes, motions = np.vstack([pushes, batch[ok]]), np.vstack([motions, answers[ok]])
     if len(pushes) < n:
-        raise RuntimeError(f"the simulator rejected {rejected} pushes; {len(pushes)} of {n} drawn")
-    return np.reshape(pushes, (-1, 4)), np.reshape(motions, (-1, 3)), rejected
+        raise RuntimeError(f"the simulator refused {refused} pushes; {len(pushes)} of {n} drawn")
+    return pushes, motions, refused
 
 
 def _predictions(spec: TrialSpec, ctx: TrialContext):
@@ -199,17 +204,15 @@ def _predictions(spec: TrialSpec, ctx: TrialContext):
     note, priors = "", ()
     if predictor.prior_pushes:
         acts, mots, rejected = _accepted_pushes(
-            lambda a: sim.push(a).motion, mask, predictor.prior_pushes, spec.cone, spec.rng("prior")
+            sim.push_motions, mask, predictor.prior_pushes, spec.cone, spec.rng("prior")
         )
         priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
         note += f"{rejected} prior push(es) redrawn; " if rejected else ""
     model = predictor.make(replace(ctx, priors=priors))
     rng = spec.rng("cand")
     if predictor.pushes_object:  # predicting is pushing: redraw what the simulator refuses
-        predict_one = lambda a: comcore.predict_motions(model, mask, a[None], priors)[0]  # noqa: E731
-        cands, motions, rejected = _accepted_pushes(
-            predict_one, mask, spec.candidates, spec.cone, rng
-        )
+        predict = lambda a: comcore.predict_motions(model, mask, a, priors)  # noqa: E731
+        cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
         note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
     else:
         cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=rng)
