@@ -87,6 +87,7 @@ def test_results_do_not_depend_on_the_number_of_workers():
     serial = run_benchmark(config, workers=1)
     parallel = run_benchmark(config, workers=2)
     assert serial.rows == parallel.rows
+    assert parallel.cpu_s > 0 and serial.cpu_s > 0  # workers' CPU time is counted
     assert [(r["trial"], r["estimator"]) for r in serial.rows] == [
         (0, "alg1"), (0, "alg2"), (1, "alg1"), (1, "alg2"),
     ]  # fmt: skip
@@ -102,6 +103,7 @@ def test_dask_run_equals_local_run():
         remote = run_benchmark(config, dask=cluster.scheduler_address)
     assert remote.rows == local.rows
     assert remote.dask == cluster.scheduler_address
+    assert remote.cpu_s is None  # not measurable on a cluster
 
 
 def test_registered_estimator_runs_with_options_and_counts_its_own_pushes(registry):

@@ -69,10 +69,10 @@ def test_report_has_the_tables_figures_and_notes():
     rows = [row("alg1"), row("alg2"), row("alg2", status="error", message="ValueError: boom")]
     rows[0]["message"] = "simulator draw 0 failed (x); "
     meta = {"command": "comcore bench --quick", "config": {"predictor": "oracle"}, "wall_s": 3.5,
-            "workers": 2, "skipped": {"active": "not built"}}  # fmt: skip
+            "cpu_s": 6.0, "workers": 2, "skipped": {"active": "not built"}}  # fmt: skip
     text = markdown_report(rows, meta, {"Fig. 7": "bench_fig7_pushes.png"})
     for needle in ("`comcore bench --quick`", "Wall time 3.5 s", "## Table I", "## Table II",
-                   "![Fig. 7](bench_fig7_pushes.png)", "`active` skipped: not built",
+                   "![Fig. 7](bench_fig7_pushes.png)", "CPU time 6.0 s, 6.000 s per trial", "`active` skipped: not built",
                    "1 trial(s) redrew", "ValueError: boom"):  # fmt: skip
         assert needle in text, needle
 

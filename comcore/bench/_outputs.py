@@ -74,6 +74,7 @@ def save_benchmark(
         "command": command,
         "config": dataclasses.asdict(result.config),
         "wall_s": result.wall_s,
+        "cpu_s": result.cpu_s,
         "workers": result.workers if result.dask is None else f"dask {result.dask}",
         "machine": machine_description(),
         "skipped": result.skipped,

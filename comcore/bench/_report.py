@@ -152,6 +152,14 @@ def summary_table(rows: Sequence[Mapping]) -> str:
     return _markdown(header, body)
 
 
+def _cpu_text(meta: Mapping, rows: Sequence[Mapping]) -> str:
+    cpu = meta.get("cpu_s")
+    trials = len({(r["object"], r["friction"], r["trial"]) for r in rows})
+    if cpu is None or not trials:
+        return ""
+    return f" (CPU time {cpu:.1f} s, {cpu / trials:.3f} s per trial)"
+
+
 def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str, str]) -> str:
     """The whole report.
 
@@ -174,7 +182,8 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         f"per trial (cone ±{config.get('cone')} rad), {config.get('trials')} trials per object "
         f"and friction class, {len(_objects(rows))} objects, seed {config.get('seed')}.",
         f"Wall time {meta.get('wall_s', 0.0):.1f} s with {meta.get('workers')} worker(s) "
-        f"on {meta.get('machine', 'this machine')}; {len(rows)} result rows.",
+        f"on {meta.get('machine', 'this machine')}{_cpu_text(meta, rows)}; "
+        f"{len(rows)} result rows.",
         "Errors are distances from the estimate to the true CoM in cm; cells read "
         "`ours (paper)`; ratios are ours / paper. std is the population standard deviation.",
         "## Summary",

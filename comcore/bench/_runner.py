@@ -91,7 +91,12 @@ class BenchConfig:
 
 @dataclass(frozen=True)
 class BenchResult:
-    """Rows of a benchmark (sorted, see :func:`sort_rows`) and how it ran."""
+    """Rows of a benchmark (sorted, see :func:`sort_rows`) and how it ran.
+
+    ``cpu_s`` is the CPU time (user + system) of this process and its local
+    workers during the run (``None`` on a Dask cluster or without the
+    ``resource`` module); on a busy machine it is the contention-free measure.
+    """
 
     config: BenchConfig
     rows: list[dict]
@@ -99,6 +104,7 @@ class BenchResult:
     workers: int = 1
     dask: str | None = None
     skipped: dict[str, str] = field(default_factory=dict)
+    cpu_s: float | None = None
 
 
 def check_available(config: BenchConfig) -> tuple[BenchConfig, dict[str, str]]:
@@ -152,6 +158,17 @@ def _chunks(specs: list[TrialSpec], workers: int) -> list[list[TrialSpec]]:
     return [specs[i : i + size] for i in range(0, len(specs), size)]
 
 
+def _cpu_seconds() -> float | None:
+    """User + system time of this process and its reaped children, or ``None``."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not on Windows
+        return None
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def _progress(total: int, enabled: bool):
     from tqdm.auto import tqdm
 
@@ -190,7 +207,7 @@ def run_benchmark(
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
     config, skipped = check_available(config)
     specs = config.specs()
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), _cpu_seconds()
     rows: list[dict] = []
 
     def collect(chunk_rows: list[dict], n_trials: int, bar) -> None:
@@ -211,8 +228,9 @@ def run_benchmark(
                 futures = {pool.submit(_run_chunk, c): len(c) for c in chunks}
                 for fut in as_completed(futures):
                     collect(fut.result(), futures[fut], bar)
-    wall = time.perf_counter() - start
-    return BenchResult(config, sort_rows(rows, config), wall, workers, dask, skipped)
+    wall, cpu_end = time.perf_counter() - start, _cpu_seconds()
+    cpu = None if dask is not None or cpu_start is None else cpu_end - cpu_start  # type: ignore[operator]
+    return BenchResult(config, sort_rows(rows, config), wall, workers, dask, skipped, cpu)
 
 
 def _run_dask(specs: list[TrialSpec], address: str, collect, bar) -> None:
