@@ -14,9 +14,12 @@ __all__ = ["sample_pushes"]
 #: Default pusher travel after contact, metres (the paper's 3 cm pushes).
 DEFAULT_TRAVEL_M = 0.03
 #: Default distance from the start of a push to the object, metres.
-DEFAULT_STANDOFF_M = 0.01
-#: Default free space around a push's start, metres (twice a 4 mm pusher radius, plus slack).
+DEFAULT_STANDOFF_M = 0.012
+#: Default free space around a push's start, metres: a 4 mm disc pusher trailing
+#: its leading point sweeps points up to 8 mm from the start; plus 1 mm slack.
 DEFAULT_CLEARANCE_M = 0.009
+#: A pixel's outline can lie this far (pixels) from its centre: half the diagonal.
+HALF_PIXEL_DIAGONAL = 0.5 * np.sqrt(2.0)
 
 
 def sample_pushes(
@@ -50,10 +53,11 @@ def sample_pushes(
     travel : float, optional
         Pusher travel after contact, metres (default 0.03).
     standoff : float, optional
-        Distance from start to contact, metres (default 0.01).
+        Distance from start to contact, metres (default 0.012).
     clearance : float, optional
-        Minimum distance from the start to any object pixel, metres
-        (default 0.009); 0 disables the check.
+        Minimum distance from the start to the object's outline, metres
+        (default 0.009), measured conservatively (to the nearest object pixel
+        centre, minus half a pixel diagonal); 0 disables the check.
     rng : None, int or numpy.random.Generator, optional
         Seed or generator; ``None`` draws a fresh generator.
 
@@ -98,7 +102,8 @@ def sample_pushes(
         start = target - (standoff_px + 0.5) * direction
         candidate = np.hstack([start, target + travel_px * direction])
         con = contacts(mask, candidate)
-        good = con.hit & (mask.distance_to_object(start) >= clearance_px)
+        free = mask.distance_to_object(start) - HALF_PIXEL_DIAGONAL
+        good = con.hit & ((free >= clearance_px) | (clearance_px == 0))
         candidate = candidate[good]
         # Exactly `travel` of pusher motion after the (refined) contact.
         end = con.point[good] + travel_px * direction[good]

@@ -62,10 +62,14 @@ def _moments(r, normal, push_dir, alpha):
     return np.broadcast_arrays(left, right, push)
 
 
+def _vote(moment, band: float) -> np.ndarray:
+    """+1 / -1 by the sign of a moment; 0 (abstain) within ``band`` (int8)."""
+    return (moment > band).astype(np.int8) - (moment < -band).astype(np.int8)
+
+
 def _majority(left, right, push, band: float) -> np.ndarray:
     """Sign of the sum of the three votes; a ray within ``band`` of the CoM abstains."""
-    total = sum(np.sign(m) * (np.abs(m) > band) for m in (left, right, push))
-    return np.sign(total).astype(int)
+    return np.sign(_vote(left, band) + _vote(right, band) + _vote(push, band)).astype(int)
 
 
 def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.ndarray:
@@ -159,16 +163,20 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     on either side of it. Evaluating at the range's ends, at ``alpha*`` and
     between them therefore covers every ``mu`` in range.
     """
-    across = np.abs(ccw_cross(r, normal))
-    along = np.abs(r @ normal)
-    crit = np.clip(np.arctan2(across, along), a_lo, a_hi)
-    lo = np.full_like(crit, a_lo)
-    hi = np.full_like(crit, a_hi)
-    alphas = np.column_stack([lo, 0.5 * (lo + crit), crit, 0.5 * (crit + hi), hi])  # (m, 5)
-    left, right, push = _moments(r, normal, push_dir, alphas)
-    strict = _majority(left, right, push, 0.0)
-    tolerant = _majority(left, right, push, band)
-    return ((strict == sense) | (tolerant == sense) | (tolerant == 0)).any(axis=1)
+    across = ccw_cross(r, normal)  # |r| sin(phi): offset across the normal
+    along = r @ normal  # |r| cos(phi): offset along the normal
+    push = ccw_cross(r, push_dir)
+    crit = np.clip(np.arctan2(np.abs(across), np.abs(along)), a_lo, a_hi)
+    push_strict, push_tolerant = _vote(push, 0.0), _vote(push, band)
+    ok = np.zeros(len(r), dtype=bool)
+    for alpha in (a_lo, 0.5 * (a_lo + crit), crit, 0.5 * (crit + a_hi), a_hi):
+        cos_a, sin_a = np.cos(alpha), np.sin(alpha)
+        left = across * cos_a + along * sin_a  # |r| sin(phi + alpha)
+        right = across * cos_a - along * sin_a  # |r| sin(phi - alpha)
+        strict = np.sign(_vote(left, 0.0) + _vote(right, 0.0) + push_strict)
+        tolerant = np.sign(_vote(left, band) + _vote(right, band) + push_tolerant)
+        ok |= (strict == sense) | (tolerant == sense) | (tolerant == 0)
+    return ok
 
 
 def _thetas(theta, single: bool) -> np.ndarray:

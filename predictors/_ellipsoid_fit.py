@@ -26,11 +26,18 @@ COARSE_STEPS = 8
 REFINED_STEPS = 12
 #: Local polishing passes: (CoM grid spacing px, half-width of log(mu) range, number of mus).
 POLISH_PASSES = ((0.5, 0.7, 7), (0.15, 0.2, 5))
+#: The log-likelihood is divided by this for the posterior over the CoM: the
+#: model's errors are correlated across pushes, so 12 priors carry less evidence
+#: than 12 independent ones. Calibrated against the simulator (see
+#: docs/predictor-ellipsoid.md): with it the truth falls within the 1, 2 and 3
+#: sigma ellipses about as often as a Gaussian says.
+TEMPERATURE = 4.0
 #: Degrees of freedom of the Student-t residual model (robust to outliers).
 STUDENT_NU = 4.0
-#: Smallest residual scales: rotation (radians, 0.5 deg) and translation (pixels).
-MIN_THETA_SCALE = math.radians(0.5)
-MIN_TRANSLATION_SCALE = 0.25
+#: Smallest residual scales, rotation (radians) and translation (metres): about
+#: the model's own error against the simulator when told the true CoM and mu.
+MIN_THETA_SCALE = math.radians(3.0)
+MIN_TRANSLATION_SCALE_M = 0.00375
 
 
 def _readonly(a) -> np.ndarray:
@@ -57,7 +64,7 @@ class EllipsoidFit:
     residual_scale : tuple of float
         Residual scales ``(theta in radians, translation in pixels)`` used by
         the likelihood: robust estimates from the best fit, floored at
-        ``MIN_THETA_SCALE`` and ``MIN_TRANSLATION_SCALE``.
+        ``MIN_THETA_SCALE`` and ``MIN_TRANSLATION_SCALE_M``.
     com_mean : tuple of float
         Posterior mean of the CoM over the refined grid (pixels).
     candidates : numpy.ndarray, shape (k, 2)
@@ -150,15 +157,16 @@ def _evaluate(mask, field, actions, coms, mus, *, support, radius, n_steps):
     return out.reshape(len(coms), len(mus), len(actions), 3)
 
 
-def _scales(pred_best, observed):
+def _scales(pred_best, observed, floors):
     res_theta = np.abs(pred_best[:, 0] - observed[:, 0])
     res_move = np.hypot(pred_best[:, 1] - observed[:, 1], pred_best[:, 2] - observed[:, 2])
-    theta_scale = max(MIN_THETA_SCALE, 1.4826 * float(np.median(res_theta)))
-    move_scale = max(MIN_TRANSLATION_SCALE, float(np.median(res_move)) / 1.1774)
+    theta_scale = max(floors[0], 1.4826 * float(np.median(res_theta)))
+    move_scale = max(floors[1], float(np.median(res_move)) / 1.1774)
     return theta_scale, move_scale
 
 
 def _posterior(log_post, coms):
+    log_post = log_post / TEMPERATURE
     w = np.exp(log_post - log_post.max())
     w /= w.sum()
     mean = w @ coms
@@ -198,7 +206,8 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_
     field = distance_field(mask)
     kw = {"support": support, "radius": radius}
     mus = np.array(MU_GRID if mu is None else (mu,), dtype=float)
-    scales = (MIN_THETA_SCALE * 4, MIN_TRANSLATION_SCALE * 4)
+    floors = (MIN_THETA_SCALE, MIN_TRANSLATION_SCALE_M / mask.resolution)
+    scales = floors
     if com is not None:
         fine_coms, stride, coarse_ok = np.asarray([com], dtype=float), 1, True
     else:
@@ -207,7 +216,9 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_
         pred = _evaluate(mask, field, actions, coms, mus, n_steps=COARSE_STEPS, **kw)
         nll = _nll(pred, motions, scales)  # (n_coms, n_mus)
         best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
-        coarse_log = logsumexp(-_nll(pred, motions, _scales(pred[best_com, best_mu], motions)), 1)
+        coarse_log = logsumexp(
+            -_nll(pred, motions, _scales(pred[best_com, best_mu], motions, floors)), 1
+        )
         cells = np.argsort(-coarse_log)[:MAX_REFINED_CELLS]
         near = np.max(np.abs(pixels[:, None, :] - coms[None, cells, :]), axis=2) <= stride // 2
         fine_coms = pixels[near.any(axis=1)]
@@ -217,7 +228,7 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_
     pred = _evaluate(mask, field, actions, fine_coms, mus, n_steps=REFINED_STEPS, **kw)
     nll = _nll(pred, motions, scales)
     best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
-    scales = _scales(pred[best_com, best_mu], motions)
+    scales = _scales(pred[best_com, best_mu], motions, floors)
     nll = _nll(pred, motions, scales)
     best_com, best_mu = np.unravel_index(np.argmin(nll), nll.shape)
     weights, mean, cov = _posterior(logsumexp(-nll, axis=1), fine_coms)

@@ -149,6 +149,19 @@ class EllipsoidPredictor:
         ------
         ValueError
             If an action starts inside the object, or ``mu`` is negative.
+
+        Examples
+        --------
+        A push to the right along row 19.5 turns the plate counter-clockwise if
+        the CoM is above the line (smaller row), clockwise if below:
+
+        >>> import numpy as np, comcore
+        >>> from predictors import EllipsoidPredictor
+        >>> mask = comcore.Mask(np.pad(np.ones((20, 30), bool), 10))
+        >>> out = EllipsoidPredictor().predict_hypotheses(
+        ...     mask, [(0, 19.5, 24, 19.5)], [(24.5, 15.0), (24.5, 24.0)], mu=0.5)
+        >>> out.shape, np.sign(out[:, 0, 0]).tolist()
+        ((2, 1, 3), [1.0, -1.0])
         """
         mask = check_mask(mask)
         acts = check_actions(actions)

@@ -28,8 +28,9 @@ import math
 
 import numpy as np
 
+from ._contact import closest_points, first_contacts
 from ._deps import require_pymunk
-from ._quasistatic import BatchOutcome, closest_points, first_contacts
+from ._quasistatic import BatchOutcome
 from ._settings import EngineSettings
 
 __all__ = ["PymunkEngine"]

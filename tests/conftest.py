@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
+from hypothesis import settings
 
 import comcore
+
+# No per-example deadline (the machine may be busy); CI replays a fixed set of examples.
+settings.register_profile("default", deadline=None)
+settings.register_profile("ci", deadline=None, derandomize=True)
+settings.load_profile("ci" if os.environ.get("CI") else "default")
 
 
 def disk_image(radius: int = 20, margin: int = 6) -> np.ndarray:

@@ -1,7 +1,9 @@
 """Tests of predictors.ellipsoid: the ellipsoidal limit-surface model and its fit."""
 
+import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -163,10 +165,14 @@ def test_sliding_pusher_stays_on_the_moved_outline(blob):
     acts = comcore.sample_pushes(blob, 30, cone=1.0, rng=7)
     out = EllipsoidPredictor(com=(35.0, 30.0), mu_contact=0.1).predict(blob, acts)
     field = distance_field(blob)
-    # The pusher's end, taken back into the object's initial frame, is on the outline.
+    # The pusher's end, taken back into the object's initial frame, is on the
+    # outline, or off it when the pusher slid past the end of an edge; never inside.
+    gap = np.empty(len(acts))
     for i in range(len(acts)):
         body = comcore.apply_motion(acts[i, 2:] - out[i, 1:], -out[i, 0], (0, 0), blob.centroid)
-        assert abs(field.sample(body)[0]) < 0.3
+        gap[i] = field.sample(body)[0]
+    assert gap.min() > -0.15
+    assert np.mean(gap < 0.15) >= 0.9
 
 
 def test_mirror_symmetry():
@@ -287,7 +293,7 @@ def test_fit_with_noisy_priors_is_close_and_honest(blob):
     assert np.hypot(*err) < 3.0
     # the truth lies within the fitted uncertainty (Mahalanobis distance < 3)
     assert err @ np.linalg.solve(fit.com_cov, err) < 9.0
-    assert fit.residual_scale[0] > np.radians(0.5)
+    assert fit.residual_scale[0] >= np.radians(3.0) - 1e-12  # the floor: model error
 
 
 def test_predict_fits_then_predicts(blob):
@@ -371,3 +377,19 @@ def test_import_is_light():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.slow
+def test_eval_script_runs(tmp_path):
+    pytest.importorskip("pymunk")
+    pytest.importorskip("shapely")
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "eval_predictors.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--objects", "Obj3", "--priors", "4", "--queries", "4",
+         "--out", str(tmp_path / "theta.png"), "--fit-figure", "none"],
+        capture_output=True, text=True, check=True, cwd=script.parents[1],
+        env={**os.environ, "PYTHONPATH": str(script.parents[1])},
+    )  # fmt: skip
+    assert "| ellipsoid (fitted) | all |" in out.stdout
+    assert "| trivial (centroid) | all |" in out.stdout
+    assert (tmp_path / "theta.png").stat().st_size > 10_000

@@ -47,7 +47,8 @@ def test_sampling_errors(square_mask, kwargs, match):
 
 def test_starts_keep_clear_of_a_concave_object(l_mask):
     pushes = comcore.sample_pushes(l_mask, 100, cone=0.6, standoff=0.03, clearance=0.02, rng=2)
-    assert np.all(l_mask.distance_to_object(pushes[:, :2]) * l_mask.resolution >= 0.02)
+    free = l_mask.distance_to_object(pushes[:, :2]) - 0.5 * np.sqrt(2)
+    assert np.all(free * l_mask.resolution >= 0.02)
 
 
 def test_distance_to_object_off_the_image(square_mask):

@@ -53,6 +53,29 @@ def test_normal_push_through_com_does_not_rotate(name):
         assert travel == pytest.approx(12.0, abs=0.05)
 
 
+@pytest.mark.parametrize("lever", [0.0075, 0.015])
+def test_instantaneous_motion_matches_a_brute_force_limit_surface(lever):
+    # Uniform 8 x 5 cm box, sticking normal push on its left edge `lever` above the
+    # CoM: the rotation per metre of push minimises the frictional power of a
+    # 200 x 200 grid of support points (no smoothing, solved independently).
+    from scipy.optimize import minimize_scalar
+
+    g = (np.arange(200) + 0.5) / 200
+    x, y = np.meshgrid(-0.04 + 0.08 * g, -0.025 + 0.05 * g)
+    c = np.array([-0.04, lever])
+
+    def power(w):
+        return np.hypot(1 - w * (y - c[1]), w * (x - c[0])).sum()
+
+    exact = minimize_scalar(power, bounds=(-100, 100), method="bounded").x
+    sim = PushSimulator.from_polygon(RECT, mu_contact=0.9)
+    cx, cy = sim.com_px
+    k = lever / sim.resolution
+    res = sim.push((cx - 25, cy - k, cx - 16 + 0.4, cy - k), record=True)  # 1 mm of push
+    omega = (res.trajectory[-1, 2] - res.trajectory[0, 2]) / 0.001
+    assert omega == pytest.approx(exact, rel=0.01)
+
+
 def _vt_agreement(names, cone, n=40):
     total = initial_ok = final_ok = 0
     for k, name in enumerate(names):
@@ -185,7 +208,7 @@ def test_motion_convention_on_a_drawn_example():
     # A 8 cm x 5 cm box, pushed to the right (+x on screen) on its left edge 6 px
     # above the CoM (smaller row): it turns clockwise on screen (theta < 0) and
     # moves right.
-    sim = PushSimulator.from_polygon(RECT, mu_contact=0.5, margin=0.0511)
+    sim = PushSimulator.from_polygon(RECT, mu_contact=0.5, margin=0.05)
     cx, cy = sim.com_px
     res = sim.push((cx - 24, cy - 6, cx - 4, cy - 6))
     theta, tx, ty = res.motion

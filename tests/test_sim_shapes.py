@@ -137,3 +137,23 @@ def test_unknown_suffix_and_missing_file(tmp_path):
         load_shape(f)
     with pytest.raises(ValueError, match="existing file"):
         load_shape(tmp_path / "missing.svg")
+
+
+def test_import_is_light_and_a_missing_extra_says_what_to_install():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "import simulators, predictors\n"
+        "heavy = {'pymunk', 'trimesh', 'shapely', 'cv2', 'matplotlib', 'torch'}\n"
+        "assert not heavy & set(sys.modules), heavy & set(sys.modules)\n"
+        "sys.modules['shapely'] = None\n"
+        "try:\n"
+        "    simulators.ObjectShape([(0, 0), (1, 0), (0, 1)])\n"
+        "except ImportError as e:\n"
+        "    assert 'pip install comcore[sim]' in str(e) and e.__cause__ is not None\n"
+        "    print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "ok"

@@ -1,0 +1,55 @@
+"""The oracle predictor: the simulator of the true object behind comcore.Predictor."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("shapely")
+pytest.importorskip("trimesh")
+
+import comcore
+import simulators
+from predictors import OraclePredictor
+
+
+@pytest.fixture(scope="module")
+def sim():
+    return simulators.random_simulator("Obj11", friction="high", rng=4)
+
+
+def test_is_a_predictor_and_answers_like_the_simulator(sim):
+    oracle = OraclePredictor(sim)
+    assert isinstance(oracle, comcore.Predictor)
+    assert isinstance(oracle, comcore.HypothesisPredictor)
+    actions = comcore.sample_pushes(sim.mask, 5, cone=0.3, rng=2)
+    got = comcore.predict_motions(oracle, sim.mask, actions)
+    assert np.array_equal(got, sim.push_motions(actions))
+    priors = [(comcore.Action(*actions[0]), comcore.Motion(*got[0]))]
+    assert np.array_equal(oracle.predict(sim.mask, actions, priors), got)
+
+
+def test_refuses_another_mask(sim):
+    oracle = OraclePredictor(sim)
+    other = comcore.Mask(np.pad(np.ones((10, 10), bool), 5))
+    with pytest.raises(ValueError, match="simulator's own mask"):
+        oracle.predict(other, [(0, 10, 8, 10)])
+    with pytest.raises(TypeError, match="PushSimulator"):
+        OraclePredictor("not a simulator")
+
+
+def test_hypotheses_put_the_com_where_asked(sim):
+    oracle = OraclePredictor(sim)
+    actions = comcore.sample_pushes(sim.mask, 4, rng=5)
+    coms = np.array([sim.com_px, sim.mask.centroid])
+    out = oracle.predict_hypotheses(sim.mask, actions, coms, sim.mu_contact)
+    assert out.shape == (2, 4, 3)
+    assert np.allclose(out[0], sim.push_motions(actions), atol=1e-9)
+    with pytest.raises(ValueError, match="single number"):
+        oracle.predict_hypotheses(sim.mask, actions, coms, (0.1, 0.3))
+
+
+def test_oracle_drives_the_progressive_estimator(sim):
+    actions = comcore.sample_pushes(sim.mask, 40, rng=6)
+    estimate = comcore.estimate_progressive(
+        sim.mask, actions, OraclePredictor(sim).predict(sim.mask, actions)
+    )
+    assert estimate.error_px(sim.com_px) < 6.0

@@ -1,0 +1,33 @@
+"""The simulator benchmark script runs (with small arguments)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pymunk")
+pytest.importorskip("shapely")
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_bench_sim_speed_runs():
+    out = subprocess.run(
+        [
+            sys.executable,
+            str(ROOT / "benchmarks" / "bench_sim.py"),
+            "--pushes",
+            "4",
+            "--repeats",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT), "PATH": ""},
+        timeout=120,
+        check=True,
+    )
+    assert "pushes/s/core" in out.stdout
+    assert out.stdout.count("median") == 5

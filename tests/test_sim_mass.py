@@ -1,0 +1,73 @@
+"""Mass distributions: support grid, point masses, gradients, the exponential tilt."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("shapely")
+pytest.importorskip("trimesh")
+
+from simulators import MassDistribution, ObjectShape, tilt_to_com
+
+L_SHAPE = ObjectShape([(0, 0), (0.06, 0), (0.06, 0.02), (0.02, 0.02), (0.02, 0.05), (0, 0.05)])
+
+
+def test_uniform_support_has_the_area_centroid_and_the_mass():
+    dist = MassDistribution.on_shape(L_SHAPE, mass=2.0, n_support=64)
+    assert dist.total_mass == pytest.approx(2.0)
+    assert dist.com_m == pytest.approx(L_SHAPE.centroid_m, abs=1e-12)
+    assert 50 <= len(dist.masses) <= 100
+    assert (dist.masses > 0).all() and not dist.masses.flags.writeable
+
+
+def test_point_masses_move_the_com():
+    pm = [(0.05, 0.01, 1.0)]
+    dist = MassDistribution.on_shape(L_SHAPE, point_masses=pm)
+    uniform = np.asarray(L_SHAPE.centroid_m)
+    expected = (uniform * 1.0 + np.array([0.05, 0.01]) * 1.0) / 2.0
+    assert dist.com_m == pytest.approx(tuple(expected), abs=1e-12)
+    assert dist.total_mass == pytest.approx(2.0)
+
+
+def test_density_gradient_moves_the_com_towards_the_dense_side():
+    dist = MassDistribution.on_shape(L_SHAPE, density_gradient=(10.0, 0.0))
+    assert dist.com_m[0] > L_SHAPE.centroid_m[0] + 1e-3
+    with pytest.raises(ValueError, match="too steep"):
+        MassDistribution.on_shape(L_SHAPE, density_gradient=(100.0, 0.0))
+
+
+@pytest.mark.parametrize("target", [(0.01, 0.04), (0.055, 0.005), (0.012, 0.012)])
+def test_com_is_put_where_asked(target):
+    dist = MassDistribution.on_shape(L_SHAPE, com=target, point_masses=[(0.01, 0.01, 0.5)])
+    assert dist.com_m == pytest.approx(target, abs=1e-9)
+
+
+def test_com_outside_the_footprint_is_rejected():
+    with pytest.raises(ValueError, match="inside the footprint"):
+        MassDistribution.on_shape(L_SHAPE, com=(0.05, 0.04))  # in the L's notch
+    with pytest.raises(ValueError, match="point_masses must lie inside"):
+        MassDistribution.on_shape(L_SHAPE, point_masses=[(0.05, 0.04, 1.0)])
+
+
+def test_tilt_preserves_total_and_is_closest_to_the_original():
+    rng = np.random.default_rng(0)
+    p = rng.uniform(size=(50, 2))
+    w = rng.uniform(0.5, 1.5, size=50)
+    out = tilt_to_com(p, w, (0.3, 0.6))
+    assert out.sum() == pytest.approx(w.sum())
+    assert out @ p / out.sum() == pytest.approx([0.3, 0.6], abs=1e-9)
+    # the ratio out / w is exponential in the position (an exponential tilt)
+    log_ratio = np.log(out / w)
+    design = np.column_stack([np.ones(50), p])
+    coef, *_ = np.linalg.lstsq(design, log_ratio, rcond=None)
+    assert np.allclose(design @ coef, log_ratio, atol=1e-9)
+    with pytest.raises(ValueError, match="strictly inside"):
+        tilt_to_com(p, w, (2.0, 0.5))
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="n_support"):
+        MassDistribution.on_shape(L_SHAPE, n_support=2)
+    with pytest.raises(ValueError, match="mass must be"):
+        MassDistribution.on_shape(L_SHAPE, mass=-1.0)
+    with pytest.raises(ValueError, match="masses must be finite and > 0"):
+        MassDistribution(np.zeros((2, 2)), np.array([1.0, 0.0]), 0.01)

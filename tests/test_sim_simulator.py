@@ -1,0 +1,130 @@
+"""PushSimulator: construction, camera frames, results, random trials, pickling."""
+
+import pickle
+
+import numpy as np
+import pytest
+
+pytest.importorskip("shapely")
+pytest.importorskip("trimesh")
+
+import comcore
+import simulators
+from simulators import PushSimulator
+
+RECT = [(0, 0), (0.08, 0), (0.08, 0.06), (0, 0.06)]
+
+
+def test_api_names():
+    assert simulators.BENCHMARK_OBJECTS == tuple(f"Obj{i}" for i in range(1, 21))
+    assert simulators.FRICTION_CLASSES == {"low": (0.1, 0.3), "high": (0.5, 0.9)}
+
+
+def test_camera_frames_are_inverse_and_y_flips():
+    sim = PushSimulator.from_polygon(RECT, com=(0.03, 0.04))
+    pts = np.array([[0.0, 0.0], [0.08, 0.06], [0.03, 0.04]])
+    px = sim.to_pixels(pts)
+    assert np.allclose(sim.to_world(px), pts)
+    # world y up is pixel y down: the top-right corner has the smaller row
+    assert px[1, 1] < px[0, 1] and px[1, 0] > px[0, 0]
+    assert np.allclose(px[2], sim.com_px)
+    assert sim.com_m == pytest.approx((0.03, 0.04))
+    # the mask shows the footprint with the margin all round
+    assert sim.mask.area_px == pytest.approx(0.08 * 0.06 / 0.0025**2, rel=0.03)
+    rows, cols = np.nonzero(sim.mask.data)
+    margin_px = sim.margin / sim.resolution
+    assert rows.min() >= margin_px - 1 and cols.min() >= margin_px - 1
+    assert sim.mask.shape[0] - rows.max() >= margin_px - 1
+
+
+def test_resolution_changes_the_pixels_not_the_physics():
+    coarse = PushSimulator.from_polygon(RECT, resolution=0.005)
+    fine = PushSimulator.from_polygon(RECT, resolution=0.0025)
+    start, end = np.array([[-0.01, 0.02], [0.03, 0.02]])
+    a = coarse.push(np.concatenate(coarse.to_pixels([start, end])))
+    b = fine.push(np.concatenate(fine.to_pixels([start, end])))
+    assert np.allclose(a.pose, b.pose, atol=1e-9)
+
+
+def test_push_result_fields():
+    sim = PushSimulator.from_polygon(RECT)
+    cx, cy = sim.com_px
+    res = sim.push(comcore.Action(cx - 30, cy + 4, cx - 10, cy + 4), record=True)
+    assert isinstance(res.motion, comcore.Motion)
+    assert res.contact_px[0] == pytest.approx(sim.to_pixels([(0.0, 0.0)])[0, 0], abs=1e-6)
+    assert res.normal_px == pytest.approx((1.0, 0.0), abs=1e-9)
+    assert res.trajectory.shape[1] == 3 and np.allclose(res.trajectory[0], sim.initial_pose)
+    assert np.allclose(res.trajectory[-1], res.pose)
+
+
+def test_push_motions_matches_push_and_handles_empty():
+    sim = simulators.random_simulator("Obj2", rng=3)
+    actions = comcore.sample_pushes(sim.mask, 6, cone=0.2, rng=0)
+    motions = sim.push_motions(actions)
+    assert motions.shape == (6, 3)
+    assert np.allclose(motions[2], sim.push(actions[2]).motion, atol=1e-9)
+    assert sim.push_motions(np.zeros((0, 4))).shape == (0, 3)
+
+
+def test_random_simulator_draws_reproducible_trials():
+    a = simulators.random_simulator("Obj10", friction="high", rng=11)
+    b = simulators.random_simulator("Obj10", friction="high", rng=11)
+    c = simulators.random_simulator("Obj10", friction="high", rng=12)
+    assert a.com_m == b.com_m and a.mu_contact == b.mu_contact
+    assert a.com_m != c.com_m
+    assert 0.5 <= a.mu_contact <= 0.9
+
+
+def test_random_trials_cover_the_footprint_well_inside():
+    import shapely
+
+    shape = simulators.load_object("Obj4")
+    poly = shape.polygon()
+    rng = np.random.default_rng(0)
+    coms, mus = [], []
+    for _ in range(40):
+        sim = simulators.random_simulator(shape, friction="low", rng=rng)
+        coms.append(sim.com_m)
+        mus.append(sim.mu_contact)
+    coms = np.array(coms)
+    assert shapely.contains_xy(poly, coms[:, 0], coms[:, 1]).all()
+    depth = shapely.distance(poly.exterior, shapely.points(coms))
+    assert depth.min() > 0.003
+    assert np.ptp(coms[:, 0]) > 0.5 * np.ptp(shape.vertices_m[:, 0])
+    assert min(mus) >= 0.1 and max(mus) <= 0.3 and np.ptp(mus) > 0.1
+
+
+def test_random_simulator_bad_arguments():
+    with pytest.raises(ValueError, match="friction must be one of"):
+        simulators.random_simulator("Obj1", friction="medium")
+    with pytest.raises(TypeError, match="shape_or_name"):
+        simulators.random_simulator(42)
+
+
+def test_constructor_validation():
+    shape = simulators.ObjectShape(RECT)
+    mass = simulators.MassDistribution.on_shape(shape)
+    with pytest.raises(ValueError, match="mu_contact"):
+        PushSimulator(shape, mass, mu_contact=-0.1)
+    with pytest.raises(ValueError, match="resolution"):
+        PushSimulator(shape, mass, resolution=0.0)
+    with pytest.raises(TypeError, match="ObjectShape"):
+        PushSimulator(RECT, mass)
+    with pytest.raises(ValueError, match="engine must be one of"):
+        simulators.EngineSettings(engine="bullet")
+
+
+def test_pickles_without_its_engine():
+    sim = simulators.random_simulator("Obj3", rng=0)
+    action = comcore.sample_pushes(sim.mask, 1, rng=0)[0]
+    before = sim.push(action).motion
+    clone = pickle.loads(pickle.dumps(sim))
+    assert clone.push(action).motion == before
+
+
+def test_with_com_moves_the_com_and_keeps_the_shape():
+    sim = simulators.random_simulator("Obj6", rng=1)
+    other = sim.with_com((0.01, 0.005), mu_contact=0.8)
+    assert other.com_m == pytest.approx((0.01, 0.005), abs=1e-9)
+    assert other.mu_contact == 0.8
+    assert np.array_equal(other.mask.data, sim.mask.data)
