@@ -27,50 +27,38 @@ import numpy as np
 import comcore
 
 
-def _model(name: str, pressure: str):
+def _model(name: str, limit_surfaces):
     if name == "none":
         return None
     if name == "ellipsoid":
         import simulators
         from predictors import EllipsoidPredictor
 
-        # The robot knows its pusher's radius; the pressure is a modelling choice.
-        return EllipsoidPredictor(pressure=pressure, pusher_radius=simulators.DEFAULT_PUSHER_RADIUS)
+        # The robot knows its pusher's radius; the rest is the model's defaults, or a
+        # mixture of limit-surface variants (weighed by the estimator like the friction).
+        radius = simulators.DEFAULT_PUSHER_RADIUS
+        if not limit_surfaces:
+            return EllipsoidPredictor(pusher_radius=radius)
+        return [EllipsoidPredictor(pusher_radius=radius, limit_surface=s) for s in limit_surfaces]
     raise ValueError(f"--model must be 'ellipsoid' or 'none', got {name!r}")
 
 
-def candidates_for(mask, n, cone, radius_m, rng):
-    """``n`` pushes from comcore.sample_pushes whose round pusher starts clear of the object.
+def make_simulator(name, friction, seed):
+    """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
+    import simulators
 
-    ``sample_pushes`` plans the path of the pusher's leading point; the disc of
-    radius ``radius_m`` trails it and must not overlap the object at the start.
-    """
-    from scipy import ndimage
-
-    clearance = ndimage.distance_transform_edt(~mask.data)
-    radius = radius_m / mask.resolution
-    out = np.empty((0, 4))
-    while len(out) < n:
-        acts = comcore.sample_pushes(mask, 2 * n, cone=cone, rng=rng)
-        direction = acts[:, 2:] - acts[:, :2]
-        direction /= np.hypot(direction[:, 0], direction[:, 1])[:, None]
-        centre = acts[:, :2] - radius * direction
-        rows = np.clip(np.round(centre[:, 1]).astype(int), 0, mask.shape[0] - 1)
-        cols = np.clip(np.round(centre[:, 0]).astype(int), 0, mask.shape[1] - 1)
-        out = np.vstack([out, acts[clearance[rows, cols] > radius + 1.0]])
-    return out[:n]
+    for attempt in range(10):
+        try:
+            return simulators.random_simulator(name, friction=friction, rng=[seed, attempt])
+        except ValueError as e:
+            print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
+    raise RuntimeError(f"no simulator for {name} {friction} seed {seed}")
 
 
 def run_trial(name, friction, seed, args, model):
     """One estimation on a fresh random simulator; returns a dict of results."""
-    import simulators
 
-    for attempt in range(10):  # (a few draws fail in the simulator's mass tilting: redraw)
-        try:
-            sim = simulators.random_simulator(name, friction=friction, rng=[seed, attempt])
-            break
-        except ValueError as e:
-            print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
+    sim = make_simulator(name, friction, seed)
     flip_rng = np.random.default_rng([seed, 1])
     flips = []
 
@@ -80,17 +68,23 @@ def run_trial(name, friction, seed, args, model):
         flips.append(flip)
         return comcore.Motion(-motion.theta, motion.tx, motion.ty) if flip else motion
 
-    kwargs = {}
+    kwargs = {"selection": args.selection, "model_weight": args.model_weight}
     if args.flip_prob is not None:
         kwargs["flip_prob"] = args.flip_prob
+    for key in ("theta_noise", "translation_noise"):
+        if getattr(args, key) is not None:
+            kwargs[key] = tuple(getattr(args, key))
     if args.target_radius is not None:
         kwargs["target_radius"] = args.target_radius
-    cands = candidates_for(
-        sim.mask, 200, args.cone, sim.pusher_radius, np.random.default_rng([seed, 2])
-    )
     start = time.perf_counter()
     est = comcore.estimate_active(
-        sim.mask, push, cands, max_pushes=args.max_pushes, model=model, **kwargs
+        sim.mask,
+        push,
+        max_pushes=args.max_pushes,
+        model=model,
+        cone=args.cone,
+        rng=np.random.default_rng([seed, 2]),
+        **kwargs,
     )
     cm = 100 * sim.mask.resolution
     return {
@@ -106,7 +100,57 @@ def run_trial(name, friction, seed, args, model):
         "radius_cm": est.extras["credible_radius_px"] * cm,
         "in_region": bool(est.region[round(sim.com_px[1]), round(sim.com_px[0])]),
         "seconds": time.perf_counter() - start,
+        "history_error_cm": [
+            float(np.hypot(*np.subtract(h["com"], sim.com_px))) * cm for h in est.extras["history"]
+        ],
+        "history_radius_cm": [h["credible_radius_px"] * cm for h in est.extras["history"]],
     }
+
+
+def plot_posterior(name, friction, seed, args, model, path):
+    """Plot the posterior after each push of one trial (re-run with growing budgets)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sim = make_simulator(name, friction, seed)
+    cands = comcore.sample_pushes(
+        sim.mask, 200, cone=args.cone, rng=np.random.default_rng([seed, 2])
+    )
+    kwargs = {"model": model, "selection": args.selection}
+    final = comcore.estimate_active(
+        sim.mask, lambda a: sim.push(a).motion, cands, args.max_pushes, **kwargs
+    )
+    steps = len(final.used)
+    fig, axes = plt.subplots(1, steps + 1, figsize=(2.6 * (steps + 1), 2.9))
+    ys, xs = np.nonzero(sim.mask.data)
+    box = (xs.min() - 3, xs.max() + 3, ys.max() + 3, ys.min() - 3)
+    for k, ax in enumerate(np.atleast_1d(axes)):
+        est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, k, **kwargs)
+        post = np.ma.masked_where(~sim.mask.data, est.extras["posterior"])
+        ax.imshow(sim.mask.data, cmap="Greys", alpha=0.25)
+        ax.imshow(post, cmap="viridis")
+        ax.contour(est.region, levels=[0.5], colors="w", linewidths=0.8)
+        for a in est.extras["actions"]:
+            ax.annotate("", a[2:], a[:2], arrowprops={"arrowstyle": "->", "color": "tab:red"})
+        ax.plot(*sim.com_px, "r+", ms=10, mew=1.5)
+        ax.plot(*est.com, "wx", ms=7, mew=1.5)
+        err = est.error_px(sim.com_px) * sim.mask.resolution * 100
+        radius = est.extras["credible_radius_px"] * sim.mask.resolution * 100
+        ax.set_title(f"{k} pushes\nerr {err:.2f} cm, r90 {radius:.2f} cm", fontsize=8)
+        ax.set_xlim(box[0], box[1])
+        ax.set_ylim(box[2], box[3])
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.suptitle(
+        f"{name}, {friction} friction (mu={sim.mu_contact:.2f}): posterior push by push "
+        "(+ true CoM, x estimate, white: 90% region)",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"saved {path}")
 
 
 def summarise(rows, key):
@@ -139,16 +183,27 @@ def main(argv=None):
     parser.add_argument("--trials", type=int, default=1, help="trials per object and class")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--model", default="ellipsoid", help="'ellipsoid' or 'none'")
-    parser.add_argument("--pressure", default="linear", help="ellipsoid model's pressure")
+    parser.add_argument(
+        "--limit-surfaces", nargs="*", default=None, help="ellipsoid variants to weigh"
+    )
+    parser.add_argument("--theta-noise", type=float, nargs=2, default=None)
+    parser.add_argument("--translation-noise", type=float, nargs=2, default=None)
     parser.add_argument("--max-pushes", type=int, default=6)
     parser.add_argument("--target-radius", type=float, default=None, help="metres")
     parser.add_argument("--flip", type=float, default=0.0, help="probability to flip a sense")
     parser.add_argument("--flip-prob", type=float, default=None, help="estimator's flip_prob")
-    parser.add_argument("--cone", type=float, default=0.3)
+    parser.add_argument("--cone", type=float, default=0.0)
+    parser.add_argument("--selection", default="sense", help="sense or model")
+    parser.add_argument("--model-weight", type=float, default=1.0, help="likelihood power")
     parser.add_argument("--per-object", action="store_true")
     parser.add_argument("--out", default=None, help="write the rows as JSON here")
+    parser.add_argument("--plot", default=None, help="plot the first trial's posterior here")
     args = parser.parse_args(argv)
-    model = _model(args.model, args.pressure)
+    model = _model(args.model, args.limit_surfaces)
+    if args.plot:
+        seed = int(np.random.SeedSequence([args.seed, 0]).generate_state(1)[0])
+        plot_posterior(args.objects[0], args.friction[0], seed, args, model, args.plot)
+        return
     rows = []
     for k, (name, friction, _) in enumerate(
         (n, f, t) for f in args.friction for n in args.objects for t in range(args.trials)

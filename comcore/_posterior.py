@@ -19,6 +19,8 @@ pushes x frictions x pixels are one matrix product.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._conventions import ccw_cross, rotate_vectors
@@ -28,7 +30,6 @@ __all__ = [
     "binary_entropy",
     "force_lines",
     "line_distances",
-    "motion_log_likelihood",
     "push_log_likelihood",
     "sense_information",
     "side_probability",
@@ -41,6 +42,8 @@ __all__ = [
 #: blur the line. Against the simulator (docs/active.md) the sense is wrong
 #: 15 % of the time at 1-2 px, 10 % at 2-3 px, 5 % at 3-5 px, 3 % at 5-8 px.
 LINE_SCALE_PX = 1.2
+#: Above this many pixels, hypotheses are gathered into blocks to score candidates.
+MAX_SCORING_POINTS = 2500
 #: Posterior mass below which pixels are skipped when scoring candidates.
 PRUNE_MASS = 1e-7
 
@@ -124,6 +127,32 @@ def _tanh_into(out, tmp, x, y, lines, scale: float):
     return np.tanh(out, out=out)
 
 
+def _coarse(pixels, weights):
+    """Hypotheses with posterior mass, gathered into square blocks when there are many.
+
+    Pixels below ``PRUNE_MASS`` of the largest mass are dropped. Above
+    ``MAX_SCORING_POINTS`` pixels, blocks of ``b x b`` pixels become one
+    hypothesis at their mass-weighted mean with their summed (pixel, friction)
+    mass: a choice of push does not need the grid finer than the force lines
+    are sharp (``b`` <= 2 px for masks up to 10,000 pixels).
+    """
+    marginal = weights.sum(axis=1)
+    keep = marginal > PRUNE_MASS * marginal.max()
+    pts, w = pixels[keep], weights[keep]
+    block = math.ceil(math.sqrt(len(pts) / MAX_SCORING_POINTS))
+    if block <= 1:
+        return pts, w
+    cells = np.floor(pts / block).astype(np.int64)
+    cells -= cells.min(axis=0)
+    _, index = np.unique(cells[:, 0] * (cells[:, 1].max() + 1) + cells[:, 1], return_inverse=True)
+    mass = np.bincount(index, weights=w.sum(axis=1))
+    joint = np.stack([np.bincount(index, weights=w[:, j]) for j in range(w.shape[1])], axis=1)
+    centre = np.stack(
+        [np.bincount(index, weights=w.sum(axis=1) * pts[:, k]) for k in range(2)], axis=1
+    )
+    return centre / np.maximum(mass, 1e-300)[:, None], joint
+
+
 def sense_information(pixels, weights, lines, flip_prob: float, scale: float = LINE_SCALE_PX):
     """Expected information (bits) about the CoM from the observed sense of each push.
 
@@ -150,12 +179,11 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
     numpy.ndarray, shape (n,)
     """
     n_lines, n_mu = lines.shape[:2]
-    marginal = weights.sum(axis=1)
-    keep = marginal > PRUNE_MASS * marginal.max()
-    x = pixels[keep, :1].astype(np.float32)
-    y = pixels[keep, 1:].astype(np.float32)
-    w_pix = marginal[keep]
-    cond = weights[keep] / w_pix[:, None]
+    points, joint = _coarse(pixels, weights)
+    x = points[:, :1].astype(np.float32)
+    y = points[:, 1:].astype(np.float32)
+    w_pix = joint.sum(axis=1)
+    cond = joint / w_pix[:, None]
     w_pix = (w_pix / w_pix.sum()).astype(np.float32)
     # Tail sums over the wider cones: tail[:, k] = sum_{j >= k} cond[:, j], tail[:, m] = 0.
     tail = np.zeros((len(x), n_mu + 1), dtype=np.float32)
@@ -200,46 +228,53 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
 
 
 class GridPosterior:
-    """Joint log-posterior over CoM pixels and contact-friction values (internal, mutable)."""
+    """Joint log-posterior over CoM pixels, friction values and models (internal, mutable).
 
-    def __init__(self, pixels, prior_weights, mus):
+    ``log_w`` has shape (p, m, k): pixel, friction value, motion model (``k = 1``
+    without a model or with one).
+    """
+
+    def __init__(self, pixels, prior_weights, mus, n_models: int = 1):
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
-        self.alphas = np.arctan(self.mus)
         log_prior = np.log(np.asarray(prior_weights, dtype=float))
-        self.log_w = np.repeat(log_prior[:, None], len(self.mus), axis=1) - np.log(len(self.mus))
+        shape = (len(self.pixels), len(self.mus), n_models)
+        self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
         self._normalise()
 
     def _normalise(self):
         self.log_w -= self.log_w.max()
         self.log_w -= np.log(np.exp(self.log_w).sum())
 
-    def copy(self) -> GridPosterior:
-        """An independent copy."""
-        out = object.__new__(GridPosterior)
-        out.pixels, out.mus, out.alphas = self.pixels, self.mus, self.alphas
-        out.log_w = self.log_w.copy()
-        return out
-
     def update(self, log_likelihood):
-        """Multiply in a likelihood given as logs, shape (p, m)."""
+        """Multiply in a likelihood given as logs, broadcast to (p, m, k)."""
         self.log_w = self.log_w + log_likelihood
         self._normalise()
 
     @property
     def weights(self) -> np.ndarray:
-        """Joint posterior (p, m), summing to 1."""
+        """Joint posterior (p, m, k), summing to 1."""
         return np.exp(self.log_w)
+
+    @property
+    def sense_weights(self) -> np.ndarray:
+        """Posterior of (pixel, friction), shape (p, m): what the Voting Theorem sees."""
+        return self.weights.sum(axis=2)
 
     @property
     def marginal(self) -> np.ndarray:
         """Posterior of the CoM pixel, shape (p,)."""
-        return self.weights.sum(axis=1)
+        return self.weights.sum(axis=(1, 2))
 
     @property
     def mu_marginal(self) -> np.ndarray:
         """Posterior of the friction values, shape (m,)."""
-        return self.weights.sum(axis=0)
+        return self.weights.sum(axis=(0, 2))
+
+    @property
+    def model_marginal(self) -> np.ndarray:
+        """Posterior of the models, shape (k,)."""
+        return self.weights.sum(axis=(0, 1))
 
     def mean(self) -> np.ndarray:
         """Posterior mean of the CoM (x, y) in pixels."""
@@ -274,42 +309,10 @@ class GridPosterior:
         return chosen, float(k + min(max(fraction, 0.0), 1.0))
 
 
-def _student_t(residual_sq, scale, dof: float, dim: int):
-    """Log density (up to a constant) of a ``dim``-variate Student-t, isotropic scale."""
-    return -0.5 * (dof + dim) * np.log1p(residual_sq / (dof * scale**2)) - dim * np.log(scale)
-
-
-def motion_log_likelihood(observed, predicted, theta_noise, translation_noise, dof: float):
-    """Log-likelihood of an observed motion under predicted ones, shape (p, m).
-
-    Heavy-tailed (Student-t) in the rotation and in the translation, with
-    scales ``absolute + relative * |predicted|`` so that a model that is off by
-    a fraction of a large motion is not punished like one that is off by the
-    whole of a small one.
-
-    Parameters
-    ----------
-    observed : numpy.ndarray, shape (3,)
-    predicted : numpy.ndarray, shape (p, m, 3)
-    theta_noise, translation_noise : tuple of float
-        ``(absolute, relative)`` scales: radians and pixels.
-    dof : float
-        Degrees of freedom of the Student-t.
-    """
-    th_abs, th_rel = theta_noise
-    tr_abs, tr_rel = translation_noise
-    th_scale = th_abs + th_rel * np.abs(predicted[..., 0])
-    out = _student_t((observed[0] - predicted[..., 0]) ** 2, th_scale, dof, 1)
-    t_pred = predicted[..., 1:]
-    tr_scale = tr_abs + tr_rel * np.hypot(t_pred[..., 0], t_pred[..., 1])
-    res_sq = ((observed[1:] - t_pred) ** 2).sum(axis=-1)
-    return out + _student_t(res_sq, tr_scale, dof, 2)
-
-
 def push_log_likelihood(
     distances, motion, flip_prob: float, theta_tol: float, model_term=None, flipped_term=None
 ):
-    """Log-likelihood of one observed push over the grid, shape (p, m).
+    """Log-likelihood of one observed push over the grid, shape (p, m, 1) or (p, m, k).
 
     With probability ``1 - flip_prob`` the observed sense is the true one; with
     ``flip_prob`` it is flipped (and then the unflipped rotation is what the
@@ -319,11 +322,11 @@ def push_log_likelihood(
 
     Parameters
     ----------
-    distances : numpy.ndarray, shape (p, m)
+    distances : numpy.ndarray, shape (p, m, 1)
         Signed distances of the grid pixels to the push's force lines.
     motion : numpy.ndarray, shape (3,)
     flip_prob, theta_tol : float
-    model_term, flipped_term : numpy.ndarray, shape (p, m), optional
+    model_term, flipped_term : numpy.ndarray, shape (p, m, k), optional
         :func:`motion_log_likelihood` of the motion as observed and with its
         rotation negated (both or neither).
     """

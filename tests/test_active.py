@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import re
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -19,8 +16,6 @@ from comcore._posterior import (
     sense_information,
     side_probability,
 )
-
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "active.md"
 
 
 def _plate(h=26, w=34, pad=8):
@@ -37,10 +32,13 @@ def _ell(h=40, w=52):
 class ToyModel:
     """Toy physics: the Voting Theorem's sense, |theta| growing with the lever arm.
 
-    ``theta = sense * 0.4 * tanh(|d| / 8)`` where ``d`` is the CoM's distance to
-    the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
+    ``theta = sense * 0.4 * tanh(|d| / length)`` where ``d`` is the CoM's distance
+    to the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
     the centroid moves along the push, less when the object turns.
     """
+
+    def __init__(self, length=8.0):
+        self.length = length
 
     def predict_hypotheses(self, mask, actions, coms, mu):
         acts = comcore.check_actions(actions)
@@ -51,7 +49,7 @@ class ToyModel:
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
             sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
             lever = comcore.signed_line_distance(coms, a[None])[:, 0]
-            theta = sense * 0.4 * np.tanh(np.abs(lever) / 8.0)
+            theta = sense * 0.4 * np.tanh(np.abs(lever) / self.length)
             out[:, j, 0] = theta
             out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
         return out
@@ -74,7 +72,7 @@ def _robot(mask, com, mu, model=None, flips=()):
 
 
 def _posterior_at(estimate, com):
-    return estimate.extras["posterior"][int(round(com[1])), int(round(com[0]))]
+    return estimate.extras["posterior"][round(com[1]), round(com[0])]
 
 
 # -- the force-line form of the Voting Theorem -------------------------------------------
@@ -117,6 +115,29 @@ def test_sense_information_equals_brute_force():
     assert gains.min() >= -1e-6
 
 
+def test_scoring_on_blocks_picks_what_the_full_grid_picks(monkeypatch):
+    """Large masks are scored on 2x2 blocks: the choice and the gains barely change."""
+    import comcore._posterior as posterior
+
+    yy, xx = np.mgrid[:90, :110]
+    mask = comcore.Mask(((xx - 55) / 50) ** 2 + ((yy - 45) / 40) ** 2 < 1)
+    rng = np.random.default_rng(4)
+    cands = comcore.sample_pushes(mask, 80, cone=0.4, rng=rng)
+    con = comcore.contacts(mask, cands)
+    direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
+    lines = force_lines(con.point, con.normal, direction, np.linspace(0.05, 1.0, 4))
+    centre = mask.pixels[rng.integers(mask.area_px)]
+    blob = np.exp(-((mask.pixels - centre) ** 2).sum(axis=1) / (2 * 15.0**2))
+    weights = blob[:, None] * rng.random((mask.area_px, 4))
+    weights /= weights.sum()
+    assert mask.area_px > posterior.MAX_SCORING_POINTS
+    coarse = sense_information(mask.pixels, weights, lines, 0.05)
+    monkeypatch.setattr(posterior, "MAX_SCORING_POINTS", 10**9)
+    exact = sense_information(mask.pixels, weights, lines, 0.05)
+    assert np.argmax(coarse) == np.argmax(exact)
+    np.testing.assert_allclose(coarse, exact, atol=0.05)
+
+
 def test_credible_region_counts_the_last_pixel_fractionally():
     post = GridPosterior(np.array([[0.0, 0], [1, 0], [2, 0], [3, 0]]), [0.5, 0.3, 0.1, 0.1], [0.3])
     chosen, area = post.credible(0.6)
@@ -152,16 +173,37 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     assert _posterior_at(est, com) >= allowed * post.max() * (1 - 1e-9)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_with_the_true_model_the_credible_region_holds_the_com(seed):
+@pytest.mark.parametrize(("seed", "selection"), [(0, "sense"), (1, "sense"), (2, "model")])
+def test_with_the_true_model_the_credible_region_holds_the_com(seed, selection):
     mask = _ell()
     rng = np.random.default_rng(seed)
     com = tuple(mask.pixels[rng.integers(mask.area_px)])
     push = _robot(mask, com, 0.4)
-    est = comcore.estimate_active(mask, push, model=ToyModel(), rng=seed, target_radius=0.002)
+    est = comcore.estimate_active(
+        mask,
+        push,
+        model=ToyModel(),
+        rng=seed,
+        target_radius=0.002,
+        selection=selection,
+        n_candidates=60,
+    )
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 1.5
     assert est.status in ("ok", "budget")
+
+
+def test_several_models_are_weighed_by_the_data():
+    mask = _ell()
+    com = (30.0, 26.0)
+    truth = ToyModel(length=16.0)
+    models = [ToyModel(length=6.0), truth]
+    est = comcore.estimate_active(
+        mask, _robot(mask, com, 0.4, model=truth), model=models, rng=0, selection="sense"
+    )
+    assert est.extras["model_posterior"].shape == (2,)
+    assert est.extras["model_posterior"][1] > 0.99
+    assert est.error_px(com) < 1.5
 
 
 def test_same_seed_same_result():
@@ -204,7 +246,13 @@ def test_stops_when_the_credible_region_is_small_enough():
     mask = _plate()
     com = (25.0, 20.0)
     est = comcore.estimate_active(
-        mask, _robot(mask, com, 0.3), max_pushes=30, model=ToyModel(), target_radius=0.004, rng=1
+        mask,
+        _robot(mask, com, 0.3),
+        max_pushes=30,
+        model=ToyModel(),
+        target_radius=0.004,
+        rng=1,
+        selection="sense",
     )
     assert est.status == "ok"
     assert est.extras["credible_radius_px"] * mask.resolution <= 0.004
@@ -226,9 +274,10 @@ def test_zero_budget_returns_the_prior_with_a_flag():
 def test_a_flipped_sense_is_survived():
     mask = _ell()
     com = (34.0, 24.0)
-    clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), model=ToyModel(), rng=5)
+    kwargs = {"model": ToyModel(), "rng": 5, "selection": "sense"}
+    clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), **kwargs)
     flipped = comcore.estimate_active(
-        mask, _robot(mask, com, 0.4, flips=(0,)), model=ToyModel(), rng=5, max_pushes=8
+        mask, _robot(mask, com, 0.4, flips=(0,)), max_pushes=8, **kwargs
     )
     assert clean.error_px(com) < 1.5
     assert flipped.error_px(com) < 2.0
@@ -289,7 +338,13 @@ def test_a_prior_off_the_object_is_allowed():
     hull[5:35, 5:35] = True
     com = (18.0, 20.0)  # in the C's mouth
     est = comcore.estimate_active(
-        mask, _robot(mask, com, 0.3), prior=hull, model=ToyModel(), rng=0, max_pushes=8
+        mask,
+        _robot(mask, com, 0.3),
+        prior=hull,
+        model=ToyModel(),
+        rng=0,
+        max_pushes=8,
+        selection="sense",
     )
     assert est.error_px(com) < 2.0
     assert not mask.data[20, 18] and est.extras["posterior"][20, 18] > 0
@@ -308,11 +363,17 @@ def test_a_prior_off_the_object_is_allowed():
         ({"mu": -0.2}, ValueError, "mu must be >= 0"),
         ({"n_mu": 0}, ValueError, "n_mu must be a positive int"),
         ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"model": []}, ValueError, "model must not be an empty sequence"),
         ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must hit the object"),
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
-        ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must have absolute > 0"),
-        ({"translation_noise": "ab"}, TypeError, "translation_noise must be an"),
+        ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
+        ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
+        ({"selection": "best"}, ValueError, "selection must be one of"),
+        ({"model_weight": 0.0}, ValueError, "model_weight"),
+        ({"model_weight": 1.5}, ValueError, "model_weight"),
+        ({"selection": "model"}, ValueError, "selection='model' needs a model"),
     ],
 )
 def test_bad_arguments_are_named(kwargs, error, match):
@@ -322,7 +383,7 @@ def test_bad_arguments_are_named(kwargs, error, match):
 
 
 def test_bad_mask_and_push():
-    with pytest.raises(TypeError, match="mask must be a comcore.Mask"):
+    with pytest.raises(TypeError, match=r"mask must be a comcore\.Mask"):
         comcore.estimate_active(np.ones((5, 5), bool), lambda a: (0, 0, 0))
     with pytest.raises(TypeError, match="push must be callable"):
         comcore.estimate_active(_plate(), "robot")
@@ -338,9 +399,41 @@ def test_a_model_returning_garbage_is_reported():
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), model=Broken(), rng=0)
 
 
-def test_docs_examples_run():
-    text = DOCS.read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks
-    for block in blocks:
-        exec(compile(block, str(DOCS), "exec"), {})
+# -- the scripts ------------------------------------------------------------------------
+
+
+def _run_script(*args):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {"PYTHONPATH": str(root), "PATH": ""}
+    out = subprocess.run(
+        [sys.executable, *args], cwd=root, env=env, capture_output=True, text=True, timeout=300
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def test_bench_script_runs():
+    out = _run_script(
+        "benchmarks/bench_active.py", "--pixels", "600", "--candidates", "20", "--repeats", "2"
+    )
+    assert "choose a push, uniform prior" in out
+
+
+def test_eval_script_runs():
+    pytest.importorskip("pymunk")
+    out = _run_script(
+        "benchmarks/eval_active.py",
+        "--objects",
+        "Obj3",
+        "--friction",
+        "low",
+        "--model",
+        "none",
+        "--max-pushes",
+        "2",
+    )
+    assert "| low | 1 |" in out

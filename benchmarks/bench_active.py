@@ -1,0 +1,90 @@
+"""Timing of comcore.estimate_active: choosing a push, and a whole run without a model.
+
+The issue's budget: choosing from 200 candidates on a 5,000-pixel mask takes
+under 50 ms (median). The choice is the expected information gain of every
+candidate over the whole (pixel x friction) posterior; it is timed on the
+uniform prior (every pixel alive: the worst case) and after a few pushes.
+
+Example::
+
+    PYTHONPATH=. nice -n 10 python benchmarks/bench_active.py --repeats 30
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import comcore
+from comcore._active import UNKNOWN_MU_RANGE, _mu_grid
+from comcore._posterior import GridPosterior, force_lines, sense_information
+
+
+def ellipse_mask(n_pixels: int) -> comcore.Mask:
+    """An ellipse (axes 5:4) of about ``n_pixels`` pixels."""
+    a = np.sqrt(n_pixels / np.pi * 5 / 4)
+    b = 0.8 * a
+    size = int(2 * a) + 12
+    yy, xx = np.mgrid[:size, :size]
+    return comcore.Mask(((xx - size / 2) / a) ** 2 + ((yy - size / 2) / b) ** 2 < 1)
+
+
+def median_ms(fn, repeats: int) -> float:
+    """Median wall time of ``fn()`` in milliseconds."""
+    fn()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return 1e3 * float(np.median(times))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pixels", type=int, default=5000)
+    parser.add_argument("--candidates", type=int, default=200)
+    parser.add_argument("--repeats", type=int, default=30)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+
+    mask = ellipse_mask(args.pixels)
+    cands = comcore.sample_pushes(mask, args.candidates, cone=0.3, rng=args.seed)
+    con = comcore.contacts(mask, cands)
+    direction = cands[:, 2:] - cands[:, :2]
+    direction /= np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    mus = _mu_grid(None, 6)
+    lines = force_lines(con.point, con.normal, direction, np.arctan(mus))
+    post = GridPosterior(mask.pixels, np.full(mask.area_px, 1 / mask.area_px), mus)
+
+    def choose():
+        return sense_information(post.pixels, post.sense_weights, lines, 0.05)
+
+    print(
+        f"mask {mask.area_px} px, {len(cands)} candidates, {len(mus)} friction values "
+        f"(mu in {UNKNOWN_MU_RANGE}), {args.repeats} repeats"
+    )
+    print(f"choose a push, uniform prior:   {median_ms(choose, args.repeats):6.1f} ms (median)")
+
+    com = np.add(mask.centroid, (7.0, -4.0))
+
+    def push(action):
+        c = comcore.contacts(mask, action)
+        sense = comcore.vt.rotation_sense(com, c.point[0], c.normal[0], action.direction, 0.4)
+        return comcore.Motion(0.1 * sense, 0.0, 0.0)
+
+    est = comcore.estimate_active(mask, push, cands, max_pushes=3)
+    post.update(np.log(est.extras["posterior"][mask.data] + 1e-300)[:, None, None])
+    print(f"choose a push, after 3 pushes:  {median_ms(choose, args.repeats):6.1f} ms (median)")
+
+    def run():
+        return comcore.estimate_active(mask, push, cands, max_pushes=4, target_radius=1e-6)
+
+    per_push = median_ms(run, max(3, args.repeats // 5)) / 4
+    print(f"whole run without a model:      {per_push:6.1f} ms per push (median of runs / 4)")
+
+
+if __name__ == "__main__":
+    main()
