@@ -49,15 +49,18 @@ def _hypothesis_model(ctx: TrialContext, model):
     raise ValueError(f"model must be 'ellipsoid' or None, got {model!r}")
 
 
-def _active(ctx: TrialContext, model="ellipsoid", max_pushes: int = 6, **options):
+def _active(ctx: TrialContext, model="ellipsoid", max_pushes: int = 6, candidates="trial", **kw):
+    """``candidates``: ``"trial"`` (the trial's, as every estimator) or ``"own"`` (its default)."""
+    if candidates not in ("trial", "own"):
+        raise ValueError(f"candidates must be 'trial' or 'own', got {candidates!r}")
     return comcore.estimate_active(  # type: ignore[attr-defined]
         ctx.mask,
         ctx.push,
-        ctx.candidates,
+        ctx.candidates if candidates == "trial" else None,
         max_pushes,
         model=_hypothesis_model(ctx, model),
         rng=ctx.rng,
-        **options,
+        **kw,
     )
 
 
