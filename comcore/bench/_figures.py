@@ -53,14 +53,15 @@ def figure_heatmap(outcome: TrialOutcome, path, estimator: str = "alg1") -> Path
     heat = np.asarray(est.extras["heatmap"], float)
     data = outcome.context.mask.data
     window = _crop(data)
-    fig = _figure(6.0, 5.0)
+    aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
+    fig = _figure(6.5, 5.0 * aspect + 1.6)
     ax = fig.add_subplot()
     shown = np.ma.masked_where(~data, heat)[window]
     image = ax.imshow(shown, cmap="viridis", vmin=0, vmax=1, interpolation="nearest")
-    fig.colorbar(image, ax=ax, label="normalised accumulated rotation $S_\\theta$")
+    fig.colorbar(image, ax=ax, label="normalised $S_\\theta$", shrink=0.9)
     _markers(ax, outcome, est, window)
     ax.set_title("Alg. 1 heat map: " + _caption(outcome, est), fontsize=9)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=2, fontsize=8)
     ax.set_xlabel("x (pixels)")
     ax.set_ylabel("y (pixels, down)")
     fig.savefig(path)
@@ -72,7 +73,8 @@ def figure_segmentation(outcome: TrialOutcome, path, estimator: str = "alg1") ->
     est = outcome.estimates[estimator]
     data = outcome.context.mask.data
     window = _crop(data)
-    fig = _figure(5.5, 8.0)
+    aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
+    fig = _figure(5.5, 2 * 5.0 * aspect + 1.8)
     layers = (
         ("segmented points", est.extras["segmented"]),
         ("largest connected region", est.region),
@@ -83,7 +85,7 @@ def figure_segmentation(outcome: TrialOutcome, path, estimator: str = "alg1") ->
         ax.imshow(image[window], cmap="Greys", vmin=0, vmax=1, interpolation="nearest")
         _markers(ax, outcome, est, window)
         ax.set_title(title, fontsize=10)
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=2, fontsize=8)
     fig.suptitle(_caption(outcome, est), fontsize=9)
     fig.savefig(path)
     return Path(path)
@@ -103,7 +105,7 @@ def figure_pushes(
     """Fig. 7: mean, min and max pushes per object, equality score (dashed) vs rotation order."""
     stats = group_stats(rows)
     objects, frictions = _objects(rows), _frictions(rows)
-    fig = _figure(8.0, 3.2 * len(frictions))
+    fig = _figure(8.0, 3.2 * len(frictions) + 0.6)
     x = np.arange(1, len(objects) + 1)
     for k, friction in enumerate(frictions):
         ax = fig.add_subplot(len(frictions), 1, k + 1)
@@ -123,8 +125,8 @@ def figure_pushes(
         ax.set_ylabel("pushes used")
         ax.set_title(f"{friction} friction: equality score (dashed) vs rotation order (solid)",
                      fontsize=9)  # fmt: skip
-        ax.legend(fontsize=7, ncol=2)
         ax.grid(alpha=0.3)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=7)
     fig.savefig(path)
     return Path(path)
 
@@ -138,7 +140,7 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
     stats = group_stats(rows)
     objects, frictions = _objects(rows), _frictions(rows)
     estimators = list(dict.fromkeys(r["estimator"] for r in rows))
-    fig = _figure(9.0, 3.4 * len(frictions))
+    fig = _figure(9.0, 3.4 * len(frictions) + 0.5)
     x = np.arange(len(objects))
     width = 0.8 / max(len(estimators), 1)
     for k, friction in enumerate(frictions):
@@ -162,7 +164,8 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
         ax.set_xticks(x, objects, rotation=60, fontsize=7)
         ax.set_ylabel("error (cm)")
         ax.set_title(f"{friction} friction: CoM error per object (mean ± std)", fontsize=9)
-        ax.legend(fontsize=7, ncol=min(len(estimators), 5))
         ax.grid(axis="y", alpha=0.3)
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6), fontsize=7)
     fig.savefig(path)
     return Path(path)
