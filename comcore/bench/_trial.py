@@ -1,0 +1,283 @@
+"""One benchmark trial: a random object instance, candidate pushes, every estimator."""
+
+from __future__ import annotations
+
+import zlib
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+import comcore
+
+from . import _builtins  # noqa: F401  (registers the built-in estimators and predictors)
+from ._registry import PREDICTORS, TrialContext, parse_estimator
+
+__all__ = [
+    "DEFAULT_CANDIDATES",
+    "DEFAULT_CONE",
+    "DEFAULT_ESTIMATORS",
+    "ROW_FIELDS",
+    "TrialOutcome",
+    "TrialSpec",
+    "run_trial",
+    "trial_rng",
+]
+
+#: Candidate pushes per trial (see docs/bench.md for why 30).
+DEFAULT_CANDIDATES = 30
+#: Half-angle (radians) of the candidate push directions about the inward normal.
+DEFAULT_CONE = 0.3
+#: Estimators run by default: the paper's two algorithms, the Fig. 7 ablation, the baseline.
+DEFAULT_ESTIMATORS = ("alg1", "alg2", "alg2-rotation", "centroid")
+#: Draws of a random simulator before a trial gives up.
+SIMULATOR_ATTEMPTS = 4
+#: Batches of fresh pushes drawn to replace pushes the simulator refuses.
+PUSH_DRAWS = 20
+#: Columns of a result row, in order.
+ROW_FIELDS = (
+    "object", "friction", "trial", "estimator", "predictor", "status", "error_cm", "error_px",
+    "pushes_used", "prior_pushes", "total_pushes", "true_x_px", "true_y_px", "est_x_px",
+    "est_y_px", "mu", "area_cm2", "candidates", "cone", "seed", "message",
+)  # fmt: skip
+
+
+def _stable_id(text: str) -> int:
+    return zlib.crc32(text.encode("utf-8"))
+
+
+def trial_rng(seed: int, object: str, friction: str, trial: int, stream: str):
+    """The generator of one random stream of one trial.
+
+    Seeded from ``(seed, object, friction, trial, stream)`` through
+    :class:`numpy.random.SeedSequence` (names hashed with CRC-32), so a trial's
+    draws depend neither on the other trials nor on the order they run in.
+
+    Examples
+    --------
+    >>> a = trial_rng(0, "Obj1", "low", 3, "candidates").random()
+    >>> b = trial_rng(0, "Obj1", "low", 3, "candidates").random()
+    >>> a == b, a == trial_rng(0, "Obj1", "low", 4, "candidates").random()
+    (True, False)
+    """
+    entropy = [int(seed), _stable_id(object), _stable_id(friction), int(trial), _stable_id(stream)]
+    return np.random.default_rng(np.random.SeedSequence(entropy))
+
+
+@dataclass(frozen=True)
+class TrialSpec:
+    """What one trial runs; it fully determines the trial's result rows.
+
+    Attributes
+    ----------
+    object : str
+        Benchmark object name (``simulators.load_object``).
+    friction : str
+        Friction class, ``"low"`` or ``"high"``.
+    trial : int
+        Index of the trial (>= 0).
+    seed : int
+        Seed of the whole benchmark (>= 0).
+    predictor : str
+        Name in :data:`comcore.bench.PREDICTORS`.
+    estimators : tuple of str
+        Estimator labels (:func:`comcore.bench.parse_estimator`).
+    candidates : int
+        Number of random candidate pushes.
+    cone : float
+        Half-angle in radians of their directions about the inward normal.
+    """
+
+    object: str
+    friction: str
+    trial: int
+    seed: int = 0
+    predictor: str = "oracle"
+    estimators: tuple[str, ...] = DEFAULT_ESTIMATORS
+    candidates: int = DEFAULT_CANDIDATES
+    cone: float = DEFAULT_CONE
+
+    def rng(self, stream: str) -> np.random.Generator:
+        """The generator of one of this trial's random streams."""
+        return trial_rng(self.seed, self.object, self.friction, self.trial, stream)
+
+
+@dataclass(frozen=True)
+class TrialOutcome:
+    """A trial's rows with the objects behind them (for figures)."""
+
+    rows: list[dict]
+    context: TrialContext
+    estimates: dict[str, comcore.Estimate] = field(default_factory=dict)
+
+
+class _CountingPush:
+    """``push(action) -> Motion`` on the simulator from its initial pose, counted."""
+
+    def __init__(self, simulator):
+        self.simulator = simulator
+        self.count = 0
+
+    def __call__(self, action) -> comcore.Motion:
+        self.count += 1
+        return self.simulator.push(action).motion
+
+
+def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **values) -> dict:
+    sim, mask = ctx.simulator, ctx.mask
+    est = values.pop("estimate")
+    error_px = est.error_px(sim.com_px)
+    row: dict[str, Any] = {
+        "object": spec.object,
+        "friction": spec.friction,
+        "trial": spec.trial,
+        "estimator": label,
+        "predictor": predictor,
+        "status": est.status,
+        "error_cm": error_px * mask.resolution * 100.0,
+        "error_px": error_px,
+        "true_x_px": float(sim.com_px[0]),
+        "true_y_px": float(sim.com_px[1]),
+        "est_x_px": est.com[0],
+        "est_y_px": est.com[1],
+        "mu": float(sim.mu_contact),
+        "area_cm2": mask.area_m2 * 1e4,
+        "candidates": spec.candidates,
+        "cone": spec.cone,
+        "seed": spec.seed,
+        "message": "",
+    }
+    row.update(values)
+    row["total_pushes"] = row["pushes_used"] + row["prior_pushes"]
+    return {key: row[key] for key in ROW_FIELDS}
+
+
+def _random_simulator(spec: TrialSpec):
+    """The trial's simulator; a failed draw is redrawn from a new stream, and said so."""
+    import simulators
+
+    note = ""
+    for attempt in range(SIMULATOR_ATTEMPTS):
+        stream = "simulator" if attempt == 0 else f"simulator#{attempt}"
+        try:
+            sim = simulators.random_simulator(spec.object, spec.friction, rng=spec.rng(stream))
+            return sim, note
+        except ValueError as e:
+            note += f"simulator draw {attempt} failed ({e}); "
+            if attempt == SIMULATOR_ATTEMPTS - 1:
+                raise
+
+
+def _accepted_pushes(respond, mask, n: int, cone: float, rng):
+    """``n`` sampled pushes that ``respond(pushes (k, 4)) -> motions (k, 3)`` accepts.
+
+    The pushes go to ``respond`` as one batch (the simulator is batched). If it
+    refuses the batch with a ``ValueError`` (the simulator refuses a pusher that
+    would start overlapping the object), the pushes are tried one by one and
+    each refused push is replaced by a fresh draw.
+    Returns ``(pushes (n, 4), motions (n, 3), number refused)``.
+    """
+    pushes, motions = np.empty((0, 4)), np.empty((0, 3))
+    refused = 0
+    for _ in range(PUSH_DRAWS):
+        if len(pushes) >= n:
+            break
+        batch = comcore.sample_pushes(mask, n - len(pushes), cone=cone, rng=rng)
+        try:
+            answers, ok = np.asarray(respond(batch), float), np.ones(len(batch), bool)
+        except ValueError:
+            answers, ok = np.zeros((len(batch), 3)), np.zeros(len(batch), bool)
+            for i, push in enumerate(batch):
+                try:
+                    answers[i], ok[i] = np.asarray(respond(push[None]), float)[0], True
+                except ValueError:
+                    refused += 1
+        pushes, motions = np.vstack([pushes, batch[ok]]), np.vstack([motions, answers[ok]])
+    if len(pushes) < n:
+        raise RuntimeError(f"the simulator refused {refused} pushes; {len(pushes)} of {n} drawn")
+    return pushes, motions, refused
+
+
+def _predictions(spec: TrialSpec, ctx: TrialContext):
+    """The context with candidates, priors and motions, and a note on redrawn pushes."""
+    predictor, sim, mask = PREDICTORS[spec.predictor], ctx.simulator, ctx.mask
+    note, priors = "", ()
+    if predictor.prior_pushes:
+        acts, mots, rejected = _accepted_pushes(
+            sim.push_motions, mask, predictor.prior_pushes, spec.cone, spec.rng("prior")
+        )
+        priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
+        note += f"{rejected} prior push(es) redrawn; " if rejected else ""
+    model = predictor.make(replace(ctx, priors=priors))
+    rng = spec.rng("cand")
+    if predictor.pushes_object:  # predicting is pushing: redraw what the simulator refuses
+        predict = lambda a: comcore.predict_motions(model, mask, a, priors)  # noqa: E731
+        cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
+        note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
+    else:
+        cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=rng)
+        motions = comcore.predict_motions(model, mask, cands, priors)
+    return replace(ctx, candidates=cands, motions=motions, priors=priors), note
+
+
+def run_trial(spec: TrialSpec, *, keep: bool = False):
+    """Run one trial: every estimator of ``spec`` on one random object instance.
+
+    The object's mass distribution and ``mu_contact`` come from
+    ``simulators.random_simulator`` (friction class ``spec.friction``), the
+    candidates from :func:`comcore.sample_pushes`, their motions from the
+    predictor (conditioned on prior pushes run in the simulator for learned
+    predictors). Every failure is recorded, never raised, and said in the
+    rows' ``message``: a failed ``random_simulator`` draw is redrawn from the
+    streams ``"simulator#1"``, ...; a push the simulator refuses (a prior, or
+    a candidate of the oracle) is replaced by a fresh draw; if the predictor
+    fails, the estimators that need its motions get ``status`` ``"error"``;
+    an estimator that raises gets ``status`` ``"error"``. Errors come with the
+    centroid as the estimate.
+
+    Parameters
+    ----------
+    spec : TrialSpec
+    keep : bool, optional
+        Also return the context and the estimates (a :class:`TrialOutcome`).
+
+    Returns
+    -------
+    list of dict or TrialOutcome
+        One row per estimator, with the keys :data:`ROW_FIELDS`.
+    """
+    parsed = [(label, *parse_estimator(label)) for label in spec.estimators]
+    sim, note = _random_simulator(spec)
+    mask = sim.mask
+    ctx = TrialContext(spec.object, spec.friction, spec.trial, sim, mask, np.empty((0, 4)), None)
+    failure = ""
+    if any(est.uses_motions for _, est, _ in parsed):
+        try:
+            ctx, more = _predictions(spec, ctx)
+            note += more
+        except Exception as e:  # one bad trial must not end a long benchmark
+            failure = f"predictor {spec.predictor!r} failed: {type(e).__name__}: {e}"
+    if not len(ctx.candidates):
+        cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=spec.rng("cand"))
+        ctx = replace(ctx, candidates=cands)
+    prior_count = len(ctx.priors)
+    rows, estimates = [], {}
+    for label, est_spec, options in parsed:
+        counter = _CountingPush(sim)
+        run_ctx = replace(ctx, rng=spec.rng("estimator:" + label), push=counter)
+        message = note
+        try:
+            if est_spec.uses_motions and failure:
+                raise RuntimeError(failure)
+            est = est_spec.run(run_ctx, **options)
+        except Exception as e:  # one bad trial must not end a long benchmark
+            message = f"{note}{type(e).__name__}: {e}"
+            est = comcore.Estimate(mask.centroid, mask.centroid_m, mask.data, status="error")
+        if est_spec.uses_motions:
+            used, prior = len(est.used), prior_count
+        else:
+            used, prior = counter.count, 0
+        estimates[label] = est
+        values = {"pushes_used": used, "prior_pushes": prior, "message": message}
+        rows.append(_row(spec, ctx, label, spec.predictor, estimate=est, **values))
+    return TrialOutcome(rows, ctx, estimates) if keep else rows

@@ -1,0 +1,157 @@
+"""``comcore bench``: the paper's evaluation in the simulator, with a report beside the paper's."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shlex
+import sys
+from pathlib import Path
+
+HELP = (
+    "run the paper's benchmark in the simulator (Tables I-II, Figs. 5-7) and write results, "
+    "figures and a report (needs comcore[sim,bench,plot])"
+)
+
+#: What ``--quick`` runs unless told otherwise: well under a minute on two free cores.
+QUICK = {"objects": "Obj1,Obj4,Obj7,Obj12,Obj19", "trials": 20}
+
+
+def _positive_int(text: str) -> int:
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text}")
+    return value
+
+
+def _count(text: str) -> int:
+    value = int(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text}")
+    return value
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``comcore bench``."""
+    from ._trial import DEFAULT_CANDIDATES, DEFAULT_CONE, DEFAULT_ESTIMATORS
+
+    add = parser.add_argument
+    add("--objects", help="comma-separated object names, or 'all' (default: all 20)")
+    add("--trials", type=_count, help="trials per object and friction class (default 300)")
+    add("--friction", choices=("low", "high", "both"), default="both")
+    add("--predictor", default="oracle", help="oracle, ellipsoid or anp (default oracle)")
+    add(
+        "--estimators",
+        default=",".join(DEFAULT_ESTIMATORS),
+        help="comma-separated estimator labels, e.g. 'alg1(threshold=0.2),alg2', or 'all' "
+        f"(default {','.join(DEFAULT_ESTIMATORS)})",
+    )
+    add("--candidates", type=_count, default=DEFAULT_CANDIDATES, help="candidate pushes per trial")
+    add(
+        "--cone", type=float, default=DEFAULT_CONE, help="push directions: radians about the normal"
+    )
+    add("--seed", type=_count, default=0)
+    add("--workers", type=_positive_int, default=os.cpu_count() or 1, help="local processes")
+    add("--out", default="bench-out", help="output folder (default bench-out)")
+    add("--format", choices=("jsonl", "parquet"), default="jsonl", help="results file format")
+    add("--quick", action="store_true", help="5 objects x 20 trials: a run of a minute or so")
+    add("--dask", metavar="ADDRESS", help="run the trials on this Dask scheduler")
+    add("--no-figures", action="store_true", help="skip the PNG figures")
+    add("--no-progress", action="store_true", help="no progress bar")
+
+
+def _config(args):
+    import simulators
+
+    from ._registry import ESTIMATORS, split_estimators
+    from ._runner import BenchConfig
+
+    objects = args.objects or (QUICK["objects"] if args.quick else "all")
+    names = (
+        tuple(simulators.BENCHMARK_OBJECTS)
+        if objects == "all"
+        else tuple(o.strip() for o in objects.split(",") if o.strip())
+    )
+    unknown = [o for o in names if o not in simulators.BENCHMARK_OBJECTS]
+    if unknown or not names:
+        raise ValueError(f"--objects: unknown object(s) {unknown}; expected Obj1..Obj20 or 'all'")
+    trials = args.trials if args.trials is not None else (QUICK["trials"] if args.quick else 300)
+    estimators = (
+        tuple(ESTIMATORS) if args.estimators == "all" else tuple(split_estimators(args.estimators))
+    )
+    frictions = ("low", "high") if args.friction == "both" else (args.friction,)
+    return BenchConfig(
+        objects=names, trials=trials, frictions=frictions, predictor=args.predictor,
+        estimators=estimators, candidates=args.candidates, cone=args.cone, seed=args.seed,
+    )  # fmt: skip
+
+
+def run(args) -> int:
+    """Run the benchmark; returns the exit status (2 on bad options or a missing extra)."""
+    try:
+        import simulators  # noqa: F401
+
+        from ._outputs import save_benchmark
+        from ._runner import check_available, run_benchmark
+    except ImportError as e:
+        print(
+            f"comcore bench needs the simulator: pip install comcore[sim,bench] ({e})",
+            file=sys.stderr,
+        )
+        return 2
+    try:
+        config = _config(args)
+        checked, skipped = check_available(config)
+    except (ValueError, RuntimeError) as e:
+        print(f"comcore bench: {e}", file=sys.stderr)
+        return 2
+    for label, reason in skipped.items():
+        print(f"comcore bench: skipping estimator {label!r}: {reason}", file=sys.stderr)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    partial = out / "results.partial.jsonl"
+    n_trials = len(checked.specs())
+    where = f"Dask at {args.dask}" if args.dask else f"{args.workers} worker(s)"
+    print(f"comcore bench: {n_trials} trials x {len(checked.estimators)} estimators on {where}")
+    with partial.open("w", encoding="utf-8") as stream:
+
+        def on_rows(rows):
+            stream.writelines(json.dumps(r) + "\n" for r in rows)
+            stream.flush()
+
+        try:
+            result = run_benchmark(
+                config, workers=args.workers, dask=args.dask,
+                progress=not args.no_progress, on_rows=on_rows,
+            )  # fmt: skip
+        except (ImportError, OSError) as e:
+            print(f"comcore bench: {e}", file=sys.stderr)
+            return 2
+    command = "comcore bench " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["bench"] else ""
+    paths = save_benchmark(
+        result,
+        out,
+        fmt=args.format,
+        command=command or _command_of(args),
+        figures=not args.no_figures,
+    )
+    partial.unlink()
+    from ._report import summary_table
+
+    print(summary_table(result.rows))
+    print(
+        f"wall time {result.wall_s:.1f} s; report: {paths['report']}; results: {paths['results']}"
+    )
+    return 0
+
+
+def _command_of(args) -> str:
+    """The options of a run as a command line (when not started from the shell)."""
+    parts = ["comcore", "bench"]
+    for key, value in sorted(vars(args).items()):
+        if key.startswith("_") or key == "command" or value in (None, False):
+            continue
+        flag = "--" + key.replace("_", "-")
+        parts += [flag] if value is True else [flag, str(value)]
+    return shlex.join(parts)
