@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._geometry import contacts, line_distances
+from ._geometry import contacts, side_counts
 from ._mask import Mask
 from ._regions import estimate_from_region, largest_component
 from ._types import Estimate
@@ -148,50 +148,42 @@ def estimate_progressive(
             extras={"region_sizes": [mask.area_px], "contradicted": []},
         )
 
-    pixels = mask.pixels
-    candidates = np.flatnonzero(keep)  # only these can ever be chosen
-    dist = line_distances(pixels, acts[candidates], np.float32)  # (m, k)
-    ccw_side = (dist > band).astype(np.float32)
-    cw_side = (dist < -band).astype(np.float32)
-    del dist
-    current = np.ones(len(pixels), dtype=bool)
+    current = mask.data.copy()  # the feasible region, as an image
     rotation_order = [int(i) for i in np.argsort(np.abs(theta), kind="stable") if keep[i]]
-    target = area_ratio * len(pixels)
+    target = area_ratio * mask.area_px
     used: list[int] = []
     contradicted: list[int] = []
-    sizes = [int(current.sum())]
+    sizes = [mask.area_px]
     direction = acts[:, 2:] - acts[:, :2]
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     a_lo, a_hi = (float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
     sense = np.sign(theta).astype(int)
 
-    while current.sum() > target and keep.any():
-        weight = current.astype(np.float32)
+    while sizes[-1] > target and keep.any():
         if selection == "equality":
             scores = np.full(n_actions, -1.0)
-            scores[candidates] = equality_score(weight @ ccw_side, weight @ cw_side)
-            chosen = int(np.argmax(np.where(keep, scores, -1.0)))
+            kept = np.flatnonzero(keep)
+            scores[kept] = equality_score(*side_counts(current, acts[kept], band))
+            chosen = int(np.argmax(scores))
             if scores[chosen] <= 0.0:
                 break  # no kept action splits the region: nothing more to learn
             keep &= scores >= min_score
         else:
             chosen = next(i for i in rotation_order if keep[i])
         keep[chosen] = False
-        idx = np.flatnonzero(current)
-        r = con.point[chosen] - pixels[idx]
+        rows, cols = np.nonzero(current)
+        r = con.point[chosen] - np.column_stack([cols, rows]).astype(float)
         allowed = _consistent(
             r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
         )
         if not allowed.any():
             contradicted.append(chosen)
             continue
-        current[idx[~allowed]] = False
+        current[rows[~allowed], cols[~allowed]] = False
         used.append(chosen)
-        sizes.append(int(current.sum()))
+        sizes.append(int(allowed.sum()))
 
-    image = np.zeros(mask.shape, dtype=bool)
-    image[mask.data] = current
-    region = largest_component(image)
+    region = largest_component(current)
     return estimate_from_region(
         mask,
         region,

@@ -64,7 +64,7 @@ def _moments(r, normal, push_dir, alpha):
 
 def _vote(moment, band: float) -> np.ndarray:
     """+1 / -1 by the sign of a moment; 0 (abstain) within ``band`` (int8)."""
-    return (moment > band).astype(np.int8) - (moment < -band).astype(np.int8)
+    return (moment > band).view(np.int8) - (moment < -band).view(np.int8)
 
 
 def _majority(left, right, push, band: float) -> np.ndarray:
@@ -123,9 +123,10 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
 def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 0.5) -> np.ndarray:
     """Which CoM candidates can produce ``sense`` (or a tie) for some ``mu`` in range.
 
-    The vote changes with the cone half-angle ``alpha = atan(mu)`` only where a
-    cone edge's line crosses the candidate, so evaluating at the range's ends,
-    at that crossing and between them covers every ``mu`` exactly.
+    The (strict) vote changes with the cone half-angle ``alpha = atan(mu)``
+    only where a cone edge's line crosses the candidate, so evaluating at the
+    range's ends, at that crossing and between them covers every ``mu``
+    exactly. The ``band`` margin is checked at the same five angles.
 
     Parameters
     ----------
@@ -159,24 +160,57 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
 
     Over cone half-angles ``alpha`` in [0, pi/2] exactly one cone edge's line
     crosses a candidate, at ``alpha* = atan(|across| / |along|)`` (the
-    candidate's offset across and along the normal); the outcome is constant
-    on either side of it. Evaluating at the range's ends, at ``alpha*`` and
-    between them therefore covers every ``mu`` in range.
+    candidate's offset across and along the normal); the strict vote is
+    constant on either side of it. Evaluating at the range's ends, at
+    ``alpha*`` and halfway between them therefore covers every ``mu`` in range
+    for the strict vote. The ``band`` allowance (a ray within ``band`` abstains)
+    is evaluated at the same five angles, so it can miss a pixel whose edges
+    pass within ``band`` only between them: a pixel the strict vote allows is
+    never lost, only some of the extra margin.
+
+    ``alpha*`` and the midpoints enter through their cosines and sines, from
+    the offsets and the half-angle formulas: per-pixel trigonometry cost more
+    than everything else here together. At ``alpha*`` the deciding edge's
+    moment is then exactly 0, as it is mathematically.
     """
     across = ccw_cross(r, normal)  # |r| sin(phi): offset across the normal
     along = r @ normal  # |r| cos(phi): offset along the normal
     push = ccw_cross(r, push_dir)
-    crit = np.clip(np.arctan2(np.abs(across), np.abs(along)), a_lo, a_hi)
+    c_lo, s_lo, c_hi, s_hi = np.cos(a_lo), np.sin(a_lo), np.cos(a_hi), np.sin(a_hi)
+    hyp = np.hypot(across, along)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos_c, sin_c = np.abs(along) / hyp, np.abs(across) / hyp  # alpha* unclipped
+    below = ~(cos_c <= c_lo)  # alpha* < a_lo, or the contact itself (0 / 0)
+    above = cos_c < c_hi  # alpha* > a_hi
+    cos_c[below], sin_c[below] = c_lo, s_lo
+    cos_c[above], sin_c[above] = c_hi, s_hi
     push_strict, push_tolerant = _vote(push, 0.0), _vote(push, band)
     ok = np.zeros(len(r), dtype=bool)
-    for alpha in (a_lo, 0.5 * (a_lo + crit), crit, 0.5 * (crit + a_hi), a_hi):
-        cos_a, sin_a = np.cos(alpha), np.sin(alpha)
-        left = across * cos_a + along * sin_a  # |r| sin(phi + alpha)
-        right = across * cos_a - along * sin_a  # |r| sin(phi - alpha)
-        strict = np.sign(_vote(left, 0.0) + _vote(right, 0.0) + push_strict)
-        tolerant = np.sign(_vote(left, band) + _vote(right, band) + push_tolerant)
-        ok |= (strict == sense) | (tolerant == sense) | (tolerant == 0)
+    for cos_a, sin_a in (
+        (c_lo, s_lo),
+        _half_sum(c_lo, s_lo, cos_c, sin_c),
+        (cos_c, sin_c),
+        _half_sum(cos_c, sin_c, c_hi, s_hi),
+        (c_hi, s_hi),
+    ):
+        a, b = across * cos_a, along * sin_a
+        left, right = a + b, a - b  # |r| sin(phi + alpha), |r| sin(phi - alpha)
+        strict = _vote(left, 0.0) + _vote(right, 0.0) + push_strict
+        tolerant = _vote(left, band) + _vote(right, band) + push_tolerant
+        # the sign of a sum of votes is `sense` (or a tie) without taking the sign
+        if sense == 0:
+            ok |= (strict == 0) | (tolerant == 0)
+        elif sense > 0:
+            ok |= (strict > 0) | (tolerant >= 0)
+        else:
+            ok |= (strict < 0) | (tolerant <= 0)
     return ok
+
+
+def _half_sum(cos_x, sin_x, cos_y, sin_y):
+    """Cosine and sine of ``(x + y) / 2`` for angles in [0, pi/2] (both >= 0)."""
+    cos_sum = np.clip(cos_x * cos_y - sin_x * sin_y, -1.0, 1.0)
+    return np.sqrt(0.5 * (1.0 + cos_sum)), np.sqrt(0.5 * (1.0 - cos_sum))
 
 
 def _thetas(theta, single: bool) -> np.ndarray:

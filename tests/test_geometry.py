@@ -65,3 +65,22 @@ def test_contacts_do_not_mutate_inputs(square_mask):
     before = acts.copy()
     comcore.contacts(square_mask, acts)
     assert np.array_equal(acts, before)
+
+
+@pytest.mark.parametrize("band", [0.0, 0.5, 2.0])
+def test_side_counts_match_a_direct_distance_count(band):
+    """Row prefix sums count the same pixels as thresholding every pixel's distance."""
+    from comcore._geometry import line_distances, side_counts
+
+    rng = np.random.default_rng(7)
+    image = rng.random((37, 53)) < 0.6
+    actions = rng.uniform(-10, 60, (40, 4))
+    actions[:5, 3] = actions[:5, 1]  # horizontal lines: constant distance along a row
+    actions[5:10, 2] = actions[5:10, 0]  # vertical lines
+    ys, xs = np.nonzero(image)
+    d = line_distances(np.column_stack([xs, ys]).astype(float), actions)
+    ccw, cw = side_counts(image, actions, band)
+    np.testing.assert_array_equal(ccw, (d > band).sum(axis=0))
+    np.testing.assert_array_equal(cw, (d < -band).sum(axis=0))
+    empty = side_counts(np.zeros_like(image), actions, band)
+    assert not empty[0].any() and not empty[1].any()
