@@ -13,7 +13,7 @@ TABLE_I = (32.9, 35.6, 27.0, 103.3, 42.5, 58.0, 53.4, 110.4, 119.4, 91.0,
            83.0, 58.3, 38.2, 43.0, 35.2, 67.8, 51.6, 120.4, 126.3, 150.5)  # fmt: skip
 
 
-@pytest.mark.parametrize(("name", "area_cm2"), zip(simulators.BENCHMARK_OBJECTS, TABLE_I))
+@pytest.mark.parametrize(("name", "area_cm2"), list(zip(simulators.BENCHMARK_OBJECTS, TABLE_I)))
 def test_area_matches_table_one(name, area_cm2):
     shape = simulators.load_object(name)
     assert shape.name == name
