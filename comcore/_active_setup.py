@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ._conventions import pixel_centres
 from ._mask import Mask
 from ._predictor import HypothesisPredictor
 from ._types import Estimate
@@ -49,9 +50,9 @@ def prior_grid(mask: Mask, prior) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"prior must have the mask's shape {mask.shape}, got {weights.shape}")
     if not np.isfinite(weights).all() or (weights < 0).any() or weights.sum() <= 0:
         raise ValueError("prior must be finite, non-negative and not all zero")
-    rows, cols = np.nonzero(weights > 0)
-    w = weights[rows, cols]
-    return np.column_stack([cols, rows]).astype(float), w / w.sum()
+    support = weights > 0
+    w = weights[support]
+    return pixel_centres(support), w / w.sum()
 
 
 def pair(value, name: str) -> tuple[float, float]:

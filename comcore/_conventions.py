@@ -30,6 +30,7 @@ __all__ = [
     "LENGTH_EPS",
     "apply_motion",
     "ccw_cross",
+    "pixel_centres",
     "quarter_turn_ccw",
     "rotate_vectors",
     "rotation_matrix",
@@ -93,6 +94,19 @@ def rotate_vectors(vectors, theta) -> np.ndarray:
     v = np.asarray(vectors, dtype=float)
     c, s = np.cos(theta), np.sin(theta)
     return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
+
+
+def pixel_centres(image) -> np.ndarray:
+    """Centres ``(x, y) = (column, row)`` of an image's true pixels, shape (m, 2), row-major.
+
+    Examples
+    --------
+    >>> pixel_centres([[False, True], [True, False]])
+    array([[1., 0.],
+           [0., 1.]])
+    """
+    rows, cols = np.nonzero(np.asarray(image))
+    return np.column_stack([cols, rows]).astype(float)
 
 
 def quarter_turn_ccw(vectors) -> np.ndarray:

@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage
 
-from ._conventions import DEFAULT_RESOLUTION
+from ._conventions import DEFAULT_RESOLUTION, pixel_centres
 
 __all__ = ["Mask"]
 
@@ -99,8 +99,7 @@ class Mask:
     @cached_property
     def pixels(self) -> np.ndarray:
         """Centres ``(x, y)`` of the object's pixels, shape (m, 2), row-major order."""
-        rows, cols = np.nonzero(self.data)
-        out = np.column_stack([cols, rows]).astype(float)
+        out = pixel_centres(self.data)
         out.setflags(write=False)
         return out
 

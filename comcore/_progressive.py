@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._conventions import pixel_centres
 from ._geometry import contacts, side_counts
 from ._mask import Mask
 from ._regions import estimate_from_region, largest_component
@@ -171,15 +172,14 @@ def estimate_progressive(
         else:
             chosen = next(i for i in rotation_order if keep[i])
         keep[chosen] = False
-        rows, cols = np.nonzero(current)
-        r = con.point[chosen] - np.column_stack([cols, rows]).astype(float)
+        r = con.point[chosen] - pixel_centres(current)
         allowed = _consistent(
             r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
         )
         if not allowed.any():
             contradicted.append(chosen)
             continue
-        current[rows[~allowed], cols[~allowed]] = False
+        current[current] = allowed  # row-major, like pixel_centres
         used.append(chosen)
         sizes.append(int(allowed.sum()))
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._conventions import rotate_vectors
+from ._conventions import pixel_centres, rotate_vectors
 from ._geometry import contacts
 from ._mask import Mask
 from ._validation import check_mask, check_positive
@@ -87,8 +87,7 @@ def sample_pushes(
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
     clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
     rng = np.random.default_rng(rng)
-    rows, cols = np.nonzero(mask.boundary)
-    outline = np.column_stack([cols, rows]).astype(float)
+    outline = pixel_centres(mask.boundary)
     out = np.empty((0, 4))
     for _ in range(50):
         if len(out) >= n:
