@@ -110,7 +110,47 @@ def _tilted_weights(points: np.ndarray, coms: np.ndarray, counts=None) -> np.nda
     return tilt(lam) * counts
 
 
+_LENGTHS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def characteristic_length_sq(
+    mask: Mask, coms, pressure: str = "uniform", limit_surface: str = "rotation"
+) -> np.ndarray:
+    """The support's characteristic length ``c`` (squared, pixels^2) for each CoM.
+
+    Values for CoMs on pixel centres are remembered per (immutable) mask and
+    model: an active estimator asks about the same pixels push after push and
+    for every friction value, and the tilted pressure costs a Newton solve per
+    CoM. Other CoMs are computed every time. See :func:`_characteristic_length_sq`.
+    """
+    coms = np.asarray(coms, dtype=float).reshape(-1, 2)
+    shape = mask.shape
+    tables = _LENGTHS.setdefault(mask, {})
+    table = tables.get((pressure, limit_surface))
+    if table is None:
+        depth = (3,) if limit_surface == "directional" else ()
+        table = tables[(pressure, limit_surface)] = np.full(shape + depth, np.nan)
+    ix = np.rint(coms)
+    on_grid = (
+        (ix == coms).all(axis=1)
+        & (ix[:, 0] >= 0) & (ix[:, 0] < shape[1]) & (ix[:, 1] >= 0) & (ix[:, 1] < shape[0])
+    )  # fmt: skip
+    cols, rows = ix[on_grid].astype(np.intp).T
+    out = np.empty((len(coms), *table.shape[2:]))
+    out[on_grid] = table[rows, cols]
+    todo = ~on_grid
+    known = out[on_grid]
+    todo[on_grid] = np.isnan(known).any(axis=1) if known.ndim == 2 else np.isnan(known)
+    if todo.any():
+        out[todo] = _characteristic_length_sq(mask, coms[todo], pressure, limit_surface)
+        fresh = todo & on_grid
+        if fresh.any():
+            fc, fr = ix[fresh].astype(np.intp).T
+            table[fr, fc] = out[fresh]
+    return out
+
+
+def _characteristic_length_sq(
     mask: Mask, coms, pressure: str = "uniform", limit_surface: str = "rotation"
 ) -> np.ndarray:
     """The support's characteristic length ``c`` (squared, pixels^2) for each CoM.

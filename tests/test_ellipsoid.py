@@ -11,7 +11,11 @@ import pytest
 import comcore
 from predictors import EllipsoidFit, EllipsoidPredictor
 from predictors._ellipsoid_model import body_twist, distance_field
-from predictors._ellipsoid_support import _tilted_weights, characteristic_length_sq
+from predictors._ellipsoid_support import (
+    _characteristic_length_sq,
+    _tilted_weights,
+    characteristic_length_sq,
+)
 
 
 def plate(h=20, w=30, pad=10):
@@ -227,6 +231,20 @@ def test_characteristic_length_of_a_uniform_disc():
         c2p = characteristic_length_sq(disc, [disc.centroid, off], pressure)
         assert c2p[0] == pytest.approx(c2[0], rel=1e-9)
         assert c2p[1] < uniform_off  # pressure concentrated near the CoM
+
+
+@pytest.mark.parametrize("limit_surface", ["rotation", "directional"])
+def test_remembered_lengths_equal_fresh_ones(blob, limit_surface):
+    """Pixel-centre CoMs come from the per-mask table, others are computed; same values."""
+    h, w = blob.shape
+    coms = np.vstack(
+        [blob.pixels[::7], blob.pixels[:4] + 0.25, [[-1.0, 3.0], [w + 2.0, h - 1.0]]]
+    )
+    fresh = _characteristic_length_sq(blob, coms, "tilted", limit_surface)
+    first = characteristic_length_sq(blob, coms, "tilted", limit_surface)
+    again = characteristic_length_sq(blob, coms[::-1], "tilted", limit_surface)[::-1]
+    np.testing.assert_allclose(first, fresh, rtol=1e-12)
+    np.testing.assert_array_equal(again, first)  # the second call reads the table
 
 
 def test_tilted_pressure_has_its_centre_at_the_com(blob):
