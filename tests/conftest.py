@@ -59,3 +59,18 @@ def synthetic_motions(
     lever = np.abs(comcore.signed_line_distance([com], actions)[0])
     unit = direction / np.hypot(*direction.T)[:, None]
     return np.column_stack([sense * gain * lever, 12 * unit[:, 0], 12 * unit[:, 1]])
+
+
+@pytest.fixture
+def dask_scheduler_address():
+    """The address of a one-worker, in-process Dask cluster started for the test.
+
+    Its HTTP server binds a free port (``":0"``): with the default (8787), two xdist workers
+    starting clusters at once collide, and distributed's "port in use" warning is an error here.
+    """
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
+    ) as cluster:
+        yield cluster.scheduler_address
+

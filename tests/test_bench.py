@@ -93,16 +93,12 @@ def test_results_do_not_depend_on_the_number_of_workers():
     ]  # fmt: skip
 
 
-def test_dask_run_equals_local_run():
-    distributed = pytest.importorskip("distributed")
+def test_dask_run_equals_local_run(dask_scheduler_address):
     config = BenchConfig(**TINY, estimators=("alg2", "centroid"))
     local = run_benchmark(config)
-    with distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster:
-        remote = run_benchmark(config, dask=cluster.scheduler_address)
+    remote = run_benchmark(config, dask=dask_scheduler_address)
     assert remote.rows == local.rows
-    assert remote.dask == cluster.scheduler_address
+    assert remote.dask == dask_scheduler_address
     assert remote.cpu_s is None  # not measurable on a cluster
 
 

@@ -76,17 +76,11 @@ def test_workers_must_be_a_positive_integer(text, capsys):
     assert "--workers" in capsys.readouterr().err
 
 
-def test_dask_option_gives_the_local_results(tmp_path):
-    distributed = pytest.importorskip("distributed")
+def test_dask_option_gives_the_local_results(tmp_path, dask_scheduler_address):
     common = ["bench", *TINY, "--estimators", "alg2", "--no-figures"]
     assert main([*common, "--out", str(tmp_path / "local")]) == 0
-    with distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster:
-        assert (
-            main([*common, "--out", str(tmp_path / "dask"), "--dask", cluster.scheduler_address])
-            == 0
-        )
+    dask_run = [*common, "--out", str(tmp_path / "dask"), "--dask", dask_scheduler_address]
+    assert main(dask_run) == 0
     local = (tmp_path / "local" / "results.jsonl").read_text()
     assert (tmp_path / "dask" / "results.jsonl").read_text() == local
     meta = json.loads((tmp_path / "dask" / "run.json").read_text())
