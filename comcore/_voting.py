@@ -33,15 +33,27 @@ __all__ = ["consistent", "region", "rotation_sense"]
 
 
 def _unit(v, name: str) -> np.ndarray:
-    v = np.asarray(v, dtype=float)
-    if v.shape[-1] != 2:
-        raise ValueError(f"{name} must have shape (..., 2), got {v.shape}")
+    """One non-zero finite 2-vector, normalised; shape (2,)."""
+    try:
+        v = np.asarray(v, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be a 2-vector of real numbers; {e}") from e
+    if v.shape != (2,):
+        raise ValueError(f"{name} must be a single 2-vector, shape (2,), got shape {v.shape}")
     if not np.isfinite(v).all():
         raise ValueError(f"{name} must be finite")
-    norm = np.hypot(v[..., 0], v[..., 1])
-    if (norm <= 1e-12).any():
+    norm = float(np.hypot(v[0], v[1]))
+    if norm <= 1e-12:
         raise ValueError(f"{name} must be a non-zero vector")
-    return v / norm[..., None]
+    return v / norm
+
+
+def _single_point(value, name: str) -> np.ndarray:
+    """One finite pixel point, shape (2,)."""
+    pts = check_points(value, name)
+    if np.shape(value) != (2,) or pts.shape[0] != 1:
+        raise ValueError(f"{name} must be a single point, shape (2,), got shape {np.shape(value)}")
+    return pts[0]
 
 
 def _moments(r, normal, push_dir, alpha):
@@ -95,6 +107,14 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     numpy.ndarray of int, shape (m,) or ()
         +1 counter-clockwise, -1 clockwise, 0 pure translation.
 
+    Raises
+    ------
+    ValueError
+        If ``contact``, ``normal`` or ``push_dir`` is not a single finite
+        2-vector of shape (2,) (one push at a time: a stack of normals is
+        refused, not broadcast), a direction is zero, ``mu`` is a range, or
+        ``band`` is negative or not finite.
+
     Examples
     --------
     Pushing right (+x) along the normal of a left edge at row 5: a CoM above
@@ -106,16 +126,14 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     com_arr = np.asarray(com, dtype=float)
     single = com_arr.shape == (2,)
     pts = check_points(com_arr, "com")
-    c = check_points(contact, "contact")
-    if c.shape[0] != 1:
-        raise ValueError(f"contact must be a single point (2,), got shape {np.shape(contact)}")
+    c = _single_point(contact, "contact")
     n = _unit(normal, "normal")
     v = _unit(push_dir, "push_dir")
     lo, hi = check_mu(mu)
     if lo != hi:
         raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
     band = check_positive(band, "band", allow_zero=True)
-    left, right, push = _moments(c[0] - pts, n, v, np.arctan(lo))
+    left, right, push = _moments(c - pts, n, v, np.arctan(lo))
     out = _majority(left, right, push, band)
     return out[0] if single else out
 
@@ -145,7 +163,7 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
     numpy.ndarray of bool, shape (m,)
     """
     pts = check_points(points, "points")
-    c = check_points(contact, "contact")[0]
+    c = _single_point(contact, "contact")
     n = _unit(normal, "normal")
     v = _unit(push_dir, "push_dir")
     if sense not in (-1, 0, 1):
@@ -243,9 +261,10 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
         always contains the true CoM when the true ``mu`` is in range.
     band : float, optional
         Pixels within ``band`` of a deciding line are kept on both sides
-        (the paper's ``d_t``, default 0.5 px).
+        (the paper's ``d_t``, default 0.5 px); finite and >= 0.
     theta_tol : float, optional
-        ``|theta| <= theta_tol`` counts as no rotation (sense 0).
+        ``|theta| <= theta_tol`` counts as no rotation (sense 0); finite and
+        >= 0.
 
     Returns
     -------
@@ -254,8 +273,9 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
     Raises
     ------
     ValueError
-        If an action misses the object or starts inside it, or the numbers of
-        actions and rotations differ.
+        If an action misses the object or starts inside it, the numbers of
+        actions and rotations differ, or ``band`` or ``theta_tol`` is negative
+        or not finite.
 
     Examples
     --------
@@ -283,6 +303,8 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
         )
     if not np.isfinite(th).all():
         raise ValueError("theta must be finite")
+    band = check_positive(band, "band", allow_zero=True)
+    theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
     senses = rotation_sign(th, theta_tol)
     con = contacts(mask, acts)
     con.require_hits("action")

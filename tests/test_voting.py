@@ -125,3 +125,48 @@ def test_rotation_sense_errors():
         vt.rotation_sense([1, 1], (0, 0), (1, 0), (1, 0), (0.1, 0.2))
     with pytest.raises(ValueError, match="push_dir must be finite"):
         vt.rotation_sense([1, 1], (0, 0), (1, 0), (np.nan, 0), 0.3)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"band": np.nan}, r"band must be a finite number >= 0, got nan"),
+        ({"band": -5}, r"band must be a finite number >= 0, got -5.0"),
+        ({"band": np.inf}, r"band must be a finite number >= 0, got inf"),
+        ({"theta_tol": np.nan}, r"theta_tol must be a finite number >= 0, got nan"),
+        ({"theta_tol": -1}, r"theta_tol must be a finite number >= 0, got -1.0"),
+        ({"band": "0.5"}, r"band must be a number, got str"),
+    ],
+)
+def test_region_rejects_bad_band_and_theta_tol(square_mask, kwargs, match):
+    # NaN used to return the whole mask and -5 a region without the band (and the true CoM).
+    with pytest.raises((ValueError, TypeError), match=match):
+        vt.region(square_mask, (0, 20, 40, 20), 0.3, **kwargs)
+
+
+def test_region_accepts_a_zero_band_and_theta_tol(square_mask):
+    action = (0, 20, 40, 20)
+    # rows 10..19, and row 20 on the push line (a tie is kept even without a band)
+    assert vt.region(square_mask, action, 0.3, band=0).sum() == 330
+    assert vt.region(square_mask, action, 0.0, theta_tol=0).sum() == 30  # the push line
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (
+            ((0, 0), [(1, 0), (0, 1)], (1, 0)),
+            r"normal must be a single 2-vector.*got shape \(2, 2\)",
+        ),
+        (((0, 0), (1, 0), [(1, 0), (0, 1)]), r"push_dir must be a single 2-vector.*\(2, 2\)"),
+        (((0, 0), (1, 0, 0), (1, 0)), r"normal must be a single 2-vector.*got shape \(3,\)"),
+        (([(0, 0), (1, 1)], (1, 0), (1, 0)), r"contact must be a single point.*\(2, 2\)"),
+        (([[0, 0]], (1, 0), (1, 0)), r"contact must be a single point.*\(1, 2\)"),
+    ],
+)
+def test_rotation_sense_and_consistent_take_one_push(args, match):
+    # A (2, 2) normal used to broadcast against the CoMs, pairing them with different normals.
+    with pytest.raises(ValueError, match=match):
+        vt.rotation_sense([[1, 1], [2, 2]], *args, mu=0.3)
+    with pytest.raises(ValueError, match=match):
+        vt.consistent([[1, 1], [2, 2]], *args, sense=1)
