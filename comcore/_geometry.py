@@ -72,7 +72,9 @@ def contacts(mask: Mask, actions) -> Contacts:
     """Contact point and inward normal of each push on the mask.
 
     The path is marched from start to end in steps of ``MARCH_STEP_PX`` and the
-    first step onto an object pixel is refined by bisection. The normal comes
+    first step onto an object pixel is refined by bisection. Only the steps over
+    the image (plus a pixel all round) are taken, so the cost depends on the
+    image's size and not on how far away a push starts or ends. The normal comes
     from the smoothed mask (:meth:`Mask.inward_normals`), not a single pixel
     step. The pusher is treated as a point moving along the action's line.
 
@@ -106,18 +108,30 @@ def contacts(mask: Mask, actions) -> Contacts:
     delta = end - start
     length = np.hypot(delta[:, 0], delta[:, 1])
     direction = delta / length[:, None]
-    n_steps = int(np.ceil(length.max() / MARCH_STEP_PX)) + 1 if n else 1
-    t = np.minimum(np.arange(n_steps)[None, :] * MARCH_STEP_PX, length[:, None])  # (n, k)
+    # March only the part of each path over the image: march indices k0..k1 of the
+    # full march (t = k * MARCH_STEP_PX from the start), so the samples are the full
+    # march's own and the contact is the same, at a cost set by the image, not the path.
+    t_in, t_out = _clip_to_box(start, direction, length, mask.shape)
+    k0 = np.floor(t_in / MARCH_STEP_PX)
+    k_last = np.ceil(length / MARCH_STEP_PX)  # the full march's last step reaches the end
+    k1 = np.minimum(np.ceil(t_out / MARCH_STEP_PX), k_last)
+    crosses = t_in <= t_out
+    k0, k1 = np.where(crosses, k0, 0.0), np.where(crosses, k1, 0.0)
+    n_steps = int((k1 - k0).max()) + 1 if n else 1
+    k = k0[:, None] + np.arange(n_steps)[None, :]  # (n, n_steps) indices into the full march
+    t = np.minimum(k * MARCH_STEP_PX, length[:, None])
     samples = start[:, None, :] + t[..., None] * direction[:, None, :]
-    inside = mask.contains(samples.reshape(-1, 2)).reshape(n, n_steps)
-    starts_inside = inside[:, 0].copy() if n else np.zeros(0, bool)
+    inside = mask._contains(samples.reshape(-1, 2)).reshape(n, n_steps)
+    inside &= crosses[:, None]
+    starts_inside = mask._contains(start)
     hit = inside.any(axis=1) & ~starts_inside
     first = np.argmax(inside, axis=1)
-    lo = np.where(hit, t[np.arange(n), np.maximum(first - 1, 0)], 0.0)
+    k_first = k[np.arange(n), first]
+    lo = np.where(hit, np.minimum(np.maximum(k_first - 1, 0) * MARCH_STEP_PX, length), 0.0)
     hi = np.where(hit, t[np.arange(n), first], 0.0)
     for _ in range(BISECTION_STEPS):
         mid = 0.5 * (lo + hi)
-        inn = mask.contains(start + mid[:, None] * direction)
+        inn = mask._contains(start + mid[:, None] * direction)
         hi = np.where(inn, mid, hi)
         lo = np.where(inn, lo, mid)
     travel = np.where(hit, 0.5 * (lo + hi), 0.0)
@@ -130,6 +144,32 @@ def contacts(mask: Mask, actions) -> Contacts:
         nrm[degenerate] = direction[hit][degenerate]
         normal[hit] = nrm
     return Contacts(point=point, normal=normal, hit=hit, starts_inside=starts_inside, travel=travel)
+
+
+def _clip_to_box(start, direction, length, shape) -> tuple[np.ndarray, np.ndarray]:
+    """Where each path ``start + t * direction``, ``0 <= t <= length``, is over the image.
+
+    The box is the image's pixels plus one pixel all round, so every point that
+    :meth:`Mask.contains` can find inside lies strictly within it. Returns
+    ``(t_in, t_out)`` per path (Liang-Barsky); ``t_in > t_out`` where the path
+    never crosses the box.
+    """
+    h, w = shape
+    box_lo = np.array([-1.5, -1.5])
+    box_hi = np.array([w + 0.5, h + 0.5])
+    t_in = np.zeros(len(start))
+    t_out = np.asarray(length, dtype=float).copy()
+    for axis in range(2):
+        p, d = start[:, axis], direction[:, axis]
+        flat = d == 0.0
+        safe = np.where(flat, 1.0, d)
+        ta, tb = (box_lo[axis] - p) / safe, (box_hi[axis] - p) / safe
+        near, far = np.minimum(ta, tb), np.maximum(ta, tb)
+        outside = flat & ((p < box_lo[axis]) | (p > box_hi[axis]))
+        t_in = np.where(flat, t_in, np.maximum(t_in, near))
+        t_out = np.where(flat, t_out, np.minimum(t_out, far))
+        t_out = np.where(outside, -1.0, t_out)
+    return t_in, t_out
 
 
 def signed_line_distance(points, actions) -> np.ndarray:

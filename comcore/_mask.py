@@ -141,8 +141,34 @@ class Mask:
         return (float(p[0]), float(p[1])) if p.shape == (2,) else p
 
     def contains(self, points) -> np.ndarray:
-        """Whether points ``(x, y)`` fall on object pixels (nearest pixel), shape (n,)."""
-        p = np.atleast_2d(np.asarray(points, dtype=float))
+        """Whether points ``(x, y)`` fall on object pixels (nearest pixel).
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 2) or (2,)
+            Finite pixel coordinates ``(x, y)``.
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (n,)
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not of shape (n, 2) or holds NaN or inf.
+
+        Examples
+        --------
+        >>> m = Mask(np.pad(np.ones((2, 2), bool), 1))
+        >>> m.contains([[1.0, 1.0], [0.4, 1.0], [-7.0, 30.0]]).tolist()
+        [True, False, False]
+        """
+        from ._validation import check_points  # _validation imports this module
+
+        return self._contains(check_points(points))
+
+    def _contains(self, p: np.ndarray) -> np.ndarray:
+        """Unvalidated core of :meth:`contains`: ``p`` is a finite (n, 2) array."""
         cols = np.floor(p[:, 0] + 0.5).astype(np.int64)
         rows = np.floor(p[:, 1] + 0.5).astype(np.int64)
         h, w = self.shape
@@ -161,8 +187,30 @@ class Mask:
 
         Points off the image get the distance at the nearest image pixel plus
         the distance to that pixel (an upper bound within one pixel).
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 2) or (2,)
+            Finite pixel coordinates ``(x, y)``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not of shape (n, 2) or holds NaN or inf.
+
+        Examples
+        --------
+        >>> m = Mask(np.pad(np.ones((2, 2), bool), 1))
+        >>> m.distance_to_object([[1.0, 1.0], [1.0, -1.0]]).tolist()
+        [0.0, 2.0]
         """
-        p = np.atleast_2d(np.asarray(points, dtype=float))
+        from ._validation import check_points  # _validation imports this module
+
+        p = check_points(points)
         h, w = self.shape
         col = np.clip(np.floor(p[:, 0] + 0.5), 0, w - 1)
         row = np.clip(np.floor(p[:, 1] + 0.5), 0, h - 1)

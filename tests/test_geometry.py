@@ -84,3 +84,63 @@ def test_side_counts_match_a_direct_distance_count(band):
     np.testing.assert_array_equal(cw, (d < -band).sum(axis=0))
     empty = side_counts(np.zeros_like(image), actions, band)
     assert not empty[0].any() and not empty[1].any()
+
+
+def test_march_covers_only_the_image_so_a_far_start_costs_nothing(square_mask):
+    # A start 1e9 px away used to allocate a 4e9-step march (29.8 GiB, MemoryError).
+    from comcore._geometry import BISECTION_STEPS, MARCH_STEP_PX
+
+    far = comcore.contacts(
+        square_mask, [(-1e9, 20, 40, 20), (-1e9, 20 - 0.3e9, 40, 32), (25, 1e9, 25, 30)]
+    )
+    near = comcore.contacts(square_mask, [(-10, 20, 40, 20), (-10, 17, 40, 32), (25, 60, 25, 30)])
+    assert far.hit.all()
+    # Horizontal: the far start lies on the near march's grid (1e9 - 10 is a multiple of
+    # 0.25 px), so the contact is the same to the bit; otherwise within the bisection step.
+    assert np.array_equal(far.point[0], near.point[0])
+    np.testing.assert_allclose(far.point, near.point, atol=MARCH_STEP_PX / 2**BISECTION_STEPS)
+    np.testing.assert_array_equal(far.normal, near.normal)
+    assert far.travel[0] == pytest.approx(1e9 + 9.5, abs=0.01)
+    # A path that never comes near the image, however long, is a miss.
+    assert comcore.contacts(square_mask, [(-1e9, -5, 1e9, -5)]).status.tolist() == ["miss"]
+
+
+def _full_march_contacts(mask, actions):
+    """The march over the whole path, as before clipping to the image (the reference)."""
+    from comcore._geometry import BISECTION_STEPS, MARCH_STEP_PX
+
+    start, end = actions[:, :2], actions[:, 2:]
+    length = np.hypot(*(end - start).T)
+    direction = (end - start) / length[:, None]
+    n_steps = int(np.ceil(length.max() / MARCH_STEP_PX)) + 1
+    t = np.minimum(np.arange(n_steps)[None, :] * MARCH_STEP_PX, length[:, None])
+    samples = start[:, None, :] + t[..., None] * direction[:, None, :]
+    inside = mask.contains(samples.reshape(-1, 2)).reshape(len(actions), n_steps)
+    hit = inside.any(axis=1) & ~inside[:, 0]
+    first = np.argmax(inside, axis=1)
+    rows = np.arange(len(actions))
+    lo = np.where(hit, t[rows, np.maximum(first - 1, 0)], 0.0)
+    hi = np.where(hit, t[rows, first], 0.0)
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        inn = mask.contains(start + mid[:, None] * direction)
+        hi, lo = np.where(inn, mid, hi), np.where(inn, lo, mid)
+    return hit, inside[:, 0], np.where(hit, 0.5 * (lo + hi), 0.0)
+
+
+@pytest.mark.parametrize("fixture", ["square_mask", "disk_mask", "l_mask"])
+def test_clipped_march_finds_the_same_contacts_as_the_full_march(fixture, request):
+    mask = request.getfixturevalue(fixture)
+    rng = np.random.default_rng(3)
+    h, w = mask.shape
+    actions = rng.uniform(-15, max(h, w) + 15, (600, 4))
+    actions[:100, 3] = actions[:100, 1]  # horizontal and vertical paths
+    actions[100:200, 2] = actions[100:200, 0]
+    actions[200:300] = np.round(actions[200:300])  # starts and ends on pixel centres
+    actions = np.vstack([actions, comcore.sample_pushes(mask, 100, cone=0.8, rng=4)])
+    hit, starts_inside, travel = _full_march_contacts(mask, actions)
+    c = comcore.contacts(mask, actions)
+    assert hit.sum() > 100 and starts_inside.sum() > 20  # both cases are exercised
+    np.testing.assert_array_equal(c.hit, hit)
+    np.testing.assert_array_equal(c.starts_inside, starts_inside)
+    np.testing.assert_array_equal(c.travel, travel)  # to the bit

@@ -75,3 +75,24 @@ def test_contains_uses_nearest_pixel(square_mask):
         False,
         False,
     ]
+
+
+@pytest.mark.parametrize("method", ["contains", "distance_to_object"])
+@pytest.mark.parametrize(
+    ("points", "match"),
+    [
+        ([[np.nan, 3.0]], r"points must be finite, got NaN or inf in row\(s\) \[0\]"),
+        ([[1.0, 2.0], [np.inf, 0.0]], r"points must be finite.*row\(s\) \[1\]"),
+        ([[1.0, 2.0, 3.0]], r"points must have shape \(n, 2\), got \(1, 3\)"),
+    ],
+)
+def test_point_queries_reject_bad_points(square_mask, method, points, match):
+    # NaN used to raise a bare IndexError (distance_to_object) or a RuntimeWarning (contains).
+    with pytest.raises(ValueError, match=match):
+        getattr(square_mask, method)(points)
+
+
+def test_point_queries_accept_one_point_or_none(square_mask):
+    assert square_mask.contains((10.0, 10.0)).tolist() == [True]
+    assert square_mask.distance_to_object((7.0, 10.0)).tolist() == [3.0]
+    assert square_mask.contains(np.zeros((0, 2))).shape == (0,)
