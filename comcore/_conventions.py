@@ -147,6 +147,15 @@ def apply_motion(points, theta, translation, center) -> np.ndarray:
     numpy.ndarray
         The moved points, same shape as ``points``.
 
+    Raises
+    ------
+    ValueError
+        If ``points`` is not of shape (n, 2) or (2,), ``translation`` or
+        ``center`` is not a single 2-vector, or any of them (or ``theta``) is
+        not finite.
+    TypeError
+        If ``theta`` is not a real number.
+
     Examples
     --------
     A point to the right of the centre, turned a quarter turn CCW on screen,
@@ -155,10 +164,14 @@ def apply_motion(points, theta, translation, center) -> np.ndarray:
     >>> apply_motion([[11.0, 5.0]], np.pi / 2, (0.0, 0.0), (10.0, 5.0)).round(12) + 0.0
     array([[10.,  4.]])
     """
-    pts = np.asarray(points, dtype=float)
-    c = np.asarray(center, dtype=float)
-    t = np.asarray(translation, dtype=float)
-    return (pts - c) @ rotation_matrix(theta).T + c + t
+    from ._validation import check_finite, check_point, check_points  # it imports this module
+
+    pts = check_points(points)
+    theta = check_finite(theta, "theta")
+    t = check_point(translation, "translation")
+    c = check_point(center, "center")
+    moved = (pts - c) @ rotation_matrix(theta).T + c + t
+    return moved[0] if np.shape(points) == (2,) else moved
 
 
 def ccw_cross(a, b) -> np.ndarray:

@@ -224,3 +224,43 @@ def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
         want = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {want}, got {v}")
     return v
+
+
+def check_finite(value, name: str) -> float:
+    """Validate a finite real number of any sign (an angle, an offset).
+
+    Examples
+    --------
+    >>> check_finite(-0.5, "theta")
+    -0.5
+    >>> check_finite(float("nan"), "theta")
+    Traceback (most recent call last):
+    ...
+    ValueError: theta must be a finite number, got nan
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be a finite number, got {v}")
+    return v
+
+
+def check_point(value, name: str = "point") -> np.ndarray:
+    """Validate one finite pixel point or 2-vector into a read-only array of shape (2,).
+
+    Examples
+    --------
+    >>> check_point((3, 4), "center").tolist()
+    [3.0, 4.0]
+    >>> check_point([[3, 4], [5, 6]], "center")
+    Traceback (most recent call last):
+    ...
+    ValueError: center must be a single point of shape (2,), got shape (2, 2)
+    """
+    arr = _as_float_rows(value, 2, name, tuple())  # type: ignore[arg-type]
+    if np.ndim(value) != 1 or arr.shape[0] != 1:
+        raise ValueError(
+            f"{name} must be a single point of shape (2,), got shape {np.shape(value)}"
+        )
+    return arr[0]

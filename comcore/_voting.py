@@ -27,7 +27,14 @@ import numpy as np
 from ._conventions import ANGLE_EPS, ccw_cross, rotation_sign
 from ._geometry import contacts
 from ._mask import Mask
-from ._validation import check_actions, check_mask, check_mu, check_points, check_positive
+from ._validation import (
+    check_actions,
+    check_mask,
+    check_mu,
+    check_point,
+    check_points,
+    check_positive,
+)
 
 __all__ = ["consistent", "region", "rotation_sense"]
 
@@ -46,14 +53,6 @@ def _unit(v, name: str) -> np.ndarray:
     if norm <= 1e-12:
         raise ValueError(f"{name} must be a non-zero vector")
     return v / norm
-
-
-def _single_point(value, name: str) -> np.ndarray:
-    """One finite pixel point, shape (2,)."""
-    pts = check_points(value, name)
-    if np.shape(value) != (2,) or pts.shape[0] != 1:
-        raise ValueError(f"{name} must be a single point, shape (2,), got shape {np.shape(value)}")
-    return pts[0]
 
 
 def _moments(r, normal, push_dir, alpha):
@@ -126,7 +125,7 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     com_arr = np.asarray(com, dtype=float)
     single = com_arr.shape == (2,)
     pts = check_points(com_arr, "com")
-    c = _single_point(contact, "contact")
+    c = check_point(contact, "contact")
     n = _unit(normal, "normal")
     v = _unit(push_dir, "push_dir")
     lo, hi = check_mu(mu)
@@ -163,7 +162,7 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
     numpy.ndarray of bool, shape (m,)
     """
     pts = check_points(points, "points")
-    c = _single_point(contact, "contact")
+    c = check_point(contact, "contact")
     n = _unit(normal, "normal")
     v = _unit(push_dir, "push_dir")
     if sense not in (-1, 0, 1):

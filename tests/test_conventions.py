@@ -86,3 +86,27 @@ def test_quarter_turn_is_exact_and_agrees_with_rotate_vectors():
     v = np.array([[1.0, 0.0], [0.3, -2.0]])
     assert comcore.quarter_turn_ccw(v).tolist() == [[0.0, -1.0], [-2.0, -0.3]]
     assert np.allclose(comcore.quarter_turn_ccw(v), comcore.rotate_vectors(v, np.pi / 2))
+
+
+def test_apply_motion_keeps_the_shape_of_one_point():
+    out = comcore.apply_motion((1.0, 0.0), np.pi, (2.0, 3.0), (0.0, 0.0))
+    assert out.shape == (2,) and np.allclose(out, [1.0, 3.0])
+    assert comcore.apply_motion(np.zeros((0, 2)), 0.1, (0, 0), (0, 0)).shape == (0, 2)
+
+
+@pytest.mark.parametrize(
+    ("args", "error", "match"),
+    [
+        (([[1.0, 2.0]], np.nan, (0, 0), (0, 0)), ValueError, "theta must be a finite number"),
+        (([[1.0, 2.0]], "0.1", (0, 0), (0, 0)), TypeError, "theta must be a number, got str"),
+        (([[1.0, 2.0, 3.0]], 0.1, (0, 0), (0, 0)), ValueError, r"points must have shape \(n, 2\)"),
+        (([[np.nan, 2.0]], 0.1, (0, 0), (0, 0)), ValueError, r"points must be finite.*\[0\]"),
+        (([[1.0, 2.0]], 0.1, (0, np.inf), (0, 0)), ValueError, "translation must be finite"),
+        (([[1.0, 2.0]], 0.1, (0, 0, 0), (0, 0)), ValueError, r"translation must have shape"),
+        (([[1.0, 2.0]], 0.1, (0, 0), [(0, 0), (1, 1)]), ValueError, "center must be a single"),
+    ],
+)
+def test_apply_motion_rejects_bad_input(args, error, match):
+    # NaN theta used to give NaN points and a (1, 3) points array a numpy broadcast error.
+    with pytest.raises(error, match=match):
+        comcore.apply_motion(*args)
