@@ -29,17 +29,48 @@ def equality_score(n1, n2) -> np.ndarray:
 
     1 for an even split, 0 when a side is empty (also when both are).
 
+    Parameters
+    ----------
+    n1, n2 : array_like
+        Pixel counts on the two sides of a line (finite, >= 0), broadcast
+        against each other.
+
+    Returns
+    -------
+    numpy.ndarray
+        Scores in [0, 1], the broadcast shape of ``n1`` and ``n2``.
+
+    Raises
+    ------
+    ValueError
+        If a count is negative, NaN or infinite.
+
     Examples
     --------
     >>> equality_score([50, 10, 0], [50, 90, 7]).round(3)
     array([1. , 0.6, 0. ])
+    >>> equality_score(-1, 5)
+    Traceback (most recent call last):
+    ...
+    ValueError: n1 must hold finite counts >= 0, got -1.0
     """
-    n1 = np.asarray(n1, dtype=float)
-    n2 = np.asarray(n2, dtype=float)
+    n1 = _counts(n1, "n1")
+    n2 = _counts(n2, "n2")
     total = n1 + n2
     with np.errstate(invalid="ignore", divide="ignore"):
         h = 2.0 * np.sqrt(n1 * n2) / total
     return np.where(total > 0, h, 0.0)
+
+
+def _counts(value, name: str) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be array_like of counts; {e}") from e
+    bad = ~(np.isfinite(arr) & (arr >= 0))
+    if bad.any():
+        raise ValueError(f"{name} must hold finite counts >= 0, got {arr[bad].flat[0]}")
+    return arr
 
 
 def estimate_progressive(
