@@ -12,6 +12,22 @@ from ._validation import check_actions, check_mask, check_motions, check_positiv
 
 __all__ = ["estimate_heatmap", "rotation_heatmap"]
 
+#: Smallest ``length_scale`` (pixels): below it the weight ``exp(-d / length_scale)`` of a
+#: pixel half a pixel from a push line underflows float32 (is below its smallest normal
+#: number), so a line between pixel centres would weigh nothing anywhere. About 0.0057 px.
+MIN_LENGTH_SCALE_PX = 0.5 / float(-np.log(np.finfo(np.float32).tiny))
+
+
+def _check_length_scale(length_scale) -> float:
+    length_scale = check_positive(length_scale, "length_scale")
+    if length_scale < MIN_LENGTH_SCALE_PX:
+        raise ValueError(
+            f"length_scale must be at least {MIN_LENGTH_SCALE_PX:.4g} px, got {length_scale:g}: "
+            "below it the weight exp(-d / length_scale) of a pixel half a pixel from a push "
+            "line underflows float32 and the heat map no longer sees the pushes"
+        )
+    return length_scale
+
 
 def rotation_heatmap(mask: Mask, actions, motions, length_scale: float = 1.0) -> np.ndarray:
     """The normalised heat map ``S`` of Alg. 1 (lines 1-6).
@@ -26,16 +42,24 @@ def rotation_heatmap(mask: Mask, actions, motions, length_scale: float = 1.0) ->
     actions : array_like, shape (n, 4)
     motions : array_like, shape (n, 3)
     length_scale : float, optional
-        Decay length of the distance weight in pixels (paper: 1 px).
+        Decay length of the distance weight in pixels (paper: 1 px), finite
+        and at least ``MIN_LENGTH_SCALE_PX`` (about 0.0057 px).
 
     Returns
     -------
     numpy.ndarray of float, shape (H, W)
+
+    Raises
+    ------
+    ValueError
+        If ``length_scale`` is not finite, or so small that the weight of a
+        pixel half a pixel from a push line underflows float32 (the map is
+        computed in float32; it would come out flat whatever the pushes).
     """
     mask = check_mask(mask)
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
-    length_scale = check_positive(length_scale, "length_scale")
+    length_scale = _check_length_scale(length_scale)
     dist = line_distances(mask.pixels, acts, np.float32)  # (m, n): pixels x actions
     np.abs(dist, out=dist)
     dist *= np.float32(-1.0 / length_scale)
@@ -77,7 +101,8 @@ def estimate_heatmap(
     threshold : float, optional
         Segmentation threshold ``s_t`` in [0, 1].
     length_scale : float, optional
-        Distance decay in pixels (paper: 1 px).
+        Distance decay in pixels (paper: 1 px); at least
+        ``MIN_LENGTH_SCALE_PX`` (about 0.0057 px, see :func:`rotation_heatmap`).
 
     Returns
     -------
@@ -105,7 +130,7 @@ def estimate_heatmap(
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
     threshold = check_probability(threshold, "threshold")
-    length_scale = check_positive(length_scale, "length_scale")
+    length_scale = _check_length_scale(length_scale)
     if acts.shape[0] == 0:
         return estimate_from_region(mask, mask.data, status="no_actions")
     contacts(mask, acts).require_hits("actions")

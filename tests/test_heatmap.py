@@ -76,3 +76,26 @@ def test_estimate_heatmap_does_not_mutate_inputs(square_mask):
     a0, m0 = acts.copy(), mots.copy()
     comcore.estimate_heatmap(square_mask, acts, mots)
     assert np.array_equal(acts, a0) and np.array_equal(mots, m0)
+
+
+@pytest.mark.parametrize("length_scale", [1e-40, 1e-3, 0.005])
+def test_a_length_scale_that_underflows_float32_is_refused(square_mask, length_scale):
+    # 1e-40 used to overflow (a RuntimeWarning) and 1e-3 to report a flat heat map silently.
+    acts = grid_pushes()
+    mots = synthetic_motions(square_mask, acts, (20, 30))
+    with pytest.raises(ValueError, match=r"length_scale must be at least 0.005725 px.*underflows"):
+        comcore.estimate_heatmap(square_mask, acts, mots, length_scale=length_scale)
+    with pytest.raises(ValueError, match=r"length_scale must be at least 0.005725 px"):
+        comcore.rotation_heatmap(square_mask, acts, mots, length_scale=length_scale)
+
+
+def test_the_smallest_length_scale_still_sees_lines_between_pixel_centres(square_mask):
+    from comcore._heatmap import MIN_LENGTH_SCALE_PX
+
+    # Lines half a pixel from the nearest centres: every weight is exp(-0.5 / length_scale).
+    acts = np.array([(0, r + 0.5, 50, r + 0.5) for r in range(10, 39, 2)], float)
+    mots = synthetic_motions(square_mask, acts, (20, 30))
+    heat = comcore.rotation_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
+    assert heat[square_mask.data].max() == 1.0  # not flat
+    est = comcore.estimate_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
+    assert est.ok and est.com[1] == pytest.approx(30, abs=1)
