@@ -1,8 +1,11 @@
 """Pusher-slider simulators for comcore (needs ``pip install comcore[sim]``).
 
-A quasi-static pymunk simulation of a flat object pushed by a round pusher on
-a flat, uniform floor with distributed Coulomb friction, seen by a top-down
-camera. Objects come from vertex arrays, from SVG/DXF outlines or from meshes
+A quasi-static simulation of a flat object pushed by a round pusher on a flat,
+uniform floor with distributed Coulomb friction, seen by a top-down camera. The
+default engine solves the quasi-static pusher-slider problem exactly on the limit
+surface of the support; a pymunk rigid-body engine is an option
+(``EngineSettings(engine="pymunk")``), less accurate at affordable solver
+settings. Objects come from vertex arrays, from SVG/DXF outlines or from meshes
 (trimesh), or from the 20-object benchmark set (``load_object("Obj7")``).
 The physics model and its measured parameters are in ``docs/simulators.md``.
 

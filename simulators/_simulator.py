@@ -1,4 +1,9 @@
-"""The :class:`PushSimulator`: a footprint, its mass, a camera and the pymunk engine."""
+"""The :class:`PushSimulator`: a footprint, its mass, a camera and a push engine.
+
+The engine is the exact quasi-static limit-surface integrator
+(:mod:`simulators._quasistatic`) unless ``settings=EngineSettings(engine="pymunk")``
+asks for the pymunk rigid-body engine (:mod:`simulators._pymunk`).
+"""
 
 from __future__ import annotations
 
@@ -167,15 +172,47 @@ class PushSimulator:
 
     # -- camera ---------------------------------------------------------------------
     def to_pixels(self, points_m) -> np.ndarray:
-        """World metres (``y`` up) to pixels (``x`` = column, ``y`` = row, down), (n, 2)."""
-        p = np.atleast_2d(np.asarray(points_m, dtype=float))
+        """World metres (``y`` up) to pixels (``x`` = column, ``y`` = row, down).
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 2) or (2,)
+            Points in world metres.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 2)
+            The points in pixels of :attr:`mask`.
+
+        Raises
+        ------
+        ValueError
+            If the points are not of shape (n, 2) or (2,), or not finite.
+        """
+        p = comcore.check_points(points_m, "points_m")
         return np.column_stack([p[:, 0] - self._origin[0], self._origin[1] - p[:, 1]]) / (
             self.resolution
         )
 
     def to_world(self, points_px) -> np.ndarray:
-        """Pixels to world metres, (n, 2); the inverse of :meth:`to_pixels`."""
-        p = np.atleast_2d(np.asarray(points_px, dtype=float)) * self.resolution
+        """Pixels to world metres; the inverse of :meth:`to_pixels`.
+
+        Parameters
+        ----------
+        points_px : array_like, shape (n, 2) or (2,)
+            Points ``(x, y)`` in pixels of :attr:`mask`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 2)
+            The points in world metres (``y`` up).
+
+        Raises
+        ------
+        ValueError
+            If the points are not of shape (n, 2) or (2,), or not finite.
+        """
+        p = comcore.check_points(points_px, "points_px") * self.resolution
         return np.column_stack([p[:, 0] + self._origin[0], self._origin[1] - p[:, 1]])
 
     @property
@@ -212,7 +249,17 @@ class PushSimulator:
         poly = shapely.Polygon(self.outline_at(pose))
         inside = shapely.contains_xy(poly, centres[:, 0], centres[:, 1]).reshape(h, w)
         if not inside.any():
-            raise ValueError("the object is outside the camera image at this pose")
+            corners = self.to_world([(-0.5, -0.5), (w - 0.5, h - 0.5)])
+            image = shapely.box(*corners.min(axis=0), *corners.max(axis=0))
+            if not poly.intersects(image):
+                raise ValueError("the object is outside the camera image at this pose")
+            x_min, y_min, x_max, y_max = self.shape.bounds_m
+            raise ValueError(
+                f"resolution {self.resolution:g} m per pixel is too coarse for this object "
+                f"({(x_max - x_min) * 100:.3g} x {(y_max - y_min) * 100:.3g} cm): no pixel "
+                "centre falls inside it; choose a finer resolution (e.g. the default "
+                f"{comcore.DEFAULT_RESOLUTION:g} m)"
+            )
         return Mask(inside, resolution=self.resolution)
 
     @cached_property
@@ -285,21 +332,46 @@ class PushSimulator:
             material point under the initial mask's area centroid (exactly the
             area centroid's displacement when starting from the initial pose).
             A pusher that misses the object leaves it where it was.
+
+        Raises
+        ------
+        ValueError
+            If the action's start (the pusher's leading point) lies inside the
+            object's outline at the start pose, as :func:`comcore.contacts`
+            refuses such actions; or if ``pose`` is not three finite numbers.
+            An action starting outside the object whose disc (trailing the
+            leading point) would overlap it, as in a notch narrower than the
+            pusher, is not refused: the disc is lowered farther back on the
+            same line.
         """
         acts = comcore.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action, got {acts.shape[0]}")
-        return self.push_many(acts, pose=pose, record=record)[0]
+        return self._push_checked(acts, pose, record, "action")[0]
 
     def push_many(self, actions, pose=None, record: bool = False) -> list[PushResult]:
-        """Push each action from the same start pose (batched); one :class:`PushResult` each."""
-        acts = comcore.check_actions(actions)
+        """Push each action from the same start pose (batched); one :class:`PushResult` each.
+
+        Parameters and errors as for :meth:`push`; ``actions`` has shape (n, 4).
+        """
+        return self._push_checked(comcore.check_actions(actions), pose, record, "actions")
+
+    def _push_checked(self, acts, pose, record, name) -> list[PushResult]:
         start_pose = self.initial_pose if pose is None else tuple(float(v) for v in pose)
         if len(start_pose) != 3 or not all(map(math.isfinite, start_pose)):
             raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
         if acts.shape[0] == 0:
             return []
         ends = self.to_world(acts.reshape(-1, 2)).reshape(-1, 4)
+        shapely = require_shapely()
+        outline = shapely.Polygon(self.outline_at(start_pose))
+        inside = shapely.contains_xy(outline, ends[:, 0], ends[:, 1])
+        if inside.any():
+            bad = np.flatnonzero(inside)[:5].tolist()
+            raise ValueError(
+                f"{name} must start outside the object; action(s) {bad} start inside its "
+                "outline (the pusher would start within the object)"
+            )
         poses = np.tile(start_pose, (len(acts), 1))
         out = self._engine.push_batch(poses, ends[:, :2], ends[:, 2:], record=record)
         moved = self._material_points(out.poses) - self._material_points(poses)

@@ -106,10 +106,12 @@ def test_rotation_sense_agrees_with_the_voting_theorem(cone):
     names = ["Obj1", "Obj5", "Obj7", "Obj12", "Obj16", "Obj19"]
     total, initial, final = _vt_agreement(names, cone)
     assert total >= 350
+    # The bar, on the returned Motion (what estimators see): the sense of
+    # the whole 3 cm push agrees on at least 99 % of pushes (it can reverse when the
+    # pusher slides onto another edge of a concave outline, but rarely) ...
+    assert final >= 0.99
+    # ... and so does the initial sense (first 3 steps).
     assert initial >= 0.99
-    # Over a whole 3 cm push the sense can reverse (the pusher slides onto another
-    # edge of a concave outline), but rarely.
-    assert final >= 0.97
 
 
 def test_mirror_symmetry():
@@ -161,11 +163,18 @@ def test_friction_does_not_depend_on_orientation(angle):
         (base.mass.points_m - com) @ rot.T + com, base.mass.masses, base.mass.cell_size_m
     )
     turned = PushSimulator(shape, mass, mu_contact=base.mu_contact)
+    import shapely
+
+    outline = base.shape.polygon()
     rng = np.random.default_rng(0)
-    for _ in range(4):
+    pushes = 0
+    while pushes < 4:
         target = base.outline_at()[rng.integers(len(base.shape.vertices_m))] * 0.8 + com * 0.2
         direction = rng.normal(size=2)
         start = target - 0.06 * direction / np.linalg.norm(direction)
+        if shapely.contains_xy(outline, *start):
+            continue  # the simulator refuses a push that starts inside the object
+        pushes += 1
         a = base.push(_world_push(base, start, direction, travel_m=0.06))
         b = turned.push(_world_push(turned, (start - com) @ rot.T + com, rot @ direction, 0.06))
         da = np.asarray(a.pose) - base.initial_pose

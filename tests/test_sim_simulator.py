@@ -128,3 +128,64 @@ def test_with_com_moves_the_com_and_keeps_the_shape():
     assert other.com_m == pytest.approx((0.01, 0.005), abs=1e-9)
     assert other.mu_contact == 0.8
     assert np.array_equal(other.mask.data, sim.mask.data)
+
+
+@pytest.mark.parametrize(
+    ("points", "message"),
+    [
+        ([[0.01, 0.02, 0.03]], r"shape \(n, 2\), got \(1, 3\)"),
+        ([0.01, 0.02, 0.03], r"shape \(n, 2\)"),
+        ([[0.01, np.nan]], "finite"),
+        ([[np.inf, 0.0], [0.0, 0.0]], r"finite, got NaN or inf in row\(s\) \[0\]"),
+    ],
+)
+def test_camera_frames_reject_bad_points(points, message):
+    sim = PushSimulator.from_polygon(RECT)
+    with pytest.raises(ValueError, match=f"points_m must .*{message}"):
+        sim.to_pixels(points)
+    with pytest.raises(ValueError, match=f"points_px must .*{message}"):
+        sim.to_world(points)
+
+
+def test_camera_frames_accept_one_point():
+    sim = PushSimulator.from_polygon(RECT)
+    assert sim.to_pixels((0.03, 0.04)).shape == (1, 2)
+    assert np.allclose(sim.to_world(sim.to_pixels((0.03, 0.04)))[0], (0.03, 0.04))
+
+
+def test_too_coarse_a_resolution_says_so():
+    sim = PushSimulator.from_polygon(RECT, resolution=1.0)
+    with pytest.raises(ValueError, match=r"resolution 1 m per pixel is too coarse .*8 x 6 cm"):
+        _ = sim.mask
+    # an object pushed out of the image is a different error
+    fine = PushSimulator.from_polygon(RECT)
+    with pytest.raises(ValueError, match="outside the camera image"):
+        fine.mask_at((1.0, 1.0, 0.0))
+
+
+def test_push_starting_inside_the_object_is_refused():
+    sim = PushSimulator.from_polygon(RECT)
+    cx, cy = sim.com_px
+    inside = (cx - 5, cy, cx + 5, cy)
+    with pytest.raises(
+        ValueError, match=r"action must start outside the object; action\(s\) \[0\]"
+    ):
+        sim.push(inside)
+    outside = (cx - 30, cy, cx - 10, cy)
+    with pytest.raises(ValueError, match=r"actions must start outside .*\[1\] start inside"):
+        sim.push_many([outside, inside])
+    with pytest.raises(ValueError, match=r"\[1\] start inside"):
+        sim.push_motions([outside, inside])
+    # comcore refuses the same action
+    assert comcore.contacts(sim.mask, [inside]).starts_inside[0]
+    # the start is judged at the start pose: after a push the object has moved away
+    moved = sim.push(outside)
+    assert moved.motion.tx > 5
+    start = sim.to_pixels(sim.outline_at(moved.pose).mean(axis=0))[0]
+    with pytest.raises(ValueError, match="start inside"):
+        sim.push((*start, start[0] + 5, start[1]), pose=moved.pose)
+    left_edge = cx - 0.04 / sim.resolution  # of the 8 cm box, CoM at its centre
+    later = (left_edge + 0.5 * moved.motion.tx, cy, cx + 5, cy)
+    with pytest.raises(ValueError, match="start inside"):
+        sim.push(later)  # inside at the initial pose ...
+    assert sim.push(later, pose=moved.pose).motion.tx > 0  # ... outside once it has moved
