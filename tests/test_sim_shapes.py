@@ -157,3 +157,59 @@ def test_import_is_light_and_a_missing_extra_says_what_to_install():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "ok"
+
+
+def _wedge_on_plate():
+    """A 40 x 30 mm plate 5 mm thick with a 16 x 20 x 20 mm block on its right part (mm)."""
+    plate = trimesh.creation.box((40.0, 30.0, 5.0))
+    plate.apply_translation((20.0, 15.0, 2.5))
+    block = trimesh.creation.box((16.0, 20.0, 20.0))
+    block.apply_translation((28.0, 15.0, 15.0))
+    return trimesh.util.concatenate([plate, block])
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".ply"])
+def test_obj_and_ply_meshes_give_the_footprint_and_the_com(tmp_path, suffix):
+    mesh = _wedge_on_plate()
+    assert mesh.is_watertight
+    f = tmp_path / f"part{suffix}"
+    mesh.export(f)
+    s = load_shape(f)
+    assert s.name == "part"
+    assert s.area_m2 == pytest.approx(0.040 * 0.030, rel=1e-6)
+    assert s.bounds_m == pytest.approx((0.0, 0.0, 0.040, 0.030), abs=1e-9)
+    # 40 x 30 x 5 plate (CoM x = 20 mm) + 16 x 20 x 20 block (CoM x = 28 mm)
+    expected_x = (6000.0 * 20.0 + 6400.0 * 28.0) / 12400.0 / 1000.0
+    assert s.uniform_com_m == pytest.approx((expected_x, 0.015), abs=1e-9)
+    assert s.centroid_m == pytest.approx((0.020, 0.015), abs=1e-9)
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".obj", ".ply"])
+def test_mesh_whose_footprint_is_several_pieces_is_rejected(tmp_path, suffix):
+    # Two separate blocks on the table (a pair of feet): the footprint is two pieces.
+    left = trimesh.creation.box((10.0, 10.0, 10.0))
+    right = trimesh.creation.box((10.0, 10.0, 10.0))
+    right.apply_translation((30.0, 0.0, 0.0))
+    mesh = trimesh.util.concatenate([left, right])
+    assert mesh.is_watertight
+    f = tmp_path / f"feet{suffix}"
+    mesh.export(f)
+    with pytest.raises(ValueError, match="feet.* holds 2 disjoint pieces; an object must be one"):
+        load_shape(f)
+
+
+def test_mesh_standing_on_two_feet_joined_above_is_rejected(tmp_path):
+    # One connected body (an arch), but it touches the table in two places.
+    arch = _prism(
+        np.array([(0, 0), (10, 0), (10, 10), (30, 10), (30, 0), (40, 0), (40, 20), (0, 20)], float),
+        [(0, 1, 2), (0, 2, 7), (2, 3, 6), (2, 6, 7), (3, 4, 5), (3, 5, 6)],
+        0.0,
+        10.0,
+    )
+    # the prism's outline lies in the x-y plane: stand it up so the feet rest on z = 0
+    arch.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, (1, 0, 0)))
+    assert arch.is_watertight and arch.body_count == 1
+    f = tmp_path / "arch.stl"
+    arch.export(f)
+    with pytest.raises(ValueError, match="2 disjoint pieces"):
+        load_shape(f)
