@@ -30,4 +30,30 @@ def test_bench_sim_speed_runs():
         check=True,
     )
     assert "pushes/s/core" in out.stdout
-    assert out.stdout.count("median") == 5
+    assert out.stdout.count("median") == 7  # 4 batch sizes, --pushes, push(), pymunk
+
+
+def test_sim_fidelity_runs():
+    out = subprocess.run(
+        [
+            sys.executable,
+            str(ROOT / "benchmarks" / "sim_fidelity.py"),
+            "--pushes",
+            "3",
+            "--objects",
+            "Obj1",
+            "--seeds",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT), "PATH": ""},
+        timeout=120,
+        check=True,
+    )
+    lines = out.stdout.splitlines()
+    assert sum("returned motion" in line for line in lines) == 4  # 2 engines x 2 cones
+    assert "normal push through the CoM" in out.stdout
+    assert "bit-identical on repeat True" in out.stdout
+    assert "growing with the lever arm: True" in out.stdout
