@@ -11,9 +11,60 @@ ROOT = Path(__file__).resolve().parent.parent
 PAGES = [*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md"]
 BLOCK = re.compile(r"```python\n(.*?)```", re.S)
 
+#: Top-level modules of the optional extras in pyproject.toml ([sim], [anp], [plot], [bench]).
+#: A block may be skipped only when one of these is missing; any other missing module (a
+#: misspelled import, a renamed comcore module) fails the test.
+OPTIONAL_MODULES = frozenset(
+    {
+        "torch",  # [anp]
+        "pymunk",  # [sim]
+        "trimesh",
+        "shapely",
+        "cv2",
+        "networkx",
+        "lxml",
+        "svg",  # svg.path
+        "matplotlib",  # [plot]
+        "dask",  # [bench]
+        "distributed",
+        "tqdm",
+        "pyarrow",
+    }
+)
+
 
 def blocks(page: Path) -> list[str]:
     return BLOCK.findall(page.read_text(encoding="utf-8"))
+
+
+def missing_extra(error: BaseException) -> str | None:
+    """The optional module whose absence caused ``error``, or None.
+
+    Follows the explicit causes: comcore wraps a missing extra in an ImportError that names
+    the ``pip install`` (``raise ImportError(...) from e``). An error merely raised while an
+    optional import's failure was being handled (``__context__``) does not count.
+    """
+    seen: set[int] = set()
+    e: BaseException | None = error
+    while e is not None and id(e) not in seen:
+        seen.add(id(e))
+        if isinstance(e, ModuleNotFoundError) and e.name:
+            if e.name.split(".")[0] in OPTIONAL_MODULES:
+                return e.name
+        e = e.__cause__
+    return None
+
+
+def run_blocks(code: list[str], name: str, namespace: dict) -> None:
+    """Run the blocks in order; skip the test if one needs an optional extra not installed."""
+    for i, block in enumerate(code):
+        try:
+            exec(compile(block, f"{name}[block {i}]", "exec"), namespace)
+        except ImportError as e:
+            module = missing_extra(e)
+            if module is None:
+                raise
+            pytest.skip(f"{name} needs {module} (an optional extra)")
 
 
 @pytest.mark.parametrize("page", [p for p in PAGES if p.exists()], ids=lambda p: p.name)
@@ -22,9 +73,46 @@ def test_code_blocks_run(page, tmp_path, monkeypatch):
     code = blocks(page)
     if not code:
         pytest.skip("no python blocks")
-    namespace: dict = {"__name__": f"docs_{page.stem}"}
-    for i, block in enumerate(code):
-        try:
-            exec(compile(block, f"{page.name}[block {i}]", "exec"), namespace)
-        except ModuleNotFoundError as e:  # an optional extra that is not installed
-            pytest.skip(f"{page.name} needs {e.name}")
+    run_blocks(code, page.name, {"__name__": f"docs_{page.stem}"})
+
+
+WRAPPED_EXTRA = """
+try:
+    raise ModuleNotFoundError("No module named 'pymunk'", name="pymunk")
+except ImportError as e:
+    raise ImportError("the simulators need 'pymunk': pip install comcore[sim]") from e
+"""
+
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        "raise ModuleNotFoundError('No module named torch', name='torch')",
+        "raise ModuleNotFoundError('No module named cv2.aruco', name='cv2.aruco')",
+        WRAPPED_EXTRA,
+    ],
+)
+def test_a_block_needing_a_missing_extra_is_skipped(block):
+    with pytest.raises(pytest.skip.Exception, match="needs"):
+        run_blocks([block], "page.md", {})
+
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        "import comcroe",  # a misspelled import
+        "import comcore.no_such_module",
+        "import torchvision_not_an_extra",
+        "raise ImportError('cannot import name X')",
+        # a misspelled import in the fallback for a missing extra is still a failure
+        "try:\n    raise ModuleNotFoundError(name='tqdm')\nexcept ImportError:\n    import comcroe",
+    ],
+)
+def test_a_block_with_a_bad_import_fails(block):
+    try:
+        run_blocks([block], "page.md", {})
+    except pytest.skip.Exception as e:  # a skip would hide the error: the old behaviour
+        pytest.fail(f"skipped instead of failing: {e}")
+    except ImportError:
+        return
+    pytest.fail("the bad import raised nothing")
