@@ -334,6 +334,49 @@ def test_training_is_deterministic_and_resumable(tmp_path, monkeypatch):
     assert record["train_episodes"] == 16 and "loss" in record["validation"]
 
 
+def test_out_defaults_to_the_current_directory_and_peak_memory_is_recorded(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    shipped = DEFAULT_WEIGHTS.stat().st_mtime_ns
+    record = main([*TINY_ARGS, "--episodes", "8", "--val-episodes", "8", "--epochs", "1"])
+    assert (tmp_path / "anp.pt").is_file() and (tmp_path / "anp.json").is_file()
+    assert DEFAULT_WEIGHTS.stat().st_mtime_ns == shipped
+    assert set(record["peak_rss_mib"]) == {"self", "children"}
+    assert record["peak_rss_mib"]["self"] > 10  # torch alone is more than 10 MiB
+    assert json.loads((tmp_path / "anp.json").read_text())["peak_rss_mib"] == record["peak_rss_mib"]
+
+
+def test_missing_tqdm_says_which_extras_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "tqdm", None)
+    with pytest.raises(ImportError, match=r"pip install comcore\[anp,sim\]") as e:
+        anp_data.progress_bar(total=1)
+    assert e.value.__cause__ is not None
+
+
+def test_training_on_the_simulator_without_it_says_which_extras_to_install(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "simulators", None)
+    with pytest.raises(ImportError, match=r"--source sim\) needs the simulator: pip install "
+                       r"comcore\[anp,sim\]"):  # fmt: skip
+        main(["--source", "sim", "--episodes", "8", "--cache", str(tmp_path), "--out",
+              str(tmp_path / "a.pt")])  # fmt: skip
+    assert not (tmp_path / "a.pt").exists()
+
+
+def test_benchmark_says_how_to_install_the_anp(monkeypatch):
+    from comcore.bench import PREDICTORS, _registry
+
+    def no_torch(name):
+        raise ImportError("No module named 'torch'")
+
+    monkeypatch.setattr(_registry.importlib, "import_module", no_torch)
+    reason = PREDICTORS["anp"].requires()
+    assert reason == (
+        "predictors.AnpPredictor is not available (ImportError: No module named 'torch'); "
+        "pip install comcore[anp]"
+    )
+    monkeypatch.undo()
+    assert PREDICTORS["anp"].requires() is None
+
+
 def test_simulated_episodes_are_seeded_and_in_comcore_conventions():
     pytest.importorskip("pymunk")
     mask_data, resolution, actions, motions, com, mu = anp_data.make_episode(11, 1, 4)

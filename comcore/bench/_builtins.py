@@ -15,10 +15,10 @@ from ._registry import (
 
 __all__: list[str] = []
 
-_SIM = missing("simulators", "PushSimulator", "sim")
-_ORACLE = requirements(_SIM, missing("predictors", "OraclePredictor", "sim"))
-_ELLIPSOID = missing("predictors", "EllipsoidPredictor", "ellipsoid")
-_ACTIVE = missing("comcore", "estimate_active", "active")
+_SIM = missing("simulators", "PushSimulator", "pip install comcore[sim]")
+_ORACLE = requirements(_SIM, missing("predictors", "OraclePredictor", "pip install comcore[sim]"))
+_ELLIPSOID = missing("predictors", "EllipsoidPredictor")
+_ACTIVE = missing("comcore", "estimate_active")
 
 
 def _alg1(ctx: TrialContext, **options) -> comcore.Estimate:
@@ -119,4 +119,6 @@ def _anp(ctx: TrialContext):
 
 PREDICTORS["oracle"] = PredictorSpec("oracle", _oracle, 0, _ORACLE, pushes_object=True)
 PREDICTORS["ellipsoid"] = PredictorSpec("ellipsoid", _ellipsoid, 12, _ELLIPSOID)
-PREDICTORS["anp"] = PredictorSpec("anp", _anp, 12, missing("predictors", "AnpPredictor", "anp"))
+PREDICTORS["anp"] = PredictorSpec(
+    "anp", _anp, 12, missing("predictors", "AnpPredictor", "pip install comcore[anp]")
+)

@@ -221,17 +221,19 @@ def parse_estimator(label: str) -> tuple[EstimatorSpec, dict[str, Any]]:
     return ESTIMATORS[name], options
 
 
-def missing(module: str, attribute: str, branch: str) -> Callable[[], str | None]:
-    """A ``requires`` check: the reason ``module.attribute`` cannot be used, or ``None``."""
+def missing(module: str, attribute: str, install: str | None = None) -> Callable[[], str | None]:
+    """A ``requires`` check: the reason ``module.attribute`` cannot be used, or ``None``.
+
+    ``install`` (e.g. ``"pip install comcore[anp]"``) is appended to the reason
+    when the import fails.
+    """
 
     def check() -> str | None:
         try:
             getattr(importlib.import_module(module), attribute)
         except (ImportError, AttributeError) as e:
-            return (
-                f"{module}.{attribute} is not available in this build ({type(e).__name__}: {e}); "
-                f"it is developed on branch '{branch}'"
-            )
+            reason = f"{module}.{attribute} is not available ({type(e).__name__}: {e})"
+            return f"{reason}; {install}" if install else reason
         return None
 
     return check

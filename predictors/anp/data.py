@@ -24,7 +24,15 @@ from comcore import Mask, ccw_cross, contacts, rotate_vectors, sample_pushes, vt
 from .features import object_frame, push_features, targets_from_motions
 from .shapes import random_polygon, rasterise
 
-__all__ = ["CHUNK", "Episodes", "featurise", "load_or_generate", "make_episode", "toy_motions"]
+__all__ = [
+    "CHUNK",
+    "Episodes",
+    "featurise",
+    "load_or_generate",
+    "make_episode",
+    "progress_bar",
+    "toy_motions",
+]
 
 #: Episodes per cache file.
 CHUNK = 64
@@ -182,7 +190,7 @@ def make_episode(seed, index: int, n_pushes: int, source: str = "sim"):
         try:
             import simulators
         except ImportError as e:  # pragma: no cover
-            raise ImportError("simulated training data need pip install comcore[sim]") from e
+            raise ImportError("simulated training data need pip install comcore[anp,sim]") from e
         for _ in range(20):
             try:
                 shape = simulators.ObjectShape.from_vertices(vertices)
@@ -210,6 +218,23 @@ def _chunk(seed, start: int, stop: int, n_pushes: int, source: str) -> Episodes:
         com=np.stack([e[4] for e in eps]),
         mu=np.array([e[5] for e in eps]),
     )
+
+
+def progress_bar(**kwargs):
+    """A ``tqdm`` progress bar (``kwargs`` go to ``tqdm.tqdm``).
+
+    Raises
+    ------
+    ImportError
+        If tqdm is missing, naming the extra that brings it.
+    """
+    try:
+        from tqdm import tqdm
+    except ImportError as e:
+        raise ImportError(
+            "training the ANP shows progress with tqdm: pip install comcore[anp,sim]"
+        ) from e
+    return tqdm(**kwargs)
 
 
 def load_or_generate(
@@ -244,9 +269,7 @@ def load_or_generate(
     parts: dict[int, Episodes] = {}
     bar = None
     if progress and todo:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(todo) * CHUNK, desc=f"simulating ({source})", unit="episode")
+        bar = progress_bar(total=len(todo) * CHUNK, desc=f"simulating ({source})", unit="episode")
 
     def done(s, ep):
         parts[s] = ep

@@ -1,11 +1,15 @@
 """Train the ANP: ``python -m predictors.anp.train --episodes 4000 --epochs 30``.
 
-Generates (or loads from ``--cache``) simulated episodes, trains with the ANP
-evidence lower bound, keeps the model with the lowest validation loss and
-writes it to ``--out`` with a ``.json`` record next to it (command, data size,
-time, validation metrics, date). A checkpoint (``CACHE/<OUT stem>.ckpt``) is
-written after every epoch; ``--resume`` continues from it. Each epoch's randomness is drawn
-from ``(seed, epoch)``, so a resumed run matches an uninterrupted one.
+Needs ``pip install comcore[anp,sim]`` (torch and tqdm; the simulator for
+``--source sim``). Generates (or loads from ``--cache``) simulated episodes,
+trains with the ANP evidence lower bound, keeps the model with the lowest
+validation loss and writes it to ``--out`` (default ``./anp.pt`` in the
+current directory; the shipped weights were written with an explicit
+``--out predictors/anp/weights/anp.pt``) with a ``.json`` record next to it
+(command, data size, time, peak memory, validation metrics, date). A
+checkpoint (``CACHE/<OUT stem>.ckpt``) is written after every epoch;
+``--resume`` continues from it. Each epoch's randomness is drawn from
+``(seed, epoch)``, so a resumed run matches an uninterrupted one.
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ import argparse
 import datetime
 import json
 import math
+import resource
 import shlex
 import sys
 import time
@@ -22,12 +27,30 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from .data import featurise, load_or_generate
+from .data import featurise, load_or_generate, progress_bar
 from .features import T_SCALE, THETA_SCALE, dihedral
 from .model import AnpConfig, AnpModel
-from .predictor import DEFAULT_WEIGHTS, save_weights
+from .predictor import save_weights
 
-__all__ = ["evaluate", "main", "train_epoch"]
+__all__ = ["evaluate", "main", "peak_rss_mib", "train_epoch"]
+
+
+def peak_rss_mib() -> dict:
+    """Peak resident memory so far, in MiB, from ``resource.getrusage``.
+
+    Returns
+    -------
+    dict
+        ``self``: this process's peak; ``children``: the largest peak of the
+        waited-for child processes (the ``--workers`` simulation processes),
+        0 when there were none. Linux reports ``ru_maxrss`` in KiB, macOS in
+        bytes.
+    """
+    unit = 1 if sys.platform == "darwin" else 1024
+    return {
+        who: round(resource.getrusage(flag).ru_maxrss * unit / 2**20, 1)
+        for who, flag in (("self", resource.RUSAGE_SELF), ("children", resource.RUSAGE_CHILDREN))
+    }
 
 
 def _tensors(d: dict, idx) -> tuple:
@@ -132,7 +155,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--episodes", type=int, default=4000, help="training episodes")
     p.add_argument("--val-episodes", type=int, default=256, help="validation episodes")
     p.add_argument("--epochs", type=int, default=30)
-    p.add_argument("--out", type=Path, default=DEFAULT_WEIGHTS, help="weights file to write")
+    p.add_argument("--out", type=Path, default=Path("anp.pt"),
+                   help="weights file to write (default ./anp.pt; the shipped weights are "
+                        "predictors/anp/weights/anp.pt)")  # fmt: skip
     p.add_argument("--cache", type=Path, default=Path(".cache/anp"), help="episode cache dir")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--resume", action="store_true", help="continue from CACHE/<OUT stem>.ckpt")
@@ -151,6 +176,14 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv=None) -> dict:
     """Command-line entry point; returns the record written next to the weights."""
     args = _parser().parse_args(argv)
+    if args.source == "sim":
+        try:
+            import simulators  # noqa: F401
+        except ImportError as e:
+            raise ImportError(
+                "training on simulated episodes (--source sim) needs the simulator: "
+                "pip install comcore[anp,sim]"
+            ) from e
     torch.set_num_threads(args.threads)
     t0 = time.time()
     common = dict(n_pushes=args.pushes, source=args.source, cache=args.cache,
@@ -184,9 +217,8 @@ def main(argv=None) -> dict:
         schedule.load_state_dict(state["schedule"])
         history, first, t_train = json.loads(state["history"]), state["epoch"] + 1, state["time"]
         best = {k: v.clone() for k, v in state["best"].items()}
-    from tqdm import tqdm
-
-    bar = tqdm(range(first, args.epochs), initial=first, total=args.epochs, desc="training")
+    bar = progress_bar(iterable=range(first, args.epochs), initial=first, total=args.epochs,
+                       desc="training")  # fmt: skip
     for epoch in bar:
         t1 = time.time()
         loss = train_epoch(model, optimizer, train, epoch=epoch, seed=args.seed,
@@ -211,7 +243,8 @@ def main(argv=None) -> dict:
         "source": args.source, "seed": args.seed, "train_episodes": args.episodes,
         "val_episodes": args.val_episodes, "pushes_per_episode": args.pushes,
         "train_pushes": args.episodes * args.pushes, "data_seconds": round(t_data, 1),
-        "train_seconds": round(t_train, 1), "epochs": args.epochs,
+        "train_seconds": round(t_train, 1), "peak_rss_mib": peak_rss_mib(),
+        "epochs": args.epochs,
         "config": config.to_dict(), "validation": final, "history": history,
         "torch": torch.__version__,
     }  # fmt: skip
