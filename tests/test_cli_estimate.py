@@ -65,6 +65,43 @@ def test_text_output_and_overlay(files, capsys, method):
     assert overlay.read_bytes()[:4] == b"\x89PNG"
 
 
+def test_overlay_is_written_next_to_the_mask_by_default(files, capsys):
+    tmp, mask, pushes = files
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
+    default = tmp / "object-overlay.png"
+    assert json.loads(capsys.readouterr().out)["overlay"] == str(default)
+    assert default.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_no_overlay_writes_no_picture(files, capsys):
+    tmp, mask, pushes = files
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--no-overlay"]) == 0
+    assert "overlay" not in capsys.readouterr().out
+    assert sorted(p.name for p in tmp.iterdir()) == ["object.png", "pushes.csv"]
+
+
+def test_overlay_and_no_overlay_exclude_each_other(files, capsys):
+    _, mask, pushes = files
+    with pytest.raises(SystemExit) as e:
+        main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--overlay", "a.png",
+              "--no-overlay"])  # fmt: skip
+    assert e.value.code == 2 and "not allowed with argument" in capsys.readouterr().err
+
+
+def test_without_matplotlib_the_default_overlay_is_skipped_with_a_note(files, capsys, monkeypatch):
+    pytest.importorskip("cv2")  # reads the mask when matplotlib is gone
+    tmp, mask, pushes = files
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["overlay"] is None
+    assert "no overlay written" in captured.err and "pip install comcore[plot]" in captured.err
+    assert not (tmp / "object-overlay.png").exists()
+    asked = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--overlay", "o.png"]
+    assert main(asked) == 2
+    assert "pip install comcore[plot]" in capsys.readouterr().err
+
+
 def bad_case(tmp, name):
     mask, pushes = tmp / "object.png", tmp / "pushes.csv"
     if name == "missing mask":

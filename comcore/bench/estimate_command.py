@@ -30,6 +30,10 @@ class InputError(ValueError):
     """A problem with the user's files, reported as one line on stderr."""
 
 
+class NoPlotting(InputError):
+    """matplotlib, which draws the overlay, is not installed."""
+
+
 def add_arguments(parser) -> None:
     """Options of ``comcore estimate``."""
     add = parser.add_argument
@@ -38,7 +42,35 @@ def add_arguments(parser) -> None:
     add("--resolution", type=float, default=comcore.DEFAULT_RESOLUTION, help="metres per pixel")
     add("--method", choices=METHODS, default="alg2", help="estimator (default alg2)")
     add("--json", action="store_true", help="print one JSON object instead of text")
-    add("--overlay", metavar="PNG", help="write a picture of the mask, pushes, region, estimate")
+    picture = parser.add_mutually_exclusive_group()
+    picture.add_argument(
+        "--overlay",
+        metavar="PNG",
+        help="where to write the picture of the mask, pushes, region and estimate "
+        "(default: MASK_STEM-overlay.png next to the mask)",
+    )
+    picture.add_argument("--no-overlay", action="store_true", help="write no picture")
+
+
+def overlay_path(args) -> Path | None:
+    """Where the overlay goes: ``--overlay``, else ``<mask stem>-overlay.png`` beside the mask.
+
+    ``None`` with ``--no-overlay``.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> str(overlay_path(argparse.Namespace(mask="data/cup.png", overlay=None, no_overlay=False)))
+    'data/cup-overlay.png'
+    >>> overlay_path(argparse.Namespace(mask="cup.png", overlay=None, no_overlay=True)) is None
+    True
+    """
+    if getattr(args, "no_overlay", False):
+        return None
+    if getattr(args, "overlay", None):
+        return Path(args.overlay)
+    mask = Path(args.mask)
+    return mask.with_name(f"{mask.stem}-overlay.png")
 
 
 def read_mask(path, resolution: float) -> comcore.Mask:
@@ -122,7 +154,7 @@ def write_overlay(path, mask: comcore.Mask, actions, est: comcore.Estimate, titl
     try:
         from matplotlib.figure import Figure
     except ImportError as e:
-        raise InputError("--overlay needs matplotlib: pip install comcore[plot]") from e
+        raise NoPlotting("the overlay needs matplotlib: pip install comcore[plot]") from e
     h, w = mask.shape
     fig = Figure(figsize=(6.0, 6.0 * h / max(w, 1) + 0.6), dpi=110, layout="constrained")
     ax = fig.add_subplot()
@@ -165,14 +197,23 @@ def run(args) -> int:
         "used": list(est.used),
         "n_pushes": len(actions),
         "resolution": mask.resolution,
-        "overlay": args.overlay,
+        "overlay": None,
     }
-    if args.overlay:
+    overlay = overlay_path(args)
+    if overlay is not None:
         try:
             title = f"{args.method}: CoM ({est.com[0]:.1f}, {est.com[1]:.1f}) px"
-            write_overlay(args.overlay, mask, actions, est, title)
+            write_overlay(overlay, mask, actions, est, title)
+            result["overlay"] = str(overlay)
+        except NoPlotting as e:
+            if args.overlay:  # asked for by name: an error
+                print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
+                return 2
+            print(f"comcore estimate: no overlay written ({e}; --no-overlay skips it)",
+                  file=sys.stderr)  # fmt: skip
+            overlay = None
         except (InputError, OSError, ValueError) as e:
-            print(f"comcore estimate: cannot write --overlay {args.overlay}: {e}", file=sys.stderr)
+            print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
             return 2
     if args.json:
         print(json.dumps(result))
@@ -181,6 +222,6 @@ def run(args) -> int:
         print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
         used = f"{len(est.used)} of {len(actions)} pushes used"
         print(f"method {args.method}, status {est.status}, {used}")
-        if args.overlay:
-            print(f"overlay: {args.overlay}")
+        if overlay is not None:
+            print(f"overlay: {overlay}")
     return 0
