@@ -411,3 +411,18 @@ def test_eval_script_runs(tmp_path):
     assert "| ellipsoid (fitted) | all |" in out.stdout
     assert "| trivial (centroid) | all |" in out.stdout
     assert (tmp_path / "theta.png").stat().st_size > 10_000
+
+
+def test_fit_speed_script_runs():
+    pytest.importorskip("pymunk")
+    pytest.importorskip("shapely")
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_ellipsoid_fit.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--object", "Obj3", "--priors", "3", "--repeats", "2"],
+        capture_output=True, text=True, check=True, cwd=script.parents[1],
+        env={**os.environ, "PYTHONPATH": str(script.parents[1])},
+    )  # fmt: skip
+    lines = out.stdout.splitlines()
+    assert lines[0].startswith("EllipsoidPredictor.fit: 3 priors on Obj3 (") and "n=2" in lines[0]
+    assert "cold (fresh mask): median " in lines[1] and "warm (same mask):  median " in lines[2]
+    assert "mm from the true one" in lines[3]
