@@ -76,11 +76,12 @@ def run_trial(name, friction, seed, args, model):
             kwargs[key] = tuple(getattr(args, key))
     if args.target_radius is not None:
         kwargs["target_radius"] = args.target_radius
+    if args.max_pushes is not None:
+        kwargs["max_pushes"] = args.max_pushes
     start = time.perf_counter()
     est = comcore.estimate_active(
         sim.mask,
         push,
-        max_pushes=args.max_pushes,
         model=model,
         cone=args.cone,
         rng=np.random.default_rng([seed, 2]),
@@ -188,7 +189,9 @@ def main(argv=None):
     )
     parser.add_argument("--theta-noise", type=float, nargs=2, default=None)
     parser.add_argument("--translation-noise", type=float, nargs=2, default=None)
-    parser.add_argument("--max-pushes", type=int, default=6)
+    parser.add_argument(
+        "--max-pushes", type=int, default=None, help="budget (default: the estimator's)"
+    )
     parser.add_argument("--target-radius", type=float, default=None, help="metres")
     parser.add_argument("--flip", type=float, default=0.0, help="probability to flip a sense")
     parser.add_argument("--flip-prob", type=float, default=None, help="estimator's flip_prob")

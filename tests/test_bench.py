@@ -187,14 +187,25 @@ def test_config_specs_cover_every_trial_in_order():
 
 
 def test_active_estimator_counts_the_pushes_it_executes():
-    if not hasattr(comcore, "estimate_active"):
-        pytest.skip("comcore.estimate_active is not in this build (branch 'active')")
     spec = TrialSpec("Obj3", "low", 0, candidates=10, estimators=("active-vt(max_pushes=2)",))
     outcome = run_trial(spec, keep=True)
     row, est = outcome.rows[0], outcome.estimates["active-vt(max_pushes=2)"]
     assert row["status"] == est.status != "error", row["message"]
     assert row["pushes_used"] == len(est.used) <= 2
     assert row["prior_pushes"] == 0 and row["total_pushes"] == row["pushes_used"]
+
+
+@pytest.mark.parametrize(
+    ("label", "from_trial"),
+    [("active-vt(max_pushes=2)", False), ("active-vt(max_pushes=2, candidates='trial')", True)],
+)
+def test_active_estimator_draws_its_own_pushes_unless_told_the_trials(label, from_trial):
+    outcome = run_trial(TrialSpec("Obj3", "low", 0, candidates=10, estimators=(label,)), keep=True)
+    executed = outcome.estimates[label].extras["actions"]
+    trial = outcome.context.candidates
+    assert len(executed) == 2
+    in_trial = [any(np.allclose(a, c) for c in trial) for a in executed]
+    assert all(in_trial) if from_trial else not any(in_trial)
 
 
 def test_pushes_the_simulator_refuses_are_redrawn(registry):

@@ -49,18 +49,23 @@ def _hypothesis_model(ctx: TrialContext, model):
     raise ValueError(f"model must be 'ellipsoid' or None, got {model!r}")
 
 
-def _active(ctx: TrialContext, model="ellipsoid", max_pushes: int = 6, candidates="trial", **kw):
-    """``candidates``: ``"trial"`` (the trial's, as every estimator) or ``"own"`` (its default)."""
+def _active(ctx: TrialContext, model="ellipsoid", candidates="own", **options):
+    """Run :func:`comcore.estimate_active` on the trial's object, with its own defaults.
+
+    ``candidates``: ``"own"`` (default: the estimator draws its pushes, 200 along the
+    inward normals, from the trial's estimator stream) or ``"trial"`` (the trial's random
+    candidates, the set Alg. 1 and Alg. 2 choose from). Choosing its pushes is part of what
+    the active estimator is for; ``"trial"`` measures it on Alg. 2's terms.
+    """
     if candidates not in ("trial", "own"):
         raise ValueError(f"candidates must be 'trial' or 'own', got {candidates!r}")
     return comcore.estimate_active(  # type: ignore[attr-defined]
         ctx.mask,
         ctx.push,
         ctx.candidates if candidates == "trial" else None,
-        max_pushes,
         model=_hypothesis_model(ctx, model),
         rng=ctx.rng,
-        **kw,
+        **options,
     )
 
 
