@@ -120,15 +120,16 @@ def plot_posterior(name, friction, seed, args, model, path):
         sim.mask, 200, cone=args.cone, rng=np.random.default_rng([seed, 2])
     )
     kwargs = {"model": model, "selection": args.selection}
-    final = comcore.estimate_active(
-        sim.mask, lambda a: sim.push(a).motion, cands, args.max_pushes, **kwargs
-    )
+    if args.max_pushes is not None:
+        kwargs["max_pushes"] = args.max_pushes
+    final = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, **kwargs)
     steps = len(final.used)
     fig, axes = plt.subplots(1, steps + 1, figsize=(2.6 * (steps + 1), 2.9))
     ys, xs = np.nonzero(sim.mask.data)
     box = (xs.min() - 3, xs.max() + 3, ys.max() + 3, ys.min() - 3)
     for k, ax in enumerate(np.atleast_1d(axes)):
-        est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, k, **kwargs)
+        kwargs["max_pushes"] = k
+        est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, **kwargs)
         post = np.ma.masked_where(~sim.mask.data, est.extras["posterior"])
         ax.imshow(sim.mask.data, cmap="Greys", alpha=0.25)
         ax.imshow(post, cmap="viridis")

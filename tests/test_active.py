@@ -437,3 +437,12 @@ def test_eval_script_runs():
         "2",
     )
     assert "| low | 1 |" in out
+
+
+def test_eval_script_plots_with_the_estimators_default_budget(tmp_path):
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("pymunk")
+    path = tmp_path / "posterior.png"
+    args = ["--objects", "Obj3", "--friction", "high", "--model", "none", "--plot", str(path)]
+    assert f"saved {path}" in _run_script("benchmarks/eval_active.py", *args)
+    assert path.stat().st_size > 0
