@@ -446,3 +446,10 @@ def test_eval_script_plots_with_the_estimators_default_budget(tmp_path):
     args = ["--objects", "Obj3", "--friction", "high", "--model", "none", "--plot", str(path)]
     assert f"saved {path}" in _run_script("benchmarks/eval_active.py", *args)
     assert path.stat().st_size > 0
+
+
+def test_stopping_rule_script_runs():
+    pytest.importorskip("pymunk")
+    args = ["--objects", "Obj3", "--trials", "1", "--budget", "3", "--workers", "1"]
+    out = _run_script("benchmarks/tune_active_stop.py", *args)
+    assert "2 trials, seed 1" in out and "| 3 | 4.5 |" in out
