@@ -36,7 +36,7 @@ def trajectory(job):
     from comcore.bench._builtins import _hypothesis_model
     from comcore.bench._trial import run_trial
 
-    spec, budget, trial_candidates = job
+    spec, budget, trial_candidates, options = job
     ctx = run_trial(dataclasses.replace(spec, estimators=("centroid",)), keep=True).context
     sim = ctx.simulator
     est = comcore.estimate_active(
@@ -48,6 +48,7 @@ def trajectory(job):
         rng=spec.rng("estimator:active"),
         target_radius=1e-6,
         min_information=0.0,
+        **options,
     )
     cm = 100 * ctx.mask.resolution
     history = est.extras["history"]
@@ -74,13 +75,17 @@ def main(argv=None):
     parser.add_argument("--budget", type=int, default=8)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--trial-candidates", action="store_true")
+    parser.add_argument(
+        "--model-weight", type=float, default=None, help="estimate_active's model_weight"
+    )
     args = parser.parse_args(argv)
 
     from comcore.bench import BenchConfig
 
     objects = tuple(args.objects) if args.objects else ()
     config = BenchConfig(objects=objects, trials=args.trials, seed=args.seed)
-    jobs = [(spec, args.budget, args.trial_candidates) for spec in config.specs()]
+    options = {} if args.model_weight is None else {"model_weight": args.model_weight}
+    jobs = [(spec, args.budget, args.trial_candidates, options) for spec in config.specs()]
     start = time.perf_counter()
     with Pool(args.workers) as pool:
         results = pool.map(trajectory, jobs)
