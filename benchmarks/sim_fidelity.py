@@ -41,12 +41,6 @@ CONES = (0.0, 0.5)
 RECT = [(-0.04, -0.025), (0.04, -0.025), (0.04, 0.025), (-0.04, 0.025)]
 
 
-def _world_push(sim, start_m, direction, travel_m=0.03, standoff_m=0.01):
-    d = np.asarray(direction, float) / np.linalg.norm(direction)
-    start = np.asarray(start_m, float)
-    return np.concatenate(sim.to_pixels(np.array([start, start + (standoff_m + travel_m) * d])))
-
-
 def voting_theorem(objects, cone, n, settings):
     """Agreement counts of the Voting Theorem with the simulated sense of rotation."""
     total = initial = final = point_initial = point_final = 0
@@ -80,29 +74,13 @@ def voting_theorem(objects, cone, n, settings):
     return total, initial, final, point_initial, point_final
 
 
-def _normal_pushes_through_com(sim):
-    v = sim.outline_at()
-    com = np.asarray(sim.com_m)
-    pushes = []
-    for a, b in zip(v, np.roll(v, -1, axis=0)):
-        edge = b - a
-        length = np.linalg.norm(edge)
-        t = (com - a) @ edge / length**2
-        margin = (sim.pusher_radius + 0.002) / length
-        if not margin < t < 1 - margin:
-            continue
-        inward = np.array([-edge[1], edge[0]]) / length
-        pushes.append(_world_push(sim, a + t * edge - 0.01 * inward, inward))
-    return np.array(pushes)
-
-
 def normal_pushes(seeds):
     """Largest |theta| (deg) and the travel range (px) of normal pushes through the CoM."""
     thetas, travels = [], []
     for name in NORMAL_OBJECTS:
         for seed in range(seeds):
             sim = simulators.random_simulator(name, friction=("low", "high")[seed % 2], rng=seed)
-            motions = sim.push_motions(_normal_pushes_through_com(sim))
+            motions = sim.push_motions(simulators.normal_pushes_through_com(sim))
             thetas.append(np.abs(motions[:, 0]))
             travels.append(np.hypot(motions[:, 1], motions[:, 2]))
     theta, travel = np.concatenate(thetas), np.concatenate(travels)
@@ -149,8 +127,12 @@ def orientation_error(angles=(0.4, 1.3, 2.9, -2.0), pushes=4):
             if shapely.contains_xy(outline, *start):
                 continue
             done += 1
-            a = base.push(_world_push(base, start, direction, travel_m=0.06))
-            b = turned.push(_world_push(turned, (start - com) @ rot.T + com, rot @ direction, 0.06))
+            a = base.push(simulators.action_from_world(base, start, direction, travel_m=0.06))
+            b = turned.push(
+                simulators.action_from_world(
+                    turned, (start - com) @ rot.T + com, rot @ direction, 0.06
+                )
+            )
             da = np.asarray(a.pose) - base.initial_pose
             db = np.asarray(b.pose) - turned.initial_pose
             rot_err = max(rot_err, abs(db[2] - da[2]) / abs(da[2]))

@@ -44,6 +44,7 @@ from ._validation import (
     check_mask,
     check_motions,
     check_mu,
+    check_point,
     check_points,
     check_priors,
 )
@@ -70,6 +71,7 @@ __all__ = [
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_point",
     "check_points",
     "check_predictor",
     "check_priors",

@@ -20,6 +20,7 @@ Examples
 
 from ._mass import MassDistribution, tilt_to_com
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
+from ._pushes import action_from_world, normal_pushes_through_com
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
 from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
@@ -37,9 +38,11 @@ __all__ = [
     "ObjectShape",
     "PushResult",
     "PushSimulator",
+    "action_from_world",
     "check_polygon",
     "load_object",
     "load_shape",
+    "normal_pushes_through_com",
     "random_com",
     "random_simulator",
     "tilt_to_com",

@@ -15,36 +15,11 @@ from simulators import MassDistribution, ObjectShape, PushSimulator
 RECT = [(-0.04, -0.025), (0.04, -0.025), (0.04, 0.025), (-0.04, 0.025)]
 
 
-def _world_push(sim, start_m, direction, travel_m=0.03, standoff_m=0.01):
-    """A push in pixels whose leading point runs from start_m along direction."""
-    d = np.asarray(direction, float) / np.linalg.norm(direction)
-    start = np.asarray(start_m, float)
-    return np.concatenate(sim.to_pixels(np.array([start, start + (standoff_m + travel_m) * d])))
-
-
-def _normal_pushes_through_com(sim):
-    """Pushes along an edge's inward normal whose line passes through the CoM."""
-    v = sim.outline_at()
-    com = np.asarray(sim.com_m)
-    pushes = []
-    for a, b in zip(v, np.roll(v, -1, axis=0)):
-        edge = b - a
-        length = np.linalg.norm(edge)
-        t = (com - a) @ edge / length**2
-        margin = (sim.pusher_radius + 0.002) / length
-        if not margin < t < 1 - margin:
-            continue
-        foot = a + t * edge
-        inward = np.array([-edge[1], edge[0]]) / length  # CCW outline: left is inside
-        pushes.append(_world_push(sim, foot - 0.01 * inward, inward, standoff_m=0.01))
-    return np.array(pushes)
-
-
 @pytest.mark.parametrize("name", ["Obj1", "Obj5", "Obj11", "Obj13", "Obj8"])
 def test_normal_push_through_com_does_not_rotate(name):
     for seed in range(3):
         sim = simulators.random_simulator(name, friction=("low", "high")[seed % 2], rng=seed)
-        pushes = _normal_pushes_through_com(sim)
+        pushes = simulators.normal_pushes_through_com(sim)
         assert len(pushes) >= 1
         motions = sim.push_motions(pushes)
         assert np.degrees(np.abs(motions[:, 0])).max() < 0.5
@@ -175,8 +150,10 @@ def test_friction_does_not_depend_on_orientation(angle):
         if shapely.contains_xy(outline, *start):
             continue  # the simulator refuses a push that starts inside the object
         pushes += 1
-        a = base.push(_world_push(base, start, direction, travel_m=0.06))
-        b = turned.push(_world_push(turned, (start - com) @ rot.T + com, rot @ direction, 0.06))
+        a = base.push(simulators.action_from_world(base, start, direction, travel_m=0.06))
+        b = turned.push(
+            simulators.action_from_world(turned, (start - com) @ rot.T + com, rot @ direction, 0.06)
+        )
         da = np.asarray(a.pose) - base.initial_pose
         db = np.asarray(b.pose) - turned.initial_pose
         assert abs(da[2]) > 0.02
@@ -207,7 +184,9 @@ def test_no_tunnelling_and_no_motion_on_a_miss():
         assert _disc_overlap(sim, res.pose, centre_end) <= 0.002 * sim.pusher_radius
     # A pusher that passes beside the object leaves it exactly where it was.
     x0, _y0, _x1, y1 = sim.shape.bounds_m
-    miss = _world_push(sim, (x0 - 0.02, y1 + sim.pusher_radius + 0.001), (1.0, 0.0), 0.2)
+    miss = simulators.action_from_world(
+        sim, (x0 - 0.02, y1 + sim.pusher_radius + 0.001), (1.0, 0.0), 0.2
+    )
     res = sim.push(miss)
     assert res.contact_px is None
     assert tuple(res.motion) == (0.0, 0.0, 0.0) and res.pose == sim.initial_pose
@@ -248,7 +227,9 @@ def test_pusher_starting_in_a_notch_is_lowered_farther_back():
     u = [(0, 0), (0.06, 0), (0.06, 0.06), (0.036, 0.06), (0.036, 0.02), (0.024, 0.02),
          (0.024, 0.06), (0, 0.06)]  # fmt: skip
     sim = PushSimulator.from_polygon(u)
-    action = _world_push(sim, (0.0335, 0.045), (0.0, -1.0), travel_m=0.01, standoff_m=0.0)
+    action = simulators.action_from_world(
+        sim, (0.0335, 0.045), (0.0, -1.0), travel_m=0.01, standoff_m=0.0
+    )
     res = sim.push(action)
     assert res.contact_px is not None and res.motion.ty > 0
 

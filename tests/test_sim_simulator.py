@@ -189,3 +189,27 @@ def test_push_starting_inside_the_object_is_refused():
     with pytest.raises(ValueError, match="start inside"):
         sim.push(later)  # inside at the initial pose ...
     assert sim.push(later, pose=moved.pose).motion.tx > 0  # ... outside once it has moved
+
+
+def test_action_from_world_maps_a_world_push_to_pixels():
+    sim = PushSimulator.from_polygon([(0, 0), (0.04, 0), (0.04, 0.02), (0, 0.02)])
+    action = simulators.action_from_world(sim, (0.02, 0.03), (0.0, -2.0), travel_m=0.02)
+    start, end = action[:2], action[2:]
+    np.testing.assert_allclose(sim.to_world(np.array([start, end])), [[0.02, 0.03], [0.02, 0.0]])
+    assert end[1] > start[1]  # down the world is down the screen: pixel y grows
+    assert comcore.contacts(sim.mask, [action]).hit[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (((0.0, 0.0), (0.0, 0.0)), "direction must not be zero"),
+        (((np.nan, 0.0), (1.0, 0.0)), "start_m"),
+        (((0.0, 0.0), (1.0, 0.0, 0.0)), "direction"),
+        (((0.0, 0.0), (1.0, 0.0), -0.02), "travel_m \\+ standoff_m"),
+    ],
+)
+def test_action_from_world_rejects_bad_input(args, match):
+    sim = PushSimulator.from_polygon([(0, 0), (0.04, 0), (0.04, 0.02), (0, 0.02)])
+    with pytest.raises(ValueError, match=match):
+        simulators.action_from_world(sim, *args)
