@@ -199,13 +199,18 @@ def check_mu(mu, name: str = "mu") -> tuple[float, float]:
     return (lo, hi)
 
 
+def _real_number(value, name: str, expected: str = "a number") -> float:
+    """``value`` as a float if it is a real number (not a bool), else a TypeError."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be {expected}, got {type(value).__name__}")
+    return float(value)
+
+
 def check_probability(
     value, name: str, *, open_low: bool = False, open_high: bool = False
 ) -> float:
     """Validate a number in [0, 1] (ends optionally open)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a number in [0, 1], got {type(value).__name__}")
-    v = float(value)
+    v = _real_number(value, name, "a number in [0, 1]")
     low_ok = v > 0 if open_low else v >= 0
     high_ok = v < 1 if open_high else v <= 1
     if not (math.isfinite(v) and low_ok and high_ok):
@@ -217,9 +222,7 @@ def check_probability(
 
 def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
     """Validate a finite positive (or non-negative) number."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    v = float(value)
+    v = _real_number(value, name)
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
         want = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {want}, got {v}")
@@ -238,9 +241,7 @@ def check_finite(value, name: str) -> float:
     ...
     ValueError: theta must be a finite number, got nan
     """
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    v = float(value)
+    v = _real_number(value, name)
     if not math.isfinite(v):
         raise ValueError(f"{name} must be a finite number, got {v}")
     return v
