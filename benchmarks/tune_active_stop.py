@@ -26,30 +26,27 @@ from multiprocessing import Pool
 
 import numpy as np
 
-import comcore
-
 RADII_M = (0.003, 0.0035, 0.004, 0.0045, 0.005, 0.006)
 
 
 def trajectory(job):
     """Errors (cm) and credible radii (m) after 0..budget pushes of one trial."""
-    from comcore.bench._builtins import _hypothesis_model
+    from comcore.bench._builtins import _active
     from comcore.bench._trial import run_trial
 
     spec, budget, trial_candidates, options = job
     ctx = run_trial(dataclasses.replace(spec, estimators=("centroid",)), keep=True).context
     sim = ctx.simulator
-    est = comcore.estimate_active(
-        ctx.mask,
-        lambda a: sim.push(a).motion,
-        ctx.candidates if trial_candidates else None,
-        budget,
-        model=_hypothesis_model(ctx, "ellipsoid"),
-        rng=spec.rng("estimator:active"),
-        target_radius=1e-6,
-        min_information=0.0,
-        **options,
+    # The benchmark's own call, on the random stream its "active" row gets (run_trial),
+    # never stopping early: min_information=0 also keeps "uninformative" runs going.
+    ctx = dataclasses.replace(
+        ctx, rng=spec.rng("estimator:active"), push=lambda a: sim.push(a).motion
     )
+    candidates = "trial" if trial_candidates else "own"
+    est = _active(
+        ctx, candidates=candidates, max_pushes=budget, target_radius=1e-6, min_information=0.0,
+        **options,
+    )  # fmt: skip
     cm = 100 * ctx.mask.resolution
     history = est.extras["history"]
     errors = [float(np.hypot(*np.subtract(h["com"], sim.com_px))) * cm for h in history]
