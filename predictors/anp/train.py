@@ -18,7 +18,6 @@ import argparse
 import datetime
 import json
 import math
-import resource
 import shlex
 import sys
 import time
@@ -44,8 +43,12 @@ def peak_rss_mib() -> dict:
         ``self``: this process's peak; ``children``: the largest peak of the
         waited-for child processes (the ``--workers`` simulation processes),
         0 when there were none. Linux reports ``ru_maxrss`` in KiB, macOS in
-        bytes.
+        bytes; where the ``resource`` module is missing (Windows) both are ``None``.
     """
+    try:
+        import resource  # POSIX only
+    except ImportError:  # Windows: not measured
+        return {"self": None, "children": None}
     unit = 1 if sys.platform == "darwin" else 1024
     return {
         who: round(resource.getrusage(flag).ru_maxrss * unit / 2**20, 1)
