@@ -47,6 +47,7 @@ from ._validation import (
     check_point,
     check_points,
     check_priors,
+    check_rng,
 )
 
 __version__ = "0.1.0"
@@ -75,6 +76,7 @@ __all__ = [
     "check_points",
     "check_predictor",
     "check_priors",
+    "check_rng",
     "contacts",
     "equality_score",
     "estimate_active",

@@ -24,6 +24,7 @@ __all__ = [
     "check_points",
     "check_priors",
     "check_probability",
+    "check_rng",
 ]
 
 
@@ -265,3 +266,43 @@ def check_point(value, name: str = "point") -> np.ndarray:
             f"{name} must be a single point of shape (2,), got shape {np.shape(value)}"
         )
     return arr[0]
+
+
+def check_rng(rng, name: str = "rng") -> np.random.Generator:
+    """A :class:`numpy.random.Generator` from ``None``, a seed or a generator.
+
+    ``None`` gives a fresh generator (OS entropy), a non-negative int (or a
+    sequence of them, or a :class:`numpy.random.SeedSequence`) a seeded one; a
+    Generator is returned as it is (the caller's stream is shared, not copied).
+
+    Examples
+    --------
+    >>> check_rng(0).random() == check_rng(0).random()
+    True
+    >>> check_rng(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: rng must be None, a non-negative int seed or a numpy Generator, got -1
+    >>> check_rng("a")
+    Traceback (most recent call last):
+    ...
+    TypeError: rng must be None, a non-negative int seed or a numpy Generator, got str
+    """
+    if rng is None or isinstance(rng, (np.random.Generator, np.random.SeedSequence)):
+        return np.random.default_rng(rng)
+    want = "None, a non-negative int seed or a numpy Generator"
+    if isinstance(rng, (bool, np.bool_)) or isinstance(rng, (str, bytes, float, np.floating)):
+        raise TypeError(f"{name} must be {want}, got {type(rng).__name__}")
+    if isinstance(rng, (int, np.integer)):
+        if rng < 0:
+            raise ValueError(f"{name} must be {want}, got {rng}")
+        return np.random.default_rng(int(rng))
+    if isinstance(rng, np.random.BitGenerator):
+        return np.random.default_rng(rng)
+    try:
+        seeds = [int(s) for s in rng if not isinstance(s, (bool, float, str))]
+        if len(seeds) != len(rng) or any(s < 0 for s in seeds):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be {want}, got {type(rng).__name__}") from None
+    return np.random.default_rng(seeds)
