@@ -453,3 +453,34 @@ def test_stopping_rule_script_runs():
     args = ["--objects", "Obj3", "--trials", "1", "--budget", "3", "--workers", "1"]
     out = _run_script("benchmarks/tune_active_stop.py", *args)
     assert "2 trials, seed 1" in out and "| 3 | 4.5 |" in out
+
+
+# -- the golden record (benchmarks/make_active_golden.py) ------------------------------
+
+
+def _golden():
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent / "data" / "active_golden.json"
+    return json.loads(path.read_text())
+
+
+@pytest.mark.parametrize("name", ["toy-0", "toy-3", "sim-0", "sim-1", "sim-model-0", "sim-model-2"])
+def test_estimate_active_reproduces_the_golden_record(name):
+    """Same seed, object reset before every push: the results recorded before the session."""
+    import importlib.util
+    from pathlib import Path
+
+    if name.startswith("sim"):
+        pytest.importorskip("shapely")  # simulators.random_simulator
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "make_active_golden.py"
+    spec = importlib.util.spec_from_file_location("make_active_golden", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    got, want = script.run(name), _golden()[name]
+    assert got["used"] == want["used"] and got["status"] == want["status"]
+    np.testing.assert_allclose(got["com"], want["com"], atol=1e-9, rtol=0)
+    np.testing.assert_allclose(got["credible_radius_px"], want["credible_radius_px"], atol=1e-9)
+    np.testing.assert_allclose(got["entropies"], want["entropies"], atol=1e-9)
+    np.testing.assert_allclose(got["motions"], want["motions"], atol=1e-12)
