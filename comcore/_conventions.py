@@ -45,6 +45,27 @@ LENGTH_EPS = 1e-9
 ANGLE_EPS = 1e-12
 
 
+def _finite_array(value, name: str) -> np.ndarray:
+    """``value`` as a float array if it holds only finite real numbers, else a clear error."""
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be array_like of real numbers, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be array_like of real numbers; {e}") from e
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} must be finite, got NaN or inf")
+    return arr
+
+
+def _vectors(value, name: str) -> np.ndarray:
+    """Finite pixel vectors, shape (..., 2)."""
+    arr = _finite_array(value, name)
+    if arr.ndim == 0 or arr.shape[-1] != 2:
+        raise ValueError(f"{name} must have shape (..., 2) (pixel vectors), got {arr.shape}")
+    return arr
+
+
 def rotation_matrix(theta: float) -> np.ndarray:
     """Return the 2 x 2 matrix turning pixel vectors by ``theta`` (CCW on screen).
 
@@ -85,13 +106,33 @@ def rotate_vectors(vectors, theta) -> np.ndarray:
     -------
     numpy.ndarray, shape (n, 2)
 
+    Raises
+    ------
+    ValueError
+        If ``vectors`` is not of shape (..., 2), ``theta`` does not broadcast
+        against ``vectors[..., 0]``, or either holds NaN or inf.
+    TypeError
+        If either is not numeric.
+
     Examples
     --------
     >>> rotate_vectors([[1.0, 0.0], [1.0, 0.0]], [np.pi / 2, -np.pi / 2]).round(12) + 0.0
     array([[ 0., -1.],
            [ 0.,  1.]])
+    >>> rotate_vectors([1.0, 2.0, 3.0], 0.1)
+    Traceback (most recent call last):
+    ...
+    ValueError: vectors must have shape (..., 2) (pixel vectors), got (3,)
     """
-    v = np.asarray(vectors, dtype=float)
+    v = _vectors(vectors, "vectors")
+    theta = _finite_array(theta, "theta")
+    try:
+        np.broadcast_shapes(theta.shape, v.shape[:-1])
+    except ValueError:
+        raise ValueError(
+            f"theta must broadcast against the vectors: got shape {theta.shape} "
+            f"for vectors of shape {v.shape}"
+        ) from None
     c, s = np.cos(theta), np.sin(theta)
     return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
 
@@ -189,6 +230,14 @@ def ccw_cross(a, b) -> np.ndarray:
         from a pivot, this is the moment about the pivot, positive when it
         turns the object counter-clockwise on screen.
 
+    Raises
+    ------
+    ValueError
+        If ``a`` or ``b`` is not of shape (..., 2), they do not broadcast, or
+        either holds NaN or inf.
+    TypeError
+        If either is not numeric.
+
     Examples
     --------
     Pushing right (+x) on a point above the pivot (smaller row) turns the
@@ -196,9 +245,22 @@ def ccw_cross(a, b) -> np.ndarray:
 
     >>> float(ccw_cross([0.0, -1.0], [1.0, 0.0]))
     -1.0
+    >>> ccw_cross([1.0, 2.0, 3.0], [1.0, 2.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: a must have shape (..., 2) (pixel vectors), got (3,)
     """
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
+    a = _vectors(a, "a")
+    b = _vectors(b, "b")
+    try:
+        np.broadcast_shapes(a.shape, b.shape)
+    except ValueError:
+        raise ValueError(f"a and b must broadcast, got shapes {a.shape} and {b.shape}") from None
+    return _ccw_cross(a, b)
+
+
+def _ccw_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unvalidated core of :func:`ccw_cross` for float arrays the caller has checked."""
     return -(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
 
 
@@ -217,10 +279,25 @@ def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
     numpy.ndarray of int
         Same shape as ``theta``.
 
+    Raises
+    ------
+    ValueError
+        If ``theta`` holds NaN or inf, or ``tol`` is negative or not finite.
+    TypeError
+        If ``theta`` or ``tol`` is not numeric.
+
     Examples
     --------
     >>> rotation_sign([0.2, -0.1, 0.0])
     array([ 1, -1,  0])
+    >>> rotation_sign([float("nan")])
+    Traceback (most recent call last):
+    ...
+    ValueError: theta must be finite, got NaN or inf
     """
-    t = np.asarray(theta, dtype=float)
+    t = _finite_array(theta, "theta")
+    if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
+        raise TypeError(f"tol must be a number >= 0, got {type(tol).__name__}")
+    if not (np.isfinite(tol) and tol >= 0):
+        raise ValueError(f"tol must be a finite number >= 0, got {tol}")
     return np.where(np.abs(t) <= tol, 0, np.sign(t)).astype(int)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._conventions import ANGLE_EPS, ccw_cross, rotation_sign
+from ._conventions import ANGLE_EPS, _ccw_cross, rotation_sign
 from ._geometry import contacts
 from ._mask import Mask
 from ._validation import (
@@ -61,10 +61,10 @@ def _moments(r, normal, push_dir, alpha):
     ``r``: (m, 2); ``alpha``: scalar or (m, k) cone half-angles. Returns the
     left edge, right edge and push moments, broadcast to a common shape.
     """
-    across = ccw_cross(r, normal)  # |r| sin(phi), phi = angle from r to the normal
+    across = _ccw_cross(r, normal)  # |r| sin(phi), phi = angle from r to the normal
     along = r @ normal  # |r| cos(phi)
     alpha = np.asarray(alpha, dtype=float)
-    push = ccw_cross(r, push_dir)
+    push = _ccw_cross(r, push_dir)
     if alpha.ndim == 2:
         across, along, push = across[:, None], along[:, None], push[:, None]
     cos_a, sin_a = np.cos(alpha), np.sin(alpha)
@@ -128,13 +128,24 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     c = check_point(contact, "contact")
     n = _unit(normal, "normal")
     v = _unit(push_dir, "push_dir")
+    mu = _single_mu(mu)
+    band = check_positive(band, "band", allow_zero=True)
+    left, right, push = _moments(c - pts, n, v, np.arctan(mu))
+    out = _majority(left, right, push, band)
+    return out[0] if single else out
+
+
+def _single_mu(mu) -> float:
+    """One friction coefficient >= 0, ``inf`` included (a cone half-angle of pi/2)."""
+    is_number = isinstance(mu, (int, float, np.integer, np.floating)) and not isinstance(mu, bool)
+    if is_number and float(mu) == np.inf:
+        return np.inf
+    if mu is None:
+        raise ValueError("mu must be a single value for rotation_sense, got None (unknown)")
     lo, hi = check_mu(mu)
     if lo != hi:
         raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
-    band = check_positive(band, "band", allow_zero=True)
-    left, right, push = _moments(c - pts, n, v, np.arctan(lo))
-    out = _majority(left, right, push, band)
-    return out[0] if single else out
+    return lo
 
 
 def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 0.5) -> np.ndarray:
@@ -190,9 +201,9 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     than everything else here together. At ``alpha*`` the deciding edge's
     moment is then exactly 0, as it is mathematically.
     """
-    across = ccw_cross(r, normal)  # |r| sin(phi): offset across the normal
+    across = _ccw_cross(r, normal)  # |r| sin(phi): offset across the normal
     along = r @ normal  # |r| cos(phi): offset along the normal
-    push = ccw_cross(r, push_dir)
+    push = _ccw_cross(r, push_dir)
     c_lo, s_lo, c_hi, s_hi = np.cos(a_lo), np.sin(a_lo), np.cos(a_hi), np.sin(a_hi)
     hyp = np.hypot(across, along)
     with np.errstate(invalid="ignore", divide="ignore"):

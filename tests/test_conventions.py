@@ -110,3 +110,35 @@ def test_apply_motion_rejects_bad_input(args, error, match):
     # NaN theta used to give NaN points and a (1, 3) points array a numpy broadcast error.
     with pytest.raises(error, match=match):
         comcore.apply_motion(*args)
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "match"),
+    [
+        # [1, 2, 3] used to come back as a 2-vector built from its first two numbers.
+        (lambda: comcore.rotate_vectors([1, 2, 3], 0.1), ValueError, r"vectors must have shape"),
+        (lambda: comcore.rotate_vectors([[1, 0]], np.nan), ValueError, "theta must be finite"),
+        (lambda: comcore.rotate_vectors([[1, 0]] * 3, [0.1, 0.2]), ValueError, "theta must broad"),
+        (lambda: comcore.rotate_vectors("ab", 0.1), TypeError, "vectors must be array_like"),
+        # used to return -0.0 from the first two numbers of a 3-vector
+        (lambda: comcore.ccw_cross([1, 2, 3], [1, 2]), ValueError, r"a must have shape"),
+        (lambda: comcore.ccw_cross([1, 2], [[1, 2, 3]]), ValueError, r"b must have shape"),
+        (lambda: comcore.ccw_cross([[1, 2]] * 3, [[1, 2]] * 2), ValueError, "must broadcast"),
+        (lambda: comcore.ccw_cross("ab", [1, 2]), TypeError, "a must be array_like"),
+        (lambda: comcore.ccw_cross([np.inf, 0], [1, 2]), ValueError, "a must be finite"),
+        # used to return -9223372036854775808 (NaN cast to int)
+        (lambda: comcore.rotation_sign([np.nan]), ValueError, "theta must be finite"),
+        (lambda: comcore.rotation_sign(["x"]), TypeError, "theta must be array_like"),
+        (lambda: comcore.rotation_sign([0.1], tol=-1), ValueError, "tol must be a finite"),
+        (lambda: comcore.rotation_sign([0.1], tol="0"), TypeError, "tol must be a number"),
+    ],
+)
+def test_convention_helpers_reject_bad_input(call, error, match):
+    with pytest.raises(error, match=match):
+        call()
+
+
+def test_convention_helpers_still_broadcast():
+    assert comcore.ccw_cross([[1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).tolist() == [-1.0, -0.0]
+    assert comcore.rotate_vectors(np.zeros((2, 3, 2)), np.zeros(3)).shape == (2, 3, 2)
+    assert comcore.rotation_sign(0.5).shape == ()

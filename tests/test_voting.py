@@ -170,3 +170,13 @@ def test_rotation_sense_and_consistent_take_one_push(args, match):
         vt.rotation_sense([[1, 1], [2, 2]], *args, mu=0.3)
     with pytest.raises(ValueError, match=match):
         vt.consistent([[1, 1], [2, 2]], *args, sense=1)
+
+
+def test_rotation_sense_takes_an_infinite_mu():
+    # mu = inf is allowed by the docstring (cone half-angle pi/2) and was refused.
+    com = [[5, 3], [5, 7], [3, 5]]
+    contact, normal, push = (0, 5), (1, 0), (1, 0.5)
+    inf = vt.rotation_sense(com, contact, normal, push, mu=np.inf)
+    assert inf.tolist() == vt.rotation_sense(com, contact, normal, push, mu=1e12).tolist()
+    with pytest.raises(ValueError, match=r"single value for rotation_sense, got None"):
+        vt.rotation_sense(com, contact, normal, push, mu=None)
