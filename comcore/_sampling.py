@@ -7,7 +7,7 @@ import numpy as np
 from ._conventions import pixel_centres, rotate_vectors
 from ._geometry import contacts
 from ._mask import Mask
-from ._validation import check_mask, check_positive
+from ._validation import check_mask, check_positive, check_rng
 
 __all__ = ["sample_pushes"]
 
@@ -80,13 +80,13 @@ def sample_pushes(
     mask = check_mask(mask)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
         raise ValueError(f"n must be a non-negative integer, got {n!r}")
-    cone = check_positive(cone, "cone", allow_zero=True)
+    cone = check_positive(cone, "cone", allow_zero=True) + 0.0  # -0.0 is 0 (uniform(0, -0.0) fails)
     if cone >= np.pi / 2:
         raise ValueError(f"cone must be in [0, pi/2), got {cone}")
     travel_px = check_positive(travel, "travel") / mask.resolution
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
     clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
-    rng = np.random.default_rng(rng)
+    rng = check_rng(rng)
     outline = pixel_centres(mask.boundary)
     out = np.empty((0, 4))
     for _ in range(50):

@@ -47,7 +47,7 @@ def random_com(shape: ObjectShape, rng=None, depth_fraction: float = COM_DEPTH_F
     shapely = require_shapely()
     from shapely.ops import polylabel
 
-    rng = np.random.default_rng(rng)
+    rng = comcore.check_rng(rng)
     poly = shape.polygon()
     inradius = poly.exterior.distance(polylabel(poly, tolerance=1e-5))
     min_depth = depth_fraction * inradius
@@ -106,7 +106,7 @@ def random_simulator(
         lo, hi = FRICTION_CLASSES[friction]
     else:
         lo, hi = comcore.check_mu(friction, "friction")
-    rng = np.random.default_rng(rng)
+    rng = comcore.check_rng(rng)
     mu = float(rng.uniform(lo, hi))
     style = MASS_STYLES[int(rng.integers(len(MASS_STYLES)))]
     point_masses: list[tuple[float, float, float]] = []

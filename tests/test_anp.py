@@ -153,6 +153,15 @@ def test_bad_input_is_named(scene):
         AnpPredictor(model=AnpModel(TINY), threads=0)
 
 
+@pytest.mark.parametrize(("rng", "error"), [(-1, ValueError), ("a", TypeError)])
+def test_a_bad_rng_is_named(scene, rng, error):
+    mask, queries, priors = scene
+    with pytest.raises(error, match="rng must be None, a non-negative int seed"):
+        tiny_predictor().predict_distribution(mask, queries, priors, n_samples=2, rng=rng)
+    with pytest.raises(error, match="rng must be None, a non-negative int seed"):
+        random_polygon(rng)
+
+
 def test_thread_setting_is_restored(scene):
     mask, queries, priors = scene
     before = torch.get_num_threads()

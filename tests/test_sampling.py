@@ -45,6 +45,18 @@ def test_sampling_errors(square_mask, kwargs, match):
         comcore.sample_pushes(square_mask, **kwargs)
 
 
+def test_a_negative_zero_cone_is_a_zero_cone(square_mask):
+    # cone=-0.0 used to fail inside numpy ("high - low < 0").
+    a = comcore.sample_pushes(square_mask, 5, cone=-0.0, rng=3)
+    assert np.array_equal(a, comcore.sample_pushes(square_mask, 5, cone=0.0, rng=3))
+
+
+@pytest.mark.parametrize(("rng", "error"), [(-1, ValueError), ("a", TypeError), (0.5, TypeError)])
+def test_sampling_names_a_bad_rng(square_mask, rng, error):
+    with pytest.raises(error, match="rng must be None, a non-negative int seed"):
+        comcore.sample_pushes(square_mask, 2, rng=rng)
+
+
 def test_starts_keep_clear_of_a_concave_object(l_mask):
     pushes = comcore.sample_pushes(l_mask, 100, cone=0.6, standoff=0.03, clearance=0.02, rng=2)
     free = l_mask.distance_to_object(pushes[:, :2]) - 0.5 * np.sqrt(2)

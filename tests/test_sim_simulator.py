@@ -101,6 +101,15 @@ def test_random_simulator_bad_arguments():
         simulators.random_simulator(42)
 
 
+@pytest.mark.parametrize(("rng", "error"), [(-1, ValueError), ("a", TypeError)])
+def test_random_trials_name_a_bad_rng(rng, error):
+    # numpy's own message ("expected non-negative integer") did not name rng.
+    with pytest.raises(error, match="rng must be None, a non-negative int seed"):
+        simulators.random_simulator("Obj1", rng=rng)
+    with pytest.raises(error, match="rng must be None, a non-negative int seed"):
+        simulators.random_com(simulators.load_object("Obj1"), rng=rng)
+
+
 def test_constructor_validation():
     shape = simulators.ObjectShape(RECT)
     mass = simulators.MassDistribution.on_shape(shape)

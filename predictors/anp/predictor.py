@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from comcore import check_actions, check_mask, check_priors
+from comcore import check_actions, check_mask, check_priors, check_rng
 
 from .features import (
     T_SCALE,
@@ -195,6 +195,7 @@ class AnpPredictor:
             raise TypeError(f"n_samples must be an int >= 0, got {type(n_samples).__name__}")
         if n_samples < 0:
             raise ValueError(f"n_samples must be an int >= 0, got {n_samples}")
+        rng = check_rng(rng)
         n = acts.shape[0]
         if n == 0:
             return np.zeros((0, 3)), np.zeros((0, 3))
@@ -216,7 +217,7 @@ class AnpPredictor:
                 mean_t = dist.mean[0].double().numpy()
                 var_t = dist.variance[0].double().numpy()
             else:
-                seed = int(np.random.default_rng(rng).integers(2**63 - 1))
+                seed = int(rng.integers(2**63 - 1))
                 gen = torch.Generator().manual_seed(seed)
                 eps = torch.randn((n_samples, q_z.mean.shape[-1]), generator=gen)
                 z = q_z.mean + q_z.stddev * eps

@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from comcore import check_rng
+
 __all__ = ["AREA_RANGE_M2", "polygon_area", "random_polygon", "rasterise"]
 
 #: Areas of the generated objects, square metres (log-uniform).
@@ -85,7 +87,7 @@ def random_polygon(rng=None, area_range=AREA_RANGE_M2) -> np.ndarray:
     >>> np.array_equal(v, random_polygon(0))
     True
     """
-    rng = np.random.default_rng(rng)
+    rng = check_rng(rng)
     lo, hi = (float(a) for a in area_range)
     if not 0 < lo <= hi:
         raise ValueError(f"area_range must be (lo, hi) with 0 < lo <= hi, got {area_range}")
