@@ -30,6 +30,7 @@ __all__ = [
     "LENGTH_EPS",
     "apply_motion",
     "ccw_cross",
+    "object_motion_from_camera",
     "pixel_centres",
     "quarter_turn_ccw",
     "rotate_vectors",
@@ -213,6 +214,42 @@ def apply_motion(points, theta, translation, center) -> np.ndarray:
     c = check_point(center, "center")
     moved = (pts - c) @ rotation_matrix(theta).T + c + t
     return moved[0] if np.shape(points) == (2,) else moved
+
+
+def object_motion_from_camera(motion, pose_theta: float) -> np.ndarray:
+    """A motion seen by the camera, as the object's own motion from its first pose.
+
+    The object sits at a pose (rotation ``pose_theta`` and a translation,
+    relative to the first mask) and a push moves it by ``motion`` =
+    ``(theta, tx, ty)``: in the camera frame, about its current area centroid
+    (the image of the first mask's centroid). The same push made on the
+    object in its first pose would have moved it by ``(theta, R(-pose_theta)
+    (tx, ty))`` about the first mask's centroid: the rotation is the same and
+    the displacement is turned back into the first mask's frame.
+
+    Parameters
+    ----------
+    motion : array_like, shape (3,)
+        ``(theta, tx, ty)`` in the camera frame (radians, pixels).
+    pose_theta : float
+        Rotation (radians, CCW on screen) of the object's pose before the push.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        ``(theta, tx, ty)`` in the first mask's frame.
+
+    Examples
+    --------
+    An object turned a quarter turn: a push that moves it up the screen moved
+    it along its own +x axis.
+
+    >>> np.round(object_motion_from_camera((0.1, 0.0, -2.0), np.pi / 2), 12) + 0.0
+    array([0.1, 2. , 0. ])
+    """
+    theta, tx, ty = (float(v) for v in np.asarray(motion, dtype=float).reshape(3))
+    t = rotate_vectors(np.array([tx, ty]), -float(pose_theta))
+    return np.array([theta, t[0], t[1]])
 
 
 def ccw_cross(a, b) -> np.ndarray:
