@@ -22,6 +22,7 @@ from ._mass import MassDistribution, tilt_to_com
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
 from ._pushes import action_from_world, normal_pushes_through_com
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
+from ._robot import DEFAULT_CAMERA_MARGIN, RobotPush, SimulatedRobot
 from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
@@ -29,6 +30,7 @@ from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
 __all__ = [
     "BENCHMARK_AREAS_CM2",
     "BENCHMARK_OBJECTS",
+    "DEFAULT_CAMERA_MARGIN",
     "DEFAULT_PUSHER_RADIUS",
     "ENGINES",
     "FRICTION_CLASSES",
@@ -38,6 +40,8 @@ __all__ = [
     "ObjectShape",
     "PushResult",
     "PushSimulator",
+    "RobotPush",
+    "SimulatedRobot",
     "action_from_world",
     "check_polygon",
     "load_object",

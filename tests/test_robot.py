@@ -1,0 +1,160 @@
+"""SimulatedRobot: never reset, seeded noise, camera frame, engine option, bad input."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("shapely")
+pytest.importorskip("trimesh")
+
+from scipy import ndimage
+
+import comcore
+import simulators
+from simulators import SimulatedRobot
+from simulators._robot import perturb_actions
+
+
+@pytest.fixture(scope="module")
+def sim():
+    return simulators.random_simulator("Obj3", friction="high", rng=1)
+
+
+def _two_pushes(robot):
+    first = robot.camera_mask()
+    a1 = comcore.sample_pushes(first, 1, rng=0)[0]
+    robot.execute(a1)
+    a2 = comcore.sample_pushes(robot.camera_mask(), 1, rng=1)[0]
+    robot.execute(a2)
+    return a1, a2
+
+
+def test_two_pushes_compound_without_reset(sim):
+    robot = SimulatedRobot(sim, rng=0)
+    a1, a2 = _two_pushes(robot)
+    world = robot.simulator
+    after_one = world.push(a1).pose
+    assert np.allclose(robot.world_pose, world.push(a2, pose=after_one).pose)
+    assert not np.allclose(robot.world_pose, world.push(a2).pose, atol=1e-4)
+
+
+def test_pose_maps_the_first_mask_onto_the_current_one(sim):
+    robot = SimulatedRobot(sim, rng=0)
+    first = robot.camera_mask()
+    _two_pushes(robot)
+    pose = robot.pose
+    moved = comcore.apply_motion(first.pixels, pose.theta, (pose.tx, pose.ty), first.centroid)
+    assert np.allclose(moved.mean(axis=0), robot.camera_mask().centroid, atol=0.3)
+    com = comcore.apply_motion(robot.true_com_px(), pose.theta, (pose.tx, pose.ty), first.centroid)
+    assert np.allclose(com, robot.com_in_camera())
+
+
+def test_push_motion_is_about_the_centroid_before_it(sim):
+    robot = SimulatedRobot(sim, rng=0)
+    _two_pushes(robot)
+    before = robot.simulator.mask_at(robot.history[0].result.pose)
+    m = robot.history[1].motion
+    moved = comcore.apply_motion(before.pixels, m.theta, (m.tx, m.ty), before.centroid)
+    assert np.allclose(moved.mean(axis=0), robot.camera_mask().centroid, atol=0.3)
+
+
+def test_camera_frame_keeps_the_margin(sim):
+    robot = SimulatedRobot(sim, camera_margin=0.05)
+    h, w = sim.image_shape
+    margin_px = 2 * (0.05 - sim.margin) / sim.resolution
+    assert robot.image_shape == (h + round(margin_px), w + round(margin_px))
+    assert robot.true_com_px() == robot.simulator.com_px
+
+
+def test_seeded_determinism(sim):
+    runs = []
+    for seed in (3, 3, 4):
+        robot = SimulatedRobot(sim, pusher_error=0.003, angle_error=0.02, mask_noise=0.3, rng=seed)
+        _two_pushes(robot)
+        runs.append((np.array([p.executed for p in robot.history]), robot.camera_mask().data))
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+    assert not np.array_equal(runs[0][0], runs[2][0])
+
+
+def test_pusher_error_is_across_the_push_with_the_given_std(sim):
+    std = 0.003
+    robot = SimulatedRobot(sim, pusher_error=std, rng=5)
+    n = 300  # pushes in free space, beside the object: they miss and leave it where it is
+    commanded = np.column_stack(
+        [np.full(n, 2.0), np.linspace(2, 40, n), np.full(n, 2.0), np.full(n, 60.0)]
+    )
+    across, along = [], []
+    for act in commanded:
+        push = robot.execute(act)
+        assert not push.hit
+        d = np.asarray(push.executed) - act
+        across.append(-d[0])  # the path runs +y; its left-hand normal (CCW on screen) is -x
+        along.append(d[1])
+        assert np.allclose(d[:2], d[2:])  # the whole path is shifted, not turned
+    across_m = np.array(across) * robot.resolution
+    assert np.allclose(along, 0.0)
+    assert abs(across_m.mean()) < 3 * std / np.sqrt(n)
+    assert 0.85 * std < across_m.std() < 1.15 * std
+    assert robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+
+
+def test_perturb_actions_turns_about_the_start():
+    out = perturb_actions([[1.0, 1.0, 11.0, 1.0]], [0.0], [np.pi / 2])
+    assert np.allclose(out, [[1.0, 1.0, 1.0, -9.0]])  # CCW on screen: +x turns to -y
+
+
+def test_mask_noise_flips_only_the_outline(sim):
+    robot = SimulatedRobot(sim, mask_noise=0.5, rng=0)
+    exact = robot.simulator.mask.data
+    noisy = robot.camera_mask().data
+    band = ndimage.binary_dilation(exact) & ~ndimage.binary_erosion(exact, border_value=0)
+    changed = exact ^ noisy
+    assert changed.any() and not (changed & ~band).any()
+    assert 0.3 < changed.sum() / band.sum() < 0.7
+
+
+def test_exact_camera_mask_is_the_simulators(sim):
+    robot = SimulatedRobot(sim, camera_margin=None)
+    assert np.array_equal(robot.camera_mask().data, sim.mask.data)
+
+
+def test_object_leaving_the_view_raises(sim):
+    robot = SimulatedRobot(sim, camera_margin=0.013)
+    first = robot.camera_mask()
+    centre = np.array(first.centroid)
+    x0 = float(first.pixels[:, 0].min()) - 4
+    robot.execute((x0, centre[1], x0 + 40.0, centre[1]))  # 10 cm to the right
+    with pytest.raises(ValueError, match="left the camera's view"):
+        robot.camera_mask()
+
+
+def test_pymunk_engine_plays_the_robot(sim):
+    robot = SimulatedRobot(sim, engine="pymunk", rng=0)
+    assert robot.simulator.settings.engine == "pymunk"
+    exact = SimulatedRobot(sim, rng=0)
+    action = comcore.sample_pushes(robot.camera_mask(), 1, rng=0)[0]
+    a, b = robot.execute(action).motion, exact.execute(action).motion
+    assert a != b and abs(a.theta - b.theta) < 0.3 and abs(a.tx - b.tx) < 3
+
+
+def test_bad_input(sim):
+    with pytest.raises(TypeError, match="simulator"):
+        SimulatedRobot("Obj3")
+    with pytest.raises(ValueError, match="pusher_error"):
+        SimulatedRobot(sim, pusher_error=-0.001)
+    with pytest.raises(ValueError, match="mask_noise"):
+        SimulatedRobot(sim, mask_noise=1.0)
+    with pytest.raises(TypeError, match="engine"):
+        SimulatedRobot(sim, engine=3)
+    with pytest.raises(ValueError, match="engine"):
+        SimulatedRobot(sim, engine="box2d")
+    with pytest.raises(ValueError, match="rng"):
+        SimulatedRobot(sim, rng=-1)
+    robot = SimulatedRobot(sim, rng=0)
+    with pytest.raises(ValueError, match="action"):
+        robot.execute((1.0, 2.0, 3.0))
+    with pytest.raises(ValueError, match="action"):
+        robot.execute((1.0, 2.0, 1.0, 2.0))
+    centre = robot.camera_mask().centroid
+    with pytest.raises(ValueError, match="start outside"):
+        robot.execute((*centre, centre[0] + 10, centre[1]))
+    assert robot.pushes == 0 and robot.pose == comcore.Motion(0.0, 0.0, 0.0)
