@@ -8,8 +8,8 @@ import pytest
 
 pytest.importorskip("simulators")
 
-from comcore._cli import main
 from comcore.bench import PREDICTORS, PredictorSpec
+from comcore.cli import main
 
 TINY = ["--objects", "Obj3", "--trials", "1", "--friction", "low", "--candidates", "8",
         "--workers", "1", "--no-progress"]  # fmt: skip

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore._cli import main
+from comcore.cli import main
 
 HEADER = "sx,sy,ex,ey,theta,tx,ty\n"
 # A 20 x 20 square (pixels 4..23) pushed across its rows and columns; the
@@ -50,7 +50,9 @@ def test_json_output_matches_the_library(files, capsys):
     expected = comcore.estimate_progressive(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES])
     assert result["com_px"] == pytest.approx(expected.com)
     assert result["com_m"] == pytest.approx([0.01 * v for v in expected.com])
-    assert result["status"] == "ok" and result["used"] == list(expected.used)
+    assert result["status"] == "ok"
+    assert result["used_lines"] == [i + 2 for i in expected.used]  # CSV lines: header is line 1
+    assert result["region"]["area_px"] == int(expected.region.sum())
 
 
 @pytest.mark.parametrize("method", ["alg1", "alg2", "alg2-rotation", "centroid"])
@@ -92,6 +94,7 @@ def test_without_matplotlib_the_default_overlay_is_skipped_with_a_note(files, ca
     pytest.importorskip("cv2")  # reads the mask when matplotlib is gone
     tmp, mask, pushes = files
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    monkeypatch.delitem(sys.modules, "comcore.plot", raising=False)
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
     captured = capsys.readouterr()
     assert json.loads(captured.out)["overlay"] is None
@@ -111,7 +114,7 @@ def bad_case(tmp, name):
         return ["--mask", str(tmp / "text.png"), "--pushes", str(pushes)], "cannot read"
     if name == "empty mask":
         write_png(tmp / "black.png", np.zeros((10, 10)))
-        return ["--mask", str(tmp / "black.png"), "--pushes", str(pushes)], "at least one object"
+        return ["--mask", str(tmp / "black.png"), "--pushes", str(pushes)], "black.png: "
     if name == "missing column":
         pushes.write_text("sx,sy,ex,ey,theta,tx\n0,13,30,13,0.2,3\n")
         return ["--mask", str(mask), "--pushes", str(pushes)], "lacks column(s) ty"
@@ -128,11 +131,28 @@ def bad_case(tmp, name):
         return ["--mask", str(mask), "--pushes", str(mask)], "cannot read"
     if name == "bad resolution":
         return ["--mask", str(mask), "--pushes", str(pushes), "--resolution", "-1"], "resolution"
+    if name == "centimetres for metres":
+        args = ["--mask", str(mask), "--pushes", str(pushes), "--resolution", "2.5"]
+        return args, "--resolution 2.5 m per pixel is implausible"
+    if name == "zero-length push":
+        pushes.write_text(HEADER + "0,13,30,13,0.1,3,0\n5,5,5,5,0.1,3,0\n")
+        return ["--mask", str(mask), "--pushes", str(pushes)], "line 3: the push has zero length"
+    if name == "line after a blank line":
+        pushes.write_text(HEADER + "0,13,30,13,0.1,3,0\n\n0,13,30,13,0.1,inf,0\n")
+        return ["--mask", str(mask), "--pushes", str(pushes)], "line 4, column tx: 'inf'"
+    if name == "no push hits":
+        pushes.write_text(HEADER + "0,1,30,1,0.1,3,0\n")  # along row 1, above the object
+        return ["--mask", str(mask), "--pushes", str(pushes)], "no push hits the object"
+    if name == "example and files":
+        return ["--example", "--mask", str(mask)], "--example replaces --mask and --pushes"
+    if name == "no input":
+        return ["--mask", str(mask)], "--pushes required (or --example)"
     raise AssertionError(name)
 
 
 CASES = ["missing mask", "not an image", "empty mask", "missing column", "NaN", "not a number",
-         "no rows", "binary csv", "bad resolution"]  # fmt: skip
+         "no rows", "binary csv", "bad resolution", "centimetres for metres", "zero-length push",
+         "line after a blank line", "no push hits", "example and files", "no input"]  # fmt: skip
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -144,11 +164,154 @@ def test_bad_files_exit_2_with_one_clear_line(files, capsys, name):
     assert captured.err.startswith("comcore estimate: ") and captured.err.count("\n") == 1
 
 
-def test_pushes_that_miss_the_object_exit_1(files, capsys):
+# Pushes that give no contact, each on the CSV line it gets below: a graze past the
+# square's top edge (pixel centres from row 4: the path at y = 3.49 misses them by 0.01 px),
+# a miss far away, and a start inside the object.
+BAD_PUSHES = {
+    4: ((0, 3.49, 30, 3.49, 0.1, 3, 0), "misses the object"),
+    6: ((0, 1, 30, 1, 0.1, 3, 0), "misses the object"),
+    7: ((10, 10, 30, 10, 0.1, 3, 0), "starts inside the object"),
+}
+
+
+def with_bad_pushes(path):
+    rows = list(PUSHES)
+    for line in sorted(BAD_PUSHES):
+        rows.insert(line - 2, BAD_PUSHES[line][0])
+    path.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in rows))
+
+
+def test_pushes_without_contact_are_dropped_with_one_warning_naming_their_lines(files, capsys):
     _, mask, pushes = files
-    pushes.write_text(HEADER + "0,1,30,1,0.1,3,0\n")  # along row 1, above the object
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes)]) == 1
-    assert "the pushes do not fit the mask" in capsys.readouterr().err
+    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
+    assert main(args) == 0
+    clean = json.loads(capsys.readouterr().out)
+    with_bad_pushes(pushes)
+    assert main(args) == 0
+    captured = capsys.readouterr()
+    result = json.loads(captured.out)
+    assert result["com_px"] == clean["com_px"] and result["n_pushes"] == 7
+    assert result["dropped_lines"] == {str(k): why for k, (_, why) in BAD_PUSHES.items()}
+    assert captured.err.count("\n") == 1
+    assert "dropped 3 of 7 pushes" in captured.err and "CSV line(s) 4, 6, 7" in captured.err
+
+
+def test_used_pushes_are_named_by_csv_line_after_drops(files, capsys):
+    _, mask, pushes = files
+    with_bad_pushes(pushes)
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
+    used = json.loads(capsys.readouterr().out)["used_lines"]
+    kept_lines = [2, 3, 5, 8]  # the lines of PUSHES once the bad ones are in
+    m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    expected = comcore.estimate_progressive(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES])
+    assert used == [kept_lines[i] for i in expected.used]
+
+
+def test_strict_refuses_pushes_without_contact(files, capsys):
+    _, mask, pushes = files
+    with_bad_pushes(pushes)
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--strict"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and "--strict: 3 push(es)" in captured.err
+    assert "CSV line(s) 4, 6, 7" in captured.err
+
+
+def test_help_shows_the_defaults_and_the_unit(capsys):
+    with pytest.raises(SystemExit):
+        main(["estimate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"METRES per pixel (default {comcore.DEFAULT_RESOLUTION:g} m" in text
+    assert "[1e-05, 0.05] are refused" in text
+    assert "the default where this build has it; else alg2" in text
+
+
+def test_the_overlay_says_when_it_replaces_a_file(files, capsys):
+    tmp, mask, pushes = files
+    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes)]
+    assert main(args) == 0
+    assert "replaced" not in capsys.readouterr().out
+    assert main(args) == 0
+    assert f"overlay: {tmp / 'object-overlay.png'} (replaced the existing file)" in (
+        capsys.readouterr().out
+    )
+    assert main([*args, "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["overlay_replaced"] is True
+    assert "overwrote the existing file" in captured.err
+
+
+def test_an_inverted_mask_is_read_or_named_as_the_problem(files, capsys):
+    tmp, _, pushes = files
+    write_png(tmp / "inverted.png", 1 - np.pad(np.ones((20, 20)), 4))
+    code = main(["estimate", "--mask", str(tmp / "inverted.png"), "--pushes", str(pushes),
+                 "--json", "--no-overlay"])  # fmt: skip
+    captured = capsys.readouterr()
+    if hasattr(comcore, "mask_from_image"):  # it finds the dark object itself
+        assert code == 0 and json.loads(captured.out)["com_px"] == [10.5, 10.5]
+    else:
+        assert code == 2 and "is the mask inverted?" in captured.err
+    assert "must start outside" not in captured.err
+
+
+def test_a_colour_photo_gets_a_message_about_the_image(files, capsys):
+    tmp, _, pushes = files
+    photo = np.zeros((28, 28, 3))
+    photo[..., 1] = 0.8  # green table
+    photo[4:24, 4:24] = (0.9, 0.1, 0.1)  # red object
+    from matplotlib.image import imsave
+
+    imsave(tmp / "photo.png", photo)
+    code = main(["estimate", "--mask", str(tmp / "photo.png"), "--pushes", str(pushes),
+                 "--json", "--no-overlay"])  # fmt: skip
+    captured = capsys.readouterr()
+    assert "must start outside" not in captured.err
+    if hasattr(comcore, "mask_from_image"):
+        assert code == 0 or captured.err.startswith("comcore estimate: --mask: ")
+    else:
+        assert code == 2 and "is a colour image, not a mask" in captured.err
+
+
+def test_the_shipped_example_runs_and_beats_the_centroid(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    from comcore.cli.estimate import example_files
+
+    files = example_files()
+    truth = json.loads(files["truth"].read_text())
+    errors = {}
+    for method in ("centroid", "alg2"):
+        assert main(["estimate", "--example", "--json", "--no-overlay", "--method", method]) == 0
+        result = json.loads(capsys.readouterr().out)
+        assert result["status"] == "ok" and result["dropped_lines"] == {}
+        errors[method] = float(np.hypot(*np.subtract(result["com_px"], truth["com_px"])))
+    assert errors["alg2"] < errors["centroid"] / 2
+    assert errors["alg2"] * truth["resolution"] < 0.02  # within 2 cm
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_example_overlay_goes_to_the_current_folder(tmp_path, monkeypatch, capsys):
+    pytest.importorskip("matplotlib")
+    monkeypatch.chdir(tmp_path)
+    assert main(["estimate", "--example"]) == 0
+    assert "overlay: example-overlay.png" in capsys.readouterr().out
+    assert (tmp_path / "example-overlay.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.skipif(not hasattr(comcore, "estimate_posterior"), reason="no estimate_posterior")
+def test_posterior_method_reports_its_credible_region(files, capsys):
+    _, mask, pushes = files
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+                 "--method", "posterior", "--no-overlay"]) == 0  # fmt: skip
+    result = json.loads(capsys.readouterr().out)
+    m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    expected = comcore.estimate_posterior(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES])
+    assert result["com_px"] == pytest.approx(expected.com)
+    assert result["region"]["area_px"] == int(expected.region.sum())
+    assert result["region"]["credible_radius_px"] == pytest.approx(
+        expected.extras["credible_radius_px"]
+    )
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method",
+                 "posterior", "--no-overlay"]) == 0  # fmt: skip
+    assert "credible region:" in capsys.readouterr().out
 
 
 def test_the_real_entry_point_never_prints_a_traceback(files):

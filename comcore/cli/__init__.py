@@ -1,8 +1,11 @@
-"""The ``comcore`` command line: ``comcore demo | bench | estimate``.
+"""The ``comcore`` command line: ``comcore estimate | demo | bench``.
 
-Each subcommand lives in its own module exposing ``HELP`` (one line),
-``add_arguments(parser)`` and ``run(args) -> int``; the modules are imported only
-when the command line starts, so ``import comcore`` stays light.
+The user's tools live here: :mod:`comcore.cli.estimate` (the CoM of your own
+object from a mask image and a CSV of pushes) and :mod:`comcore.cli.demo` (a
+simulated object). ``comcore bench``, the paper's evaluation harness, is
+:mod:`comcore.bench.command`. Each subcommand module exposes ``HELP`` (one
+line), ``add_arguments(parser)`` and ``run(args) -> int``; they are imported
+only when the command line starts, so ``import comcore`` stays light.
 """
 
 from __future__ import annotations
@@ -11,10 +14,13 @@ import argparse
 import importlib
 import sys
 
+__all__ = ["SUBCOMMANDS", "build_parser", "main"]
+
+#: Subcommand name -> module (each with ``HELP``, ``add_arguments`` and ``run``).
 SUBCOMMANDS = {
-    "demo": "comcore._demo",
+    "estimate": "comcore.cli.estimate",
+    "demo": "comcore.cli.demo",
     "bench": "comcore.bench.command",
-    "estimate": "comcore.bench.estimate_command",
 }
 
 
@@ -38,9 +44,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``comcore`` script; returns the exit status."""
+    """Entry point of the ``comcore`` script; returns the exit status (130 on Ctrl-C)."""
     args = build_parser().parse_args(argv)
-    return int(args._run(args) or 0)
+    try:
+        return int(args._run(args) or 0)
+    except KeyboardInterrupt:
+        print(f"comcore {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -2,34 +2,66 @@
 
 from __future__ import annotations
 
+import argparse
+import math
+import sys
+
 import numpy as np
 
 import comcore
+
+from ._options import non_negative_int, positive_int
 
 HELP = (
     "push a simulated benchmark object and compare the paper's two estimators (needs comcore[sim])"
 )
 
 
+def _object_name(text: str) -> str:
+    try:
+        import simulators
+    except ImportError:  # reported by run(), with the extra to install
+        return text
+    if text not in simulators.BENCHMARK_OBJECTS:
+        raise argparse.ArgumentTypeError(
+            f"unknown object {text!r}; expected one of Obj1..Obj{len(simulators.BENCHMARK_OBJECTS)}"
+        )
+    return text
+
+
+def _cone(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of radians, got {text!r}") from None
+    if not (math.isfinite(value) and 0.0 <= value < math.pi / 2):
+        raise argparse.ArgumentTypeError(f"expected radians in [0, pi/2), got {text}")
+    return abs(value)  # -0.0 is 0.0
+
+
 def add_arguments(parser) -> None:
     """Options of ``comcore demo``."""
-    parser.add_argument("--object", default="Obj7", help="benchmark object name (Obj1..Obj20)")
-    parser.add_argument("--friction", choices=("low", "high"), default="low")
-    parser.add_argument("--pushes", type=int, default=60, help="number of candidate pushes")
-    parser.add_argument(
-        "--cone", type=float, default=0.3, help="push directions: radians about the normal"
-    )
-    parser.add_argument("--seed", type=int, default=0)
+    add = parser.add_argument
+    add("--object", type=_object_name, default="Obj7", help="benchmark object (Obj1..Obj20)")
+    add("--friction", choices=("low", "high"), default="low", help="friction class")
+    add("--pushes", type=positive_int, default=60, help="number of candidate pushes")
+    add("--cone", type=_cone, default=0.3, help="push directions about the normal (radians)")
+    add("--seed", type=non_negative_int, default=0, help="seed of the random draws")
 
 
 def run(args) -> int:
-    """Run the demo; returns the exit status."""
+    """Run the demo; returns the exit status (2 when the simulator's extra is missing)."""
     try:
-        import simulators
-        from predictors import OraclePredictor
+        return _run(args)
     except ImportError as e:
-        print(f"comcore demo needs the simulator: pip install comcore[sim] ({e})")
+        print(f"comcore demo needs the simulator: pip install comcore[sim] ({e})", file=sys.stderr)
         return 2
+
+
+def _run(args) -> int:
+    import simulators
+    from predictors import OraclePredictor
+
     rng = np.random.default_rng(args.seed)
     sim = simulators.random_simulator(args.object, friction=args.friction, rng=rng)
     mask = sim.mask

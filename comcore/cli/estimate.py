@@ -1,53 +1,109 @@
 """``comcore estimate``: the CoM of your own object from a mask image and a CSV of pushes.
 
-The mask is a PNG (or any image OpenCV or matplotlib reads) seen from above:
-pixels brighter than 127 in grayscale are the object. The CSV has one row per
-push with the columns ``sx, sy, ex, ey`` (the pusher's path in pixels, x =
-column, y = row down) and ``theta, tx, ty`` (the observed rotation in radians,
-counter-clockwise on screen, and the displacement of the mask's area centroid
-in pixels): the conventions of :mod:`comcore._conventions`.
+The mask is an image of the object seen from above, read through
+:func:`comcore.mask_from_image` (where this build has it). The CSV has one row
+per push with the columns ``sx, sy, ex, ey`` (the pusher's path in pixels,
+x = column, y = row down) and ``theta, tx, ty`` (the observed rotation in
+radians, counter-clockwise on screen, and the displacement of the mask's area
+centroid in pixels): the conventions of :mod:`comcore._conventions`. Every
+push must start from the pose of the mask.
+
+Pushes that miss the object (a graze past a corner included) or start inside
+it are dropped with one warning naming their CSV line numbers; ``--strict``
+refuses them. ``--example`` runs on the small recording shipped in
+``comcore/data/examples/``.
 """
 
 from __future__ import annotations
 
-import csv
 import json
-import math
 import sys
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
 import comcore
 
+from ._inputs import (
+    COLUMNS,
+    RESOLUTION_RANGE,
+    InputError,
+    check_resolution,
+    read_mask,
+    read_pushes,
+    screen_pushes,
+)
+
 HELP = "estimate the CoM of your object from a mask image and a CSV of observed pushes"
 
-COLUMNS = ("sx", "sy", "ex", "ey", "theta", "tx", "ty")
-METHODS = ("alg1", "alg2", "alg2-rotation", "centroid")
+#: Methods without the offline posterior; ``posterior`` joins when the core has it.
+BASE_METHODS = ("alg2", "alg2-rotation", "alg1", "centroid")
+#: The example shipped with the package (``--example``): files in comcore/data/examples/.
+EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 
 
-class InputError(ValueError):
-    """A problem with the user's files, reported as one line on stderr."""
+def methods() -> tuple[str, ...]:
+    """The methods this build offers, the default first."""
+    if hasattr(comcore, "estimate_posterior"):
+        return ("posterior", *BASE_METHODS)
+    return BASE_METHODS
 
 
-class NoPlotting(InputError):
-    """matplotlib, which draws the overlay, is not installed."""
+def default_method() -> str:
+    """``posterior`` where the core has it, else ``alg2`` (see ``--help``)."""
+    return methods()[0]
+
+
+def example_files() -> dict[str, Path]:
+    """Paths of the shipped example: ``{"mask": ..., "pushes": ..., "truth": ...}``."""
+    folder = resources.files("comcore") / "data" / "examples"
+    return {key: Path(str(folder / name)) for key, name in EXAMPLE.items()}
 
 
 def add_arguments(parser) -> None:
     """Options of ``comcore estimate``."""
     add = parser.add_argument
-    add("--mask", required=True, help="image of the object seen from above (> 127 = object)")
-    add("--pushes", required=True, help="CSV with columns " + ", ".join(COLUMNS))
-    add("--resolution", type=float, default=comcore.DEFAULT_RESOLUTION, help="metres per pixel")
-    add("--method", choices=METHODS, default="alg2", help="estimator (default alg2)")
+    files = parser.add_argument_group("input (--mask and --pushes, or --example)")
+    files.add_argument("--mask", help="image of the object seen from above (object bright)")
+    files.add_argument("--pushes", help="CSV with the columns " + ", ".join(COLUMNS))
+    files.add_argument(
+        "--example",
+        action="store_true",
+        help="use the example shipped with comcore (an object image and 40 simulated pushes)",
+    )
+    lo, hi = RESOLUTION_RANGE
+    add(
+        "--resolution",
+        type=float,
+        default=comcore.DEFAULT_RESOLUTION,
+        help=f"camera resolution in METRES per pixel (default {comcore.DEFAULT_RESOLUTION:g} m "
+        f"= {comcore.DEFAULT_RESOLUTION * 1000:g} mm); values outside [{lo:g}, {hi:g}] are refused",
+    )
+    add(
+        "--method",
+        choices=methods(),
+        default=default_method(),
+        help="estimator. posterior: the active estimator's posterior over the recorded "
+        "pushes, with a credible region; it weighs every push, so one push observed the "
+        "wrong way does not cut the true CoM away as it does in alg2 (the default where "
+        "this build has it; else alg2). alg2: the paper's Alg. 2; alg2-rotation: Alg. 2 "
+        "taking pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
+    )
+    add(
+        "--strict",
+        action="store_true",
+        help="refuse pushes that miss the object or start inside it (default: drop them "
+        "with a warning)",
+    )
     add("--json", action="store_true", help="print one JSON object instead of text")
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
         "--overlay",
         metavar="PNG",
         help="where to write the picture of the mask, pushes, region and estimate "
-        "(default: MASK_STEM-overlay.png next to the mask)",
+        "(default: MASK_STEM-overlay.png next to the mask; example-overlay.png here with "
+        "--example)",
     )
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
 
@@ -55,7 +111,8 @@ def add_arguments(parser) -> None:
 def overlay_path(args) -> Path | None:
     """Where the overlay goes: ``--overlay``, else ``<mask stem>-overlay.png`` beside the mask.
 
-    ``None`` with ``--no-overlay``.
+    ``None`` with ``--no-overlay``; ``example-overlay.png`` in the current folder
+    with ``--example`` (the package's folder may not be writable).
 
     Examples
     --------
@@ -69,76 +126,16 @@ def overlay_path(args) -> Path | None:
         return None
     if getattr(args, "overlay", None):
         return Path(args.overlay)
+    if getattr(args, "example", False):
+        return Path("example-overlay.png")
     mask = Path(args.mask)
     return mask.with_name(f"{mask.stem}-overlay.png")
 
 
-def read_mask(path, resolution: float) -> comcore.Mask:
-    """The object mask of an image file: grayscale > 127 is the object."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"--mask: no such file: {path}")
-    image = None
-    try:
-        import cv2
-
-        image = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
-    except ImportError:
-        try:
-            from matplotlib import image as mpimg
-
-            rgb = np.asarray(mpimg.imread(path), float)
-            rgb = rgb * 255.0 if rgb.max() <= 1.0 else rgb
-            image = rgb if rgb.ndim == 2 else rgb[..., :3].mean(axis=2)
-        except ImportError as e:
-            raise InputError("--mask: reading images needs pip install comcore[sim]") from e
-        except Exception:  # matplotlib raises several types on a bad file
-            image = None
-    if image is None:
-        raise InputError(f"--mask: cannot read {path} as an image")
-    try:
-        return comcore.Mask(np.asarray(image) > 127, resolution=resolution)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"--mask: {path}: {e} (object pixels must be brighter than 127)") from e
-
-
-def read_pushes(path) -> tuple[np.ndarray, np.ndarray]:
-    """Actions (n, 4) and motions (n, 3) from a CSV with the columns :data:`COLUMNS`."""
-    path = Path(path)
-    try:
-        with path.open(newline="", encoding="utf-8-sig") as f:
-            reader = csv.DictReader(f)
-            header = [h.strip() for h in (reader.fieldnames or [])]
-            missing = [c for c in COLUMNS if c not in header]
-            if missing:
-                raise InputError(
-                    f"--pushes: {path} lacks column(s) {', '.join(missing)}; "
-                    f"expected {', '.join(COLUMNS)}, got {', '.join(header) or 'no header'}"
-                )
-            rows = [{k.strip(): v for k, v in row.items() if k} for row in reader]
-    except (OSError, UnicodeDecodeError, csv.Error) as e:
-        raise InputError(f"--pushes: cannot read {path}: {e}") from e
-    if not rows:
-        raise InputError(f"--pushes: {path} holds no push")
-    values = np.empty((len(rows), len(COLUMNS)))
-    for i, row in enumerate(rows):
-        for j, column in enumerate(COLUMNS):
-            text = (row.get(column) or "").strip()
-            try:
-                values[i, j] = float(text)
-            except ValueError:
-                raise InputError(
-                    f"--pushes: {path} line {i + 2}, column {column}: {text!r} is not a number"
-                ) from None
-            if not math.isfinite(values[i, j]):
-                raise InputError(
-                    f"--pushes: {path} line {i + 2}, column {column}: {text!r} is not finite"
-                )
-    return values[:, :4], values[:, 4:]
-
-
 def estimate(mask: comcore.Mask, actions, motions, method: str) -> comcore.Estimate:
-    """Run one of :data:`METHODS` on the observed pushes."""
+    """Run one of :func:`methods` on the observed pushes."""
+    if method == "posterior":
+        return comcore.estimate_posterior(mask, actions, motions)  # type: ignore[attr-defined]
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -146,82 +143,129 @@ def estimate(mask: comcore.Mask, actions, motions, method: str) -> comcore.Estim
         return comcore.estimate_progressive(mask, actions, motions, selection=selection)
     if method == "centroid":
         return comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
-    raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    raise ValueError(f"method must be one of {methods()}, got {method!r}")
 
 
-def write_overlay(path, mask: comcore.Mask, actions, est: comcore.Estimate, title: str) -> Path:
-    """A PNG of the mask (grey), the region (orange), the pushes (arrows) and the estimate."""
+def region_summary(est: comcore.Estimate, resolution: float) -> dict:
+    """Size of the estimate's region: area, equivalent radius, bounding box; credible radius."""
+    region = np.asarray(est.region)
+    area = int(region.sum())
+    out: dict = {"area_px": area, "radius_px": float(np.sqrt(area / np.pi))}
+    if area:
+        rows, cols = np.nonzero(region)
+        out["bbox_px"] = [int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())]
+    if "credible_radius_px" in est.extras:
+        out["credible_radius_px"] = float(est.extras["credible_radius_px"])
+    if "credible" in est.extras:
+        out["credible"] = float(est.extras["credible"])
+    out["radius_m"] = out.get("credible_radius_px", out["radius_px"]) * resolution
+    return out
+
+
+def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
+    """Draw with :func:`comcore.plot.plot_estimate`; ``True`` if a file was replaced."""
     try:
-        from matplotlib.figure import Figure
+        import comcore.plot
     except ImportError as e:
-        raise NoPlotting("the overlay needs matplotlib: pip install comcore[plot]") from e
-    h, w = mask.shape
-    fig = Figure(figsize=(6.0, 6.0 * h / max(w, 1) + 0.6), dpi=110, layout="constrained")
-    ax = fig.add_subplot()
-    image = np.ones((h, w, 3))
-    image[mask.data] = (0.6, 0.6, 0.6)
-    image[est.region & mask.data] = (1.0, 0.65, 0.2)
-    ax.imshow(image, interpolation="nearest")
-    for k, (sx, sy, ex, ey) in enumerate(np.asarray(actions, float)):
-        color = "tab:red" if k in est.used else "tab:blue"
-        ax.annotate("", (ex, ey), (sx, sy), arrowprops={"arrowstyle": "->", "color": color})
-    ax.plot(*est.com, "kx", ms=12, mew=2.5, label=f"estimate ({est.com[0]:.1f}, {est.com[1]:.1f})")
-    ax.set_xlim(-0.5, w - 0.5)
-    ax.set_ylim(h - 0.5, -0.5)
-    ax.set_title(title + "\nred: pushes used, blue: other pushes, orange: CoM region", fontsize=9)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.06), fontsize=8)
-    fig.savefig(path)
-    return Path(path)
+        raise ModuleNotFoundError(str(e), name="matplotlib") from e
+    replaced = path.exists()
+    x, y = est.com
+    title = f"comcore estimate --method {method}\nCoM ({x:.1f}, {y:.1f}) px, status {est.status}"
+    ax = comcore.plot.plot_estimate(mask, est, actions=pushes.actions, title=title)
+    ax.figure.savefig(path)
+    return replaced
+
+
+def _inputs(args):
+    if args.example:
+        if args.mask or args.pushes:
+            raise InputError("--example replaces --mask and --pushes; give one or the other")
+        files = example_files()
+        return files["mask"], files["pushes"]
+    if not (args.mask and args.pushes):
+        missing = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes)) if not v]
+        raise InputError(f"{' and '.join(missing)} required (or --example)")
+    return Path(args.mask), Path(args.pushes)
 
 
 def run(args) -> int:
     """Run ``comcore estimate``; 0 on success, 2 on a bad file or option, 1 if estimation fails."""
     try:
-        if not (math.isfinite(args.resolution) and args.resolution > 0):
-            raise InputError(f"--resolution must be a positive number, got {args.resolution}")
-        mask = read_mask(args.mask, args.resolution)
-        actions, motions = read_pushes(args.pushes)
+        mask_path, pushes_path = _inputs(args)
+        resolution = check_resolution(args.resolution)
+        mask = read_mask(mask_path, resolution)
+        recorded = read_pushes(pushes_path)
+        pushes, dropped = screen_pushes(mask, recorded, strict=args.strict)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
+    if dropped:
+        print(
+            f"comcore estimate: warning: dropped {len(dropped)} of {len(recorded.lines)} pushes "
+            f"that miss the object or start inside it: CSV line(s) "
+            f"{', '.join(map(str, list(dropped)[:10]))}{' ...' if len(dropped) > 10 else ''} "
+            "(--strict refuses them)",
+            file=sys.stderr,
+        )
     try:
-        est = estimate(mask, actions, motions, args.method)
+        est = estimate(mask, pushes.actions, pushes.motions, args.method)
     except (TypeError, ValueError) as e:
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1
+    used_lines = [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)]
     result = {
         "com_px": list(est.com),
         "com_m": list(est.com_m),
         "method": args.method,
         "status": est.status,
-        "used": list(est.used),
-        "n_pushes": len(actions),
+        "used_lines": used_lines,
+        "dropped_lines": {str(k): v for k, v in dropped.items()},
+        "n_pushes": len(recorded.lines),
         "resolution": mask.resolution,
+        "region": region_summary(est, mask.resolution),
+        "covariance_px2": None if est.covariance is None else np.asarray(est.covariance).tolist(),
         "overlay": None,
+        "overlay_replaced": False,
     }
     overlay = overlay_path(args)
     if overlay is not None:
         try:
-            title = f"{args.method}: CoM ({est.com[0]:.1f}, {est.com[1]:.1f}) px"
-            write_overlay(overlay, mask, actions, est, title)
+            result["overlay_replaced"] = _write_overlay(overlay, mask, pushes, est, args.method)
             result["overlay"] = str(overlay)
-        except NoPlotting as e:
+        except ModuleNotFoundError as e:
+            why = "the overlay needs matplotlib: pip install comcore[plot]"
             if args.overlay:  # asked for by name: an error
-                print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
+                print(f"comcore estimate: cannot write the overlay {overlay}: {why}",
+                      file=sys.stderr)  # fmt: skip
                 return 2
-            print(f"comcore estimate: no overlay written ({e}; --no-overlay skips it)",
+            print(f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
                   file=sys.stderr)  # fmt: skip
             overlay = None
-        except (InputError, OSError, ValueError) as e:
+        except (OSError, ValueError) as e:
             print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
             return 2
+        if overlay is not None and result["overlay_replaced"] and args.json:
+            print(f"comcore estimate: overwrote the existing file {overlay}", file=sys.stderr)
     if args.json:
         print(json.dumps(result))
+        return 0
+    x, y = est.com
+    print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
+    n_used = f"{len(est.used)} of {len(pushes.lines)} pushes used"
+    print(f"method {args.method}, status {est.status}, {n_used}")
+    region = result["region"]
+    if "credible_radius_px" in region:
+        share = f"{100 * region['credible']:.0f} % " if "credible" in region else ""
+        print(
+            f"{share}credible region: {region['area_px']} px, radius "
+            f"{region['credible_radius_px']:.2f} px = {region['radius_m'] * 1000:.1f} mm"
+        )
     else:
-        x, y = est.com
-        print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
-        used = f"{len(est.used)} of {len(actions)} pushes used"
-        print(f"method {args.method}, status {est.status}, {used}")
-        if overlay is not None:
-            print(f"overlay: {overlay}")
+        print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
+    if used_lines:
+        print("pushes used (CSV lines, in order): " + ", ".join(map(str, used_lines)))
+    if overlay is not None:
+        replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
+        print(f"overlay: {overlay}{replaced}")
     return 0
+

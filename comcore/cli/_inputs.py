@@ -1,0 +1,218 @@
+"""The files of ``comcore estimate``: the mask image and the CSV of pushes.
+
+Every problem is an :class:`InputError` naming the option and, for the CSV, the
+file's line numbers (the header is line 1), never a 0-based index.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+import comcore
+
+__all__ = [
+    "COLUMNS",
+    "RESOLUTION_RANGE",
+    "InputError",
+    "Pushes",
+    "check_resolution",
+    "read_mask",
+    "read_pushes",
+    "screen_pushes",
+]
+
+#: Columns of the pushes CSV: the pusher's path (pixels) and the observed motion.
+COLUMNS = ("sx", "sy", "ex", "ey", "theta", "tx", "ty")
+#: Plausible camera resolutions (metres per pixel): 10 micrometres to 5 cm a pixel.
+RESOLUTION_RANGE = (1e-5, 0.05)
+
+
+class InputError(ValueError):
+    """A problem with the user's files or options, reported as one line on stderr."""
+
+
+@dataclass(frozen=True)
+class Pushes:
+    """The pushes of a CSV: actions (n, 4), motions (n, 3) and each row's line number."""
+
+    actions: np.ndarray
+    motions: np.ndarray
+    lines: np.ndarray
+
+    def subset(self, keep: np.ndarray) -> Pushes:
+        """The pushes where ``keep`` (bool, shape (n,)) is true."""
+        return Pushes(self.actions[keep], self.motions[keep], self.lines[keep])
+
+
+def check_resolution(value: float) -> float:
+    """``value`` (metres per pixel) if it lies in :data:`RESOLUTION_RANGE`, else InputError.
+
+    Examples
+    --------
+    >>> check_resolution(0.0025)
+    0.0025
+    >>> try:
+    ...     check_resolution(2.5)  # centimetres typed for metres
+    ... except InputError as e:
+    ...     print(e)
+    --resolution 2.5 m per pixel is implausible: ... (centimetres? 2.5 cm is 0.025 m)
+    """
+    lo, hi = RESOLUTION_RANGE
+    if not (math.isfinite(value) and value > 0):
+        raise InputError(f"--resolution must be a positive number of metres per pixel, got {value}")
+    if not lo <= value <= hi:
+        hint = f" (centimetres? {value} cm is {value / 100:g} m)" if value > hi else ""
+        raise InputError(
+            f"--resolution {value:g} m per pixel is implausible: expected metres per pixel in "
+            f"[{lo:g}, {hi:g}]{hint}"
+        )
+    return float(value)
+
+
+def _read_grey(path: Path) -> np.ndarray:
+    """The image as an array (grey (H, W) or colour (H, W, 3|4)), values 0..255."""
+    try:
+        import cv2
+    except ImportError:
+        cv2 = None
+    if cv2 is not None:
+        image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+        if image is None:
+            raise InputError(f"--mask: cannot read {path} as an image")
+        if image.ndim == 3:  # OpenCV's BGR(A) to RGB(A)
+            image = image[..., [2, 1, 0, *range(3, image.shape[2])]]
+        scale = 255.0 / 65535.0 if image.dtype == np.uint16 else 1.0
+        return np.asarray(image, float) * scale
+    try:
+        from matplotlib import image as mpimg
+    except ImportError as e:
+        raise InputError("--mask: reading images needs pip install comcore[sim]") from e
+    try:
+        image = np.asarray(mpimg.imread(path), float)
+    except Exception as e:  # matplotlib/Pillow raise several types on a bad file
+        raise InputError(f"--mask: cannot read {path} as an image") from e
+    return image * 255.0 if image.max() <= 1.0 else image
+
+
+def _fallback_mask(image: np.ndarray, resolution: float) -> comcore.Mask:
+    """A mask from an image when ``comcore.mask_from_image`` is not available.
+
+    Grey (colour averaged) above 127 is the object; the checks say what is
+    wrong with the image instead of letting the pushes fail later.
+    """
+    if image.ndim == 3:
+        rgb = image[..., :3]
+        if np.ptp(rgb, axis=2).max() > 32:
+            raise InputError(
+                "is a colour image, not a mask: give a black-and-white mask "
+                "(object white, background black)"
+            )
+        image = rgb.mean(axis=2)
+    data = image > 127
+    if not data.any():
+        raise InputError(
+            "the mask must contain at least one object pixel (none is brighter than 127)"
+        )
+    if data.all():
+        raise InputError("every pixel is brighter than 127: the mask holds no background")
+    border = np.concatenate([data[0], data[-1], data[:, 0], data[:, -1]])
+    if border.mean() > 0.5:
+        raise InputError(
+            "the object (pixels brighter than 127) covers most of the image border: "
+            "is the mask inverted? The object must be white on black"
+        )
+    return comcore.Mask(data, resolution=resolution)
+
+
+def read_mask(path, resolution: float) -> comcore.Mask:
+    """The object mask of an image file, through :func:`comcore.mask_from_image` if present."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"--mask: no such file: {path}")
+    image = _read_grey(path)
+    try:
+        if hasattr(comcore, "mask_from_image"):
+            return comcore.mask_from_image(image, resolution=resolution)
+        return _fallback_mask(image, resolution)
+    except (TypeError, ValueError) as e:  # comcore.ImageError is a ValueError
+        raise InputError(f"--mask: {path}: {e}") from e
+
+
+def read_pushes(path) -> Pushes:
+    """The pushes of a CSV with the columns :data:`COLUMNS`, with their line numbers."""
+    path = Path(path)
+    rows, lines = [], []
+    try:
+        with path.open(newline="", encoding="utf-8-sig") as f:
+            reader = csv.DictReader(f)
+            header = [h.strip() for h in (reader.fieldnames or [])]
+            missing = [c for c in COLUMNS if c not in header]
+            if missing:
+                raise InputError(
+                    f"--pushes: {path} lacks column(s) {', '.join(missing)}; "
+                    f"expected {', '.join(COLUMNS)}, got {', '.join(header) or 'no header'}"
+                )
+            for row in reader:
+                rows.append({k.strip(): v for k, v in row.items() if k})
+                lines.append(reader.line_num)
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise InputError(f"--pushes: cannot read {path}: {e}") from e
+    if not rows:
+        raise InputError(f"--pushes: {path} holds no push")
+    values = np.empty((len(rows), len(COLUMNS)))
+    for i, (row, line) in enumerate(zip(rows, lines)):
+        for j, column in enumerate(COLUMNS):
+            text = (row.get(column) or "").strip()
+            try:
+                values[i, j] = float(text)
+            except ValueError:
+                raise InputError(
+                    f"--pushes: {path} line {line}, column {column}: {text!r} is not a number"
+                ) from None
+            if not math.isfinite(values[i, j]):
+                raise InputError(
+                    f"--pushes: {path} line {line}, column {column}: {text!r} is not finite"
+                )
+        if values[i, 0] == values[i, 2] and values[i, 1] == values[i, 3]:
+            raise InputError(f"--pushes: {path} line {line}: the push has zero length")
+    return Pushes(values[:, :4], values[:, 4:], np.asarray(lines, int))
+
+
+def _lines(lines) -> str:
+    shown = ", ".join(str(int(v)) for v in lines[:10])
+    return shown + (f" and {len(lines) - 10} more" if len(lines) > 10 else "")
+
+
+def screen_pushes(mask: comcore.Mask, pushes: Pushes, *, strict: bool) -> tuple[Pushes, dict]:
+    """The pushes that hit the object, and ``{line: reason}`` for those dropped.
+
+    A push misses (its path never enters an object pixel: a graze past a
+    corner counts) or starts inside the object; either gives no contact to
+    reason about. ``strict``: raise InputError naming them instead.
+    """
+    found = comcore.contacts(mask, pushes.actions)
+    bad = found.starts_inside | ~found.hit
+    reasons = {
+        int(line): ("starts inside the object" if inside else "misses the object")
+        for line, inside, b in zip(pushes.lines, found.starts_inside, bad)
+        if b
+    }
+    if not reasons:
+        return pushes, {}
+    where = _lines(list(reasons))
+    if strict:
+        raise InputError(
+            f"--strict: {len(reasons)} push(es) miss the object or start inside it: "
+            f"CSV line(s) {where}"
+        )
+    if len(reasons) == len(pushes.lines):
+        raise InputError(
+            f"--pushes: no push hits the object (every push misses it or starts inside it: "
+            f"CSV line(s) {where}); are the mask and the pushes in the same pixel frame?"
+        )
+    return pushes.subset(~bad), reasons
