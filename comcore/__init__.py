@@ -30,14 +30,16 @@ from ._conventions import (
     rotation_matrix,
     rotation_sign,
 )
-from ._errors import ComcoreError, PushFailedError
+from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._mask import Mask
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
 from ._regions import largest_component
+from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
+from ._session import ActiveSession
 from ._types import Action, Estimate, Motion
 from ._validation import (
     check_actions,
@@ -57,14 +59,18 @@ __all__ = [
     "DEFAULT_RESOLUTION",
     "LENGTH_EPS",
     "Action",
+    "ActiveSession",
     "ComcoreError",
     "Contacts",
     "Estimate",
     "HypothesisPredictor",
+    "ImageError",
     "Mask",
     "Motion",
+    "MotionMeasurement",
     "Predictor",
     "PushFailedError",
+    "SessionError",
     "__version__",
     "apply_motion",
     "ccw_cross",
@@ -83,6 +89,7 @@ __all__ = [
     "estimate_heatmap",
     "estimate_progressive",
     "largest_component",
+    "measure_motion",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",

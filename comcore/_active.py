@@ -2,43 +2,14 @@
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
-
-from ._active_setup import build_estimate, check_models, mu_grid, pair, prior_grid
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
-from ._geometry import contacts
 from ._mask import Mask
-from ._motion import model_gains, model_predictions, motion_log_likelihood
-from ._posterior import (
-    GridPosterior,
-    force_lines,
-    line_distances,
-    push_log_likelihood,
-    sense_information,
-)
-from ._sampling import sample_pushes
-from ._types import Action, Estimate
-from ._validation import (
-    check_actions,
-    check_mask,
-    check_motions,
-    check_positive,
-    check_probability,
-)
+from ._session import ActiveSession
+from ._types import Estimate
+from ._validation import check_mask, check_motions
 
 __all__ = ["estimate_active"]
-
-#: Length (metres) over which the rotation's model error falls off with the
-#: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
-NEAR_LINE_M = 0.0375
-#: Ways to choose the next push.
-SELECTIONS = ("sense", "model")
-#: Hypotheses this many nats below the best are dropped before the model is asked
-#: about them (their posterior is below 1e-11 of the best; saves model calls).
-PRUNE_LOG = 25.0
 
 
 def estimate_active(
@@ -225,116 +196,40 @@ def estimate_active(
         raise TypeError(
             f"push must be callable as push(action) -> Motion, got {type(push).__name__}"
         )
-    if isinstance(max_pushes, bool) or not isinstance(max_pushes, (int, np.integer)):
-        raise TypeError(f"max_pushes must be an int, got {type(max_pushes).__name__}")
-    if max_pushes < 0:
-        raise ValueError(f"max_pushes must be >= 0, got {max_pushes}")
-    models = check_models(model)
-    target_px = check_positive(target_radius, "target_radius") / mask.resolution
-    credible = check_probability(credible, "credible", open_low=True, open_high=True)
-    flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
-    if flip_prob >= 0.5:
-        raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
-    theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
-    min_information = check_positive(min_information, "min_information", allow_zero=True)
-    theta_noise = pair(theta_noise, "theta_noise")
-    if selection not in SELECTIONS:
-        raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
-    if selection == "model" and not models:
-        raise ValueError("selection='model' needs a model")
-    by_model = selection == "model"
-    model_weight = check_probability(model_weight, "model_weight", open_low=True)
-    near_px = NEAR_LINE_M / mask.resolution
-    translation_noise = pair(translation_noise, "translation_noise")
-    for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be a positive int, got {value!r}")
-    mus = mu_grid(mu, int(n_mu))
-    pixels, prior_w = prior_grid(mask, prior)
-    rng = np.random.default_rng(rng)
-    if candidates is None:
-        cands = sample_pushes(mask, int(n_candidates), cone=cone, rng=rng)
-    else:
-        cands = check_actions(candidates, "candidates", allow_empty=False)
-    con = contacts(mask, cands)
-    con.require_hits("candidates")
-    direction = cands[:, 2:] - cands[:, :2]
-    direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
-    lines = force_lines(con.point, con.normal, direction, np.arctan(mus))
-
-    post = GridPosterior(pixels, prior_w, mus, max(len(models), 1))
-    used: list[int] = []
-    motions: list[tuple[float, float, float]] = []
-    history: list[dict] = []
-    available = np.ones(len(cands), dtype=bool)
-    while True:
-        _, area = post.credible(credible)
-        radius = math.sqrt(area / math.pi)
-        history.append(
-            {
-                "com": tuple(float(v) for v in post.mean()),
-                "entropy_bits": post.entropy_bits(),
-                "credible_radius_px": radius,
-                "expected_gain_bits": None,
-            }
-        )
-        if radius <= target_px:
-            status = "ok"
-            break
-        if len(used) >= max_pushes:
-            status = "budget"
-            break
-        if not available.any():
-            status = "exhausted"
-            break
-        idx = np.flatnonzero(available)
-        if by_model:
-            gains = model_gains(
-                models, mask, post, cands[idx], lines[idx], theta_noise, translation_noise, near_px
-            ) / math.log(2)
-        else:
-            gains = sense_information(post.pixels, post.sense_weights, lines[idx], flip_prob)
-        best = int(np.argmax(gains))
-        if gains[best] <= min_information:
-            status = "uninformative"
-            break
-        chosen = int(idx[best])
-        history[-1]["expected_gain_bits"] = float(gains[best])
-        action = Action(*cands[chosen])
-        n_done = len(used)
+    session = ActiveSession(
+        mask,
+        candidates=candidates,
+        max_pushes=max_pushes,
+        model=model,
+        mu=mu,
+        target_radius=target_radius,
+        credible=credible,
+        flip_prob=flip_prob,
+        rng=rng,
+        cone=cone,
+        n_candidates=n_candidates,
+        n_mu=n_mu,
+        theta_tol=theta_tol,
+        theta_noise=theta_noise,
+        translation_noise=translation_noise,
+        selection=selection,
+        model_weight=model_weight,
+        prior=prior,
+        min_information=min_information,
+    )
+    while not session.done:
+        action = session.next_push()
         try:
-            observed = check_motions(push(action), n=1, name="push result")[0]
+            motion = check_motions(push(action), n=1, name="push result")[0]
         except Exception as e:
-            partial = build_estimate(
-                mask, post, credible, cands, used, motions, history, "push_failed"
-            )
+            n_done = len(session.actions)
             raise PushFailedError(
-                f"push {n_done} (candidates[{chosen}] = {tuple(action)}) failed: "
+                f"push {n_done} (candidates[{session._pending}] = {tuple(action)}) failed: "
                 f"{type(e).__name__}: {e}",
                 index=n_done,
                 action=action,
-                partial=partial,
+                partial=session._estimate("push_failed"),
             ) from e
-        distances = line_distances(post.pixels, lines[chosen])[:, :, None]  # (p, m, 1)
-        model_term = flipped_term = None
-        if models:
-            alive = post.log_w > post.log_w.max() - PRUNE_LOG
-            predicted = model_predictions(
-                models, mask, cands[chosen : chosen + 1], post.pixels, mus, alive
-            )[..., 0, :]
-            offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
-            args = (np.abs(distances), offset, theta_noise, translation_noise, near_px)
-            flipped = observed * np.array([-1.0, 1.0, 1.0])
-            model_term = np.where(
-                alive, model_weight * motion_log_likelihood(observed, predicted, *args), -np.inf
-            )
-            flipped_term = np.where(
-                alive, model_weight * motion_log_likelihood(flipped, predicted, *args), -np.inf
-            )
-        post.update(
-            push_log_likelihood(distances, observed, flip_prob, theta_tol, model_term, flipped_term)
-        )
-        used.append(chosen)
-        motions.append(tuple(float(v) for v in observed))
-        available[chosen] = False
-    return build_estimate(mask, post, credible, cands, used, motions, history, status)
+        session.observe(motion=motion)
+        session.reset_pose()  # push() executes every action on the object in mask's pose
+    return session.estimate()

@@ -1,20 +1,25 @@
-"""Arguments, grids and the result of :func:`comcore.estimate_active`."""
+"""Arguments, grids and the result of :func:`comcore.estimate_active` and the session."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-from ._conventions import pixel_centres
+from ._conventions import ANGLE_EPS, pixel_centres
 from ._mask import Mask
 from ._predictor import HypothesisPredictor
 from ._types import Estimate
-from ._validation import check_mu
+from ._validation import check_mu, check_positive, check_probability
 
 __all__ = [
     "MAX_ALPHA",
+    "NEAR_LINE_M",
+    "SELECTIONS",
     "UNKNOWN_MU_RANGE",
+    "ActiveOptions",
+    "active_options",
     "build_estimate",
     "check_models",
     "mu_grid",
@@ -26,6 +31,102 @@ __all__ = [
 UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
+#: Length (metres) over which the rotation's model error falls off with the
+#: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
+NEAR_LINE_M = 0.0375
+#: Ways to choose the next push.
+SELECTIONS = ("sense", "model")
+
+
+@dataclass(frozen=True)
+class ActiveOptions:
+    """The validated options of the active estimator (internal).
+
+    Lengths are in pixels of the first mask (``target_px``, ``near_px``);
+    see :func:`comcore.estimate_active` for what each option means.
+    """
+
+    models: tuple
+    max_pushes: int
+    target_px: float
+    credible: float
+    flip_prob: float
+    cone: float
+    n_candidates: int
+    mus: np.ndarray
+    theta_tol: float
+    theta_noise: tuple[float, float]
+    translation_noise: tuple[float, float]
+    selection: str
+    model_weight: float
+    min_information: float
+    near_px: float
+
+
+def _count(value, name: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def active_options(
+    mask: Mask,
+    *,
+    model=None,
+    max_pushes: int = 5,
+    mu=None,
+    target_radius: float = 0.0045,
+    credible: float = 0.9,
+    flip_prob: float = 0.05,
+    cone: float = 0.0,
+    n_candidates: int = 200,
+    n_mu: int = 6,
+    theta_tol: float = ANGLE_EPS,
+    theta_noise=(0.01, 0.13),
+    translation_noise=(0.4, 0.056),
+    selection: str = "sense",
+    model_weight: float = 1.0,
+    min_information: float = 1e-3,
+) -> ActiveOptions:
+    """Validate the active estimator's options (each error names its argument)."""
+    max_pushes = _count(max_pushes, "max_pushes", 0)
+    models = check_models(model)
+    target_px = check_positive(target_radius, "target_radius") / mask.resolution
+    credible = check_probability(credible, "credible", open_low=True, open_high=True)
+    flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
+    if flip_prob >= 0.5:
+        raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
+    theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
+    min_information = check_positive(min_information, "min_information", allow_zero=True)
+    theta_noise = pair(theta_noise, "theta_noise")
+    if selection not in SELECTIONS:
+        raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
+    if selection == "model" and not models:
+        raise ValueError("selection='model' needs a model")
+    model_weight = check_probability(model_weight, "model_weight", open_low=True)
+    translation_noise = pair(translation_noise, "translation_noise")
+    for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be a positive int, got {value!r}")
+    return ActiveOptions(
+        models=models,
+        max_pushes=max_pushes,
+        target_px=target_px,
+        credible=credible,
+        flip_prob=flip_prob,
+        cone=cone,
+        n_candidates=int(n_candidates),
+        mus=mu_grid(mu, int(n_mu)),
+        theta_tol=theta_tol,
+        theta_noise=theta_noise,
+        translation_noise=translation_noise,
+        selection=selection,
+        model_weight=model_weight,
+        min_information=min_information,
+        near_px=NEAR_LINE_M / mask.resolution,
+    )
 
 
 def mu_grid(mu, n_mu: int) -> np.ndarray:
@@ -82,8 +183,13 @@ def check_models(model) -> tuple:
     return models
 
 
-def build_estimate(mask, post, level, candidates, used, motions, history, status) -> Estimate:
-    """The :class:`Estimate` of a posterior: mean, covariance, credible region, extras."""
+def build_estimate(mask, post, level, used, history, status, extras) -> Estimate:
+    """The :class:`Estimate` of a posterior: mean, covariance, credible region, extras.
+
+    ``extras`` (the executed actions and motions, ...) are added to the
+    posterior's own: ``"posterior"``, ``"credible_radius_px"``, ``"mu_grid"``,
+    ``"mu_posterior"``, ``"model_posterior"`` and ``"history"``.
+    """
     region_idx, area = post.credible(level)
     rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
     region = np.zeros(mask.shape, dtype=bool)
@@ -99,13 +205,12 @@ def build_estimate(mask, post, level, candidates, used, motions, history, status
         status=status,
         covariance=post.covariance(),
         extras={
-            "motions": np.array(motions, dtype=float).reshape(-1, 3),
-            "actions": candidates[list(used)].reshape(-1, 4),
+            **extras,
             "posterior": image,
             "credible_radius_px": math.sqrt(area / math.pi),
             "mu_grid": post.mus.copy(),
             "mu_posterior": post.mu_marginal,
             "model_posterior": post.model_marginal,
-            "history": tuple(history),
+            "history": tuple(dict(h) for h in history),
         },
     )

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["ComcoreError", "PushFailedError"]
+__all__ = ["ComcoreError", "ImageError", "PushFailedError", "SessionError"]
 
 
 class ComcoreError(Exception):
@@ -11,6 +11,16 @@ class ComcoreError(Exception):
     Input validation errors are plain :class:`ValueError` / :class:`TypeError`
     (they name the argument and what was expected); this base is for failures
     that are not about the shape of the input.
+    """
+
+
+class ImageError(ComcoreError, ValueError):
+    """A camera image or mask that does not show one whole object.
+
+    Raised by :func:`comcore.mask_from_image` (an all-dark or all-bright image,
+    an object touching the image border, a speckled or empty result) and by
+    :func:`comcore.measure_motion` (a mask touching the image border: part of
+    the object may be out of view). The message says what was seen.
     """
 
 
@@ -33,3 +43,11 @@ class PushFailedError(ComcoreError, RuntimeError):
         self.index = index
         self.action = action
         self.partial = partial
+
+
+class SessionError(ComcoreError, RuntimeError):
+    """A :class:`comcore.ActiveSession` method called out of turn.
+
+    ``observe()`` before ``next_push()`` (or twice for one push),
+    ``next_push()`` after the session is done. The session is unchanged.
+    """

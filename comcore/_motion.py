@@ -56,7 +56,15 @@ def com_shift(theta, offset):
 
 
 def motion_log_likelihood(
-    observed, predicted, lever, offset, theta_noise, translation_noise, near_line_px
+    observed,
+    predicted,
+    lever,
+    offset,
+    theta_noise,
+    translation_noise,
+    near_line_px,
+    *,
+    rotation=True,
 ):
     """Log-likelihood of an observed motion under predicted ones, shape (p, m).
 
@@ -80,12 +88,23 @@ def motion_log_likelihood(
     theta_noise, translation_noise : tuple of float
         ``(absolute, near)`` radians and ``(absolute, relative)`` pixels.
     near_line_px : float
+    rotation : bool, optional
+        False when the observed rotation is unknown (a registration that
+        cannot see the object turn): only the centroid's displacement is
+        scored, its scale widened by the rotation's error times the
+        hypothesis' distance to the centroid.
     """
     th_scale = theta_scale(lever, theta_noise, near_line_px)
+    tr_abs, tr_rel = translation_noise
+    if not rotation:
+        pred_t = predicted[..., 1:]
+        scale = tr_abs + tr_rel * np.hypot(pred_t[..., 0], pred_t[..., 1])
+        scale = scale + th_scale * np.hypot(offset[..., 0], offset[..., 1])
+        res_sq = ((observed[1:] - pred_t) ** 2).sum(axis=-1)
+        return _student_t(res_sq, scale, STUDENT_DOF, 2)
     out = _student_t((observed[0] - predicted[..., 0]) ** 2, th_scale, STUDENT_DOF, 1)
     moved_obs = observed[1:] + com_shift(observed[0], offset)
     moved_pred = predicted[..., 1:] + com_shift(predicted[..., 0], offset)
-    tr_abs, tr_rel = translation_noise
     tr_scale = tr_abs + tr_rel * np.hypot(moved_pred[..., 0], moved_pred[..., 1])
     res_sq = ((moved_obs - moved_pred) ** 2).sum(axis=-1)
     return out + _student_t(res_sq, tr_scale, STUDENT_DOF, 2)

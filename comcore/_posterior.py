@@ -212,12 +212,14 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
         u[:, :count] += part
     u *= np.float32(1 - 2 * flip_prob)  # now q = (1 + u) / 2 with the flips
     total = 0.5 + 0.5 * np.einsum("p,pa->a", w_pix, u, dtype=float)
-    # H((1 + u) / 2) = 1 - [(1 + u) log2(1 + u) + (1 - u) log2(1 - u)] / 2
+    # H((1 + u) / 2) = 1 - [(1 + u) log2(1 + u) + (1 - u) log2(1 - u)] / 2, with 0 log 0 = 0:
+    # a tiny flip_prob leaves |u| = 1 in float32, and the log's argument is floored.
+    tiny = np.finfo(np.float32).tiny
     np.add(u, 1, out=buf)
-    np.log2(buf, out=tmp)
+    np.log2(np.maximum(buf, tiny, out=tmp), out=tmp)
     buf *= tmp
     np.subtract(1, u, out=u)
-    np.log2(u, out=tmp)
+    np.log2(np.maximum(u, tiny, out=tmp), out=tmp)
     u *= tmp
     buf += u
     expected = 1 - 0.5 * np.einsum("p,pa->a", w_pix, buf, dtype=float)

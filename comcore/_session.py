@@ -1,0 +1,379 @@
+"""`comcore.ActiveSession`: the active estimator as an ask/tell loop on an object that moves."""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import numpy as np
+
+from ._active_setup import active_options, build_estimate, prior_grid
+from ._conventions import apply_motion, object_motion_from_camera
+from ._errors import SessionError
+from ._mask import Mask
+from ._planning import Candidates
+from ._posterior import GridPosterior
+from ._session_pose import (
+    IDENTITY,
+    PoseReading,
+    compose,
+    is_miss,
+    measure_pose,
+    moved_mask,
+    relative,
+)
+from ._session_update import push_evidence
+from ._types import Action, Estimate, Motion
+from ._validation import check_mask, check_motions, check_rng
+
+__all__ = ["ActiveSession"]
+
+_OPTIONS = frozenset(inspect.signature(active_options).parameters) - {"mask", "model"}
+
+
+class ActiveSession:
+    """Find the CoM by pushing, one push at a time, driven by the caller's loop.
+
+    The ask/tell form of :func:`comcore.estimate_active` (same posterior,
+    likelihood, push choice and stop rule; see there), for a robot that
+    cannot reset the object and sees it through a camera::
+
+        session = comcore.ActiveSession(first_mask, model=..., rng=0)
+        while not session.done:
+            action = session.next_push()   # camera frame, on the object as it is now
+            robot.execute(action)
+            session.observe(camera_mask())  # or observe(motion=...), observe(failed=True)
+        estimate = session.estimate()       # .com in the first mask's frame
+
+    **Frames.** The posterior lives on the object, in the first mask's frame.
+    The session tracks the object's :attr:`pose` relative to the first mask:
+    from each observed mask, registered against the FIRST mask with
+    :func:`comcore.measure_motion` (so tracking errors do not pile up), or
+    from each motion the caller's tracker reports (camera frame, about the
+    object's current centroid). Candidates are drawn once on the first mask
+    and move with the object: :meth:`next_push` offers only pushes that, in
+    the current pose, start and end in the image, start outside the object
+    and hit it (checked on the last observed mask, or on the first mask moved
+    to the pose). A push is never offered twice.
+
+    **Pushes without evidence.** A push after which the object turned by
+    less than 0.01 rad and moved by less than 1 mm
+    (:data:`comcore._session_pose.MISS_ROTATION`, ``MISS_TRANSLATION_M``) is a
+    miss: recorded, counted in the budget, no evidence. ``observe(failed=True)``
+    (the robot could not execute it): not counted, no evidence. A mask whose
+    registration is ``ambiguous`` (a disc: the rotation cannot be seen) gives
+    the translation only.
+
+    Parameters
+    ----------
+    mask : Mask
+        The object as the camera sees it before the first push.
+    model : HypothesisPredictor or sequence of them, optional
+        Motion model (see :func:`comcore.estimate_active`).
+    candidates : array_like, shape (n, 4), optional
+        Pushes in the first mask's frame; default ``comcore.sample_pushes``.
+    rng : None, int or numpy.random.Generator, optional
+        Seeds the default candidates (the only random choice).
+    prior : array_like, shape (H, W), optional
+        Prior weights of the CoM (see :func:`comcore.estimate_active`).
+    **options
+        The other options of :func:`comcore.estimate_active` (``max_pushes``,
+        ``target_radius``, ``credible``, ``mu``, ``flip_prob``, ...).
+
+    Attributes
+    ----------
+    done : bool
+    status : str
+        ``"waiting_push"`` (call :meth:`next_push`), ``"waiting_observation"``
+        (call :meth:`observe`), or final: ``"ok"``, ``"budget"``,
+        ``"exhausted"`` (no candidate left that can be pushed in this pose),
+        ``"uninformative"``.
+    pose : Motion
+        The object's pose now relative to the first mask.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On invalid arguments (each named).
+
+    Examples
+    --------
+    The object turns 0.1 rad in the Voting Theorem's sense and stays put:
+
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    >>> true_com = np.array([17.0, 20.0])
+    >>> session = comcore.ActiveSession(mask, max_pushes=3, rng=0)
+    >>> while not session.done:
+    ...     action = session.next_push()
+    ...     c = comcore.contacts(mask, action)
+    ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+    ...     session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0))
+    ...     session.reset_pose()  # the caller put the object back
+    >>> session.status, len(session.actions)
+    ('budget', 3)
+    """
+
+    def __init__(self, mask: Mask, *, model=None, candidates=None, rng=None, prior=None, **options):
+        self._first = check_mask(mask)
+        unknown = sorted(set(options) - _OPTIONS)
+        if unknown:
+            raise TypeError(f"unknown option(s) {unknown}; ActiveSession takes {sorted(_OPTIONS)}")
+        self._opts = active_options(self._first, model=model, **options)
+        pixels, prior_w = prior_grid(self._first, prior)
+        self._cands = Candidates(self._first, candidates, self._opts, check_rng(rng))
+        self._post = GridPosterior(pixels, prior_w, self._opts.mus, max(len(self._opts.models), 1))
+        self._pose = IDENTITY
+        self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
+        self._records: list[dict] = []
+        self._history: list[dict] = []
+        self._final: str | None = None
+        self._pending: int | None = None
+        self._handed_out = False
+        self._planned = False
+        self._state_entry()
+
+    # -- state ---------------------------------------------------------------------------
+
+    def _state_entry(self):
+        _, area = self._post.credible(self._opts.credible)
+        self._history.append(
+            {
+                "com": tuple(float(v) for v in self._post.mean()),
+                "entropy_bits": self._post.entropy_bits(),
+                "credible_radius_px": math.sqrt(area / math.pi),
+                "expected_gain_bits": None,
+            }
+        )
+        self._planned = False
+
+    def _plan(self):
+        """Decide whether to stop, else choose the next push (lazily, once per state)."""
+        if self._planned:
+            return
+        self._planned = True
+        self._final, self._pending = None, None
+        self._history[-1]["expected_gain_bits"] = None
+        executed = sum(r["outcome"] != "failed" for r in self._records)
+        if self._history[-1]["credible_radius_px"] <= self._opts.target_px:
+            self._final = "ok"
+        elif executed >= self._opts.max_pushes:
+            self._final = "budget"
+        else:
+            offered = self._cands.offerable(self._pose, self._current_mask())
+            index, gain = self._cands.choose(self._post, offered, self._opts)
+            if index is None:
+                self._final = "exhausted" if gain is None else "uninformative"
+            else:
+                self._pending = index
+                self._history[-1]["expected_gain_bits"] = gain
+
+    def _current_mask(self) -> Mask | None:
+        if self._mask_now is not None:
+            return self._mask_now
+        return moved_mask(self._first, self._pose)
+
+    @property
+    def done(self) -> bool:
+        """True once the session has stopped (see :attr:`status`)."""
+        self._plan()
+        return self._final is not None
+
+    @property
+    def status(self) -> str:
+        """What the session waits for, or why it stopped."""
+        self._plan()
+        if self._final is not None:
+            return self._final
+        return "waiting_observation" if self._handed_out else "waiting_push"
+
+    @property
+    def pose(self) -> Motion:
+        """The object's pose now, relative to the first mask (about its centroid)."""
+        return self._pose
+
+    @property
+    def actions(self) -> np.ndarray:
+        """Pushes executed (misses included), camera frame as handed out, shape (k, 4)."""
+        rows = [r["camera_action"] for r in self._records if r["outcome"] != "failed"]
+        return np.array(rows, dtype=float).reshape(-1, 4)
+
+    @property
+    def motions(self) -> np.ndarray:
+        """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
+        rows = [r["camera_motion"] for r in self._records if r["outcome"] != "failed"]
+        return np.array(rows, dtype=float).reshape(-1, 3)
+
+    @property
+    def history(self) -> tuple[dict, ...]:
+        """One dict per state (prior first): ``com``, ``entropy_bits``, ``credible_radius_px``..."""
+        self._plan()
+        return tuple(dict(h) for h in self._history)
+
+    # -- ask / tell ---------------------------------------------------------------------
+
+    def next_push(self) -> Action:
+        """The next push, in the current camera frame, on the object as it is now.
+
+        Calling it again before :meth:`observe` returns the same push.
+
+        Raises
+        ------
+        SessionError
+            If the session is done.
+        """
+        if self.done:
+            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
+        self._handed_out = True
+        return Action(*self._cands.in_pose(self._pose, [self._pending])[0])
+
+    def observe(self, mask: Mask | None = None, *, motion=None, failed: bool = False) -> None:
+        """Report what the push from :meth:`next_push` did: exactly one of the three.
+
+        Parameters
+        ----------
+        mask : Mask, optional
+            The camera's mask after the push (same shape and resolution as
+            the first mask). The pose is measured against the first mask.
+        motion : Motion or (theta, tx, ty), optional
+            The push's motion in the camera frame, about the object's centroid
+            before the push (``measure_motion(mask_before, mask_after)``).
+        failed : bool, optional
+            True: the push could not be executed (no evidence, not counted).
+
+        Raises
+        ------
+        SessionError
+            If no push is waiting for its observation.
+        TypeError, ValueError
+            On invalid arguments (named); the session is then unchanged.
+        """
+        if self.done or not self._handed_out:
+            what = f"the session is done (status {self._final!r})" if self.done else "no push"
+            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
+        if not isinstance(failed, (bool, np.bool_)):
+            raise TypeError(f"failed must be a bool, got {type(failed).__name__}")
+        given = [name for name, v in (("mask", mask), ("motion", motion)) if v is not None]
+        if failed:
+            given.append("failed")
+        if len(given) != 1:
+            raise TypeError(
+                f"observe() takes exactly one of mask, motion or failed=True, got {given}"
+            )
+        index = self._pending
+        record = {
+            "index": index,
+            "camera_action": self._cands.in_pose(self._pose, [index])[0],
+            "object_action": self._cands.actions[index],
+            "pose_before": self._pose,
+        }
+        if failed:
+            self._commit(record, "failed", self._pose, None, None)
+            return
+        reading = self._reading(mask, motion)
+        camera_motion = relative(self._pose, reading.pose)
+        record["camera_motion"] = tuple(camera_motion)
+        record["residual_px"] = reading.residual_px
+        record["ambiguous"] = reading.ambiguous
+        if is_miss(camera_motion, self._first.resolution):
+            self._commit(record, "miss", reading.pose, mask, None)
+            return
+        obj_motion = object_motion_from_camera(camera_motion, self._pose.theta)
+        record["object_motion"] = tuple(float(v) for v in obj_motion)
+        loglik = push_evidence(
+            self._post,
+            self._opts,
+            self._first,
+            self._cands.actions[index],
+            self._cands.lines[index],
+            obj_motion,
+            rotation_observed=not reading.ambiguous,
+        )
+        self._commit(record, "evidence", reading.pose, mask, loglik)
+
+    def _reading(self, mask, motion) -> PoseReading:
+        """The pose after the push, from a mask or a motion (validated, nothing changed)."""
+        if motion is not None:
+            m = check_motions(motion, n=1, name="motion")[0]
+            return PoseReading(compose(self._pose, m), False, float("nan"))
+        mask = check_mask(mask)
+        first = self._first
+        if mask.shape != first.shape:
+            raise ValueError(
+                f"mask must have the first mask's shape {first.shape}, got {mask.shape}"
+            )
+        if mask.resolution != first.resolution:
+            raise ValueError(
+                f"mask must have the first mask's resolution {first.resolution} m/px, "
+                f"got {mask.resolution}"
+            )
+        return measure_pose(first, mask, self._pose)
+
+    def _commit(self, record, outcome, pose, mask, loglik):
+        record["outcome"] = outcome
+        if outcome != "failed" and "object_motion" not in record:
+            record["object_motion"] = tuple(
+                float(v)
+                for v in object_motion_from_camera(record["camera_motion"], self._pose.theta)
+            )
+        if loglik is not None:
+            self._post.update(loglik)
+        self._records.append(record)
+        self._cands.made(record["index"])
+        if outcome != "failed":
+            self._mask_now = mask  # None after a motion: the first mask moved to the new pose
+            self._pose = pose
+        self._handed_out = False
+        self._state_entry()
+
+    def reset_pose(self, pose=None) -> None:
+        """Tell the session the object was put back in the first pose (or moved to ``pose``).
+
+        Raises
+        ------
+        SessionError
+            If a push is waiting for its observation.
+        """
+        if self._handed_out:
+            raise SessionError("reset_pose() while a push waits for observe()")
+        new = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
+        self._pose = new
+        self._mask_now = self._first if new == IDENTITY else None
+        self._planned = False
+
+    # -- results ------------------------------------------------------------------------
+
+    def estimate(self) -> Estimate:
+        """The estimate so far; ``com`` in the first mask's frame.
+
+        ``used`` indexes the candidates of the executed pushes (misses
+        included), in order. ``extras`` as :func:`comcore.estimate_active`'s
+        (``"actions"`` and ``"motions"`` in the first mask's frame, as the
+        posterior used them), plus ``"camera_actions"``, ``"camera_motions"``,
+        ``"outcomes"`` (``"evidence"`` / ``"miss"`` per executed push),
+        ``"failed"`` (candidates reported as failed) and ``"pose"``.
+        """
+        return self._estimate(self.status)
+
+    def _estimate(self, status: str) -> Estimate:
+        done = [r for r in self._records if r["outcome"] != "failed"]
+        extras = {
+            "actions": np.array([r["object_action"] for r in done], float).reshape(-1, 4),
+            "motions": np.array([r["object_motion"] for r in done], float).reshape(-1, 3),
+            "camera_actions": self.actions,
+            "camera_motions": self.motions,
+            "outcomes": tuple(r["outcome"] for r in done),
+            "failed": tuple(r["index"] for r in self._records if r["outcome"] == "failed"),
+            "pose": self._pose,
+        }
+        used = [r["index"] for r in done]
+        return build_estimate(
+            self._first, self._post, self._opts.credible, used, self._history, status, extras
+        )
+
+    def com_in_camera(self) -> tuple[float, float]:
+        """The CoM estimate where it is now, in the camera frame (pixels)."""
+        com = self._post.mean()
+        p = self._pose
+        moved = apply_motion(com, p.theta, (p.tx, p.ty), self._first.centroid)
+        return float(moved[0]), float(moved[1])

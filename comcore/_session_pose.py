@@ -1,0 +1,122 @@
+"""Pose bookkeeping of :class:`comcore.ActiveSession`: where the object is now.
+
+A pose ``(theta, tx, ty)`` is a :class:`comcore.Motion` from the first mask:
+the object turned by ``theta`` about the first mask's area centroid ``c0``,
+which then moved by ``(tx, ty)`` (pixels). A point ``p`` of the object in the
+first mask is at ``apply_motion(p, theta, (tx, ty), c0)`` in the camera now.
+
+A push's motion in the camera frame is about the object's current centroid,
+``c0 + (tx, ty)``; composing it with the pose adds the rotations and the
+translations (:func:`compose`), and :func:`relative` undoes that.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from scipy import ndimage
+
+from ._conventions import apply_motion
+from ._mask import Mask
+from ._types import Motion
+
+__all__ = [
+    "IDENTITY",
+    "MISS_ROTATION",
+    "MISS_TRANSLATION_M",
+    "PoseReading",
+    "actions_in_pose",
+    "compose",
+    "is_miss",
+    "measure_pose",
+    "moved_mask",
+    "relative",
+]
+
+#: A push after which the object turned by less than this (radians, 0.57 deg) ...
+MISS_ROTATION = 0.01
+#: ... and its centroid moved by less than this (metres) did not move it: a miss.
+#: A 3 cm push that touches the object moves it by centimetres; tracking noise
+#: on a still object is below 0.5 deg and 0.5 mm.
+MISS_TRANSLATION_M = 0.001
+#: The first pose.
+IDENTITY = Motion(0.0, 0.0, 0.0)
+
+
+class PoseReading(NamedTuple):
+    """What the camera says about the pose after a push (internal)."""
+
+    pose: Motion  # relative to the first mask
+    ambiguous: bool  # the rotation is not observable from the outline
+    residual_px: float  # the registration's RMS outline distance (NaN: not measured)
+
+
+def compose(pose: Motion, motion) -> Motion:
+    """The pose after a camera-frame ``motion`` about the current centroid.
+
+    Examples
+    --------
+    >>> compose(Motion(0.1, 2.0, 0.0), (0.2, 1.0, 1.0))
+    Motion(theta=0.30000000000000004, tx=3.0, ty=1.0)
+    """
+    theta, tx, ty = (float(v) for v in motion)
+    return Motion(pose.theta + theta, pose.tx + tx, pose.ty + ty)
+
+
+def relative(before: Motion, after: Motion) -> Motion:
+    """The camera-frame motion (about the current centroid) from pose ``before`` to ``after``."""
+    return Motion(after.theta - before.theta, after.tx - before.tx, after.ty - before.ty)
+
+
+def actions_in_pose(actions, pose: Motion, centroid) -> np.ndarray:
+    """Object-frame actions (n, 4) as the camera sees them with the object at ``pose``."""
+    acts = np.asarray(actions, dtype=float)
+    if pose == IDENTITY:
+        return acts.copy()
+    ends = acts.reshape(-1, 2)
+    moved = apply_motion(ends, pose.theta, (pose.tx, pose.ty), centroid)
+    return moved.reshape(-1, 4)
+
+
+def moved_mask(first: Mask, pose: Motion) -> Mask | None:
+    """The first mask moved to ``pose`` (nearest pixel), or None if it left the image."""
+    if pose == IDENTITY:
+        return first
+    c0 = np.asarray(first.centroid)
+    # Camera pixel q shows the object point p = R(-theta)(q - c0 - t) + c0.
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    inverse = np.array([[c, -s], [s, c]])  # rotation_matrix(-theta), (x, y) order
+    swap = np.array([[0, 1], [1, 0]])
+    matrix = swap @ inverse @ swap  # the same map in (row, col) order
+    shift = c0 - inverse @ (c0 + np.array([pose.tx, pose.ty]))
+    data = ndimage.affine_transform(
+        first.data.astype(np.uint8), matrix, offset=shift[::-1], order=0, cval=0
+    ).astype(bool)
+    return Mask(data, resolution=first.resolution) if data.any() else None
+
+
+def is_miss(motion, resolution: float) -> bool:
+    """Whether a push's camera-frame motion is below the noise (the object did not move)."""
+    theta, tx, ty = (float(v) for v in motion)
+    return abs(theta) < MISS_ROTATION and math.hypot(tx, ty) * resolution < MISS_TRANSLATION_M
+
+
+def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
+    """The pose of the object in ``mask`` relative to ``first`` (comcore.measure_motion).
+
+    When the rotation is ambiguous (a disc) the previous pose's rotation is
+    kept: the camera cannot see it turn.
+    """
+    try:
+        from ._registration import measure_motion
+    except ImportError as e:  # pragma: no cover - until comcore/_registration.py lands
+        raise NotImplementedError(
+            "observe(mask) needs comcore.measure_motion (comcore/_registration.py); "
+            "pass motion= from your own tracker instead"
+        ) from e
+    m = measure_motion(first, mask)
+    theta = previous.theta if m.ambiguous else float(m.motion.theta)
+    pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
+    return PoseReading(pose, bool(m.ambiguous), float(m.residual_px))

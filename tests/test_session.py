@@ -1,0 +1,298 @@
+"""Tests of comcore.ActiveSession (comcore/_session.py, _planning.py, _session_pose.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import comcore
+import comcore._session as session_module
+from comcore._session_pose import IDENTITY, compose, moved_mask
+
+TRUE_COM = (52.0, 60.0)  # object frame (first mask), off the centroid (59.5, 56.5)
+
+
+def _mask(pad=45):
+    return comcore.Mask(np.pad(np.ones((24, 30), bool), pad))
+
+
+class World:
+    """A toy robot that never resets the object: it turns 0.1 rad in the Voting
+    Theorem's sense and slides 6 px along the push (object frame), from wherever
+    it is. Motions are reported in the camera frame about the current centroid."""
+
+    def __init__(self, mask, com=TRUE_COM, slide=6.0):
+        self.mask, self.com, self.slide = mask, np.asarray(com), slide
+        self.pose = IDENTITY
+        self.c0 = np.asarray(mask.centroid)
+
+    def to_object(self, action):
+        ends = np.asarray(action, float).reshape(2, 2) - (self.pose.tx, self.pose.ty)
+        return comcore.apply_motion(ends, -self.pose.theta, (0.0, 0.0), self.c0).reshape(4)
+
+    def object_motion(self, action_obj):
+        c = comcore.contacts(self.mask, action_obj)
+        if not c.hit[0]:
+            return np.zeros(3)
+        a = comcore.Action(*action_obj)
+        s = comcore.vt.rotation_sense(self.com, c.point[0], c.normal[0], a.direction, 0.3)
+        return np.array([0.1 * s, *(self.slide * np.asarray(a.direction))])
+
+    def execute(self, action):
+        m = self.object_motion(self.to_object(action))
+        t = comcore.rotate_vectors(m[1:], self.pose.theta)
+        camera = comcore.Motion(m[0], t[0], t[1])
+        self.pose = compose(self.pose, camera)
+        return camera
+
+    def camera_mask(self):
+        return moved_mask(self.mask, self.pose)
+
+
+def _run(session, world, steps=100):
+    offered = []
+    for _ in range(steps):
+        if session.done:
+            break
+        action = session.next_push()
+        offered.append((action, world.camera_mask()))
+        session.observe(motion=world.execute(action))
+    return offered
+
+
+def test_estimate_active_is_the_session_with_resets():
+    mask = _mask(10)
+    world = World(mask, com=(12.0, 20.0), slide=0.0)
+    est = comcore.estimate_active(mask, lambda a: world.object_motion(np.asarray(a)), rng=4)
+    session = comcore.ActiveSession(mask, rng=4)
+    while not session.done:
+        motion = world.object_motion(np.asarray(session.next_push()))
+        session.observe(motion=motion)
+        session.reset_pose()
+    again = session.estimate()
+    assert again.used == est.used and again.status == est.status
+    np.testing.assert_array_equal(again.extras["posterior"], est.extras["posterior"])
+
+
+def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
+    mask = _mask()
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=8, target_radius=1e-4)
+    _run(session, world)
+    assert session.status == "budget" and len(session.actions) == 8
+    np.testing.assert_allclose(session.pose, world.pose, atol=1e-12)
+    assert abs(session.pose.theta) > 0.1 and np.hypot(session.pose.tx, session.pose.ty) > 5
+    est = session.estimate()
+    assert est.error_px(TRUE_COM) < 2.5
+    moved = comcore.apply_motion(est.com, *world.pose[:1], world.pose[1:], mask.centroid)
+    np.testing.assert_allclose(session.com_in_camera(), moved, atol=1e-9)
+
+
+def test_offered_pushes_hit_the_object_where_it_is_now():
+    mask = _mask()
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=1, max_pushes=8, target_radius=1e-4)
+    for action, seen in _run(session, world):
+        c = comcore.contacts(seen, action)
+        assert c.hit[0] and not c.starts_inside[0]
+    made = session.estimate().extras["actions"]
+    assert len(np.unique(made, axis=0)) == 8  # never repeated (object frame)
+
+
+def test_motions_are_scored_in_the_object_frame():
+    """The posterior of a no-reset run equals the one of the same pushes with resets."""
+    mask = _mask()
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=2, max_pushes=5, target_radius=1e-4)
+    _run(session, world)
+    est = session.estimate()
+    reset = comcore.ActiveSession(
+        mask, candidates=est.extras["actions"], max_pushes=5, min_information=0.0
+    )
+    while not reset.done:
+        reset.observe(motion=World(mask).object_motion(np.asarray(reset.next_push())))
+        reset.reset_pose()
+    assert len(reset.estimate().used) == 5
+    np.testing.assert_allclose(
+        reset.estimate().extras["posterior"], est.extras["posterior"], atol=1e-12
+    )
+
+
+def test_a_push_that_does_not_move_the_object_is_a_miss():
+    """No reset, a push misses the moved object: zero motion is no evidence."""
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=3)
+    before = session.history[-1]["entropy_bits"]
+    first = session.next_push()
+    session.observe(motion=(0.0, 0.0, 0.0))
+    assert session.history[-1]["entropy_bits"] == pytest.approx(before, abs=1e-12)
+    assert session.estimate().extras["outcomes"] == ("miss",)
+    assert session.next_push() != first  # not repeated
+
+
+def test_a_failed_push_is_no_evidence_and_not_counted():
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=1)
+    first = session.next_push()
+    session.observe(failed=True)
+    assert session.status == "waiting_push" and session.next_push() != first
+    session.observe(motion=(0.1, 1.0, 0.0))
+    est = session.estimate()
+    assert est.status == "budget" and len(est.used) == 1 and len(est.extras["failed"]) == 1
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "match"),
+    [
+        (lambda s, m: s.observe(motion=(0.1, 0, 0)), comcore.SessionError, "next_push"),
+        (lambda s, m: s.observe(m, motion=(0.1, 0, 0)), TypeError, "exactly one of"),
+        (lambda s, m: s.observe(), TypeError, "exactly one of"),
+        (lambda s, m: s.observe(failed="yes"), TypeError, "failed must be a bool"),
+        (lambda s, m: s.observe(motion=(np.nan, 0, 0)), ValueError, "motion must be finite"),
+        (lambda s, m: s.observe(np.ones((3, 3), bool)), TypeError, "mask must be"),
+        (
+            lambda s, m: s.observe(comcore.Mask(np.pad(m.data, 1))),
+            ValueError,
+            "mask must have the first mask's shape",
+        ),
+        (
+            lambda s, m: s.observe(comcore.Mask(m.data, resolution=0.001)),
+            ValueError,
+            "mask must have the first mask's resolution",
+        ),
+    ],
+)
+def test_bad_observations_are_named_and_change_nothing(call, error, match):
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0)
+    first = session.next_push()
+    if error is comcore.SessionError:  # observe twice for one push
+        session.observe(motion=(0.1, 1.0, 0.0))
+        twin = comcore.ActiveSession(mask, rng=0)
+        twin.next_push()
+        twin.observe(motion=(0.1, 1.0, 0.0))
+        first = twin.next_push()
+    est = session.estimate()
+    with pytest.raises(error, match=match):
+        call(session, mask)
+    assert session.next_push() == first
+    np.testing.assert_array_equal(session.estimate().extras["posterior"], est.extras["posterior"])
+
+
+def test_observe_before_the_first_push_and_after_the_end():
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=1)
+    with pytest.raises(comcore.SessionError, match="call next_push"):
+        session.observe(motion=(0.1, 0, 0))
+    session.next_push()
+    session.observe(motion=(0.1, 1.0, 0.0))
+    assert session.done
+    with pytest.raises(comcore.SessionError, match="done"):
+        session.next_push()
+    with pytest.raises(comcore.SessionError, match="done"):
+        session.observe(motion=(0.1, 1.0, 0.0))
+
+
+def test_same_seed_same_pushes():
+    mask = _mask()
+    runs = []
+    for _ in range(2):
+        session = comcore.ActiveSession(mask, rng=7, max_pushes=4, target_radius=1e-4)
+        _run(session, World(mask))
+        runs.append(session.actions)
+    np.testing.assert_array_equal(runs[0], runs[1])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"max_pushes": -1}, ValueError, "max_pushes must be >= 0"),
+        ({"rng": -1}, ValueError, "rng must be"),
+        ({"rng": "a"}, TypeError, "rng must be"),
+        ({"max_push": 3}, TypeError, r"unknown option\(s\) \['max_push'\]"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        comcore.ActiveSession(_mask(10), **kwargs)
+
+
+def test_candidates_outside_the_image_are_not_offered():
+    mask = _mask(10)
+    inside = (0.0, 20.0, 25.0, 20.0)
+    outside = (-30.0, 25.0, 25.0, 25.0)  # hits the object but starts off the image
+    session = comcore.ActiveSession(mask, candidates=[outside, inside], max_pushes=5)
+    assert tuple(session.next_push()) == inside
+    session.observe(motion=(0.1, 1.0, 0.0))
+    assert session.status == "exhausted"
+
+
+def test_the_moved_mask_is_the_first_mask_moved():
+    mask = comcore.Mask(np.pad(np.ones((6, 14), bool), 12))
+    pose = comcore.Motion(0.5, 3.0, -2.0)
+    moved = moved_mask(mask, pose)
+    expected = comcore.apply_motion(mask.pixels, pose.theta, pose[1:], mask.centroid)
+    inside = moved.data[np.round(expected[:, 1]).astype(int), np.round(expected[:, 0]).astype(int)]
+    assert inside.mean() > 0.97
+    assert abs(moved.area_px - mask.area_px) <= 0.05 * mask.area_px
+
+
+def test_object_motion_from_camera_undoes_the_pose():
+    """A rotated camera view of a push gives the object's own motion back."""
+    from comcore._conventions import object_motion_from_camera
+
+    own = np.array([0.2, 3.0, -1.0])
+    for theta in (0.0, 0.7, -2.0):
+        seen = np.r_[own[0], comcore.rotate_vectors(own[1:], theta)]
+        np.testing.assert_allclose(object_motion_from_camera(seen, theta), own, atol=1e-12)
+
+
+# -- observing masks (comcore.measure_motion) ------------------------------------------
+
+
+class StandIn:
+    """Stands in for comcore.measure_motion: the world's true pose of each mask it made."""
+
+    def __init__(self, world, ambiguous=False):
+        self.world, self.ambiguous, self.calls = world, ambiguous, []
+        self.poses = {}
+
+    def mask(self):
+        m = self.world.camera_mask()
+        self.poses[id(m)] = self.world.pose
+        return m
+
+    def __call__(self, first, mask, previous):
+        from comcore._session_pose import PoseReading
+
+        self.calls.append((first, mask))
+        pose = self.poses[id(mask)]
+        if self.ambiguous:
+            pose = comcore.Motion(previous.theta, pose.tx, pose.ty)
+        return PoseReading(pose, self.ambiguous, 0.3)
+
+
+def test_observed_masks_are_measured_against_the_first_mask(monkeypatch):
+    mask = _mask()
+    world = World(mask)
+    stand_in = StandIn(world)
+    monkeypatch.setattr(session_module, "measure_pose", stand_in)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4)
+    while not session.done:
+        world.execute(session.next_push())
+        session.observe(stand_in.mask())
+    assert len(stand_in.calls) == 4 and all(first is mask for first, _ in stand_in.calls)
+    np.testing.assert_allclose(session.pose, world.pose, atol=1e-12)
+
+
+def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
+    mask = _mask()
+    world = World(mask)
+    stand_in = StandIn(world, ambiguous=True)
+    monkeypatch.setattr(session_module, "measure_pose", stand_in)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=2)
+    before = session.history[-1]["entropy_bits"]
+    world.execute(session.next_push())
+    session.observe(stand_in.mask())
+    assert session.history[-1]["entropy_bits"] == pytest.approx(before, abs=1e-12)  # no model
+    assert session.pose.theta == 0.0
