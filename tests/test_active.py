@@ -484,3 +484,28 @@ def test_estimate_active_reproduces_the_golden_record(name):
     np.testing.assert_allclose(got["credible_radius_px"], want["credible_radius_px"], atol=1e-9)
     np.testing.assert_allclose(got["entropies"], want["entropies"], atol=1e-9)
     np.testing.assert_allclose(got["motions"], want["motions"], atol=1e-12)
+
+
+@pytest.mark.parametrize("flip_prob", [1e-8, 1e-12])
+def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
+    """flip_prob <= 1e-8 made every gain NaN (0 log 0) and pushes came in candidate order."""
+    from scipy.special import entr
+
+    mask = _plate()
+    cands = comcore.sample_pushes(mask, 30, rng=2)
+    con = comcore.contacts(mask, cands)
+    direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
+    lines = force_lines(con.point, con.normal, direction, np.array([0.3]))
+    weights = np.full((mask.area_px, 1), 1.0 / mask.area_px)
+    gains = sense_information(mask.pixels, weights, lines, flip_prob)
+    q = flip_prob + (1 - 2 * flip_prob) * side_probability(line_distances(mask.pixels, lines))
+    q = q[:, :, 0]
+    h = (entr(q) + entr(1 - q)) / np.log(2)
+    total = weights[:, 0] @ q
+    brute = (entr(total) + entr(1 - total)) / np.log(2) - weights[:, 0] @ h
+    np.testing.assert_allclose(gains, brute, atol=1e-4)
+    est = comcore.estimate_active(
+        mask, _robot(mask, (20.0, 15.0), 0.3), cands, 3, flip_prob=flip_prob
+    )
+    assert est.used != (0, 1, 2)
+    assert all(np.isfinite(h["expected_gain_bits"]) for h in est.extras["history"][:-1])
