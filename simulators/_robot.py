@@ -26,10 +26,19 @@ from ._deps import require_shapely
 from ._settings import EngineSettings
 from ._simulator import PushResult, PushSimulator
 
-__all__ = ["DEFAULT_CAMERA_MARGIN", "RobotPush", "SimulatedRobot", "perturb_actions"]
+__all__ = [
+    "DEFAULT_CAMERA_MARGIN",
+    "RobotPush",
+    "SimulatedRobot",
+    "camera_frame_margin",
+    "noisy_mask",
+    "perturb_actions",
+    "retreat_starts",
+]
 
-#: Empty border (metres) around the object's initial footprint in the robot's camera:
-#: room for five 3 cm pushes that mostly turn the object in place (docs/robot.md).
+#: Table (metres) the robot's camera sees around the disc that holds the object in any
+#: orientation (its circumradius about the area centroid): room for the pushes of a
+#: session to carry it that far and turn it any way (docs/robot.md).
 DEFAULT_CAMERA_MARGIN = 0.08
 #: A perturbed start that lands inside the object is moved back by this much (metres)
 #: at a time, along the push, until it is outside.
@@ -120,16 +129,54 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
     return Mask(out, resolution=mask.resolution)
 
 
+def camera_frame_margin(shape, camera_margin: float) -> float:
+    """The simulator ``margin`` (metres) of a camera seeing ``camera_margin`` around the object.
+
+    The image then holds the disc about the footprint's area centroid that
+    contains the footprint in every orientation, widened by ``camera_margin``.
+    """
+    x_min, y_min, x_max, y_max = shape.bounds_m
+    centre = np.asarray(shape.centroid_m)
+    radius = float(np.max(np.linalg.norm(shape.vertices_m - centre, axis=1)))
+    reach = max(
+        radius - (centre[0] - x_min),
+        radius - (x_max - centre[0]),
+        radius - (centre[1] - y_min),
+        radius - (y_max - centre[1]),
+    )
+    return float(camera_margin + max(reach, 0.0))
+
+
+def retreat_starts(simulator, pose, starts, directions) -> np.ndarray:
+    """Starts (pixels) moved back along ``directions`` until outside the object at ``pose``.
+
+    1 mm steps, at most 5 cm; a start still inside after that is returned as it is
+    (the simulator then refuses the push).
+    """
+    shapely = require_shapely()
+    outline = shapely.Polygon(simulator.outline_at(pose))
+    step = RETREAT_STEP_M / simulator.resolution
+    out = np.array(starts, dtype=float)
+    for i in range(len(out)):
+        for _ in range(MAX_RETREAT_STEPS):
+            w = simulator.to_world(out[i])[0]
+            if not shapely.contains_xy(outline, w[0], w[1]):
+                break
+            out[i] = out[i] - step * np.asarray(directions[i])
+    return out
+
+
 class SimulatedRobot:
     """A push simulator playing a real robot: never reset, seen through a camera.
 
     The object starts at the simulator's initial pose and stays wherever each
     push leaves it. Actions are in the **camera frame**: pixels of
     :meth:`camera_mask` (x = column, y = row down), the camera fixed and looking
-    straight down. The camera covers the object's initial footprint plus
-    ``camera_margin`` on every side, so pushes that carry the object a few
-    centimetres keep it in view; :meth:`camera_mask` raises when the object
-    touches the image border (it left the view).
+    straight down. The camera covers the disc about the footprint's area
+    centroid that holds the object in every orientation, plus ``camera_margin``
+    on every side (:func:`camera_frame_margin`), so pushes that turn the object
+    any way and carry it a few centimetres keep it in view; :meth:`camera_mask`
+    raises when the object touches the image border (it left the view).
 
     Realism options, each drawn from ``rng``:
 
@@ -157,8 +204,9 @@ class SimulatedRobot:
     mask_noise : float, optional
         Flip probability of each outline pixel, in [0, 1), default 0.
     camera_margin : float or None, optional
-        Metres of table around the initial footprint in the camera image
-        (default :data:`DEFAULT_CAMERA_MARGIN`); ``None`` keeps the simulator's.
+        Metres of table around the object's bounding disc in the camera image
+        (default :data:`DEFAULT_CAMERA_MARGIN`); ``None`` keeps the simulator's
+        frame (its mask is then the camera's first image).
     resolution : float, optional
         Metres per camera pixel; default the simulator's.
     engine : str or EngineSettings, optional
@@ -198,8 +246,11 @@ class SimulatedRobot:
         self.pusher_error = check_positive(pusher_error, "pusher_error", allow_zero=True)
         self.angle_error = check_positive(angle_error, "angle_error", allow_zero=True)
         self.mask_noise = check_probability(mask_noise, "mask_noise", open_high=True)
-        margin = simulator.margin if camera_margin is None else camera_margin
-        margin = check_positive(margin, "camera_margin")
+        if camera_margin is None:
+            margin = simulator.margin
+        else:
+            margin = check_positive(camera_margin, "camera_margin")
+            margin = camera_frame_margin(simulator.shape, margin)
         res = (
             simulator.resolution if resolution is None else check_positive(resolution, "resolution")
         )
@@ -306,18 +357,7 @@ class SimulatedRobot:
 
     # -- the arm ------------------------------------------------------------------
     def _retreat(self, starts: np.ndarray, directions: np.ndarray) -> np.ndarray:
-        shapely = require_shapely()
-        sim = self.simulator
-        outline = shapely.Polygon(sim.outline_at(self._world))
-        step = RETREAT_STEP_M / sim.resolution
-        out = starts.copy()
-        for i in range(len(out)):
-            for _ in range(MAX_RETREAT_STEPS):
-                w = sim.to_world(out[i])[0]
-                if not shapely.contains_xy(outline, w[0], w[1]):
-                    break
-                out[i] = out[i] - step * directions[i]
-        return out
+        return retreat_starts(self.simulator, self._world, starts, directions)
 
     def execute(self, action) -> RobotPush:
         """Push the object from where it is now; the object stays where the push leaves it.

@@ -57,11 +57,14 @@ def test_push_motion_is_about_the_centroid_before_it(sim):
     assert np.allclose(moved.mean(axis=0), robot.camera_mask().centroid, atol=0.3)
 
 
-def test_camera_frame_keeps_the_margin(sim):
+def test_camera_sees_the_margin_around_the_turning_object():
+    sim = simulators.random_simulator("Obj19", friction="low", rng=0)  # a 31 x 10 cm bar
     robot = SimulatedRobot(sim, camera_margin=0.05)
-    h, w = sim.image_shape
-    margin_px = 2 * (0.05 - sim.margin) / sim.resolution
-    assert robot.image_shape == (h + round(margin_px), w + round(margin_px))
+    centre = robot.camera_mask().centroid
+    radius = np.max(np.linalg.norm(sim.shape.vertices_m - sim.shape.centroid_m, axis=1))
+    reach_px = (radius + 0.05) / robot.resolution
+    h, w = robot.image_shape
+    assert min(centre[0], centre[1], w - 1 - centre[0], h - 1 - centre[1]) >= reach_px - 1.5
     assert robot.true_com_px() == robot.simulator.com_px
 
 
