@@ -17,7 +17,7 @@ Examples
 """
 
 from . import vt
-from ._active import estimate_active
+from ._active import estimate_active, estimate_posterior
 from ._conventions import (
     ANGLE_EPS,
     DEFAULT_RESOLUTION,
@@ -33,6 +33,7 @@ from ._conventions import (
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
+from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
@@ -65,6 +66,7 @@ __all__ = [
     "Estimate",
     "HypothesisPredictor",
     "ImageError",
+    "LimitSurfaceModel",
     "Mask",
     "Motion",
     "MotionMeasurement",
@@ -87,6 +89,7 @@ __all__ = [
     "equality_score",
     "estimate_active",
     "estimate_heatmap",
+    "estimate_posterior",
     "estimate_progressive",
     "largest_component",
     "measure_motion",

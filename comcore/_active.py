@@ -2,14 +2,26 @@
 
 from __future__ import annotations
 
+import math
+
+from ._active_setup import active_options, build_estimate, prior_grid
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._mask import Mask
+from ._planning import Candidates
+from ._posterior import GridPosterior
 from ._session import ActiveSession
+from ._session_pose import is_miss
+from ._session_update import push_evidence
 from ._types import Estimate
-from ._validation import check_mask, check_motions
+from ._validation import check_actions, check_mask, check_motions
 
-__all__ = ["estimate_active"]
+__all__ = ["estimate_active", "estimate_posterior"]
+
+#: Options of estimate_active that choose pushes or stop: estimate_posterior has none.
+PLANNING_OPTIONS = frozenset(
+    {"max_pushes", "target_radius", "selection", "min_information", "n_candidates", "cone", "rng"}
+)
 
 
 def estimate_active(
@@ -233,3 +245,99 @@ def estimate_active(
         session.observe(motion=motion)
         session.reset_pose()  # push() executes every action on the object in mask's pose
     return session.estimate()
+
+
+def estimate_posterior(
+    mask: Mask, actions, motions, *, model=None, prior=None, **options
+) -> Estimate:
+    """The active estimator's posterior over recorded pushes, without choosing any.
+
+    The offline counterpart of :func:`comcore.estimate_active` and
+    :class:`comcore.ActiveSession`: the same prior, likelihood (Voting Theorem
+    force lines, optional motion model, friction marginalised) and result,
+    over pushes that were all made from the pose of ``mask`` (the object reset
+    before each). A push whose motion is below the noise (it turned by less
+    than 0.01 rad and moved by less than 1 mm: it missed) carries no evidence.
+
+    Parameters
+    ----------
+    mask : Mask
+        The object before the pushes.
+    actions : array_like, shape (n, 4)
+        The pushes in ``mask``'s pixels; each must start outside the object
+        and hit it.
+    motions : array_like, shape (n, 3)
+        Their observed motions ``(theta, tx, ty)`` (radians, pixels), about
+        ``mask``'s centroid.
+    model : HypothesisPredictor or sequence of them, optional
+        Motion model for the likelihood of the whole motion.
+    prior : array_like, shape (H, W), optional
+        Prior weights of the CoM (default uniform over the object).
+    **options
+        The likelihood's options of :func:`comcore.estimate_active` (``mu``,
+        ``credible``, ``flip_prob``, ``theta_tol``, ``n_mu``, the noise
+        scales, ``model_weight``); those that choose pushes or stop are refused.
+
+    Returns
+    -------
+    Estimate
+        ``com`` the posterior mean, ``region`` the credible region, ``used``
+        the pushes that carried evidence. ``extras`` as
+        :func:`comcore.estimate_active`'s (``"posterior"``,
+        ``"credible_radius_px"``, ``"history"``, ...) plus ``"outcomes"``
+        (``"evidence"`` / ``"miss"`` per push). ``status`` is ``"ok"``, or
+        ``"no_evidence"`` when no push carried any.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On invalid arguments (each named).
+
+    Examples
+    --------
+    Four pushes across a plate and the senses they turned it in: the CoM is
+    between rows 8 and 13 and columns 8 and 13 (each sense may be wrong with
+    probability ``flip_prob``, so the 90 % region still reaches outside):
+
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+    >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
+    >>> est = comcore.estimate_posterior(mask, actions, motions)
+    >>> est.status, np.round(est.com, 1).tolist(), round(est.extras["credible_radius_px"], 1)
+    ('ok', [11.1, 11.1], 7.6)
+    """
+    mask = check_mask(mask)
+    refused = sorted(PLANNING_OPTIONS & set(options))
+    if refused:
+        raise TypeError(f"estimate_posterior chooses no pushes: option(s) {refused} do not apply")
+    acts = check_actions(actions, "actions", allow_empty=False)
+    moves = check_motions(motions, n=len(acts), name="motions")
+    opts = active_options(mask, model=model, **options)
+    pixels, prior_w = prior_grid(mask, prior)
+    pushes = Candidates(mask, acts, opts, rng=None, name="actions")
+    post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1))
+    history, outcomes, used = [], [], []
+    for i, motion in enumerate(moves):
+        _, area = post.credible(opts.credible)
+        history.append(_state(post, area))
+        if is_miss(motion, mask.resolution):
+            outcomes.append("miss")
+            continue
+        post.update(push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion))
+        outcomes.append("evidence")
+        used.append(i)
+    _, area = post.credible(opts.credible)
+    history.append(_state(post, area))
+    extras = {"actions": acts, "motions": moves, "outcomes": tuple(outcomes)}
+    status = "ok" if used else "no_evidence"
+    return build_estimate(mask, post, opts.credible, used, history, status, extras)
+
+
+def _state(post, area) -> dict:
+    return {
+        "com": tuple(float(v) for v in post.mean()),
+        "entropy_bits": post.entropy_bits(),
+        "credible_radius_px": math.sqrt(area / math.pi),
+        "expected_gain_bits": None,
+    }

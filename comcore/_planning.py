@@ -39,15 +39,17 @@ class Candidates:
         None to draw ``options.n_candidates`` with :func:`comcore.sample_pushes`.
     options : ActiveOptions
     rng : numpy.random.Generator
+    name : str, optional
+        The argument's name in error messages.
     """
 
-    def __init__(self, mask: Mask, candidates, options: ActiveOptions, rng):
+    def __init__(self, mask: Mask, candidates, options: ActiveOptions, rng, name="candidates"):
         if candidates is None:
             actions = sample_pushes(mask, options.n_candidates, cone=options.cone, rng=rng)
         else:
-            actions = check_actions(candidates, "candidates", allow_empty=False)
+            actions = check_actions(candidates, name, allow_empty=False)
         con = contacts(mask, actions)
-        con.require_hits("candidates")
+        con.require_hits(name)
         direction = actions[:, 2:] - actions[:, :2]
         direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
         self.mask = mask
