@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+
+import numpy as np
+
 import comcore
 
 from ._registry import (
@@ -19,6 +23,13 @@ _SIM = missing("simulators", "PushSimulator", "pip install comcore[sim]")
 _ORACLE = requirements(_SIM, missing("predictors", "OraclePredictor", "pip install comcore[sim]"))
 _ELLIPSOID = missing("predictors", "EllipsoidPredictor")
 _ACTIVE = missing("comcore", "estimate_active")
+_SESSION = requirements(
+    missing("comcore", "ActiveSession"),
+    missing("comcore", "measure_motion"),
+    missing("simulators", "SimulatedRobot", "pip install comcore[sim]"),
+)
+#: Pushes the robot may fail to execute in one run before ``active-robot`` gives up.
+MAX_PUSH_FAILURES = 3
 
 
 def _alg1(ctx: TrialContext, **options) -> comcore.Estimate:
@@ -73,6 +84,67 @@ def _active_vt(ctx: TrialContext, **options):
     return _active(ctx, **{"model": None, **options})
 
 
+def _active_robot(
+    ctx: TrialContext,
+    model="ellipsoid",
+    observe=None,
+    motion_noise=None,
+    pusher_error=None,
+    mask_noise=None,
+    camera_margin=None,
+    **options,
+):
+    """:class:`comcore.ActiveSession` against ``simulators.SimulatedRobot``, never reset.
+
+    Each push starts from the pose the last one left. ``observe="mask"`` (default):
+    the session gets the camera's mask after every push and measures the motion
+    itself; ``"motion"``: it gets the robot's exact motion plus ``motion_noise``
+    ``(radians, metres)`` of tracking noise (the default under the
+    ``motion-noise`` condition). ``pusher_error`` (metres), ``mask_noise`` (flip
+    probability) and ``camera_margin`` (metres) override the trial condition's.
+    A push the robot refuses is reported with ``observe(failed=True)``;
+    ``extras["push_failures"]`` counts them.
+    """
+    condition = ctx.condition
+    if observe is None:
+        noisy = condition is not None and condition.motion_noise is not None
+        observe = "motion" if noisy else "mask"
+    if observe not in ("mask", "motion"):
+        raise ValueError(f"observe must be 'mask' or 'motion', got {observe!r}")
+    if motion_noise is None and condition is not None:
+        motion_noise = condition.motion_noise
+    overrides = {"pusher_error": pusher_error, "mask_noise": mask_noise}
+    overrides["camera_margin"] = camera_margin
+    robot = ctx.robot(**{k: v for k, v in overrides.items() if v is not None})
+    noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
+    session = comcore.ActiveSession(  # type: ignore[attr-defined]
+        robot.camera_mask(), model=_hypothesis_model(ctx, model), rng=ctx.rng, **options
+    )
+    failures = 0
+    while not session.done:
+        action = session.next_push()
+        try:
+            push = robot.execute(action)
+        except ValueError:
+            failures += 1
+            session.observe(failed=True)
+            if failures >= MAX_PUSH_FAILURES:
+                break
+            continue
+        if observe == "mask":
+            session.observe(robot.camera_mask())
+            continue
+        motion = np.asarray(push.motion, float)
+        if motion_noise is not None:
+            theta, shift = motion_noise
+            scale = np.array([theta, shift / robot.resolution, shift / robot.resolution])
+            motion = motion + noise_rng.normal(0.0, 1.0, 3) * scale
+        session.observe(motion=comcore.Motion(*motion))
+    est = session.estimate()
+    extras = {**est.extras, "push_failures": failures, "robot_pose": tuple(robot.pose)}
+    return dataclasses.replace(est, extras=extras)
+
+
 register_estimator("alg1", _alg1, description="Alg. 1: calmest region of the rotation heat map")
 register_estimator(
     "alg2", _alg2, description="Alg. 2: progressive Voting-Theorem cuts, equality-score order"
@@ -87,6 +159,7 @@ register_estimator(
     _centroid,
     description="baseline: the mask's area centroid (no push)",
     uses_motions=False,
+    resets=False,
 )
 register_estimator(
     "active",
@@ -94,6 +167,14 @@ register_estimator(
     description="comcore.estimate_active pushing the object, ellipsoid motion model",
     uses_motions=False,
     requires=requirements(_ACTIVE, _ELLIPSOID),
+)
+register_estimator(
+    "active-robot",
+    _active_robot,
+    description="comcore.ActiveSession on a simulated robot: never reset, motions from masks",
+    uses_motions=False,
+    requires=requirements(_SESSION, _ELLIPSOID),
+    resets=False,
 )
 register_estimator(
     "active-vt",

@@ -58,6 +58,15 @@ class TrialContext:
     push : callable
         ``push(action) -> Motion`` on the true object from its initial pose;
         every call is counted as a real push.
+    robot : callable or None
+        ``robot(**options) -> simulators.SimulatedRobot``: the trial's object as a
+        robot that never resets it, under the trial's condition (pusher error,
+        camera noise, engine); ``options`` override the condition's. Every push the
+        robot executes is counted as a real push, and an estimate of a run that made
+        a robot is scored in the robot's camera frame (``robot.true_com_px()``).
+    condition : object or None
+        The realism condition of the trial (:class:`comcore.bench.Condition`);
+        ``None`` for the plain benchmark.
     """
 
     object: str
@@ -70,6 +79,8 @@ class TrialContext:
     priors: tuple = ()
     rng: np.random.Generator = field(default_factory=np.random.default_rng)
     push: Callable[[comcore.Action], comcore.Motion] | None = None
+    robot: Callable[..., Any] | None = None
+    condition: Any = None
 
 
 @dataclass(frozen=True)
@@ -89,6 +100,9 @@ class EstimatorSpec:
         its real pushes are the calls it made to ``ctx.push``.
     requires : callable
         ``requires() -> str | None``: why it cannot run in this build, or ``None``.
+    resets : bool
+        ``True``: it needs the object put back between pushes (every motion from
+        the initial pose); the ``no-reset`` condition does not run it.
     """
 
     name: str
@@ -96,6 +110,7 @@ class EstimatorSpec:
     description: str
     uses_motions: bool = True
     requires: Callable[[], str | None] = lambda: None
+    resets: bool = True
 
 
 @dataclass(frozen=True)
@@ -136,6 +151,7 @@ def register_estimator(
     uses_motions: bool = True,
     requires: Callable[[], str | None] | None = None,
     replace: bool = False,
+    resets: bool = True,
 ) -> EstimatorSpec:
     """Add an estimator to :data:`ESTIMATORS` (see :class:`EstimatorSpec`).
 
@@ -157,7 +173,9 @@ def register_estimator(
         raise TypeError(f"run must be callable as run(ctx, **options), got {type(run).__name__}")
     if name in ESTIMATORS and not replace:
         raise ValueError(f"estimator {name!r} is already registered (pass replace=True)")
-    spec = EstimatorSpec(name, run, description, bool(uses_motions), requires or (lambda: None))
+    spec = EstimatorSpec(
+        name, run, description, bool(uses_motions), requires or (lambda: None), bool(resets)
+    )
     ESTIMATORS[name] = spec
     return spec
 
@@ -196,15 +214,24 @@ def parse_estimator(label: str) -> tuple[EstimatorSpec, dict[str, Any]]:
     >>> parse_estimator("alg9")
     Traceback (most recent call last):
     ...
-    ValueError: estimators: unknown estimator 'alg9'; registered: active, active-vt, alg1, ...
+    ValueError: estimators: unknown estimator 'alg9'; registered: active, ...
+    """
+    name, options = parse_call(label, "estimators", ESTIMATORS)
+    return ESTIMATORS[name], options
+
+
+def parse_call(label: str, what: str, known: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+    """``"name(key=literal, ...)"`` as ``(name, options)``; ``name`` must be in ``known``.
+
+    Errors name ``what`` (the option being parsed, e.g. ``"estimators"``).
     """
     match = re.fullmatch(r"\s*([\w.-]+)\s*(?:\((.*)\))?\s*", label or "")
-    known = ", ".join(sorted(ESTIMATORS))
+    names = ", ".join(sorted(known))
     if not match:
-        raise ValueError(f"estimators: cannot parse {label!r}; expected name or name(key=value)")
+        raise ValueError(f"{what}: cannot parse {label!r}; expected name or name(key=value)")
     name, arguments = match.group(1), match.group(2)
-    if name not in ESTIMATORS:
-        raise ValueError(f"estimators: unknown estimator {name!r}; registered: {known}")
+    if name not in known:
+        raise ValueError(f"{what}: unknown {what.rstrip('s')} {name!r}; registered: {names}")
     options: dict[str, Any] = {}
     if arguments and arguments.strip():
         try:
@@ -216,9 +243,9 @@ def parse_estimator(label: str) -> tuple[EstimatorSpec, dict[str, Any]]:
                 raise ValueError("**kwargs is not allowed")
         except (SyntaxError, ValueError) as e:
             raise ValueError(
-                f"estimators: bad options in {label!r} ({e}); expected name(key=literal, ...)"
+                f"{what}: bad options in {label!r} ({e}); expected name(key=literal, ...)"
             ) from e
-    return ESTIMATORS[name], options
+    return name, options
 
 
 def missing(module: str, attribute: str, install: str | None = None) -> Callable[[], str | None]:

@@ -39,6 +39,7 @@ ROW_FIELDS = (
     "object", "friction", "trial", "estimator", "predictor", "status", "error_cm", "error_px",
     "pushes_used", "prior_pushes", "total_pushes", "true_x_px", "true_y_px", "est_x_px",
     "est_y_px", "mu", "area_cm2", "candidates", "cone", "seed", "message",
+    "condition", "covered", "credible_radius_cm", "push_failures",
 )  # fmt: skip
 
 
@@ -86,6 +87,9 @@ class TrialSpec:
         Number of random candidate pushes.
     cone : float
         Half-angle in radians of their directions about the inward normal.
+    condition : comcore.bench.Condition or None
+        The realism condition the trial runs under (``None``: the plain benchmark,
+        the same as the ``exact`` condition).
     """
 
     object: str
@@ -96,6 +100,7 @@ class TrialSpec:
     estimators: tuple[str, ...] = DEFAULT_ESTIMATORS
     candidates: int = DEFAULT_CANDIDATES
     cone: float = DEFAULT_CONE
+    condition: Any = None
 
     def rng(self, stream: str) -> np.random.Generator:
         """The generator of one of this trial's random streams."""
@@ -111,6 +116,26 @@ class TrialOutcome:
     estimates: dict[str, comcore.Estimate] = field(default_factory=dict)
 
 
+class _RobotFactory:
+    """``ctx.robot(**options)``: the trial's object as a robot, its pushes counted."""
+
+    def __init__(self, simulator, condition, rng):
+        self.simulator, self.condition, self.rng = simulator, condition, rng
+        self.robots: list = []
+
+    def __call__(self, **options):
+        from ._conditions import CONDITIONS
+
+        condition = self.condition if self.condition is not None else CONDITIONS["exact"]
+        robot = condition.robot(self.simulator, self.rng, **options)
+        self.robots.append(robot)
+        return robot
+
+    @property
+    def count(self) -> int:
+        return sum(r.pushes for r in self.robots)
+
+
 class _CountingPush:
     """``push(action) -> Motion`` on the simulator from its initial pose, counted."""
 
@@ -123,10 +148,23 @@ class _CountingPush:
         return self.simulator.push(action).motion
 
 
+def _covered(region: np.ndarray, point) -> bool:
+    """Whether the pixel under ``point`` (x, y) is in ``region``."""
+    col, row = (round(float(v)) for v in point)
+    h, w = region.shape
+    return bool(0 <= row < h and 0 <= col < w and region[row, col])
+
+
 def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **values) -> dict:
     sim, mask = ctx.simulator, ctx.mask
     est = values.pop("estimate")
-    error_px = est.error_px(sim.com_px)
+    robot = values.pop("robot", None)
+    truth, resolution = sim.com_px, mask.resolution
+    if robot is not None:  # scored in the frame of the camera the estimator saw
+        truth, resolution = robot.true_com_px(), robot.resolution
+    error_px = est.error_px(truth)
+    radius = est.extras.get("credible_radius_px")
+    condition = spec.condition.name if spec.condition is not None else "exact"
     row: dict[str, Any] = {
         "object": spec.object,
         "friction": spec.friction,
@@ -134,10 +172,10 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
         "estimator": label,
         "predictor": predictor,
         "status": est.status,
-        "error_cm": error_px * mask.resolution * 100.0,
+        "error_cm": error_px * resolution * 100.0,
         "error_px": error_px,
-        "true_x_px": float(sim.com_px[0]),
-        "true_y_px": float(sim.com_px[1]),
+        "true_x_px": float(truth[0]),
+        "true_y_px": float(truth[1]),
         "est_x_px": est.com[0],
         "est_y_px": est.com[1],
         "mu": float(sim.mu_contact),
@@ -146,6 +184,10 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
         "cone": spec.cone,
         "seed": spec.seed,
         "message": "",
+        "condition": condition,
+        "covered": _covered(est.region, truth),
+        "credible_radius_cm": None if radius is None else float(radius) * resolution * 100.0,
+        "push_failures": int(est.extras.get("push_failures", 0)),
     }
     row.update(values)
     row["total_pushes"] = row["pushes_used"] + row["prior_pushes"]
@@ -208,8 +250,13 @@ def _predictions(spec: TrialSpec, ctx: TrialContext):
         )
         priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
         note += f"{rejected} prior push(es) redrawn; " if rejected else ""
-    model = predictor.make(replace(ctx, priors=priors))
     rng = spec.rng("cand")
+    if predictor.pushes_object and spec.condition is not None and not spec.condition.plain:
+        predict = sim.push_motions  # the oracle under a condition: the condition's observations
+        cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
+        note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
+        return replace(ctx, candidates=cands, motions=motions, priors=priors), note
+    model = predictor.make(replace(ctx, priors=priors))
     if predictor.pushes_object:  # predicting is pushing: redraw what the simulator refuses
         predict = lambda a: comcore.predict_motions(model, mask, a, priors)  # noqa: E731
         cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
@@ -248,6 +295,13 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
     """
     parsed = [(label, *parse_estimator(label)) for label in spec.estimators]
     sim, note = _random_simulator(spec)
+    condition, world = spec.condition, None
+    if condition is not None and not condition.plain:
+        from ._conditions import ConditionWorld
+
+        world = ConditionWorld(condition, sim, spec.rng("condition"))
+        sim = world
+    robot_sim = world.base if world is not None else sim
     mask = sim.mask
     ctx = TrialContext(spec.object, spec.friction, spec.trial, sim, mask, np.empty((0, 4)), None)
     failure = ""
@@ -263,8 +317,16 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
     prior_count = len(ctx.priors)
     rows, estimates = [], {}
     for label, est_spec, options in parsed:
-        counter = _CountingPush(sim)
-        run_ctx = replace(ctx, rng=spec.rng("estimator:" + label), push=counter)
+        own = sim if world is None else world.with_rng(spec.rng("condition:" + label))
+        counter = _CountingPush(own)
+        robots = _RobotFactory(robot_sim, condition, spec.rng("robot:" + label))
+        run_ctx = replace(
+            ctx,
+            rng=spec.rng("estimator:" + label),
+            push=counter,
+            robot=robots,
+            condition=condition,
+        )
         message = note
         try:
             if est_spec.uses_motions and failure:
@@ -276,8 +338,9 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
         if est_spec.uses_motions:
             used, prior = len(est.used), prior_count
         else:
-            used, prior = counter.count, 0
+            used, prior = counter.count + robots.count, 0
         estimates[label] = est
-        values = {"pushes_used": used, "prior_pushes": prior, "message": message}
+        robot = robots.robots[-1] if robots.robots else None
+        values = {"pushes_used": used, "prior_pushes": prior, "message": message, "robot": robot}
         rows.append(_row(spec, ctx, label, spec.predictor, estimate=est, **values))
     return TrialOutcome(rows, ctx, estimates) if keep else rows

@@ -59,6 +59,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add("--dask", metavar="ADDRESS", help="run the trials on this Dask scheduler")
     add("--no-figures", action="store_true", help="skip the PNG figures")
     add("--no-progress", action="store_true", help="no progress bar")
+    add(
+        "--conditions",
+        metavar="LIST",
+        help="run the same trials under realism conditions and write conditions.md: "
+        "exact,pymunk,pusher-error,motion-noise,mask-noise,resolution-0.1,no-reset "
+        "(docs/robot.md)",
+    )
 
 
 def _config(args):
@@ -106,6 +113,10 @@ def run(args) -> int:
     except (ValueError, RuntimeError) as e:
         print(f"comcore bench: {e}", file=sys.stderr)
         return 2
+    if getattr(args, "conditions", None):
+        from ._conditions import run_conditions_command
+
+        return run_conditions_command(args, checked, skipped)
     for label, reason in skipped.items():
         print(f"comcore bench: skipping estimator {label!r}: {reason}", file=sys.stderr)
     out = Path(args.out)

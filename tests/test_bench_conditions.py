@@ -1,0 +1,156 @@
+"""Realism conditions of the benchmark: parsing, the same trials, each condition's effect."""
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("shapely")
+pytest.importorskip("trimesh")
+pytest.importorskip("pymunk")
+
+import comcore
+from comcore.bench import BenchConfig, TrialSpec, run_trial
+from comcore.bench._conditions import (
+    CONDITIONS,
+    ConditionWorld,
+    conditions_table,
+    parse_condition,
+    run_conditions,
+)
+from comcore.bench._trial import _random_simulator
+
+ESTIMATORS = ("alg2", "active(max_pushes=2)", "active-robot(max_pushes=2)", "centroid")
+NAMES = (
+    "exact",
+    "pymunk",
+    "pusher-error",
+    "motion-noise",
+    "mask-noise",
+    "resolution-0.1",
+    "no-reset",
+)
+
+
+def test_the_documented_conditions_are_registered():
+    assert tuple(CONDITIONS) == NAMES
+    assert CONDITIONS["pusher-error"].pusher_error == 0.003
+    assert CONDITIONS["resolution-0.1"].resolution == 0.001
+    assert CONDITIONS["motion-noise"].motion_noise == (math.radians(0.5), 0.0005)
+    assert CONDITIONS["exact"].plain and CONDITIONS["no-reset"].plain
+
+
+def test_parse_condition_options_and_errors():
+    c = parse_condition("pusher-error(pusher_error=0.001)")
+    assert c.pusher_error == 0.001 and c.name == "pusher-error(pusher_error=0.001)"
+    with pytest.raises(ValueError, match="unknown condition 'fog'"):
+        parse_condition("fog")
+    with pytest.raises(ValueError, match="unknown option"):
+        parse_condition("exact(colour=1)")
+    with pytest.raises(ValueError, match="pusher_error"):
+        parse_condition("pusher-error(pusher_error=-1.0)")
+    with pytest.raises(ValueError, match="engine"):
+        parse_condition("pymunk(engine='box2d')")
+
+
+@pytest.fixture(scope="module")
+def runs():
+    config = BenchConfig(
+        objects=("Obj3",), trials=1, frictions=("low",), candidates=8, estimators=ESTIMATORS
+    )
+    return run_conditions(config, ",".join(NAMES), workers=1)
+
+
+def test_each_condition_runs_the_same_trial(runs):
+    results, unfit = runs
+    assert tuple(results) == NAMES
+    for name, result in results.items():
+        for row in result.rows:
+            assert row["condition"] == name
+            assert row["status"] != "error", (name, row["estimator"], row["message"])
+            assert row["mu"] == results["exact"].rows[0]["mu"]  # the same object
+    assert unfit["no-reset"] == {
+        e: "needs the object put back before every push" for e in ESTIMATORS[:2]
+    }
+    assert [r["estimator"] for r in results["no-reset"].rows] == list(ESTIMATORS[2:])
+
+
+def test_exact_condition_is_the_plain_benchmark(runs):
+    results, _ = runs
+    plain = run_trial(TrialSpec("Obj3", "low", 0, candidates=8, estimators=ESTIMATORS))
+    for a, b in zip(plain, results["exact"].rows):
+        assert a["error_cm"] == b["error_cm"] and a["total_pushes"] == b["total_pushes"]
+
+
+def test_rows_say_whether_the_region_holds_the_truth(runs):
+    results, _ = runs
+    rows = [r for res in results.values() for r in res.rows if r["estimator"].startswith("active")]
+    assert all(r["credible_radius_cm"] > 0 for r in rows)
+    assert all(isinstance(r["covered"], bool) for r in rows)
+    assert all(r["push_failures"] == 0 for r in rows)
+    centroid = [r for res in results.values() for r in res.rows if r["estimator"] == "centroid"]
+    assert all(r["credible_radius_cm"] is None and r["covered"] for r in centroid)
+
+
+def test_conditions_table_has_one_table_per_condition(runs):
+    results, unfit = runs
+    text = conditions_table(results, unfit, command="comcore bench --conditions ...")
+    for name in NAMES:
+        assert f"## {name}\n" in text
+    assert "| `alg2` | not run: needs the object put back before every push |" in text
+    assert text.count("| `active-robot(max_pushes=2)` | 1 |") == len(NAMES)
+
+
+@pytest.fixture(scope="module")
+def sim():
+    return _random_simulator(TrialSpec("Obj3", "low", 0))[0]
+
+
+def _motions(name, sim, seed=0):
+    world = ConditionWorld(parse_condition(name), sim, seed)
+    actions = comcore.sample_pushes(world.mask, 6, rng=1)
+    return world, world.push_motions(actions), world.base.push_motions(actions)
+
+
+def test_pusher_error_moves_the_pushes(sim):
+    _, observed, exact = _motions("pusher-error", sim)
+    assert not np.allclose(observed, exact, atol=1e-3)
+    _, again, _ = _motions("pusher-error", sim)
+    assert np.array_equal(observed, again)
+
+
+def test_motion_noise_is_small_and_seeded(sim):
+    world, observed, exact = _motions("motion-noise", sim)
+    d = observed - exact
+    assert np.all(np.abs(d[:, 0]) < 5 * math.radians(0.5))
+    assert np.all(np.abs(d[:, 1:]) < 5 * 0.0005 / world.resolution) and (d != 0).all()
+
+
+def test_mask_noise_measures_motions_from_noisy_masks():
+    sim = _random_simulator(TrialSpec("Obj2", "low", 0))[0]  # no rotational symmetry
+    world, observed, exact = _motions("mask-noise", sim)
+    assert not np.array_equal(world.mask.data, world.base.mask.data)
+    assert world.mask.shape != sim.mask.shape  # the camera frame keeps the pushed object in view
+    assert np.allclose(observed[:, 0], exact[:, 0], atol=0.05)
+
+
+def test_pymunk_and_resolution_rebuild_the_same_object(sim):
+    pym = ConditionWorld(CONDITIONS["pymunk"], sim, 0)
+    fine = ConditionWorld(CONDITIONS["resolution-0.1"], sim, 0)
+    assert pym.settings.engine == "pymunk" and fine.resolution == 0.001
+    assert np.allclose(pym.com_m, sim.com_m) and np.allclose(fine.com_m, sim.com_m)
+    assert abs(fine.mask.area_m2 - sim.mask.area_m2) < 0.05 * sim.mask.area_m2
+
+
+def test_world_refuses_a_start_pose(sim):
+    world = ConditionWorld(CONDITIONS["pusher-error"], sim, 0)
+    with pytest.raises(ValueError, match="pose"):
+        world.push_many(comcore.sample_pushes(world.mask, 1, rng=0), pose=(0.0, 0.0, 0.0))
+
+
+def test_run_conditions_bad_input():
+    config = BenchConfig(objects=("Obj3",), trials=1, frictions=("low",), estimators=("centroid",))
+    with pytest.raises(ValueError, match="distinct"):
+        run_conditions(config, "exact,exact")
+    with pytest.raises(ValueError, match="at least one"):
+        run_conditions(config, "")
