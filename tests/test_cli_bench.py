@@ -3,6 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 
@@ -85,3 +91,153 @@ def test_dask_option_gives_the_local_results(tmp_path, dask_scheduler_address):
     assert (tmp_path / "dask" / "results.jsonl").read_text() == local
     meta = json.loads((tmp_path / "dask" / "run.json").read_text())
     assert meta["workers"].startswith("dask ") and meta["cpu_s"] is None
+
+
+def test_an_estimator_option_typo_is_refused_before_the_first_trial(tmp_path, capsys, monkeypatch):
+    import comcore.bench._runner as runner
+
+    def no_trial(spec):
+        raise AssertionError("a trial ran")
+
+    monkeypatch.setattr(runner, "run_trial", no_trial)
+    args = ["bench", *TINY, "--out", str(tmp_path), "--estimators", "alg2(min_scor=0.5)"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "alg2 has no option min_scor (did you mean min_score?)" in err
+    assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
+
+
+def test_an_unwritable_out_folder_is_one_line_not_a_traceback(tmp_path, capsys):
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("a file where the folder should go")
+    args = ["bench", *TINY, "--estimators", "centroid", "--no-figures",
+            "--out", str(blocker / "run")]  # fmt: skip
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"comcore bench: --out {blocker / 'run'}: cannot write there (")
+    assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    ("module", "extra", "alternative"),
+    [("tqdm", "bench", "--no-progress"), ("shapely", "sim", None), ("matplotlib", "plot", "--no-figures")],
+)
+def test_a_missing_extra_is_named_with_its_install(tmp_path, capsys, monkeypatch, module, extra, alternative):
+    monkeypatch.setitem(sys.modules, module, None)
+    args = ["bench", "--objects", "Obj3", "--trials", "1", "--out", str(tmp_path)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert f"needs {module}, not installed: pip install comcore[{extra}]" in err
+    assert (alternative in err) if alternative else "(or pass" not in err
+    assert not list(tmp_path.iterdir())
+
+
+def test_without_a_progress_bar_tqdm_is_not_needed(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "tqdm", None)
+    monkeypatch.setitem(sys.modules, "tqdm.auto", None)
+    args = ["bench", *TINY, "--estimators", "centroid", "--no-figures", "--out", str(tmp_path)]
+    assert main(args) == 0
+
+
+def test_demo_without_the_simulator_extra_names_it(capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "shapely", None)
+    assert main(["demo", "--pushes", "5"]) == 2
+    err = capsys.readouterr().err
+    assert "pip install comcore[sim]" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "message"),
+    [("--pushes", "-1", "expected a positive integer, got -1"),
+     ("--object", "Obj99", "unknown object 'Obj99'"),
+     ("--cone", "nan", "expected radians in [0, pi/2), got nan"),
+     ("--cone", "2", "expected radians in [0, pi/2), got 2"),
+     ("--seed", "-3", "expected an integer >= 0, got -3")],
+)  # fmt: skip
+def test_demo_bad_options_are_argparse_errors_naming_the_option(capsys, option, value, message):
+    with pytest.raises(SystemExit) as e:
+        main(["demo", option, value])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and f"argument {option}: {message}" in err and "Traceback" not in err
+
+
+RESUMABLE = ["bench", "--objects", "Obj3", "--trials", "5", "--friction", "low", "--candidates",
+             "8", "--workers", "1", "--no-progress", "--estimators", "alg2,centroid",
+             "--no-figures"]  # fmt: skip
+
+
+def test_resume_finishes_an_interrupted_run_with_the_rows_of_a_whole_run(tmp_path, monkeypatch, capsys):
+    import comcore.bench._runner as runner
+
+    whole = tmp_path / "whole"
+    assert main([*RESUMABLE, "--out", str(whole)]) == 0
+    real, calls = runner.run_trial, []
+
+    def interrupted_at_trial_3(spec):
+        if spec.trial == 3:
+            raise KeyboardInterrupt
+        calls.append(spec.trial)
+        return real(spec)
+
+    monkeypatch.setattr(runner, "run_trial", interrupted_at_trial_3)
+    out = tmp_path / "cut"
+    assert main([*RESUMABLE, "--out", str(out)]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted after 3 of 5 trials" in err and "--resume" in err
+    assert (out / "results.partial.jsonl").read_text().count("\n") == 6
+    assert not (out / "results.jsonl").exists()
+
+    def counted(spec):
+        calls.append(spec.trial)
+        return real(spec)
+
+    monkeypatch.setattr(runner, "run_trial", counted)
+    calls.clear()
+    assert main([*RESUMABLE, "--out", str(out), "--resume"]) == 0
+    assert calls == [3, 4]  # only the trials the first run did not finish
+    assert "(6 rows kept from the interrupted run)" in capsys.readouterr().out
+    assert (out / "results.jsonl").read_text() == (whole / "results.jsonl").read_text()
+    assert not (out / "results.partial.jsonl").exists() and not (out / "run.partial.json").exists()
+
+
+def test_resume_refuses_other_options_or_nothing_to_resume(tmp_path, monkeypatch, capsys):
+    import comcore.bench._runner as runner
+
+    real = runner.run_trial
+
+    def interrupted_at_trial_1(spec):
+        if spec.trial == 1:
+            raise KeyboardInterrupt
+        return real(spec)
+
+    monkeypatch.setattr(runner, "run_trial", interrupted_at_trial_1)
+    assert main([*RESUMABLE, "--out", str(tmp_path / "a")]) == 130
+    capsys.readouterr()
+    assert main([*RESUMABLE, "--out", str(tmp_path / "a"), "--resume", "--seed", "1"]) == 2
+    assert "--resume: the run in" in capsys.readouterr().err
+    assert main([*RESUMABLE, "--out", str(tmp_path / "b"), "--resume"]) == 2
+    assert "--resume: no interrupted run in" in capsys.readouterr().err
+
+
+def test_ctrl_c_stops_local_workers_at_once_and_keeps_the_finished_rows(tmp_path):
+    out = tmp_path / "run"
+    cmd = [sys.executable, "-m", "comcore", "bench", "--objects", "Obj3", "--trials", "300",
+           "--friction", "low", "--candidates", "8", "--estimators", "alg2,centroid",
+           "--workers", "2", "--out", str(out), "--no-figures", "--no-progress"]  # fmt: skip
+    root = str(Path(__file__).resolve().parent.parent)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([root, os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    partial = out / "results.partial.jsonl"
+    deadline = time.monotonic() + 60
+    while not (partial.exists() and partial.read_text().count("\n") >= 2):
+        assert proc.poll() is None and time.monotonic() < deadline, "no row came"
+        time.sleep(0.05)
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert time.monotonic() - sent < 2.0
+    assert proc.returncode == 130 and "Traceback" not in err
+    assert "--resume finishes the run" in err
+    rows = [json.loads(x) for x in partial.read_text().splitlines()]
+    assert rows and len(rows) % 2 == 0  # whole trials only: a row per estimator
+    assert len(rows) < 600  # it stopped: the queued trials were not all run

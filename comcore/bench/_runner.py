@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import multiprocessing
+import signal
 import time
 from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 
+from ._options import check_estimator_options
 from ._registry import PREDICTORS, parse_estimator
 from ._trial import (
     DEFAULT_CANDIDATES,
@@ -17,7 +19,15 @@ from ._trial import (
     run_trial,
 )
 
-__all__ = ["BenchConfig", "BenchResult", "check_available", "run_benchmark", "sort_rows"]
+__all__ = [
+    "BenchConfig",
+    "BenchInterrupted",
+    "BenchResult",
+    "check_available",
+    "finished_rows",
+    "run_benchmark",
+    "sort_rows",
+]
 
 FRICTIONS = ("low", "high")
 
@@ -72,7 +82,7 @@ class BenchConfig:
         if not estimators or len(set(estimators)) != len(estimators):
             raise ValueError(f"estimators must be distinct and not empty, got {estimators}")
         for label in estimators:
-            parse_estimator(label)
+            check_estimator_options(label)  # parses it; unknown options fail before any trial
         object.__setattr__(self, "estimators", estimators)
         if not (0.0 <= self.cone < math.pi / 2):
             raise ValueError(f"cone must be in [0, pi/2), got {self.cone}")
@@ -105,6 +115,22 @@ class BenchResult:
     dask: str | None = None
     skipped: dict[str, str] = field(default_factory=dict)
     cpu_s: float | None = None
+
+
+class BenchInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped :func:`run_benchmark`; ``rows`` holds every row finished before it.
+
+    Attributes
+    ----------
+    rows : list of dict
+        The finished rows (those of ``done`` included), in canonical order.
+    trials_done, trials_total : int
+        Trials finished (all their estimators' rows in ``rows``) and trials in the run.
+    """
+
+    def __init__(self, rows: list[dict], trials_done: int, trials_total: int):
+        super().__init__(f"interrupted after {trials_done} of {trials_total} trials")
+        self.rows, self.trials_done, self.trials_total = rows, trials_done, trials_total
 
 
 def check_available(config: BenchConfig) -> tuple[BenchConfig, dict[str, str]]:
@@ -153,6 +179,41 @@ def _run_chunk(specs: Sequence[TrialSpec]) -> list[dict]:
     return rows
 
 
+def _sized_chunk(specs: Sequence[TrialSpec]) -> tuple[list[dict], int]:
+    return _run_chunk(specs), len(specs)
+
+
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the parent, which stops them (no traceback from each)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _trial_key(row_or_spec) -> tuple[str, str, int]:
+    if isinstance(row_or_spec, TrialSpec):
+        return (row_or_spec.object, row_or_spec.friction, row_or_spec.trial)
+    return (row_or_spec["object"], row_or_spec["friction"], int(row_or_spec["trial"]))
+
+
+def finished_rows(rows: Iterable[dict], config: BenchConfig) -> list[dict]:
+    """The rows of the trials of ``config`` that hold a row for every estimator.
+
+    What ``--resume`` keeps of an interrupted run: a trial cut off half-way is
+    run again whole.
+    """
+    wanted = {_trial_key(s) for s in config.specs()}
+    by_trial: dict[tuple, dict[str, dict]] = {}
+    for row in rows:
+        key = _trial_key(row)
+        if key in wanted and row["estimator"] in config.estimators:
+            by_trial.setdefault(key, {})[row["estimator"]] = row
+    return [
+        row
+        for cells in by_trial.values()
+        if len(cells) == len(config.estimators)
+        for row in cells.values()
+    ]
+
+
 def _chunks(specs: list[TrialSpec], workers: int) -> list[list[TrialSpec]]:
     size = max(1, min(8, len(specs) // (4 * max(workers, 1))))
     return [specs[i : i + size] for i in range(0, len(specs), size)]
@@ -169,10 +230,27 @@ def _cpu_seconds() -> float | None:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def _progress(total: int, enabled: bool):
-    from tqdm.auto import tqdm
+class _NoBar:
+    def __enter__(self):
+        return self
 
-    return tqdm(total=total, unit="trial", disable=not enabled, smoothing=0.05)
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def update(self, n: int) -> None:
+        return None
+
+
+def _progress(total: int, enabled: bool):
+    if not enabled:
+        return _NoBar()
+    try:
+        from tqdm.auto import tqdm
+    except ImportError as e:
+        raise ImportError(
+            "the progress bar needs tqdm: pip install comcore[bench] (or pass --no-progress)"
+        ) from e
+    return tqdm(total=total, unit="trial", smoothing=0.05)
 
 
 def run_benchmark(
@@ -182,6 +260,7 @@ def run_benchmark(
     dask: str | None = None,
     progress: bool = False,
     on_rows: Callable[[list[dict]], None] | None = None,
+    done: Iterable[dict] = (),
 ) -> BenchResult:
     """Run every trial of ``config`` and return the rows in canonical order.
 
@@ -197,18 +276,31 @@ def run_benchmark(
         Show a tqdm progress bar (on stderr).
     on_rows : callable, optional
         Called with each finished chunk's rows (e.g. to stream them to disk).
+    done : iterable of dict, optional
+        Rows of an earlier, interrupted run of the same config: trials that hold
+        a row for every estimator are kept and not run again
+        (:func:`finished_rows`); the others run.
 
     Returns
     -------
     BenchResult
-        Unavailable estimators are dropped and listed in ``skipped``.
+        Unavailable estimators are dropped and listed in ``skipped``. ``wall_s``
+        and ``cpu_s`` measure this call only.
+
+    Raises
+    ------
+    BenchInterrupted
+        On Ctrl-C (KeyboardInterrupt): local workers are stopped at once, and
+        the exception carries the rows finished so far.
     """
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
     config, skipped = check_available(config)
-    specs = config.specs()
+    rows: list[dict] = finished_rows(done, config)
+    kept = {_trial_key(r) for r in rows}
+    specs = [s for s in config.specs() if _trial_key(s) not in kept]
+    n_total = len(kept) + len(specs)
     start, cpu_start = time.perf_counter(), _cpu_seconds()
-    rows: list[dict] = []
 
     def collect(chunk_rows: list[dict], n_trials: int, bar) -> None:
         rows.extend(chunk_rows)
@@ -216,21 +308,36 @@ def run_benchmark(
             on_rows(chunk_rows)
         bar.update(n_trials)
 
-    with _progress(len(specs), progress) as bar:
-        if dask is not None:
-            _run_dask(specs, dask, collect, bar)
-        elif workers == 1 or len(specs) <= 1:
-            for spec in specs:
-                collect(run_trial(spec), 1, bar)
-        else:
-            chunks = _chunks(specs, workers)
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = {pool.submit(_run_chunk, c): len(c) for c in chunks}
-                for fut in as_completed(futures):
-                    collect(fut.result(), futures[fut], bar)
+    try:
+        with _progress(len(specs), progress) as bar:
+            if dask is not None:
+                _run_dask(specs, dask, collect, bar)
+            elif workers == 1 or len(specs) <= 1:
+                for spec in specs:
+                    collect(run_trial(spec), 1, bar)
+            else:
+                _run_pool(specs, workers, collect, bar)
+    except KeyboardInterrupt:
+        finished = finished_rows(rows, config)
+        n_done = len({_trial_key(r) for r in finished})
+        raise BenchInterrupted(sort_rows(finished, config), n_done, n_total) from None
     wall, cpu_end = time.perf_counter() - start, _cpu_seconds()
     cpu = None if dask is not None or cpu_start is None else cpu_end - cpu_start  # type: ignore[operator]
     return BenchResult(config, sort_rows(rows, config), wall, workers, dask, skipped, cpu)
+
+
+def _run_pool(specs: list[TrialSpec], workers: int, collect, bar) -> None:
+    """Chunks of trials on a local process pool; Ctrl-C terminates the workers at once."""
+    pool = multiprocessing.get_context().Pool(workers, initializer=_ignore_sigint)
+    try:
+        for chunk_rows, n_trials in pool.imap_unordered(_sized_chunk, _chunks(specs, workers)):
+            collect(chunk_rows, n_trials, bar)
+        pool.close()
+    except BaseException:
+        pool.terminate()  # stop running trials now instead of finishing the queue
+        raise
+    finally:
+        pool.join()
 
 
 def _run_dask(specs: list[TrialSpec], address: str, collect, bar) -> None:

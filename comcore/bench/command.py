@@ -66,6 +66,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "exact,pymunk,pusher-error,motion-noise,mask-noise,resolution-0.1,no-reset "
         "(docs/robot.md)",
     )
+    add(
+        "--resume",
+        action="store_true",
+        help="finish the interrupted run in --out (same options): keep its finished trials "
+        "and run the others",
+    )
 
 
 def _config(args):
@@ -100,12 +106,16 @@ def run(args) -> int:
         import simulators  # noqa: F401
 
         from ._outputs import save_benchmark
-        from ._runner import check_available, run_benchmark
+        from ._runner import BenchInterrupted, check_available, finished_rows, run_benchmark
     except ImportError as e:
         print(
             f"comcore bench needs the simulator: pip install comcore[sim,bench] ({e})",
             file=sys.stderr,
         )
+        return 2
+    missing = missing_extras(args)
+    if missing:
+        print(f"comcore bench: {missing}", file=sys.stderr)
         return 2
     try:
         config = _config(args)
@@ -120,34 +130,62 @@ def run(args) -> int:
     for label, reason in skipped.items():
         print(f"comcore bench: skipping estimator {label!r}: {reason}", file=sys.stderr)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     partial = out / "results.partial.jsonl"
+    try:
+        done = _previous_rows(args, config, out, partial)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / STATE).write_text(json.dumps({"config": _jsonable(config)}) + "\n", "utf-8")
+        stream = partial.open("w", encoding="utf-8")
+    except ValueError as e:
+        print(f"comcore bench: {e}", file=sys.stderr)
+        return 2
+    except OSError as e:
+        print(f"comcore bench: --out {out}: cannot write there ({e})", file=sys.stderr)
+        return 2
     n_trials = len(checked.specs())
     where = f"Dask at {args.dask}" if args.dask else f"{args.workers} worker(s)"
-    print(f"comcore bench: {n_trials} trials x {len(checked.estimators)} estimators on {where}")
-    with partial.open("w", encoding="utf-8") as stream:
+    kept = finished_rows(done, checked)
+    again = f" ({len(kept)} rows kept from the interrupted run)" if args.resume else ""
+    print(
+        f"comcore bench: {n_trials} trials x {len(checked.estimators)} estimators on {where}"
+        + again
+    )
+    with stream:
 
         def on_rows(rows):
             stream.writelines(json.dumps(r) + "\n" for r in rows)
             stream.flush()
 
+        on_rows(kept)
         try:
             result = run_benchmark(
                 config, workers=args.workers, dask=args.dask,
-                progress=not args.no_progress, on_rows=on_rows,
+                progress=not args.no_progress, on_rows=on_rows, done=done,
             )  # fmt: skip
+        except BenchInterrupted as e:
+            print(
+                f"comcore bench: interrupted after {e.trials_done} of {e.trials_total} trials; "
+                f"their rows are in {partial}; the same command with --resume finishes the run",
+                file=sys.stderr,
+            )
+            return 130
         except (ImportError, OSError) as e:
             print(f"comcore bench: {e}", file=sys.stderr)
             return 2
     command = "comcore bench " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["bench"] else ""
-    paths = save_benchmark(
-        result,
-        out,
-        fmt=args.format,
-        command=command or _command_of(args),
-        figures=not args.no_figures,
-    )
+    try:
+        paths = save_benchmark(
+            result,
+            out,
+            fmt=args.format,
+            command=command or _command_of(args),
+            figures=not args.no_figures,
+        )
+    except OSError as e:
+        print(f"comcore bench: --out {out}: cannot write the results ({e})", file=sys.stderr)
+        return 2
     partial.unlink()
+    (out / STATE).unlink(missing_ok=True)
     from ._report import summary_table
 
     print(summary_table(result.rows))
@@ -155,6 +193,89 @@ def run(args) -> int:
         f"wall time {result.wall_s:.1f} s; report: {paths['report']}; results: {paths['results']}"
     )
     return 0
+
+
+#: Modules a run needs, by the extra that installs them; ``None``: always needed.
+NEEDS = {
+    "sim": ("shapely", "trimesh", "lxml", "svg.path", "networkx"),
+    "bench": ("tqdm",),
+    "plot": ("matplotlib",),
+}
+
+
+def missing_extras(args) -> str:
+    """What this run needs and cannot import, with the ``pip install`` that fixes it ("" if none).
+
+    tqdm only with a progress bar, matplotlib only with figures, pyarrow only for
+    Parquet, dask.distributed only with ``--dask``.
+    """
+    import importlib
+
+    wanted = [(m, "sim") for m in NEEDS["sim"]]
+    if not args.no_progress:
+        wanted.append(("tqdm", "bench"))
+    if not args.no_figures:
+        wanted.append(("matplotlib", "plot"))
+    if args.format == "parquet":
+        wanted.append(("pyarrow", "bench"))
+    if args.dask:
+        wanted.append(("distributed", "bench"))
+    missing: dict[str, str] = {}
+    for module, extra in wanted:
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            missing[module] = extra
+    if not missing:
+        return ""
+    extras = ",".join(sorted(set(missing.values())))
+    skip = [flag for flag, m in (("--no-progress", "tqdm"), ("--no-figures", "matplotlib"))
+            if m in missing]  # fmt: skip
+    alternative = f" (or pass {' '.join(skip)})" if skip else ""
+    return (
+        f"this run needs {', '.join(missing)}, not installed: pip install comcore[{extras}]"
+        f"{alternative}"
+    )
+
+
+#: In ``--out`` while a run goes: its configuration, to check a ``--resume`` against.
+STATE = "run.partial.json"
+
+
+def _jsonable(config) -> dict:
+    import dataclasses
+
+    return json.loads(json.dumps(dataclasses.asdict(config), default=repr))
+
+
+def _previous_rows(args, config, out: Path, partial: Path) -> list[dict]:
+    """The rows of the interrupted run ``--resume`` continues (none without ``--resume``)."""
+    if not args.resume:
+        if partial.exists():
+            print(
+                f"comcore bench: starting afresh; the unfinished run in {out} is replaced "
+                "(--resume continues it instead)",
+                file=sys.stderr,
+            )
+        return []
+    if not partial.exists():
+        done = " (its results.jsonl is complete)" if (out / "results.jsonl").exists() else ""
+        raise ValueError(f"--resume: no interrupted run in {out}{done}")
+    state = out / STATE
+    saved = json.loads(state.read_text("utf-8"))["config"] if state.exists() else None
+    if saved != _jsonable(config):
+        raise ValueError(
+            f"--resume: the run in {out} had other options ({saved}); give the same options, "
+            "or another --out"
+        )
+    rows = []
+    with partial.open(encoding="utf-8") as f:
+        for line in f:
+            try:
+                rows.append(json.loads(line))
+            except json.JSONDecodeError:  # the last line of a run killed mid-write
+                break
+    return rows
 
 
 def _command_of(args) -> str:

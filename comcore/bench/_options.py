@@ -1,0 +1,110 @@
+"""Estimator options checked against the estimator's signature before any trial runs.
+
+``"alg2(min_scor=0.5)"`` must fail at once, not as an error row in every trial.
+A registered ``run(ctx, k=2)`` is checked against its own parameters; one that
+takes ``**options`` and hands them on (the built-ins do) is checked against the
+parameters of the function they reach. Where the chain ends in a ``**options``
+nobody can resolve, the options are accepted as they are.
+"""
+
+from __future__ import annotations
+
+import difflib
+import inspect
+from collections.abc import Callable, Sequence
+
+from ._registry import EstimatorSpec, parse_estimator
+
+__all__ = ["accepted_options", "check_estimator_options"]
+
+
+def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | None]:
+    """The functions a built-in estimator hands its ``**options`` to, in order."""
+    import comcore
+
+    from . import _builtins
+
+    if getattr(spec.run, "__module__", None) != _builtins.__name__:
+        return ()
+    active = getattr(comcore, "estimate_active", None)
+    chains: dict[str, Sequence[Callable | None]] = {
+        "_alg1": (comcore.estimate_heatmap,),
+        "_alg2": (comcore.estimate_progressive,),
+        "_alg2_rotation": (comcore.estimate_progressive,),
+        "_active": (active,),
+        "_active_vt": (getattr(_builtins, "_active", None), active),
+        "_active_robot": (getattr(comcore, "ActiveSession", None),),
+    }
+    return chains.get(getattr(spec.run, "__name__", ""), ())
+
+
+def _parameters(func: Callable, skip_first: bool) -> tuple[set[str], bool] | None:
+    """Keyword parameters with defaults (or all after the first), and whether ``**`` is taken."""
+    try:
+        params = list(inspect.signature(func).parameters.values())
+    except (TypeError, ValueError):  # a builtin or C function without a signature
+        return None
+    if skip_first and params:
+        params = params[1:]
+    kinds = (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)
+    names = {
+        p.name
+        for p in params
+        if p.kind in kinds and (skip_first or p.default is not inspect.Parameter.empty)
+    }
+    return names, any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params)
+
+
+def accepted_options(spec: EstimatorSpec) -> set[str] | None:
+    """The option names ``spec`` accepts, or ``None`` if it accepts any.
+
+    Examples
+    --------
+    >>> from comcore.bench import ESTIMATORS
+    >>> "min_score" in accepted_options(ESTIMATORS["alg2"])
+    True
+    >>> accepted_options(ESTIMATORS["centroid"])
+    set()
+    """
+    found = _parameters(spec.run, skip_first=True)
+    if found is None:
+        return None
+    names, forwards = found
+    for target in _forwarded_to(spec):
+        if not forwards:
+            break
+        if target is None:
+            return None
+        found = _parameters(target, skip_first=False)
+        if found is None:
+            return None
+        more, forwards = found
+        names |= more
+    return None if forwards else names
+
+
+def check_estimator_options(label: str) -> None:
+    """Raise ValueError if ``label``'s options are not parameters of its estimator.
+
+    Examples
+    --------
+    >>> check_estimator_options("alg2(min_score=0.5)")
+    >>> check_estimator_options("alg2(min_scor=0.5)")
+    Traceback (most recent call last):
+    ...
+    ValueError: estimators: 'alg2(min_scor=0.5)': alg2 has no option min_scor (did you mean min_score?); its options: area_ratio, band, min_rotation, min_score, mu, selection
+    """  # noqa: E501
+    spec, options = parse_estimator(label)
+    accepted = accepted_options(spec)
+    if accepted is None:
+        return
+    unknown = [name for name in options if name not in accepted]
+    if not unknown:
+        return
+    hints = [difflib.get_close_matches(name, sorted(accepted), n=1) for name in unknown]
+    guess = "; ".join(f"did you mean {h[0]}?" for h in hints if h)
+    listed = ", ".join(sorted(accepted)) or "none"
+    raise ValueError(
+        f"estimators: {label!r}: {spec.name} has no option {', '.join(unknown)}"
+        f"{f' ({guess})' if guess else ''}; its options: {listed}"
+    )
