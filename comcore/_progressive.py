@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from ._conventions import pixel_centres
-from ._geometry import contacts, side_counts
+from ._geometry import contacts, line_distances, side_counts
 from ._mask import Mask
-from ._regions import estimate_from_region, largest_component
+from ._regions import best_component, estimate_from_region, label_components
+from ._sampling import HALF_PIXEL_DIAGONAL
 from ._types import Estimate
 from ._validation import (
     check_actions,
@@ -17,11 +18,15 @@ from ._validation import (
     check_positive,
     check_probability,
 )
-from ._voting import _consistent
+from ._voting import _consistent, _consistent_many
 
 __all__ = ["equality_score", "estimate_progressive"]
 
 SELECTIONS = ("equality", "rotation")
+#: Pixel-push pairs evaluated at once when checking the left-out pushes (memory bound).
+CHUNK_ELEMENTS = 1 << 18
+#: About this many region pixels are tried first for each left-out push.
+PROBE_PIXELS = 64
 
 
 def equality_score(n1, n2) -> np.ndarray:
@@ -92,8 +97,9 @@ def estimate_progressive(
     keep the part the Voting Theorem allows for its (predicted) rotation sense,
     and drop the chosen action and every action that scored below
     ``min_score``. Stop when the region is at most ``area_ratio`` of the
-    object or no action is left. The CoM is the mean of the largest
-    8-connected part of the final region.
+    object or no action is left. The CoM is the mean of one 8-connected part
+    of the final region: the part the data point to (see below), the largest
+    when they do not tell the parts apart.
 
     Choices where the paper is silent (each is tested):
 
@@ -108,10 +114,29 @@ def estimate_progressive(
       deciding line stay in the region.
     * The ``min_score`` pruning (step 9) uses the scores computed on the
       region before the cut, as the paper's listing does.
-    * If the chosen action's allowed part does not meet the current region
-      (contradictory predictions), the action is skipped, listed in
-      ``extras["contradicted"]``, and ``status`` becomes ``"contradiction"``;
-      the estimate uses the consistent actions (a fallback, never a NaN).
+    * Contradiction. An action with ``|theta| >= min_rotation`` contradicts
+      the estimate when no pixel of the estimate's region can produce its
+      sense (with the ``band`` and ``mu`` of the cuts): no CoM in the region
+      explains it. This is checked for every such action, applied or not:
+      one that is chosen is then skipped instead of applied (its allowed part
+      misses the current region); one that is pruned (low score) or never
+      reached is checked against the final region. Either way it is listed in
+      ``extras["contradicted"]`` (skipped ones first, in the order met) and
+      ``status`` is ``"contradiction"``. The fallback estimate is the one the
+      other actions give, exactly as if the contradicting ones had not been
+      recorded: the region the applied cuts leave and its mean, never a NaN.
+      Dropping an action is not in itself a contradiction: a pruned or
+      unreached action that some region pixel explains leaves ``"ok"``, and
+      actions turning the object less than ``min_rotation`` (whose sense
+      noise may flip) are never called contradicted.
+    * Which part of a disconnected final region: the paper takes the largest.
+      Here the parts are ranked by the evidence first, area only after it:
+      (1) the most left-out actions (``|theta| >= min_rotation``, not
+      applied) that a single pixel of the part explains; (2) the number of
+      actions turning the object less than ``min_rotation`` (their lines pass
+      near the CoM, the premise of ``min_rotation`` and of Alg. 1) whose line
+      crosses the part, i.e. passes within half a pixel diagonal of one of
+      its pixel centres; (3) the area; (4) the first in row-major order.
     * The loop also stops when no kept action has region pixels on both
       sides of its line (best score 0): such a push cannot cut the region.
     * No action with ``|theta| >= min_rotation``: the estimate is the mask's
@@ -143,7 +168,8 @@ def estimate_progressive(
     Estimate
         ``used`` lists the applied actions in order; ``extras`` holds
         ``"region_sizes"`` (pixels after each cut, starting with the object)
-        and ``"contradicted"``.
+        and ``"contradicted"`` (the contradicting actions). ``status`` is
+        ``"ok"``, ``"contradiction"`` or ``"no_actions"``.
 
     Examples
     --------
@@ -155,6 +181,15 @@ def estimate_progressive(
     >>> e = estimate_progressive(m, acts, mots)
     >>> e.used, e.status
     ((0, 1, 2, 3), 'ok')
+
+    Two pushes that no CoM explains together: the CoM below row 18 (push 1,
+    clockwise) and above row 8 (push 0, counter-clockwise). Push 1 is applied,
+    push 0 then has every region pixel on one side and is dropped, and is
+    reported; the estimate is push 1's half:
+
+    >>> e = estimate_progressive(m, [(0, 8, 30, 8), (0, 18, 30, 18)], [(0.2, 3, 0), (-0.2, 3, 0)])
+    >>> e.status, e.used, e.extras["contradicted"], e.com
+    ('contradiction', (1,), [0], (13.5, 20.5))
     """
     mask = check_mask(mask)
     acts = check_actions(actions)
@@ -171,7 +206,8 @@ def estimate_progressive(
         con = contacts(mask, acts)
         con.require_hits("actions")
     theta = mots[:, 0]
-    keep = np.abs(theta) >= min_rotation
+    small = np.abs(theta) < min_rotation  # turned too little to trust the sense
+    keep = ~small
     if not keep.any():
         return estimate_from_region(
             mask,
@@ -214,7 +250,37 @@ def estimate_progressive(
         used.append(chosen)
         sizes.append(int(allowed.sum()))
 
-    region = largest_component(current)
+    # Which of the left-out informative pushes a CoM at each region pixel explains (the
+    # applied ones explain every region pixel by construction, the skipped ones none).
+    done = set(used) | set(contradicted)
+    left_out = np.array([i for i in np.flatnonzero(~small) if i not in done], dtype=int)
+
+    def explained(idx, points):  # (len(idx), len(points)) bool, in memory-bounded chunks
+        out = np.zeros((len(idx), len(points)), dtype=bool)
+        step = max(1, CHUNK_ELEMENTS // max(len(points), 1))
+        for j in range(0, len(idx), step):
+            k = idx[j : j + step]
+            r = con.point[k, None, :] - points
+            out[j : j + step] = _consistent_many(
+                r, con.normal[k], unit[k], sense[k], a_lo, a_hi, band
+            )
+        return out
+
+    pts = pixel_centres(current)
+    labels, n_parts = label_components(current)
+    if n_parts > 1:
+        explains = explained(left_out, pts)
+        part = labels[current] - 1  # component of each region pixel (row-major, like pts)
+        region = best_component(labels, _evidence(part, n_parts, explains, pts, acts[small]))
+        in_region = region[current]
+        contradicted += [int(i) for i, row in zip(left_out, explains) if not row[in_region].any()]
+    else:
+        region = current
+        # A few region pixels settle most pushes; only the others are checked on every pixel.
+        probes = pts[:: -(-len(pts) // PROBE_PIXELS)]
+        unsettled = left_out[~explained(left_out, probes).any(axis=1)]
+        explains = explained(unsettled, pts)
+        contradicted += [int(i) for i, row in zip(unsettled, explains) if not row.any()]
     return estimate_from_region(
         mask,
         region,
@@ -222,3 +288,21 @@ def estimate_progressive(
         status="contradiction" if contradicted else "ok",
         extras={"region_sizes": sizes, "contradicted": contradicted},
     )
+
+
+def _evidence(part, n_parts, explains, pts, hardly_turning) -> np.ndarray:
+    """Per component of the final region: (best pixel's support, crossing lines), (n, 2).
+
+    ``part``: the component (0-based) of each region pixel; ``explains``: (k, m) which
+    left-out pushes each pixel explains; ``hardly_turning``: the pushes that turned the
+    object less than ``min_rotation``, whose lines pass near the CoM.
+    """
+    keys = np.zeros((n_parts, 2))
+    support = explains.sum(axis=0)
+    np.maximum.at(keys[:, 0], part, support)
+    if len(hardly_turning):
+        crosses = np.abs(line_distances(pts, hardly_turning)) <= HALF_PIXEL_DIAGONAL  # (m, j)
+        hit = np.zeros((n_parts, crosses.shape[1]), dtype=bool)
+        np.logical_or.at(hit, part, crosses)
+        keys[:, 1] = hit.sum(axis=1)
+    return keys

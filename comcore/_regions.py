@@ -8,7 +8,13 @@ from scipy import ndimage
 from ._mask import Mask
 from ._types import Estimate
 
-__all__ = ["EIGHT_CONNECTED", "estimate_from_region", "largest_component"]
+__all__ = [
+    "EIGHT_CONNECTED",
+    "best_component",
+    "estimate_from_region",
+    "label_components",
+    "largest_component",
+]
 
 #: Connectivity used for "the largest connected region": 8-neighbour.
 EIGHT_CONNECTED = np.ones((3, 3), dtype=bool)
@@ -84,6 +90,59 @@ def largest_component(image) -> np.ndarray:
         return image.copy()
     sizes = np.bincount(labels.ravel())[1:]
     return labels == (int(np.argmax(sizes)) + 1)
+
+
+def label_components(image) -> tuple[np.ndarray, int]:
+    """The 8-connected components of a boolean image: ``(labels, n)``, labels 1..n.
+
+    Examples
+    --------
+    >>> labels, n = label_components([[1, 0, 1], [1, 0, 0]])
+    >>> n, labels.tolist()
+    (2, [[1, 0, 2], [1, 0, 0]])
+    """
+    labels, n = ndimage.label(check_image(image), structure=EIGHT_CONNECTED)
+    return labels, int(n)
+
+
+def best_component(labels: np.ndarray, keys) -> np.ndarray:
+    """The component whose ``keys`` are best (highest, compared in order).
+
+    Ties after every key go to the larger component, then to the lowest label;
+    with no keys this is :func:`largest_component`.
+
+    Parameters
+    ----------
+    labels : numpy.ndarray of int, shape (H, W)
+        Component labels 1..n, 0 for the background (:func:`label_components`).
+    keys : array_like, shape (n, k)
+        Row ``c - 1`` scores component ``c``; column 0 is compared first.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (H, W)
+
+    Examples
+    --------
+    The smaller component on the right wins on its score:
+
+    >>> labels, n = label_components([[1, 1, 0, 1], [1, 1, 0, 0]])
+    >>> best_component(labels, [[2], [3]]).astype(int)
+    array([[0, 0, 0, 1],
+           [0, 0, 0, 0]])
+    >>> best_component(labels, [[3], [3]]).astype(int)
+    array([[1, 1, 0, 0],
+           [1, 1, 0, 0]])
+    """
+    n = int(labels.max(initial=0))
+    keys = np.asarray(keys, dtype=float).reshape(n, -1)
+    if n == 0:
+        return np.zeros(labels.shape, dtype=bool)
+    index = np.arange(1, n + 1)
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)[1:]
+    # np.lexsort sorts by its last key first: the keys in order, then size, then label
+    order = np.lexsort((index, -sizes, *(-keys[:, j] for j in range(keys.shape[1] - 1, -1, -1))))
+    return labels == int(index[order[0]])
 
 
 def estimate_from_region(mask: Mask, region: np.ndarray, **fields) -> Estimate:

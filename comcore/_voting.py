@@ -201,9 +201,19 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     than everything else here together. At ``alpha*`` the deciding edge's
     moment is then exactly 0, as it is mathematically.
     """
-    across = _ccw_cross(r, normal)  # |r| sin(phi): offset across the normal
-    along = r @ normal  # |r| cos(phi): offset along the normal
-    push = _ccw_cross(r, push_dir)
+    return _consistent_many(r[None], normal[None], push_dir[None], np.array([sense]),
+                            a_lo, a_hi, band)[0]  # fmt: skip
+
+
+def _consistent_many(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
+    """:func:`_consistent` for k pushes at once, bit for bit; (k, m) bool.
+
+    ``r`` is (k, m, 2), ``normal`` and ``push_dir`` (k, 2), ``sense`` (k,) ints.
+    """
+    n, d = normal[:, None, :], push_dir[:, None, :]
+    across = -(r[..., 0] * n[..., 1] - r[..., 1] * n[..., 0])  # _ccw_cross(r, normal)
+    along = np.matmul(r, normal[:, :, None])[..., 0]  # r @ normal, as _moments computes it
+    push = -(r[..., 0] * d[..., 1] - r[..., 1] * d[..., 0])  # _ccw_cross(r, push_dir)
     c_lo, s_lo, c_hi, s_hi = np.cos(a_lo), np.sin(a_lo), np.cos(a_hi), np.sin(a_hi)
     hyp = np.hypot(across, along)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -213,7 +223,8 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     cos_c[below], sin_c[below] = c_lo, s_lo
     cos_c[above], sin_c[above] = c_hi, s_hi
     push_strict, push_tolerant = _vote(push, 0.0), _vote(push, band)
-    ok = np.zeros(len(r), dtype=bool)
+    s = np.asarray(sense, dtype=int)[:, None]
+    ok = np.zeros(across.shape, dtype=bool)
     for cos_a, sin_a in (
         (c_lo, s_lo),
         _half_sum(c_lo, s_lo, cos_c, sin_c),
@@ -226,12 +237,9 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
         strict = _vote(left, 0.0) + _vote(right, 0.0) + push_strict
         tolerant = _vote(left, band) + _vote(right, band) + push_tolerant
         # the sign of a sum of votes is `sense` (or a tie) without taking the sign
-        if sense == 0:
-            ok |= (strict == 0) | (tolerant == 0)
-        elif sense > 0:
-            ok |= (strict > 0) | (tolerant >= 0)
-        else:
-            ok |= (strict < 0) | (tolerant <= 0)
+        ok |= np.where(
+            s == 0, (strict == 0) | (tolerant == 0), (s * strict > 0) | (s * tolerant >= 0)
+        )
     return ok
 
 

@@ -199,7 +199,7 @@ def test_pixels_within_the_band_of_the_deciding_line_stay(square_mask, band, las
     assert est.region[rows].sum() == 30 * len(rows)
 
 
-def test_the_estimate_is_the_largest_connected_part_of_the_final_region():
+def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
     # Two blocks, 20 and 5 columns wide: the cut keeps rows 10..25 of both (320 + 80 pixels);
     # the estimate is the mean of the larger part only.
     image = np.zeros((50, 50), bool)
@@ -212,3 +212,119 @@ def test_the_estimate_is_the_largest_connected_part_of_the_final_region():
     expected[10:26, 5:25] = True
     np.testing.assert_array_equal(est.region, expected)
     assert est.com == (14.5, 17.5)
+
+
+# -- contradictions (issue 13) -------------------------------------------------------------
+def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
+    # The fuzzing reproducer: push 1 (CoM below row 18) is applied; push 0 (CoM above row 8)
+    # then scores 0 and was dropped silently with status "ok".
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    acts = [(0, 8, 30, 8), (0, 18, 30, 18)]
+    est = comcore.estimate_progressive(mask, acts, [(0.2, 3, 0), (-0.2, 3, 0)])
+    assert est.status == "contradiction" and est.extras["contradicted"] == [0]
+    # the fallback: what push 1 alone gives
+    alone = comcore.estimate_progressive(mask, acts[1:], [(-0.2, 3, 0)])
+    assert alone.ok and est.com == alone.com and est.used == (1,)
+
+
+@pytest.mark.parametrize(
+    ("acts", "mots", "kwargs"),
+    [
+        # pruned by its score at the first step (0.51 < 0.6): down column 37 turning CCW puts
+        # the CoM right of column 28; the cut down column 25 (CW) left of column 26
+        ([(25, 0, 25, 45), (37, 0, 37, 45)], [(-0.3, 0, 0), CCW], {"area_ratio": 0.0}),
+        # never reached: the area target is met after the first cut
+        ([(0, 25, 45, 25), (0, 35, 45, 35)], [CCW, (-0.4, 0, 0)], {"area_ratio": 0.6,
+                                                                  "selection": "rotation"}),
+    ],
+)  # fmt: skip
+def test_pruned_and_unreached_pushes_are_checked_too(square_mask, acts, mots, kwargs):
+    est = comcore.estimate_progressive(square_mask, acts, mots, **kwargs)
+    assert est.used == (0,) and est.status == "contradiction"
+    assert est.extras["contradicted"] == [1]
+
+
+def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_mask):
+    # The same pushes with the second sense agreeing: dropped, and "ok".
+    for acts, mots in [
+        ([(25, 0, 25, 45), (37, 0, 37, 45)], [(-0.3, 0, 0), (-0.3, 0, 0)]),
+        ([(0, 25, 45, 25), (0, 35, 45, 35)], [CCW, CCW]),
+    ]:
+        est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
+        assert est.used == (0,) and est.ok and est.extras["contradicted"] == []
+
+
+def test_small_rotations_are_never_called_contradictions(square_mask):
+    # Noise may flip the sense of a push that hardly turns the object: below min_rotation
+    # its "CoM right of column 28" is not held against the region left of column 26 (at
+    # 0.3 rad it is, see test_pruned_and_unreached_pushes_are_checked_too).
+    acts = [(25, 0, 25, 45), (37, 0, 37, 45)]
+    mots = [(-0.3, 0, 0), (0.01, 0, 0)]
+    est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
+    assert est.ok and est.used == (0,)
+
+
+# -- which part of a disconnected final region (issue 13) -----------------------------------
+def two_blocks_mask():
+    image = np.zeros((50, 50), bool)
+    image[10:40, 5:25] = True  # 20 columns wide
+    image[10:40, 30:35] = True  # 5 columns wide
+    return comcore.Mask(image)
+
+
+SMALL_BLOCK_TOP = np.zeros((50, 50), bool)
+SMALL_BLOCK_TOP[10:26, 30:35] = True
+
+
+def test_the_part_a_left_out_push_points_to_wins_over_the_larger_one():
+    # Push 1 down column 32 turning CCW says the CoM is right of column 32: only the small
+    # block. It splits the object 660 : 60 (score 0.55 < 0.6) and is pruned; the paper's
+    # largest part (the big block) contradicts it.
+    acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
+    est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.3, 0, 0)])
+    assert est.used == (0,) and est.extras["region_sizes"] == [750, 400]
+    np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
+    assert est.ok
+
+
+def test_the_part_a_hardly_turning_push_crosses_wins_over_the_larger_one():
+    # Push 1 down column 32 turned the object by 0.6 degrees: its line passes near the CoM.
+    acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
+    est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.01, 0, 0)])
+    np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
+    assert est.ok and est.used == (0,)
+
+
+def test_two_block_seed_that_the_largest_part_got_wrong():
+    # benchmarks/alg2_two_blobs.py, seed 53 (30 pushes, cone 0.3): the final region spans
+    # both blocks; the true CoM is in the smaller part, which the largest-area rule dropped.
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "alg2_two_blobs.py"
+    spec = importlib.util.spec_from_file_location("alg2_two_blobs", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    evidence_wrong, largest_wrong, two_parts = module.trial(53, 30, 0.3)
+    assert two_parts and largest_wrong and not evidence_wrong
+
+
+def test_two_blobs_script_runs():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, "benchmarks/alg2_two_blobs.py", "--seeds", "50:58"],
+        cwd=root,
+        env={"PYTHONPATH": str(root), "PATH": ""},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0] == "seeds 50:58, 30 pushes, cone 0.3"
+    assert lines[2] == "wrong block, largest-area part (the paper): 2/8"  # seeds 53 and 56
+    assert lines[3].startswith("wrong block, estimate_progressive: ")
