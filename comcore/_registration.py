@@ -1,0 +1,424 @@
+"""Rigid registration of two masks of one fixed camera: :func:`measure_motion`.
+
+How it works
+------------
+1. **Moments.** The rotation is about ``before``'s area centroid, so the
+   translation is the centroid's displacement whatever the rotation:
+   ``after.centroid - before.centroid`` starts every fit.
+2. **Coarse scan.** Every rotation on a 2-degree grid is scored by the mean
+   squared signed distance (``scipy.ndimage.distance_transform_edt``, clipped)
+   of ``after``'s outline, sampled at ``before``'s pixel-edge midpoints moved by
+   the candidate motion. Its local minima are the candidates: the principal
+   axis and its flip, and every rotation under which a symmetric outline
+   matches itself.
+3. **Fine fit.** Both masks are smoothed with a Gaussian of
+   :data:`SMOOTHING_PX` pixels (rotation-equivariant, so the two outlines stay
+   comparable); the motion minimises the squared difference of the smoothed
+   images over the outline band of ``before`` (``scipy.optimize.least_squares``
+   with the analytic Jacobian, cubic-spline sampling): sub-pixel, sub-degree,
+   using the whole outline.
+4. **Consistent rotations.** A candidate whose outline residual is within
+   :func:`_consistency_tolerance` of the best is consistent with the masks. If
+   the consistent rotations are evenly spaced by ``2 pi / n`` the outline has an
+   ``n``-fold symmetry; ``theta`` is always the consistent rotation of smallest
+   magnitude.
+5. **Observability.** ``ambiguous`` is set when the rotation moves the outline
+   along itself: the Gauss-Newton information on theta (translation
+   eliminated) expressed as a lever arm and divided by the outline's RMS radius
+   is below :data:`MIN_ROTATION_VISIBILITY` (a rasterised disc scores about
+   0.08 from its pixel staircase alone), or when the consistent rotations are
+   not evenly spaced (two different fits explain the masks).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from scipy import ndimage, optimize
+
+from ._conventions import rotation_matrix
+from ._errors import ImageError
+from ._mask import Mask
+from ._types import Motion
+
+__all__ = ["MotionMeasurement", "measure_motion"]
+
+#: Gaussian sigma (pixels) of the smoothing of both masks for the fine fit.
+SMOOTHING_PX = 1.5
+#: Step (radians) of the coarse scan over theta (2 degrees).
+SCAN_STEP = math.radians(2.0)
+#: Signed distances (pixels) are clipped at this in the coarse cost.
+COARSE_CLIP_PX = 8.0
+#: At most this many outline points in the coarse cost.
+COARSE_POINTS = 400
+#: Coarse candidates whose RMS distance exceeds the best one's by more than this are dropped.
+COARSE_MARGIN_PX = 0.6
+#: At most this many candidates get a fine fit.
+MAX_CANDIDATES = 12
+#: Fitted rotations closer than this (radians) are one candidate.
+SAME_ROTATION = math.radians(1.0)
+#: Consistent rotations form an n-fold symmetry when evenly spaced within this (radians).
+SPACING_TOLERANCE = math.radians(3.0)
+#: Below this visibility (0..1) the rotation is not observable from the outline.
+MIN_ROTATION_VISIBILITY = 0.2
+#: Effective independent error (px) of one outline point of a binary mask, calibrated so
+#: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std.
+OUTLINE_NOISE_PX = 0.35
+#: Above this predicted theta std (radians, 1 degree) the rotation is not observable.
+MAX_THETA_STD = math.radians(1.0)
+#: Candidates are told apart on every QUICK_STRIDE-th band pixel; the chosen one is fitted on all.
+QUICK_STRIDE = 4
+#: Pixels of empty border kept around the two objects when the images are cropped.
+CROP_PAD_PX = 10
+
+
+class MotionMeasurement(NamedTuple):
+    """What :func:`measure_motion` measured between two masks."""
+
+    motion: Motion
+    """``before`` -> ``after``: theta CCW on screen, (tx, ty) of before's area centroid (px)."""
+    residual_px: float
+    """RMS distance (pixels) between after's outline and before's outline moved by ``motion``."""
+    ambiguous: bool
+    """True when the rotation is not observable from the outline: theta then means nothing."""
+    symmetry: int
+    """Order ``n`` of the rotational symmetry detected (1: none); ``|theta| <= pi / n``."""
+
+
+class _Fields:
+    """One mask on the cropped window: smoothed image, its gradient (splines), signed distance."""
+
+    def __init__(self, data: np.ndarray):
+        img = data.astype(float)
+        smooth = ndimage.gaussian_filter(img, SMOOTHING_PX, mode="constant")
+        grad_x = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(0, 1), mode="constant")
+        grad_y = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(1, 0), mode="constant")
+        self.smooth = smooth
+        self.splines = [
+            ndimage.spline_filter(a, 3, mode="nearest") for a in (smooth, grad_x, grad_y)
+        ]
+        outside = ndimage.distance_transform_edt(~data)
+        inside = ndimage.distance_transform_edt(data)
+        # zero on the pixel edges between object and background, +-0.5 at the pixels beside them
+        self.signed = np.where(data, 0.5 - inside, outside - 0.5)
+
+    def signed_at(self, points: np.ndarray) -> np.ndarray:
+        """Signed distance (px, > 0 outside) at points (..., 2), bilinear."""
+        return ndimage.map_coordinates(
+            self.signed, [points[..., 1], points[..., 0]], order=1, mode="nearest"
+        )
+
+    def gradient_at(self, points: np.ndarray):
+        """Gradient (d/dx, d/dy) of the smoothed image at points (n, 2), cubic splines."""
+        coords = [points[:, 1], points[:, 0]]
+        return [
+            ndimage.map_coordinates(a, coords, order=3, mode="nearest", prefilter=False)
+            for a in self.splines[1:]
+        ]
+
+    def smooth_at(self, points: np.ndarray, gradient: bool = False):
+        """Smoothed image (and its gradient d/dx, d/dy) at points (n, 2), cubic splines."""
+        coords = [points[:, 1], points[:, 0]]
+        images = self.splines if gradient else self.splines[:1]
+        out = [
+            ndimage.map_coordinates(a, coords, order=3, mode="nearest", prefilter=False)
+            for a in images
+        ]
+        return out if gradient else out[0]
+
+
+def _edge_midpoints(data: np.ndarray) -> np.ndarray:
+    """Midpoints ``(x, y)`` of the pixel edges between object and background pixels."""
+    rows, cols = np.nonzero(data[:, 1:] != data[:, :-1])
+    across = np.column_stack([cols + 0.5, rows])
+    rows, cols = np.nonzero(data[1:, :] != data[:-1, :])
+    down = np.column_stack([cols, rows + 0.5])
+    return np.vstack([across, down]).astype(float)
+
+
+def _level_points(smooth: np.ndarray) -> np.ndarray:
+    """Sub-pixel crossings ``(x, y)`` of a smoothed mask's 0.5 level, along rows and columns."""
+    f = smooth - 0.5
+    out = []
+    for a, b, along_x in ((f[:, :-1], f[:, 1:], True), (f[:-1, :], f[1:, :], False)):
+        rows, cols = np.nonzero((a > 0) != (b > 0))
+        fa, fb = a[rows, cols], b[rows, cols]
+        step = fa / (fa - fb)
+        if along_x:
+            out.append(np.column_stack([cols + step, rows]))
+        else:
+            out.append(np.column_stack([cols, rows + step]))
+    return np.vstack(out)
+
+
+def _check_pair(before, after) -> None:
+    for name, mask in (("before", before), ("after", after)):
+        if not isinstance(mask, Mask):
+            raise TypeError(f"{name} must be a comcore.Mask, got {type(mask).__name__}")
+    if before.shape != after.shape:
+        raise ValueError(
+            "after must have the shape of before (the same camera), "
+            f"got before {before.shape} and after {after.shape}"
+        )
+    if not math.isclose(before.resolution, after.resolution, rel_tol=1e-9):
+        raise ValueError(
+            "after must have the resolution of before (the same camera), got before "
+            f"{before.resolution:g} and after {after.resolution:g} m per pixel"
+        )
+    for name, mask in (("before", before), ("after", after)):
+        d = mask.data
+        edges = {"top": d[0], "bottom": d[-1], "left": d[:, 0], "right": d[:, -1]}
+        sides = [side for side, edge in edges.items() if edge.any()]
+        if sides:
+            raise ImageError(
+                f"{name} touches the image border ({', '.join(sides)}): part of the object may be "
+                "out of view, so its outline is cut and its motion cannot be measured; keep the "
+                "whole object inside the camera image"
+            )
+
+
+def _consistency_tolerance(best_px: float) -> float:
+    """How much worse (RMS px) than the best fit a rotation may fit and still be consistent.
+
+    A quarter pixel plus half the best residual: binary masks place an outline
+    to about half a pixel, and a shape that matches itself turned (a
+    rectangle by pi) fits within a few hundredths of a pixel as well as the
+    true rotation on the benchmark objects, while a shape that does not
+    misfits by about a pixel or more.
+    """
+    return 0.25 + 0.5 * best_px
+
+
+class _Problem:
+    """The fine least-squares problem: before's band sampled in after's smoothed image."""
+
+    def __init__(
+        self, fields_before: _Fields, fields_after: _Fields, centre: np.ndarray, stride: int = 1
+    ):
+        self.after = fields_after
+        self.centre = centre
+        band = (fields_before.smooth > 0.01) & (fields_before.smooth < 0.99)
+        rows, cols = np.nonzero(band)
+        rows, cols = rows[::stride], cols[::stride]
+        self.relative = np.column_stack([cols, rows]).astype(float) - centre
+        self.values = fields_before.smooth[rows, cols]
+        self.outline = _level_points(fields_before.smooth)
+
+    def moved(self, points_relative, x) -> np.ndarray:
+        return points_relative @ rotation_matrix(x[0]).T + self.centre + x[1:]
+
+    def residuals(self, x) -> np.ndarray:
+        return self.after.smooth_at(self.moved(self.relative, x)) - self.values
+
+    def jacobian(self, x) -> np.ndarray:
+        gx, gy = self.after.gradient_at(self.moved(self.relative, x))
+        turn = self.relative @ rotation_matrix(x[0] + math.pi / 2).T  # d(moved)/d(theta)
+        return np.column_stack([gx * turn[:, 0] + gy * turn[:, 1], gx, gy])
+
+    def fit(self, x0, scale) -> np.ndarray:
+        sol = optimize.least_squares(
+            self.residuals, x0, jac=self.jacobian, method="lm", x_scale=[1.0 / scale, 1.0, 1.0]
+        )
+        return sol.x
+
+    def outline_rms(self, x) -> float:
+        """RMS distance (px) of before's moved outline to after's outline."""
+        q = self.moved(self.outline - self.centre, x)
+        value, gx, gy = self.after.smooth_at(q, gradient=True)
+        dist = (value - 0.5) / np.maximum(np.hypot(gx, gy), 1e-6)  # first order near the outline
+        far = np.abs(value - 0.5) > 0.4
+        dist[far] = self.after.signed_at(q[far])
+        return float(np.sqrt(np.mean(dist**2)))
+
+    def theta_information(self, x) -> float:
+        """Information on theta (px^2 per rad^2) of the outline points, translation eliminated.
+
+        The sum over before's outline points of the squared normal
+        displacement per radian, less what a translation explains.
+        """
+        q = self.moved(self.outline - self.centre, x)
+        gx, gy = self.after.gradient_at(q)
+        norm = np.maximum(np.hypot(gx, gy), 1e-12)
+        normals = np.column_stack([gx, gy]) / norm[:, None]
+        turn = (self.outline - self.centre) @ rotation_matrix(x[0] + math.pi / 2).T
+        jac = np.column_stack([np.sum(normals * turn, axis=1), normals])
+        info = jac.T @ jac
+        if np.linalg.cond(info[1:, 1:]) > 1e12:
+            return 0.0
+        return float(max(info[0, 0] - info[0, 1:] @ np.linalg.solve(info[1:, 1:], info[1:, 0]), 0))
+
+    def visibility(self, x) -> float:
+        """How much of the outline's motion under a rotation is across it (0: a disc, 1 at most).
+
+        The Gauss-Newton information on theta once the translation is
+        eliminated, as a lever arm (px), divided by the outline's RMS radius.
+        """
+        jac = self.jacobian(x)
+        info = jac.T @ jac
+        translation = info[1:, 1:]
+        if np.linalg.cond(translation) > 1e12:
+            return 0.0
+        schur = info[0, 0] - info[0, 1:] @ np.linalg.solve(translation, info[1:, 0])
+        lever = math.sqrt(max(schur, 0.0) / (0.5 * np.trace(translation)))
+        weights = jac[:, 1] ** 2 + jac[:, 2] ** 2
+        radius = math.sqrt(np.sum(weights * np.sum(self.relative**2, axis=1)) / np.sum(weights))
+        return lever / radius if radius > 0 else 0.0
+
+
+def _wrap(theta):
+    return (np.asarray(theta) + np.pi) % (2 * np.pi) - np.pi
+
+
+def _coarse_candidates(fields_before: _Fields, fields_after: _Fields, centre, t0) -> list[float]:
+    """Local minima of the coarse cost over theta, best first, translation fixed at ``t0``."""
+    points = _edge_midpoints(fields_before.smooth > 0.5)
+    if len(points) > COARSE_POINTS:
+        points = points[np.linspace(0, len(points) - 1, COARSE_POINTS).astype(int)]
+    rel = points - centre
+    thetas = np.arange(-np.pi, np.pi, SCAN_STEP)
+    c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
+    moved = np.stack(
+        [c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]], axis=-1
+    ) + (centre + t0)
+    dist = np.clip(fields_after.signed_at(moved), -COARSE_CLIP_PX, COARSE_CLIP_PX)
+    cost = np.mean(dist**2, axis=1)
+    left, right = np.roll(cost, 1), np.roll(cost, -1)
+    minima = np.flatnonzero((cost <= left) & (cost < right))
+    if minima.size == 0:  # a perfectly flat profile
+        minima = np.array([int(np.argmin(np.abs(thetas)))])
+    minima = minima[np.argsort(cost[minima], kind="stable")]
+    best = math.sqrt(cost[minima[0]])
+    out = []
+    for i in minima:
+        if math.sqrt(cost[i]) > best + COARSE_MARGIN_PX or len(out) == MAX_CANDIDATES:
+            break
+        curvature = left[i] - 2 * cost[i] + right[i]
+        shift = 0.5 * (left[i] - right[i]) / curvature * SCAN_STEP if curvature > 0 else 0.0
+        out.append(float(thetas[i] + shift))
+    return out
+
+
+def _symmetry_order(angles: np.ndarray) -> int:
+    """``n`` if the angles are ``2 pi k / n`` apart (one of each k), else 0."""
+    n = len(angles)
+    if n == 1:
+        return 1
+    rel = np.sort((angles - angles[0]) % (2 * np.pi))
+    expected = 2 * np.pi * np.arange(n) / n
+    return n if np.all(np.abs(rel - expected) <= SPACING_TOLERANCE) else 0
+
+
+def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
+    """Measure the rigid motion of the object between two masks of one fixed camera.
+
+    Parameters
+    ----------
+    before, after : Mask
+        The object before and after the motion, in the same camera (same
+        shape and resolution), each wholly in view.
+
+    Returns
+    -------
+    MotionMeasurement
+        ``motion`` maps ``before`` onto ``after`` in the one convention:
+        ``comcore.apply_motion(before.pixels, theta, (tx, ty), before.centroid)``
+        lands on ``after``'s pixels (theta > 0 counter-clockwise on screen;
+        ``(tx, ty)`` is the displacement in pixels of the material point under
+        ``before``'s area centroid). ``residual_px`` is the RMS distance
+        between the outlines after the fit (about 0.1 to 0.35 px for exact
+        rigid motions at 2.5 mm per pixel). ``symmetry`` is ``n`` when the
+        outline matches itself turned by ``2 pi / n`` (a rectangle 2, a
+        square 4, a regular hexagon 6); ``theta`` is then, as always, the
+        consistent rotation of smallest magnitude, so ``|theta| <= pi / n``:
+        a caller that knows the rotation may be larger adds a multiple of
+        ``2 pi / n``. ``ambiguous`` is True when the rotation is not
+        observable from the outline (a disc, a near-disc, a small regular
+        polygon) or two different rotations explain the masks; the
+        translation is still valid, ``theta`` is not, and ``symmetry`` is 1.
+
+    Raises
+    ------
+    TypeError
+        If ``before`` or ``after`` is not a :class:`comcore.Mask`.
+    ValueError
+        If the masks differ in shape or resolution.
+    comcore.ImageError
+        If a mask touches the image border (the object may be partly out of
+        view; its outline would be cut). A ``ValueError``.
+
+    Examples
+    --------
+    An L-shaped object turned by 0.2 rad (from 0.3 to 0.5 rad) and moved:
+
+    >>> import numpy as np, comcore
+    >>> yy, xx = np.mgrid[0:80, 0:80].astype(float)
+    >>> def l_shape(theta, shift):
+    ...     c, s = np.cos(theta), np.sin(theta)
+    ...     u = c * (xx - 40 - shift) - s * (yy - 40)  # the inverse rotation, pixel frame
+    ...     v = s * (xx - 40 - shift) + c * (yy - 40)
+    ...     return ((abs(u) < 20) & (abs(v) < 6)) | ((abs(u + 14) < 6) & (abs(v - 10) < 14))
+    >>> before = comcore.Mask(l_shape(0.3, 0.0))
+    >>> after = comcore.Mask(l_shape(0.5, 3.0))
+    >>> m = comcore.measure_motion(before, after)
+    >>> round(m.motion.theta, 2), m.ambiguous, m.symmetry, m.residual_px < 0.5
+    (0.2, False, 1, True)
+
+    A disc's rotation cannot be seen:
+
+    >>> disc = comcore.Mask(np.hypot(xx - 40, yy - 40) < 15)
+    >>> moved = comcore.Mask(np.hypot(xx - 44, yy - 40) < 15)
+    >>> m = comcore.measure_motion(disc, moved)
+    >>> m.ambiguous, round(m.motion.tx, 1), round(m.motion.ty, 1)
+    (True, 4.0, 0.0)
+    """
+    return _measure(before, after)[0]
+
+
+def _measure(before: Mask, after: Mask) -> tuple[MotionMeasurement, dict]:
+    """:func:`measure_motion` and its diagnostics (visibility, theta information, fits)."""
+    _check_pair(before, after)
+    h, w = before.shape
+    rows = np.flatnonzero(before.data.any(axis=1) | after.data.any(axis=1))
+    cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
+    r0, r1 = max(rows[0] - CROP_PAD_PX, 0), min(rows[-1] + CROP_PAD_PX + 1, h)
+    c0, c1 = max(cols[0] - CROP_PAD_PX, 0), min(cols[-1] + CROP_PAD_PX + 1, w)
+    origin = np.array([c0, r0], dtype=float)
+    fields_before = _Fields(before.data[r0:r1, c0:c1])
+    fields_after = _Fields(after.data[r0:r1, c0:c1])
+    centre = np.asarray(before.centroid) - origin
+    t0 = np.asarray(after.centroid) - np.asarray(before.centroid)
+
+    problem = _Problem(fields_before, fields_after, centre)
+    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE)
+    radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
+    fits: list[tuple[np.ndarray, float]] = []
+    for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):
+        x = quick.fit(np.array([theta0, *t0]), radius)
+        x[0] = float(_wrap(x[0]))
+        if any(abs(_wrap(x[0] - y[0])) < SAME_ROTATION for y, _ in fits):
+            continue
+        fits.append((x, problem.outline_rms(x)))
+    best_rms = min(r for _, r in fits)
+    consistent = [x for x, r in fits if r <= best_rms + _consistency_tolerance(best_rms)]
+    angles = np.array([x[0] for x in consistent])
+    order = _symmetry_order(angles)
+    chosen = problem.fit(consistent[int(np.argmin(np.abs(angles)))], radius)
+    visible = problem.visibility(chosen)
+    information = problem.theta_information(chosen)
+    theta_std = OUTLINE_NOISE_PX / math.sqrt(information) if information > 0 else math.inf
+    ambiguous = order == 0 or visible < MIN_ROTATION_VISIBILITY or theta_std > MAX_THETA_STD
+    symmetry = 1 if ambiguous else order
+    motion = Motion(float(_wrap(chosen[0])), float(chosen[1]), float(chosen[2]))
+    diagnostics = {
+        "visibility": visible,
+        "theta_information": information,
+        "theta_std": theta_std,
+        "fits": fits,
+        "order": order,
+    }
+    measurement = MotionMeasurement(
+        motion, problem.outline_rms(chosen), bool(ambiguous), int(symmetry)
+    )
+    return measurement, diagnostics
