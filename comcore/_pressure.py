@@ -1,0 +1,123 @@
+"""Support points of a pixel footprint and pressure distributions consistent with a CoM.
+
+A rigid object on a flat floor presses with its centre of pressure at its
+CoM, but how the pressure is spread is unknown. The family here is the
+smallest departure from a uniform footprint that puts the centre of pressure
+at a CoM hypothesis: the uniform pressure tilted linearly, ``p(x) = a + g . x``,
+with the tilt clipped at zero where it would go negative (and ``a, g`` solved
+again so that the total and the centre of pressure stay right).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+
+import numpy as np
+
+from ._mask import Mask
+
+__all__ = ["PRESSURES", "Support", "pressures", "support"]
+
+#: Pressure families: ``"linear"`` (the clipped linear tilt) and ``"peaked"``
+#: (the tilt of a pressure that falls off linearly from the CoM hypothesis).
+PRESSURES = ("linear", "peaked")
+#: Semi-smooth Newton steps solving the clipped tilt.
+TILT_ITERATIONS = 25
+
+
+class Support:
+    """A mask's pixels gathered into square blocks: the support points of the limit surface.
+
+    Attributes
+    ----------
+    points : numpy.ndarray, shape (N, 2)
+        Centroids of the blocks' object pixels, relative to the mask's area centroid.
+    weights : numpy.ndarray, shape (N,)
+        Share of the object's pixels in each block (sums to 1).
+    cell : float
+        Side of a block, pixels.
+    """
+
+    def __init__(self, mask: Mask, max_points: int):
+        pix = mask.pixels
+        block = max(1, math.ceil(math.sqrt(len(pix) / max_points)))
+        cols, rows = (pix[:, 0] // block).astype(np.int64), (pix[:, 1] // block).astype(np.int64)
+        _, index = np.unique(rows * (cols.max() + 1) + cols, return_inverse=True)
+        counts = np.bincount(index).astype(float)
+        centroid = np.asarray(mask.centroid)
+        self.points = np.column_stack(
+            [np.bincount(index, weights=pix[:, i]) / counts - centroid[i] for i in (0, 1)]
+        )
+        self.weights = counts / counts.sum()
+        self.cell = float(block)
+
+
+_SUPPORTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def support(mask: Mask, max_points: int) -> Support:
+    """The (cached) :class:`Support` of an immutable mask."""
+    table = _SUPPORTS.setdefault(mask, {})
+    if max_points not in table:
+        table[max_points] = Support(mask, max_points)
+    return table[max_points]
+
+
+def _clipped_tilt(base: np.ndarray, x: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Pressures ``base * max(0, a + g . x)`` with total 1 and mean ``target``, shape (n, N).
+
+    ``(a, g)`` minimises the convex ``sum base (a + g . x)_+^2 / 2 - a - g . target``,
+    whose gradient is the error in the total and the centre of pressure:
+    semi-smooth Newton steps (halved when they do not lower it) from the
+    unclipped tilt. ``base`` (N,) or (n, N), non-negative; ``x`` (N, 2);
+    ``target`` (n, 2). A target outside the support points' hull drives the
+    pressure onto the hull's nearest points (the iterations stop there).
+    """
+    base = np.broadcast_to(base, (len(target), len(x)))
+    feats = np.column_stack([np.ones(len(x)), x])  # (N, 3)
+    goal = np.column_stack([np.ones(len(target)), target])
+    moments = np.einsum("nj,jk,jl->nkl", base, feats, feats) + 1e-12 * np.eye(3)
+    theta = np.linalg.solve(moments, goal[..., None])[..., 0]  # the unclipped tilt
+
+    def objective(theta):
+        lin = np.maximum(theta @ feats.T, 0.0)
+        return 0.5 * (lin * lin * base).sum(axis=1) - np.einsum("nk,nk->n", theta, goal)
+
+    for _ in range(TILT_ITERATIONS):
+        lin = theta @ feats.T  # (n, N)
+        grad = (np.maximum(lin, 0.0) * base) @ feats - goal
+        if np.abs(grad).max() < 1e-10:
+            break
+        hess = np.einsum("nj,jk,jl->nkl", (lin > 0) * base, feats, feats) + 1e-12 * np.eye(3)
+        step = -np.linalg.solve(hess, grad[..., None])[..., 0]
+        f0, alpha = objective(theta), np.ones(len(theta))
+        for _ in range(6):
+            worse = objective(theta + alpha[:, None] * step) > f0 + 1e-15
+            if not worse.any():
+                break
+            alpha = np.where(worse, 0.5 * alpha, alpha)
+        theta = theta + alpha[:, None] * step
+    p = np.maximum(theta @ feats.T, 0.0) * base
+    total = p.sum(axis=1, keepdims=True)
+    return np.where(
+        total > 0, p / np.where(total > 0, total, 1.0), base / base.sum(1, keepdims=True)
+    )
+
+
+def pressures(sup: Support, coms_rel: np.ndarray, family: str = "linear") -> np.ndarray:
+    """Pressure over the support for each CoM (relative to the centroid), (n, N), rows sum to 1.
+
+    * ``"linear"``: the uniform footprint tilted linearly (clipped at zero) so
+      that the centre of pressure is the CoM: the least committal choice.
+    * ``"peaked"``: a pressure falling off linearly with the distance from the
+      CoM hypothesis, to zero just beyond the footprint's farthest point, then
+      tilted the same way: mass concentrated towards the CoM.
+    """
+    x = sup.points
+    coms_rel = np.asarray(coms_rel, dtype=float).reshape(-1, 2)
+    if family == "linear":
+        return _clipped_tilt(sup.weights, x, coms_rel)
+    d = np.hypot(x[None, :, 0] - coms_rel[:, :1], x[None, :, 1] - coms_rel[:, 1:])
+    base = sup.weights * (1.0 - d / (d.max(axis=1, keepdims=True) + sup.cell))
+    return _clipped_tilt(base, x, coms_rel)
