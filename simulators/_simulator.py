@@ -7,6 +7,7 @@ asks for the pymunk rigid-body engine (:mod:`simulators._pymunk`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from functools import cached_property
 from typing import NamedTuple
@@ -32,6 +33,12 @@ DEFAULT_MU_FLOOR = 0.5
 DEFAULT_MARGIN = 0.02
 #: Pushes integrated together by :meth:`PushSimulator.push_motions`.
 BATCH_SIZE = 256
+#: The integration step is at most this fraction of the pusher's radius: a longer step
+#: carries a small disc through the outline (no motion, or motion the wrong way).
+STEP_PER_RADIUS = 0.5
+#: A push whose path takes more integration steps than this is refused (a 1e12 px path
+#: would otherwise run for days): 100 m of path at the default 1 mm step.
+MAX_STEPS_PER_PUSH = 100_000
 
 
 class PushResult(NamedTuple):
@@ -267,9 +274,20 @@ class PushSimulator:
         """The mask at the initial pose."""
         return self.mask_at(None)
 
+    @property
+    def step_m(self) -> float:
+        """The integration step in metres: ``settings.step_m``, at most half the pusher radius.
+
+        With the default 4 mm pusher the default 1 mm step is used as it is; only radii
+        below ``2 * settings.step_m`` shorten it.
+        """
+        return min(self.settings.step_m, STEP_PER_RADIUS * self.pusher_radius)
+
     @cached_property
     def _engine(self):
         settings = self.settings
+        if self.step_m != settings.step_m:
+            settings = dataclasses.replace(settings, step_m=self.step_m)
         if settings.engine == "pymunk":
             from ._pymunk import PymunkEngine
 
@@ -338,7 +356,9 @@ class PushSimulator:
         ValueError
             If the action's start (the pusher's leading point) lies inside the
             object's outline at the start pose, as :func:`comcore.contacts`
-            refuses such actions; or if ``pose`` is not three finite numbers.
+            refuses such actions; if ``pose`` is not three finite numbers; or
+            if the path takes more than ``MAX_STEPS_PER_PUSH`` integration steps
+            of :attr:`step_m` (100 m at the default step).
             An action starting outside the object whose disc (trailing the
             leading point) would overlap it, as in a notch narrower than the
             pusher, is not refused: the disc is lowered farther back on the
@@ -362,6 +382,7 @@ class PushSimulator:
             raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
         if acts.shape[0] == 0:
             return []
+        self._check_lengths(acts, name)
         ends = self.to_world(acts.reshape(-1, 2)).reshape(-1, 4)
         shapely = require_shapely()
         outline = shapely.Polygon(self.outline_at(start_pose))
@@ -392,6 +413,19 @@ class PushSimulator:
             results.append(PushResult(motion, pose_i, contact, normal, traj))
         return results
 
+    def _check_lengths(self, acts: np.ndarray, name: str) -> None:
+        """Refuse paths of more than ``MAX_STEPS_PER_PUSH`` integration steps."""
+        length_m = np.hypot(acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1]) * self.resolution
+        too_long = length_m / self.step_m > MAX_STEPS_PER_PUSH
+        if too_long.any():
+            bad = np.flatnonzero(too_long)[:5].tolist()
+            raise ValueError(
+                f"{name} must be at most {MAX_STEPS_PER_PUSH * self.step_m:.3g} m long "
+                f"({MAX_STEPS_PER_PUSH} integration steps of {self.step_m:.3g} m, at most half "
+                f"the pusher radius); action(s) {bad} run {length_m[bad[0]]:.3g} m: shorten "
+                "the path or use a larger pusher_radius"
+            )
+
     def push_motions(self, actions) -> np.ndarray:
         """Motions of a batch of pushes, each from the initial pose, shape (n, 3).
 
@@ -405,6 +439,7 @@ class PushSimulator:
         ((4, 3), True)
         """
         acts = comcore.check_actions(actions)
+        self._check_lengths(acts, "actions")  # indices into the whole batch
         out = np.zeros((acts.shape[0], 3))
         for lo in range(0, acts.shape[0], BATCH_SIZE):
             for i, res in enumerate(self.push_many(acts[lo : lo + BATCH_SIZE])):

@@ -110,6 +110,42 @@ def test_random_trials_name_a_bad_rng(rng, error):
         simulators.random_com(simulators.load_object("Obj1"), rng=rng)
 
 
+def test_a_pusher_smaller_than_the_step_still_pushes():
+    # A 0.1 mm pusher with the 1 mm step used to jump through the outline: motion (0, 0, 0).
+    action = (0, 14.5, 30, 14.5)
+    small = PushSimulator.from_polygon(RECT, pusher_radius=1e-4)
+    assert small.step_m == 5e-5
+    motion = np.array(small.push(action).motion)
+    finer = PushSimulator.from_polygon(
+        RECT, pusher_radius=1e-4, settings=simulators.EngineSettings(step_m=1.25e-5)
+    )
+    # converged: within 0.01 px and 1e-4 rad of a four times finer step
+    np.testing.assert_allclose(motion, finer.push(action).motion, atol=1e-2)
+    assert abs(motion[0] - finer.push(action).motion[0]) < 1e-4
+    assert motion[0] < -0.4 and motion[1] > 15  # it turns and moves, the right way
+
+
+def test_the_default_pusher_keeps_the_default_step():
+    sim = PushSimulator.from_polygon(RECT)
+    assert sim.step_m == simulators.EngineSettings().step_m == 0.001
+
+
+@pytest.mark.parametrize(
+    ("radius", "action", "match"),
+    [
+        (0.004, (0, 14.5, 1e12, 14.5), r"at most 100 m long .*action\(s\) \[[01]\] run 2.5e\+09 m"),
+        (1e-9, (0, 14.5, 30, 14.5), r"at most 5e-05 m long .*pusher_radius"),
+    ],
+)
+def test_absurdly_long_pushes_are_refused(radius, action, match):
+    # a 1e12 px path used to run (for days) instead of failing
+    sim = PushSimulator.from_polygon(RECT, pusher_radius=radius)
+    with pytest.raises(ValueError, match=match):
+        sim.push(action)
+    with pytest.raises(ValueError, match=match.replace("[01]", "1")):
+        sim.push_motions([(0, 14.5, 30, 14.5), action])
+
+
 def test_constructor_validation():
     shape = simulators.ObjectShape(RECT)
     mass = simulators.MassDistribution.on_shape(shape)
