@@ -206,8 +206,10 @@ def load_shape(path, scale: float = DEFAULT_FILE_SCALE, name: str | None = None)
     Raises
     ------
     ValueError
-        Unknown suffix, several pieces, holes, no closed outline, a mesh that
-        is not watertight, or an invalid outline (see :func:`check_polygon`).
+        Unknown suffix, a file its format's reader cannot parse (not XML, no
+        drawing), several pieces, holes, no closed outline, a mesh that is not
+        watertight, or an invalid outline (see :func:`check_polygon`); the
+        message names the file.
     """
     path = Path(path)
     if not path.is_file():
@@ -218,13 +220,28 @@ def load_shape(path, scale: float = DEFAULT_FILE_SCALE, name: str | None = None)
     trimesh = require_trimesh()
     uniform_com = None
     if suffix in _PATH_SUFFIXES:
-        loaded = trimesh.load_path(str(path))
-        vertices = _single_polygon(loaded.polygons_closed, path)
+        kind = "an SVG drawing" if suffix == ".svg" else "a DXF drawing"
+        try:
+            loaded = trimesh.load_path(str(path))
+            polygons = loaded.polygons_closed
+        except Exception as e:  # lxml's XMLSyntaxError, IndexError, ValueError from numpy ...
+            raise ValueError(
+                f"{path.name} could not be read as {kind} holding one closed outline "
+                f"(trimesh: {type(e).__name__}: {e})"
+            ) from e
+        vertices = _single_polygon(polygons, path)
         if suffix == ".svg":
             vertices = vertices * (1.0, -1.0)
     elif suffix in _MESH_SUFFIXES:
-        mesh = trimesh.load(str(path), force="mesh")
-        if not mesh.is_watertight:
+        try:
+            mesh = trimesh.load(str(path), force="mesh")
+            watertight = bool(mesh.is_watertight)
+        except Exception as e:  # parsers raise whatever they raise on a bad file
+            raise ValueError(
+                f"{path.name} could not be read as a {suffix[1:].upper()} mesh "
+                f"(trimesh: {type(e).__name__}: {e})"
+            ) from e
+        if not watertight:
             raise ValueError(
                 f"{path.name} is not a watertight mesh: its footprint and centre of mass "
                 "are undefined (repair it, e.g. with trimesh.repair.fill_holes)"

@@ -139,6 +139,23 @@ def test_unknown_suffix_and_missing_file(tmp_path):
         load_shape(tmp_path / "missing.svg")
 
 
+@pytest.mark.parametrize(
+    ("name", "content", "match"),
+    [
+        # no drawing at all: trimesh raised IndexError
+        ("empty.svg", '<svg xmlns="http://www.w3.org/2000/svg"></svg>', "as an SVG drawing"),
+        ("junk.svg", "hello, not xml", "as an SVG drawing"),  # lxml's XMLSyntaxError
+        ("junk.dxf", "\x00\x01binary", "as a DXF drawing"),  # numpy's reshape error
+        ("junk.ply", "not a mesh", "as a PLY mesh"),
+    ],
+)
+def test_unreadable_files_are_named(tmp_path, name, content, match):
+    path = tmp_path / name
+    path.write_text(content)
+    with pytest.raises(ValueError, match=rf"{name} could not be read {match}"):
+        load_shape(path)
+
+
 def test_import_is_light_and_a_missing_extra_says_what_to_install():
     import subprocess
     import sys
