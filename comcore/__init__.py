@@ -33,6 +33,7 @@ from ._conventions import (
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
+from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
@@ -92,6 +93,7 @@ __all__ = [
     "estimate_posterior",
     "estimate_progressive",
     "largest_component",
+    "mask_from_image",
     "measure_motion",
     "pixel_centres",
     "predict_motions",

@@ -39,7 +39,12 @@ def _as_bool_image(data) -> np.ndarray:
     if arr.dtype.kind == "f" and not np.isfinite(arr).all():
         raise ValueError("mask data must not contain NaN or inf")
     if not np.isin(arr, (0, 1)).all():
-        raise ValueError("mask data must be boolean-like: only 0 and 1 allowed for numeric arrays")
+        lo, hi = arr.min(), arr.max()
+        raise ValueError(
+            "mask data must be boolean-like: only 0 and 1 allowed for numeric arrays, got values "
+            f"from {lo:g} to {hi:g}; for a camera image (e.g. 0/255 from cv2.imread) use "
+            "comcore.mask_from_image(image), which thresholds it"
+        )
     return arr.astype(bool)
 
 

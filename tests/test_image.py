@@ -1,0 +1,178 @@
+"""comcore.mask_from_image: a camera image of one object to a Mask."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import comcore
+from comcore._image import otsu_threshold
+from tests import strategies as cst
+
+
+def scene(object_value=30, table_value=200, dtype=np.uint8, shape=(40, 60)):
+    """A table with one rectangular object (rows 10..29, cols 15..44)."""
+    img = np.full(shape, table_value, dtype)
+    img[10:30, 15:45] = object_value
+    truth = np.zeros(shape, bool)
+    truth[10:30, 15:45] = True
+    return img, truth
+
+
+# -- laws -----------------------------------------------------------------------------------
+@settings(max_examples=30)
+@given(cst.masks(), st.integers(0, 255), st.integers(0, 255))
+def test_an_image_of_a_mask_gives_the_mask_back(mask, object_value, table_value):
+    if abs(object_value - table_value) < 1:
+        return
+    img = np.where(mask.data, object_value, table_value).astype(np.uint8)
+    assert np.array_equal(comcore.mask_from_image(img).data, mask.data)
+
+
+@pytest.mark.parametrize(
+    ("object_value", "table_value", "dtype"),
+    [(30, 200, np.uint8), (220, 10, np.uint8), (60000, 1000, np.uint16), (0.9, 0.2, np.float32),
+     (True, False, bool), (255, 0, np.uint8)],
+    ids=["dark-uint8", "bright-uint8", "uint16", "float", "bool", "0-255"],
+)
+def test_grey_images_of_any_type(object_value, table_value, dtype):
+    img, truth = scene(object_value, table_value, dtype)
+    mask = comcore.mask_from_image(img, resolution=0.001)
+    assert np.array_equal(mask.data, truth) and mask.resolution == 0.001
+
+
+@pytest.mark.parametrize("channels", [3, 4])
+def test_colour_images(channels):
+    img = np.zeros((40, 60, channels), np.uint8)
+    img[...] = (90, 90, 90, 255)[:channels]  # grey table
+    img[10:30, 15:45] = (250, 240, 10, 255)[:channels]  # a yellow object
+    _, truth = scene()
+    assert np.array_equal(comcore.mask_from_image(img).data, truth)
+
+
+def test_the_input_is_not_changed():
+    img, _ = scene()
+    copy = img.copy()
+    comcore.mask_from_image(img)
+    assert np.array_equal(img, copy)
+
+
+def test_a_given_threshold_and_side_are_used():
+    img, truth = scene(object_value=100, table_value=200)
+    img[0:5, 0:5] = 150  # a mid-grey patch in a corner
+    assert np.array_equal(comcore.mask_from_image(img, threshold=120, object="dark").data, truth)
+
+
+def test_the_largest_region_is_kept():
+    img, truth = scene()
+    img[35:37, 2:4] = 30  # a small dark speck
+    assert np.array_equal(comcore.mask_from_image(img).data, truth)
+
+
+def test_holes_are_filled_unless_asked_not_to():
+    img, truth = scene()
+    img[18:22, 25:30] = 200  # a hole the table shows through
+    assert np.array_equal(comcore.mask_from_image(img).data, truth)
+    kept = comcore.mask_from_image(img, fill_holes=False)
+    assert kept.area_px == truth.sum() - 20
+
+
+def test_auto_takes_the_side_off_the_border_even_when_it_is_the_majority():
+    img = np.full((40, 40), 200, np.uint8)
+    img[2:38, 2:38] = 30  # a big dark object, bigger than the bright table around it
+    mask = comcore.mask_from_image(img)
+    assert mask.area_px == 36 * 36
+
+
+def test_otsu_splits_two_modes():
+    rng = np.random.default_rng(0)
+    grey = np.concatenate([rng.normal(50, 5, 500), rng.normal(180, 5, 300)]).reshape(40, 20)
+    assert 70 < otsu_threshold(grey) < 160
+
+
+# -- files ----------------------------------------------------------------------------------
+def test_a_path_is_read_with_opencv(tmp_path):
+    cv2 = pytest.importorskip("cv2")
+    img = np.zeros((40, 60, 3), np.uint8)
+    img[...] = (200, 200, 200)
+    img[10:30, 15:45] = (0, 0, 255)  # red in RGB order
+    path = tmp_path / "scene.png"
+    cv2.imwrite(str(path), img[..., ::-1])  # opencv writes BGR
+    _, truth = scene()
+    assert np.array_equal(comcore.mask_from_image(path).data, truth)
+    assert np.array_equal(comcore.mask_from_image(str(path)).data, truth)
+
+
+def test_a_missing_file_is_named(tmp_path):
+    pytest.importorskip("cv2")
+    with pytest.raises(ValueError, match=r"could not be read from '.*nowhere\.png'"):
+        comcore.mask_from_image(tmp_path / "nowhere.png")
+
+
+def test_a_path_without_opencv_says_what_to_install(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "cv2", None)
+    with pytest.raises(ImportError, match=r"pip install comcore\[sim\]"):
+        comcore.mask_from_image(tmp_path / "scene.png")
+
+
+# -- what the camera saw --------------------------------------------------------------------
+@pytest.mark.parametrize("value", [0, 255])
+def test_a_constant_image_is_refused(value):
+    with pytest.raises(comcore.ImageError, match=f"image is constant \\(every pixel is {value}\\)"):
+        comcore.mask_from_image(np.full((20, 20), value, np.uint8))
+
+
+def test_an_object_touching_the_border_is_refused():
+    img = np.full((40, 60), 200, np.uint8)
+    img[10:30, 0:20] = 30
+    with pytest.raises(comcore.ImageError, match=r"touches the image border \(left\).*out of view"):
+        comcore.mask_from_image(img)
+
+
+def test_a_speckled_image_is_refused():
+    rng = np.random.default_rng(1)
+    img = (rng.random((60, 60)) < 0.2).astype(np.uint8) * 255
+    with pytest.raises(comcore.ImageError, match="speckled result"):
+        comcore.mask_from_image(img)
+
+
+def test_two_objects_of_similar_size_are_refused():
+    img = np.full((40, 60), 200, np.uint8)
+    img[5:15, 5:15] = 30
+    img[20:30, 30:41] = 30
+    with pytest.raises(comcore.ImageError, match=r"several objects.*110 and 100 pixels"):
+        comcore.mask_from_image(img)
+
+
+def test_a_threshold_outside_the_image_gives_an_empty_result():
+    img, _ = scene()
+    with pytest.raises(comcore.ImageError, match=r"no bright pixel at threshold 300.*30 to 200"):
+        comcore.mask_from_image(img, threshold=300, object="bright")
+
+
+# -- bad input ------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("image", "kwargs", "error", "match"),
+    [
+        (np.zeros((4, 4, 2)), {}, ValueError, r"grey \(H, W\) or colour.*got shape \(4, 4, 2\)"),
+        (np.zeros(10), {}, ValueError, "got shape"),
+        (np.array([["a"] * 4] * 4), {}, TypeError, "image must be a numeric"),
+        (np.full((4, 4), np.nan), {}, ValueError, "NaN or inf"),
+        (scene()[0], {"object": "grey"}, ValueError, "object must be one of 'auto', 'bright', 'dark'"),
+        (scene()[0], {"threshold": "high"}, TypeError, "threshold must be a number or None, got str"),
+        (scene()[0], {"threshold": np.inf}, ValueError, "threshold must be finite"),
+    ],
+)
+def test_bad_input_is_named(image, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        comcore.mask_from_image(image, **kwargs)
+
+
+def test_mask_of_a_camera_image_points_at_mask_from_image():
+    img, _ = scene(0, 255)
+    with pytest.raises(ValueError, match=r"got values from 0 to 255.*comcore.mask_from_image"):
+        comcore.Mask(img)
