@@ -154,3 +154,19 @@ def test_run_conditions_bad_input():
         run_conditions(config, "exact,exact")
     with pytest.raises(ValueError, match="at least one"):
         run_conditions(config, "")
+
+
+@pytest.mark.parametrize("observe", ["mask", "consecutive", "motion"])
+def test_active_robot_counts_the_robots_pushes(observe):
+    label = f"active-robot(max_pushes=2, observe={observe!r})"
+    outcome = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)), keep=True)
+    row, est = outcome.rows[0], outcome.estimates[label]
+    assert row["status"] in ("ok", "budget"), row["message"]
+    assert row["total_pushes"] == row["pushes_used"] == len(est.extras["actions"]) == 2
+    assert row["push_failures"] == 0 and row["credible_radius_cm"] > 0
+
+
+def test_active_robot_refuses_an_unknown_observation():
+    label = "active-robot(observe='psychic')"
+    row = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)))[0]
+    assert row["status"] == "error" and "observe must be" in row["message"]

@@ -97,11 +97,14 @@ def _active_robot(
     """:class:`comcore.ActiveSession` against ``simulators.SimulatedRobot``, never reset.
 
     Each push starts from the pose the last one left. ``observe="mask"`` (default):
-    the session gets the camera's mask after every push and measures the motion
-    itself; ``"motion"``: it gets the robot's exact motion plus ``motion_noise``
-    ``(radians, metres)`` of tracking noise (the default under the
-    ``motion-noise`` condition). ``pusher_error`` (metres), ``mask_noise`` (flip
-    probability) and ``camera_margin`` (metres) override the trial condition's.
+    the session gets the camera's mask after every push and measures the pose
+    itself (against the first mask); ``"consecutive"``: the motion of each push is
+    measured between the camera's masks before and after it
+    (:func:`comcore.measure_motion`) and handed in as ``motion=``; ``"motion"``: it
+    gets the robot's exact motion plus ``motion_noise`` ``(radians, metres)`` of
+    tracking noise (the default under the ``motion-noise`` condition).
+    ``pusher_error`` (metres), ``mask_noise`` (flip probability) and
+    ``camera_margin`` (metres) override the trial condition's.
     A push the robot refuses is reported with ``observe(failed=True)``;
     ``extras["push_failures"]`` counts them.
     """
@@ -109,16 +112,17 @@ def _active_robot(
     if observe is None:
         noisy = condition is not None and condition.motion_noise is not None
         observe = "motion" if noisy else "mask"
-    if observe not in ("mask", "motion"):
-        raise ValueError(f"observe must be 'mask' or 'motion', got {observe!r}")
+    if observe not in ("mask", "consecutive", "motion"):
+        raise ValueError(f"observe must be 'mask', 'consecutive' or 'motion', got {observe!r}")
     if motion_noise is None and condition is not None:
         motion_noise = condition.motion_noise
     overrides = {"pusher_error": pusher_error, "mask_noise": mask_noise}
     overrides["camera_margin"] = camera_margin
     robot = ctx.robot(**{k: v for k, v in overrides.items() if v is not None})
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
+    seen = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        robot.camera_mask(), model=_hypothesis_model(ctx, model), rng=ctx.rng, **options
+        seen, model=_hypothesis_model(ctx, model), rng=ctx.rng, **options
     )
     failures = 0
     while not session.done:
@@ -133,6 +137,10 @@ def _active_robot(
             continue
         if observe == "mask":
             session.observe(robot.camera_mask())
+            continue
+        if observe == "consecutive":
+            before, seen = seen, robot.camera_mask()
+            session.observe(motion=comcore.measure_motion(before, seen).motion)  # type: ignore[attr-defined]
             continue
         motion = np.asarray(push.motion, float)
         if motion_noise is not None:
