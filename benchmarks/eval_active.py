@@ -43,13 +43,16 @@ def _model(name: str, limit_surfaces):
     raise ValueError(f"--model must be 'ellipsoid' or 'none', got {name!r}")
 
 
-def make_simulator(name, friction, seed):
+def make_simulator(name, friction, seed, resolution=None):
     """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
     import simulators
 
+    extra = {} if resolution is None else {"resolution": resolution}
     for attempt in range(10):
         try:
-            return simulators.random_simulator(name, friction=friction, rng=[seed, attempt])
+            return simulators.random_simulator(
+                name, friction=friction, rng=[seed, attempt], **extra
+            )
         except ValueError as e:
             print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
     raise RuntimeError(f"no simulator for {name} {friction} seed {seed}")
@@ -58,7 +61,7 @@ def make_simulator(name, friction, seed):
 def run_trial(name, friction, seed, args, model):
     """One estimation on a fresh random simulator; returns a dict of results."""
 
-    sim = make_simulator(name, friction, seed)
+    sim = make_simulator(name, friction, seed, args.resolution)
     flip_rng = np.random.default_rng([seed, 1])
     flips = []
 
@@ -71,9 +74,11 @@ def run_trial(name, friction, seed, args, model):
     kwargs = {"selection": args.selection, "model_weight": args.model_weight}
     if args.flip_prob is not None:
         kwargs["flip_prob"] = args.flip_prob
-    for key in ("theta_noise", "translation_noise"):
+    for key in ("theta_noise", "translation_error", "motion_noise"):
         if getattr(args, key) is not None:
             kwargs[key] = tuple(getattr(args, key))
+    if args.pusher_error is not None:
+        kwargs["pusher_error"] = args.pusher_error
     if args.target_radius is not None:
         kwargs["target_radius"] = args.target_radius
     if args.max_pushes is not None:
@@ -189,7 +194,14 @@ def main(argv=None):
         "--limit-surfaces", nargs="*", default=None, help="ellipsoid variants to weigh"
     )
     parser.add_argument("--theta-noise", type=float, nargs=2, default=None)
-    parser.add_argument("--translation-noise", type=float, nargs=2, default=None)
+    parser.add_argument(
+        "--translation-error", type=float, nargs=2, default=None, help="metres, relative"
+    )
+    parser.add_argument("--pusher-error", type=float, default=None, help="estimator's, metres")
+    parser.add_argument(
+        "--motion-noise", type=float, nargs=2, default=None, help="estimator's: rad, metres"
+    )
+    parser.add_argument("--resolution", type=float, default=None, help="camera m/px")
     parser.add_argument(
         "--max-pushes", type=int, default=None, help="budget (default: the estimator's)"
     )

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import math
 
-from ._active_setup import active_options, build_estimate, prior_grid
+import numpy as np
+from scipy.special import logsumexp
+
+from ._active_setup import DEFAULT_MOTION_NOISE, active_options, build_estimate, prior_grid
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._mask import Mask
@@ -12,7 +15,7 @@ from ._planning import Candidates
 from ._posterior import GridPosterior
 from ._session import ActiveSession
 from ._session_pose import is_miss
-from ._session_update import push_evidence
+from ._session_update import consistency_threshold, push_evidence
 from ._types import Estimate
 from ._validation import check_actions, check_mask, check_motions
 
@@ -41,7 +44,10 @@ def estimate_active(
     n_mu: int = 6,
     theta_tol: float = ANGLE_EPS,
     theta_noise=(0.01, 0.13),
-    translation_noise=(0.4, 0.056),
+    translation_error=(0.001, 0.056),
+    pusher_error: float = 0.001,
+    motion_noise=DEFAULT_MOTION_NOISE,
+    translation_noise=None,
     selection: str = "sense",
     model_weight: float = 1.0,
     prior=None,
@@ -56,19 +62,24 @@ def estimate_active(
 
     * **Voting Theorem.** The sense of rotation tells the side of the push's
       force line (the push direction clipped to the friction cone) the CoM
-      lies on: soft over about a pixel (:data:`comcore._posterior.LINE_SCALE_PX`),
-      and wrong with probability ``flip_prob`` (noise, slip).
+      lies on: soft (a logistic edge whose standard deviation is
+      ``hypot(pusher_error, 5.4 mm)``, the 5.4 mm fitted against the
+      simulator with an exact pusher), and wrong with probability
+      ``flip_prob`` (noise, slip), or more when the observed rotation is
+      within the tracking noise ``motion_noise[0]`` of zero.
     * **Motion model** (``model``, a :class:`comcore.HypothesisPredictor`):
       the rotation and translation it predicts for each (CoM, mu) hypothesis,
       scored with heavy-tailed Student-t residuals. The rotation's scale is
       ``theta_noise[0] + theta_noise[1] / (1 + (lever / 3.75 cm)^2)`` (rad):
       a push whose line passes near the CoM balances on an unstable
       equilibrium and turns the object unpredictably; the translation's is
-      ``translation_noise[0] + translation_noise[1] * |t|`` (px), on the
+      ``translation_error[0] + translation_error[1] * |t|`` (metres), on the
       displacement of the hypothesis' CoM (the centroid's displacement also
       carries the rotation's error times its distance to the CoM). The
       defaults were fitted to the ellipsoid model's errors against the
-      simulator (docs/active.md).
+      simulator (docs/active.md). The tracking error ``motion_noise`` adds to
+      both in quadrature. All scales are in metres and radians: the same
+      object gives the same posterior in metres at any camera resolution.
 
     Choosing the next push (``selection``):
 
@@ -94,7 +105,11 @@ def estimate_active(
     highest-posterior region is at most ``target_radius`` (status ``"ok"``),
     when ``max_pushes`` pushes are spent (``"budget"``), when no candidate is
     left (``"exhausted"``) or when none is expected to teach more than
-    ``min_information`` bits (``"uninformative"``).
+    ``min_information`` bits (``"uninformative"``). Whatever the reason, the
+    status is ``"inconsistent"`` instead when no (CoM, friction, model)
+    hypothesis explains the observed motions well (see
+    :attr:`comcore.ActiveSession.consistent`): a robot, model or tracker that
+    does not behave as the likelihood says.
 
     Parameters
     ----------
@@ -147,8 +162,22 @@ def estimate_active(
     theta_noise : (float, float), optional
         Rotation error scale of the model (rad): everywhere, and extra near
         the force line.
+    translation_error : (float, float), optional
+        Error scale of the model's CoM displacement: absolute (metres, default
+        1 mm) and relative to the displacement.
+    pusher_error : float, optional
+        Standard deviation (metres) of the pusher's position across its path
+        (default 1 mm): how far the executed push line may lie from the
+        planned one.
+    motion_noise : (float, float), optional
+        Standard deviations of the measured motion's error, rotation (rad)
+        and translation (metres); default 0.5 deg and 0.5 mm, a camera
+        tracker's. Where :class:`comcore.ActiveSession` registers masks itself,
+        the registration's residual is added.
     translation_noise : (float, float), optional
-        Error scale of the model's CoM displacement: absolute (px) and relative.
+        Deprecated: ``translation_error`` in pixels (absolute, relative).
+        Passing it warns (``DeprecationWarning``) and overrides
+        ``translation_error``.
     model_weight : float, optional
         Power in (0, 1] on the model's likelihood. A model errs alike on
         similar pushes of one object, so treating its errors as independent
@@ -173,10 +202,14 @@ def estimate_active(
         ``"motions"`` (k, 3) and ``"actions"`` (k, 4) executed, in order;
         ``"posterior"`` (H, W) CoM posterior; ``"credible_radius_px"``;
         ``"mu_grid"`` and ``"mu_posterior"``; ``"model_posterior"`` (one weight
-        per model); ``"history"``: one dict per
+        per model); ``"log_evidence"`` and ``"excess_nats"`` (see
+        :func:`comcore.estimate_posterior`); ``"outcomes"`` (``"evidence"`` or
+        ``"miss"`` per push: a push that moved the object by less than 1 mm
+        and 0.01 rad carries no evidence); ``"history"``: one dict per
         state (prior first) with the posterior mean ``"com"``,
-        ``"entropy_bits"``, ``"credible_radius_px"`` and ``"expected_gain_bits"``
-        of the push chosen next (``None`` if none).
+        ``"entropy_bits"``, ``"credible_radius_px"``, ``"expected_gain_bits"``
+        of the push chosen next (``None`` if none), ``"log_evidence"`` and
+        ``"excess_nats"`` so far.
 
     Raises
     ------
@@ -223,6 +256,9 @@ def estimate_active(
         n_mu=n_mu,
         theta_tol=theta_tol,
         theta_noise=theta_noise,
+        translation_error=translation_error,
+        pusher_error=pusher_error,
+        motion_noise=motion_noise,
         translation_noise=translation_noise,
         selection=selection,
         model_weight=model_weight,
@@ -285,8 +321,13 @@ def estimate_posterior(
         the pushes that carried evidence. ``extras`` as
         :func:`comcore.estimate_active`'s (``"posterior"``,
         ``"credible_radius_px"``, ``"history"``, ...) plus ``"outcomes"``
-        (``"evidence"`` / ``"miss"`` per push). ``status`` is ``"ok"``, or
-        ``"no_evidence"`` when no push carried any.
+        (``"evidence"`` / ``"miss"`` per push), ``"log_evidence"`` (the log
+        marginal likelihood of the motions) and ``"excess_nats"`` (how much
+        more they surprise the best hypothesis than its own motions would, see
+        :attr:`comcore.ActiveSession.excess_nats`). ``status`` is ``"ok"``,
+        ``"inconsistent"`` when no hypothesis explains the pushes well
+        (``excess_nats`` above ``10 + 6 sqrt(n)``), or ``"no_evidence"`` when
+        no push carried any.
 
     Raises
     ------
@@ -305,7 +346,7 @@ def estimate_posterior(
     >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
     >>> est = comcore.estimate_posterior(mask, actions, motions)
     >>> est.status, np.round(est.com, 1).tolist(), round(est.extras["credible_radius_px"], 1)
-    ('ok', [11.1, 11.1], 7.6)
+    ('ok', [11.1, 11.1], 7.7)
     """
     mask = check_mask(mask)
     refused = sorted(PLANNING_OPTIONS & set(options))
@@ -318,19 +359,35 @@ def estimate_posterior(
     pushes = Candidates(mask, acts, opts, rng=None, name="actions")
     post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1))
     history, outcomes, used = [], [], []
+    excess, log_evidence = np.zeros(post.log_w.shape), 0.0
     for i, motion in enumerate(moves):
         _, area = post.credible(opts.credible)
         history.append(_state(post, area))
         if is_miss(motion, mask.resolution):
             outcomes.append("miss")
             continue
-        post.update(push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion))
+        loglik, push_excess = push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion)
+        log_evidence += float(logsumexp(post.log_w + loglik))
+        post.update(loglik)
+        excess = excess + push_excess
         outcomes.append("evidence")
         used.append(i)
     _, area = post.credible(opts.credible)
     history.append(_state(post, area))
-    extras = {"actions": acts, "motions": moves, "outcomes": tuple(outcomes)}
-    status = "ok" if used else "no_evidence"
+    worst = float(excess.min()) if used else 0.0
+    extras = {
+        "actions": acts,
+        "motions": moves,
+        "outcomes": tuple(outcomes),
+        "log_evidence": log_evidence,
+        "excess_nats": worst,
+    }
+    if not used:
+        status = "no_evidence"
+    elif worst > consistency_threshold(len(used)):
+        status = "inconsistent"
+    else:
+        status = "ok"
     return build_estimate(mask, post, opts.credible, used, history, status, extras)
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +15,8 @@ from ._types import Estimate
 from ._validation import check_mu, check_positive, check_probability
 
 __all__ = [
+    "DEFAULT_MOTION_NOISE",
+    "LINE_BLUR_M",
     "MAX_ALPHA",
     "NEAR_LINE_M",
     "SELECTIONS",
@@ -36,6 +39,15 @@ MAX_ALPHA = math.pi / 2 - 1e-3
 NEAR_LINE_M = 0.0375
 #: Ways to choose the next push.
 SELECTIONS = ("sense", "model")
+#: Blur (metres, a standard deviation) of the force line with an exact pusher:
+#: the pusher's radius, the object turning during a 3 cm push, outlines and
+#: normals. Fitted against the simulator as a logistic of scale 1.2 px at
+#: 2.5 mm/px (docs/active.md); the pusher's own error adds in quadrature.
+LINE_BLUR_M = 1.2 * 0.0025 * math.pi / math.sqrt(3.0)
+#: Default tracking error of a measured motion: 0.5 deg and 0.5 mm (a camera's).
+DEFAULT_MOTION_NOISE = (math.radians(0.5), 0.0005)
+#: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
+_LOGISTIC_STD = math.pi / math.sqrt(3.0)
 
 
 @dataclass(frozen=True)
@@ -61,6 +73,8 @@ class ActiveOptions:
     model_weight: float
     min_information: float
     near_px: float
+    line_scale_px: float
+    tracking: tuple[float, float]
 
 
 def _count(value, name: str, minimum: int) -> int:
@@ -85,12 +99,21 @@ def active_options(
     n_mu: int = 6,
     theta_tol: float = ANGLE_EPS,
     theta_noise=(0.01, 0.13),
-    translation_noise=(0.4, 0.056),
+    translation_error=(0.001, 0.056),
+    pusher_error: float = 0.001,
+    motion_noise=DEFAULT_MOTION_NOISE,
+    translation_noise=None,
     selection: str = "sense",
     model_weight: float = 1.0,
     min_information: float = 1e-3,
 ) -> ActiveOptions:
-    """Validate the active estimator's options (each error names its argument)."""
+    """Validate the active estimator's options (each error names its argument).
+
+    The noise scales are physical (metres, radians) and become pixels of
+    ``mask`` here: the force line's logistic edge has the standard deviation
+    ``hypot(pusher_error, LINE_BLUR_M)``; ``translation_noise`` (pixels) is
+    the deprecated form of ``translation_error`` (metres).
+    """
     max_pushes = _count(max_pushes, "max_pushes", 0)
     models = check_models(model)
     target_px = check_positive(target_radius, "target_radius") / mask.resolution
@@ -106,7 +129,19 @@ def active_options(
     if selection == "model" and not models:
         raise ValueError("selection='model' needs a model")
     model_weight = check_probability(model_weight, "model_weight", open_low=True)
-    translation_noise = pair(translation_noise, "translation_noise")
+    if translation_noise is not None:
+        translation_noise = pair(translation_noise, "translation_noise")
+        warnings.warn(
+            "translation_noise (pixels) is deprecated: pass translation_error=(metres, relative)",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+    else:
+        t_abs, t_rel = pair(translation_error, "translation_error")
+        translation_noise = (t_abs / mask.resolution, t_rel)
+    pusher_error = check_positive(pusher_error, "pusher_error", allow_zero=True)
+    track_theta, track_m = pair(motion_noise, "motion_noise", allow_zero=True)
+    line_std_m = math.hypot(pusher_error, LINE_BLUR_M)
     for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
             raise ValueError(f"{name} must be a positive int, got {value!r}")
@@ -126,6 +161,8 @@ def active_options(
         model_weight=model_weight,
         min_information=min_information,
         near_px=NEAR_LINE_M / mask.resolution,
+        line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
+        tracking=(track_theta, track_m / mask.resolution),
     )
 
 
@@ -156,14 +193,16 @@ def prior_grid(mask: Mask, prior) -> tuple[np.ndarray, np.ndarray]:
     return pixel_centres(support), w / w.sum()
 
 
-def pair(value, name: str) -> tuple[float, float]:
-    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers."""
+def pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
+    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers (both >= 0 with allow_zero)."""
     try:
         a, r = (float(v) for v in value)
     except (TypeError, ValueError) as e:
         raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
-    if not (a > 0 and math.isfinite(a) and r >= 0 and math.isfinite(r)):
-        raise ValueError(f"{name} must be a pair with absolute > 0 and other >= 0, got ({a}, {r})")
+    low_ok = a >= 0 if allow_zero else a > 0
+    if not (low_ok and math.isfinite(a) and r >= 0 and math.isfinite(r)):
+        want = "both >= 0" if allow_zero else "absolute > 0 and other >= 0"
+        raise ValueError(f"{name} must be a pair with {want}, got ({a}, {r})")
     return a, r
 
 

@@ -9,7 +9,7 @@ how much a candidate push's motion would tell the hypotheses apart.
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import logsumexp
+from scipy.special import digamma, logsumexp
 
 from ._conventions import rotate_vectors
 from ._posterior import GridPosterior, line_distances
@@ -19,6 +19,7 @@ __all__ = [
     "model_gains",
     "model_information",
     "model_predictions",
+    "motion_excess",
     "motion_log_likelihood",
     "theta_scale",
 ]
@@ -65,6 +66,7 @@ def motion_log_likelihood(
     near_line_px,
     *,
     rotation=True,
+    tracking=(0.0, 0.0),
 ):
     """Log-likelihood of an observed motion under predicted ones, shape (p, m).
 
@@ -93,21 +95,98 @@ def motion_log_likelihood(
         cannot see the object turn): only the centroid's displacement is
         scored, its scale widened by the rotation's error times the
         hypothesis' distance to the centroid.
+    tracking : (float, float), optional
+        Standard deviations of the observed motion's own error: rotation
+        (rad) and translation (px). They add to the model's scales in
+        quadrature.
     """
-    th_scale = theta_scale(lever, theta_noise, near_line_px)
+    terms = _motion_terms(
+        observed,
+        predicted,
+        lever,
+        offset,
+        theta_noise,
+        translation_noise,
+        near_line_px,
+        rotation,
+        tracking,
+    )
+    return sum(_student_t(res_sq, scale, STUDENT_DOF, dim) for res_sq, scale, dim in terms)
+
+
+def _motion_terms(
+    observed,
+    predicted,
+    lever,
+    offset,
+    theta_noise,
+    translation_noise,
+    near_line_px,
+    rotation,
+    tracking,
+):
+    """The squared residuals, scales and dimensions scored by :func:`motion_log_likelihood`."""
+    track_theta, track_px = tracking
+    th_scale = np.hypot(theta_scale(lever, theta_noise, near_line_px), track_theta)
     tr_abs, tr_rel = translation_noise
     if not rotation:
         pred_t = predicted[..., 1:]
         scale = tr_abs + tr_rel * np.hypot(pred_t[..., 0], pred_t[..., 1])
-        scale = scale + th_scale * np.hypot(offset[..., 0], offset[..., 1])
-        res_sq = ((observed[1:] - pred_t) ** 2).sum(axis=-1)
-        return _student_t(res_sq, scale, STUDENT_DOF, 2)
-    out = _student_t((observed[0] - predicted[..., 0]) ** 2, th_scale, STUDENT_DOF, 1)
+        scale = np.hypot(scale, track_px) + th_scale * np.hypot(offset[..., 0], offset[..., 1])
+        return [(((observed[1:] - pred_t) ** 2).sum(axis=-1), scale, 2)]
     moved_obs = observed[1:] + com_shift(observed[0], offset)
     moved_pred = predicted[..., 1:] + com_shift(predicted[..., 0], offset)
     tr_scale = tr_abs + tr_rel * np.hypot(moved_pred[..., 0], moved_pred[..., 1])
-    res_sq = ((moved_obs - moved_pred) ** 2).sum(axis=-1)
-    return out + _student_t(res_sq, tr_scale, STUDENT_DOF, 2)
+    tr_scale = np.hypot(tr_scale, track_px)
+    return [
+        ((observed[0] - predicted[..., 0]) ** 2, th_scale, 1),
+        (((moved_obs - moved_pred) ** 2).sum(axis=-1), tr_scale, 2),
+    ]
+
+
+#: ``E[(dof + d) / 2 log(1 + |T|^2 / dof)]`` of a d-variate Student-t ``T`` (d = 1, 2):
+#: ``(dof + d) / 2 (digamma((dof + d) / 2) - digamma(dof / 2))``; 0.773 and 1.667 nats.
+_EXPECTED_DEFICIT = {
+    d: (STUDENT_DOF + d) / 2 * float(digamma((STUDENT_DOF + d) / 2) - digamma(STUDENT_DOF / 2))
+    for d in (1, 2)
+}
+
+
+def motion_excess(
+    observed,
+    predicted,
+    lever,
+    offset,
+    theta_noise,
+    translation_noise,
+    near_line_px,
+    *,
+    rotation=True,
+    tracking=(0.0, 0.0),
+):
+    """How much more an observed motion surprises each hypothesis than its own motions would.
+
+    ``-log p(y | h) + E_{Y ~ h}[log p(Y | h)]`` for the Student-t terms of
+    :func:`motion_log_likelihood` (same arguments): 0 on average when the
+    hypothesis made the motion, large when no hypothesis explains it (each
+    term's tail falls like ``exp(-0.75 x)``, heavy as the likelihood's).
+    """
+    terms = _motion_terms(
+        observed,
+        predicted,
+        lever,
+        offset,
+        theta_noise,
+        translation_noise,
+        near_line_px,
+        rotation,
+        tracking,
+    )
+    return sum(
+        (STUDENT_DOF + dim) / 2 * np.log1p(res_sq / (STUDENT_DOF * scale**2))
+        - _EXPECTED_DEFICIT[dim]
+        for res_sq, scale, dim in terms
+    )
 
 
 def model_information(

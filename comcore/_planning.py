@@ -120,7 +120,11 @@ class Candidates:
             ) / math.log(2)
         else:
             gains = sense_information(
-                post.pixels, post.sense_weights, self.lines[idx], options.flip_prob
+                post.pixels,
+                post.sense_weights,
+                self.lines[idx],
+                options.flip_prob,
+                options.line_scale_px,
             )
         best = int(np.argmax(gains))
         if not gains[best] > options.min_information:

@@ -35,7 +35,9 @@ __all__ = [
     "side_probability",
 ]
 
-#: Scale (pixels) of the soft edge of a force line. The Voting Theorem's sense
+#: Scale (pixels) of the soft edge of a force line at the default 2.5 mm/px and
+#: an exact pusher (the estimators derive it from metres: ``LINE_BLUR_M`` and
+#: ``pusher_error`` in :mod:`comcore._active_setup`). The Voting Theorem's sense
 #: is taken to be wrong for a CoM at distance d from the line with probability
 #: ``1 / (1 + exp(d / scale))`` (plus ``flip_prob``): pixel outlines, the
 #: smoothed normal, the pusher's radius and the object turning during the push
@@ -312,7 +314,13 @@ class GridPosterior:
 
 
 def push_log_likelihood(
-    distances, motion, flip_prob: float, theta_tol: float, model_term=None, flipped_term=None
+    distances,
+    motion,
+    flip_prob: float,
+    theta_tol: float,
+    model_term=None,
+    flipped_term=None,
+    scale: float = LINE_SCALE_PX,
 ):
     """Log-likelihood of one observed push over the grid, shape (p, m, 1) or (p, m, k).
 
@@ -331,6 +339,8 @@ def push_log_likelihood(
     model_term, flipped_term : numpy.ndarray, shape (p, m, k), optional
         :func:`motion_log_likelihood` of the motion as observed and with its
         rotation negated (both or neither).
+    scale : float, optional
+        Logistic scale (pixels) of the force line's soft edge.
     """
     theta = float(motion[0])
     sense = 0 if abs(theta) <= theta_tol else (1 if theta > 0 else -1)
@@ -338,8 +348,8 @@ def push_log_likelihood(
     if sense == 0:
         log_same = log_flip = np.zeros_like(distances)
     else:
-        log_same = np.log(np.maximum(side_probability(sense * distances), floor))
-        log_flip = np.log(np.maximum(side_probability(-sense * distances), floor))
+        log_same = np.log(np.maximum(side_probability(sense * distances, scale), floor))
+        log_flip = np.log(np.maximum(side_probability(-sense * distances, scale), floor))
     if model_term is not None:
         log_same = log_same + model_term
         log_flip = log_flip + flipped_term

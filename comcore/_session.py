@@ -6,6 +6,7 @@ import inspect
 import math
 
 import numpy as np
+from scipy.special import logsumexp
 
 from ._active_setup import active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
@@ -22,7 +23,7 @@ from ._session_pose import (
     moved_mask,
     relative,
 )
-from ._session_update import push_evidence
+from ._session_update import consistency_threshold, push_evidence
 from ._types import Action, Estimate, Motion
 from ._validation import check_mask, check_motions, check_rng
 
@@ -123,9 +124,13 @@ class ActiveSession:
         pixels, prior_w = prior_grid(self._first, prior)
         self._cands = Candidates(self._first, candidates, self._opts, check_rng(rng))
         self._post = GridPosterior(pixels, prior_w, self._opts.mus, max(len(self._opts.models), 1))
+        offsets = self._first.pixels - np.asarray(self._first.centroid)
+        self._gyration_px = max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
         self._records: list[dict] = []
+        self._excess = np.zeros(self._post.log_w.shape)  # summed excess surprise per hypothesis
+        self._log_evidence = 0.0
         self._history: list[dict] = []
         self._final: str | None = None
         self._pending: int | None = None
@@ -143,9 +148,34 @@ class ActiveSession:
                 "entropy_bits": self._post.entropy_bits(),
                 "credible_radius_px": math.sqrt(area / math.pi),
                 "expected_gain_bits": None,
+                "log_evidence": self._log_evidence,
+                "excess_nats": self.excess_nats,
             }
         )
         self._planned = False
+
+    @property
+    def excess_nats(self) -> float:
+        """How much more the pushes surprise the best hypothesis than its own motions would.
+
+        The minimum over (CoM, friction, model) hypotheses of the summed
+        excess surprise ``-log p(y | h) + E_h log p(Y | h)`` of the pushes
+        with evidence: about 0 or below when some hypothesis explains the
+        data, large when none does (0 before the first push).
+        """
+        n = sum(r["outcome"] == "evidence" for r in self._records)
+        return float(self._excess.min()) if n else 0.0
+
+    @property
+    def consistent(self) -> bool:
+        """False when no hypothesis explains the pushes well (status ``"inconsistent"``).
+
+        The :attr:`excess_nats` of the best hypothesis is above
+        ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
+        quantile of its distribution under the likelihood).
+        """
+        n = sum(r["outcome"] == "evidence" for r in self._records)
+        return n == 0 or self.excess_nats <= consistency_threshold(n)
 
     def _plan(self):
         """Decide whether to stop, else choose the next push (lazily, once per state)."""
@@ -167,6 +197,8 @@ class ActiveSession:
             else:
                 self._pending = index
                 self._history[-1]["expected_gain_bits"] = gain
+        if self._final is not None and not self.consistent:
+            self._final = "inconsistent"
 
     def _current_mask(self) -> Mask | None:
         if self._mask_now is not None:
@@ -280,7 +312,7 @@ class ActiveSession:
             return
         obj_motion = object_motion_from_camera(camera_motion, self._pose.theta)
         record["object_motion"] = tuple(float(v) for v in obj_motion)
-        loglik = push_evidence(
+        loglik, excess = push_evidence(
             self._post,
             self._opts,
             self._first,
@@ -288,8 +320,22 @@ class ActiveSession:
             self._cands.lines[index],
             obj_motion,
             rotation_observed=not reading.ambiguous,
+            tracking=self._tracking(reading.residual_px),
         )
-        self._commit(record, "evidence", reading.pose, mask, loglik)
+        record["log_evidence"] = float(logsumexp(self._post.log_w + loglik))
+        self._commit(record, "evidence", reading.pose, mask, loglik, excess)
+
+    def _tracking(self, residual_px: float) -> tuple[float, float]:
+        """Measurement error (rad, px) of a motion: ``motion_noise``, and the registration's.
+
+        Where the session measured the motion, the outline's RMS residual
+        (px) adds in quadrature to the translation's error, and that residual
+        over the first mask's radius of gyration to the rotation's.
+        """
+        theta, px = self._opts.tracking
+        if not math.isfinite(residual_px):
+            return theta, px
+        return math.hypot(theta, residual_px / self._gyration_px), math.hypot(px, residual_px)
 
     def _reading(self, mask, motion) -> PoseReading:
         """The pose after the push, from a mask or a motion (validated, nothing changed)."""
@@ -309,7 +355,7 @@ class ActiveSession:
             )
         return measure_pose(first, mask, self._pose)
 
-    def _commit(self, record, outcome, pose, mask, loglik):
+    def _commit(self, record, outcome, pose, mask, loglik, excess=None):
         record["outcome"] = outcome
         if outcome != "failed" and "object_motion" not in record:
             record["object_motion"] = tuple(
@@ -318,6 +364,8 @@ class ActiveSession:
             )
         if loglik is not None:
             self._post.update(loglik)
+            self._excess = self._excess + excess
+            self._log_evidence += record["log_evidence"]
         self._records.append(record)
         self._cands.made(record["index"])
         if outcome != "failed":
@@ -365,6 +413,8 @@ class ActiveSession:
             "outcomes": tuple(r["outcome"] for r in done),
             "failed": tuple(r["index"] for r in self._records if r["outcome"] == "failed"),
             "pose": self._pose,
+            "log_evidence": self._log_evidence,
+            "excess_nats": self.excess_nats,
         }
         used = [r["index"] for r in done]
         return build_estimate(

@@ -509,3 +509,67 @@ def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
     )
     assert est.used != (0, 1, 2)
     assert all(np.isfinite(h["expected_gain_bits"]) for h in est.extras["history"][:-1])
+
+
+# -- noise in physical units -------------------------------------------------------------
+
+
+class PhysicalToy:
+    """ToyModel in metres: |theta| grows over 2 cm of lever arm, the centroid moves 3 cm."""
+
+    def predict_hypotheses(self, mask, actions, coms, mu):
+        acts = comcore.check_actions(actions)
+        coms = np.asarray(coms, dtype=float)
+        con = comcore.contacts(mask, acts)
+        out = np.zeros((len(coms), len(acts), 3))
+        for j, a in enumerate(acts):
+            direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
+            sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
+            lever = comcore.signed_line_distance(coms, a[None])[:, 0] * mask.resolution
+            theta = sense * 0.4 * np.tanh(np.abs(lever) / 0.02)
+            out[:, j, 0] = theta
+            out[:, j, 1:] = 0.03 / mask.resolution * direction * (1 - np.abs(theta))[:, None]
+        return out
+
+
+def _plate_at(resolution):
+    """The same 7.5 x 10 cm plate (2.5 cm margin) at a camera resolution (m/px)."""
+    k = 0.0025 / resolution
+    return comcore.Mask(
+        np.pad(np.ones((round(30 * k), round(40 * k)), bool), round(10 * k)), resolution=resolution
+    )
+
+
+def test_the_credible_radius_in_metres_does_not_depend_on_the_resolution():
+    """Same object, same pushes (in metres), same physics: 2.5 and 1 mm/px agree."""
+    coarse, model = _plate_at(0.0025), PhysicalToy()
+    ratios = []
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        pushes_m = comcore.sample_pushes(coarse, 60, rng=seed) * coarse.resolution
+        com_m = coarse.pixels[rng.integers(coarse.area_px)] * coarse.resolution
+        radii = []
+        for resolution in (0.0025, 0.001):
+            mask, com = _plate_at(resolution), com_m / resolution
+
+            def push(action, mask=mask, com=com):
+                return comcore.Motion(*model.predict_hypotheses(mask, [action], [com], 0.4)[0, 0])
+
+            est = comcore.estimate_active(
+                mask, push, pushes_m / resolution, 4, model=model, target_radius=1e-5
+            )
+            radii.append(est.extras["credible_radius_px"] * resolution)
+        ratios.append(radii[1] / radii[0])
+    # With the scales in pixels (translation_noise, the 1.2 px line) it was 0.74 (0.62-0.91).
+    assert 0.85 < np.mean(ratios) < 1.18
+
+
+def test_translation_noise_in_pixels_is_deprecated_and_still_works():
+    mask = _plate()
+    push = _robot(mask, (20.0, 15.0), 0.3)
+    new = comcore.estimate_active(mask, push, max_pushes=2, rng=0, model=ToyModel())
+    with pytest.warns(DeprecationWarning, match="translation_error"):
+        old = comcore.estimate_active(
+            mask, push, max_pushes=2, rng=0, model=ToyModel(), translation_noise=(0.4, 0.056)
+        )
+    np.testing.assert_allclose(old.extras["posterior"], new.extras["posterior"], atol=1e-12)

@@ -59,3 +59,14 @@ def test_a_push_that_did_not_move_the_object_carries_no_evidence():
 def test_bad_arguments_are_named(args, kwargs, error, match):
     with pytest.raises(error, match=match):
         comcore.estimate_posterior(_plate(), *args, **kwargs)
+
+
+def test_pushes_no_com_explains_are_inconsistent():
+    mask = _ell()
+    actions = comcore.sample_pushes(mask, 5, rng=0)
+    honest = [_robot(mask, (30.0, 24.0), 0.4)(comcore.Action(*a)) for a in actions]
+    kwargs = {"model": ToyModel()}
+    assert comcore.estimate_posterior(mask, actions, honest, **kwargs).status == "ok"
+    liar = [(0.1, 0.0, 0.0)] * 5
+    est = comcore.estimate_posterior(mask, actions, liar, **kwargs)
+    assert est.status == "inconsistent" and est.extras["excess_nats"] > 30

@@ -296,3 +296,45 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
     session.observe(stand_in.mask())
     assert session.history[-1]["entropy_bits"] == pytest.approx(before, abs=1e-12)  # no model
     assert session.pose.theta == 0.0
+
+
+# -- evidence in the status --------------------------------------------------------------
+
+
+def test_a_robot_no_com_explains_is_reported_inconsistent():
+    """Always +0.1 rad and no translation: with a model no CoM explains it (issue 13)."""
+    from tests.test_active import ToyModel, _ell, _robot
+
+    mask = _ell()
+    est = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), model=ToyModel())
+    assert est.status == "inconsistent" and not est.ok
+    assert est.extras["excess_nats"] > 30
+    honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=ToyModel(), rng=0)
+    assert honest.status != "inconsistent" and honest.extras["excess_nats"] < 0
+
+
+def test_the_evidence_falls_with_surprising_pushes():
+    from tests.test_active import ToyModel, _ell, _robot
+
+    mask = _ell()
+    kwargs = {"model": ToyModel(), "rng": 1, "max_pushes": 4, "target_radius": 1e-4}
+    honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), **kwargs)
+    liar = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), **kwargs)
+    assert liar.extras["log_evidence"] < honest.extras["log_evidence"] - 20
+
+
+def test_without_a_reset_a_push_that_misses_carries_no_evidence():
+    """The session believes the object is 30 px off where it is: its pushes miss."""
+    mask = _mask(45)
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4)
+    session.reset_pose(comcore.Motion(0.0, 30.0, 0.0))
+    while not session.done:
+        session.observe(motion=world.execute(session.next_push()))
+    est = session.estimate()
+    assert "miss" in est.extras["outcomes"]
+    entropies = [h["entropy_bits"] for h in est.extras["history"]]
+    for k, outcome in enumerate(est.extras["outcomes"]):
+        if outcome == "miss":
+            assert entropies[k + 1] == pytest.approx(entropies[k], abs=1e-12)
+    assert est.status == "budget"
