@@ -8,6 +8,12 @@ import comcore
 
 __all__ = ["OraclePredictor"]
 
+#: A CoM hypothesis is kept this fraction (of the way from the support's mean) inside
+#: the hull of the support points, where tilting the mass can still reach it.
+HULL_SHRINK = 0.01
+#: Hypotheses closer than this fraction to the hull count as on it (unreachable).
+ON_HULL = 1e-6
+
 
 class OraclePredictor:
     """A :class:`comcore.Predictor` that runs the simulator on the true object.
@@ -19,7 +25,11 @@ class OraclePredictor:
 
     It is also a :class:`comcore.HypothesisPredictor`: for a CoM hypothesis it
     tilts the true mass distribution to put the CoM there (see
-    :meth:`simulators.PushSimulator.with_com`).
+    :meth:`simulators.PushSimulator.with_com`). A hypothesis that no tilt can
+    reach (on an outline pixel or near one: outside the hull of the support
+    points, which lie half a support cell inside the outline) is answered for
+    the CoM where the line from the support points' mean to it enters the hull,
+    moved 1 % of that way farther in.
 
     Parameters
     ----------
@@ -81,8 +91,33 @@ class OraclePredictor:
             raise ValueError(f"mu must be a single number, got {mu!r}")
         sim = self.simulator
         out = np.zeros((len(points), len(acts), 3))
-        for i, com_m in enumerate(sim.to_world(points)):
+        for i, com_m in enumerate(self._reachable(sim.to_world(points))):
             out[i] = sim.with_com(com_m, mu_contact=lo).push_motions(acts)
+        return out
+
+    def _reachable(self, coms_m: np.ndarray) -> np.ndarray:
+        """Hypotheses (world metres) moved inside the support's hull where they lie outside it.
+
+        Tilting the mass puts the CoM anywhere strictly inside the convex hull of the
+        support points (cell centres, half a cell inside the outline), not on an outline
+        pixel. A hypothesis outside the hull (or within ``ON_HULL`` of it, as a fraction
+        of the way from the points' mean) slides towards that mean until it is
+        ``HULL_SHRINK`` inside; the others are unchanged.
+        """
+        from scipy.spatial import ConvexHull
+
+        points = self.simulator.mass.points_m
+        centre = points.mean(axis=0)
+        eq = ConvexHull(points).equations  # a . x + b <= 0 inside
+        slack = -(eq[:, :2] @ centre + eq[:, 2])  # > 0: the centre's distance to each facet
+        out = np.array(coms_m, dtype=float)
+        towards = (out - centre) @ eq[:, :2].T  # (k, facets)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            limit = np.where(towards > 0, (1.0 - HULL_SHRINK) * slack / towards, np.inf)
+        # outside the hull (to within rounding): no tilt reaches it
+        move = limit.min(axis=1) * (1.0 - ON_HULL) / (1.0 - HULL_SHRINK) < 1.0
+        scale = limit[move].min(axis=1)
+        out[move] = centre + scale[:, None] * (out[move] - centre)
         return out
 
     def __repr__(self) -> str:

@@ -53,3 +53,26 @@ def test_oracle_drives_the_progressive_estimator(sim):
         sim.mask, actions, OraclePredictor(sim).predict(sim.mask, actions)
     )
     assert estimate.error_px(sim.com_px) < 6.0
+
+
+def test_a_hypothesis_on_an_outline_pixel_is_answered(sim):
+    # An outline pixel lies outside the hull of the support points: tilting the mass there
+    # raised "target ... is not strictly inside the support points" (and estimate_active,
+    # whose hypotheses cover every object pixel, crashed with it).
+    oracle = OraclePredictor(sim)
+    actions = comcore.sample_pushes(sim.mask, 2, rng=5)
+    rows, cols = np.nonzero(sim.mask.boundary)
+    outline = np.column_stack([cols, rows]).astype(float)[:1]
+    out = oracle.predict_hypotheses(sim.mask, actions, outline, sim.mu_contact)
+    assert out.shape == (1, 2, 3) and np.isfinite(out).all()
+    # answered for the reachable CoM nearest on the way to the support's mean
+    reachable = oracle._reachable(sim.to_world(outline))[0]
+    assert np.linalg.norm(reachable - sim.to_world(outline)[0]) > 0
+    expected = sim.with_com(reachable, mu_contact=sim.mu_contact).push_motions(actions)
+    np.testing.assert_array_equal(out[0], expected)
+
+
+def test_reachable_hypotheses_are_left_where_they_are(sim):
+    oracle = OraclePredictor(sim)
+    inner = sim.to_world(np.array([sim.com_px, sim.mask.centroid]))
+    np.testing.assert_array_equal(oracle._reachable(inner), inner)
