@@ -109,14 +109,12 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     When the rotation is ambiguous (a disc) the previous pose's rotation is
     kept: the camera cannot see it turn.
     """
+    from ._registration import measure_motion
+
     try:
-        from ._registration import measure_motion
-    except ImportError as e:  # pragma: no cover - until comcore/_registration.py lands
-        raise NotImplementedError(
-            "observe(mask) needs comcore.measure_motion (comcore/_registration.py); "
-            "pass motion= from your own tracker instead"
-        ) from e
-    m = measure_motion(first, mask)
+        m = measure_motion(first, mask)
+    except ValueError as e:  # e.g. the object touches the border: part of it out of view
+        raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
     theta = previous.theta if m.ambiguous else float(m.motion.theta)
     pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
     return PoseReading(pose, bool(m.ambiguous), float(m.residual_px))

@@ -338,3 +338,26 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
         if outcome == "miss":
             assert entropies[k + 1] == pytest.approx(entropies[k], abs=1e-12)
     assert est.status == "budget"
+
+
+def test_observed_masks_are_registered_with_measure_motion():
+    mask = _mask()
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=6, target_radius=1e-4)
+    while not session.done:
+        world.execute(session.next_push())
+        session.observe(world.camera_mask())
+    assert abs(session.pose.theta - world.pose.theta) < 0.01
+    assert np.hypot(session.pose.tx - world.pose.tx, session.pose.ty - world.pose.ty) < 0.5
+    assert session.estimate().error_px(TRUE_COM) < 2.5
+
+
+def test_a_mask_of_an_object_leaving_the_view_is_refused_and_changes_nothing():
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0)
+    first = session.next_push()
+    half_out = np.roll(mask.data, -25, axis=1)  # the object slid half out of the view
+    half_out[:, -25:] = False
+    with pytest.raises(ValueError, match="mask cannot be registered"):
+        session.observe(comcore.Mask(half_out))
+    assert session.next_push() == first and session.status == "waiting_observation"
