@@ -422,6 +422,26 @@ class SimulatedRobot:
         self.history.append(record)
         return record
 
+    def place(self, pose=None) -> None:
+        """Put the object at ``pose`` (CoM ``(x, y)`` in world metres, angle), not a push.
+
+        What a person or a pick-and-place does; default the initial pose.
+
+        Raises
+        ------
+        ValueError
+            If ``pose`` is not three finite numbers.
+        """
+        if pose is None:
+            pose = self.simulator.initial_pose
+        try:
+            values = tuple(float(v) for v in pose)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"pose must be three numbers (x, y, angle), got {pose!r}") from e
+        if len(values) != 3 or not all(map(math.isfinite, values)):
+            raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
+        self._world = values
+
     def __repr__(self) -> str:
         return (
             f"SimulatedRobot({self.simulator!r}, pushes={self.pushes}, "

@@ -161,3 +161,13 @@ def test_bad_input(sim):
     with pytest.raises(ValueError, match="start outside"):
         robot.execute((*centre, centre[0] + 10, centre[1]))
     assert robot.pushes == 0 and robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+
+
+def test_place_puts_the_object_back_without_a_push(sim):
+    robot = SimulatedRobot(sim, rng=0)
+    first = robot.camera_mask()
+    _two_pushes(robot)
+    robot.place()
+    assert robot.pushes == 2 and np.array_equal(robot.camera_mask().data, first.data)
+    with pytest.raises(ValueError, match="pose"):
+        robot.place((0.0, float("nan"), 0.0))
