@@ -68,7 +68,8 @@ MIN_ROTATION_VISIBILITY = 0.2
 OUTLINE_NOISE_PX = 0.35
 #: Above this predicted theta std (radians, 1 degree) the rotation is not observable.
 MAX_THETA_STD = math.radians(1.0)
-#: Candidates are told apart on every QUICK_STRIDE-th band pixel; the chosen one is fitted on all.
+#: Candidates are told apart on every QUICK_STRIDE-th band pixel (bilinear sampling); the
+#: chosen one is fitted on all of them (cubic splines).
 QUICK_STRIDE = 4
 #: Pixels of empty border kept around the two objects when the images are cropped.
 CROP_PAD_PX = 10
@@ -88,17 +89,22 @@ class MotionMeasurement(NamedTuple):
 
 
 class _Fields:
-    """One mask on the cropped window: smoothed image, its gradient (splines), signed distance."""
+    """One mask on the cropped window, smoothed.
 
-    def __init__(self, data: np.ndarray):
+    For the mask sampled into (``full``) also the smoothed image's gradient,
+    their cubic-spline coefficients and a signed distance.
+    """
+
+    def __init__(self, data: np.ndarray, full: bool = True):
         img = data.astype(float)
-        smooth = ndimage.gaussian_filter(img, SMOOTHING_PX, mode="constant")
+        self.data = data
+        self.smooth = ndimage.gaussian_filter(img, SMOOTHING_PX, mode="constant")
+        if not full:
+            return
         grad_x = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(0, 1), mode="constant")
         grad_y = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(1, 0), mode="constant")
-        self.smooth = smooth
-        self.splines = [
-            ndimage.spline_filter(a, 3, mode="nearest") for a in (smooth, grad_x, grad_y)
-        ]
+        self.images = {1: [self.smooth, grad_x, grad_y]}
+        self.images[3] = [ndimage.spline_filter(a, 3, mode="nearest") for a in self.images[1]]
         outside = ndimage.distance_transform_edt(~data)
         inside = ndimage.distance_transform_edt(data)
         # zero on the pixel edges between object and background, +-0.5 at the pixels beside them
@@ -110,23 +116,24 @@ class _Fields:
             self.signed, [points[..., 1], points[..., 0]], order=1, mode="nearest"
         )
 
-    def gradient_at(self, points: np.ndarray):
-        """Gradient (d/dx, d/dy) of the smoothed image at points (n, 2), cubic splines."""
+    def _sample(self, which: slice, points: np.ndarray, order: int) -> list[np.ndarray]:
         coords = [points[:, 1], points[:, 0]]
         return [
-            ndimage.map_coordinates(a, coords, order=3, mode="nearest", prefilter=False)
-            for a in self.splines[1:]
+            ndimage.map_coordinates(a, coords, order=order, mode="nearest", prefilter=False)
+            for a in self.images[order][which]
         ]
 
-    def smooth_at(self, points: np.ndarray, gradient: bool = False):
-        """Smoothed image (and its gradient d/dx, d/dy) at points (n, 2), cubic splines."""
-        coords = [points[:, 1], points[:, 0]]
-        images = self.splines if gradient else self.splines[:1]
-        out = [
-            ndimage.map_coordinates(a, coords, order=3, mode="nearest", prefilter=False)
-            for a in images
-        ]
-        return out if gradient else out[0]
+    def smooth_at(self, points: np.ndarray, order: int = 3) -> np.ndarray:
+        """Smoothed image at points (n, 2): cubic splines (order 3) or bilinear (1)."""
+        return self._sample(slice(0, 1), points, order)[0]
+
+    def gradient_at(self, points: np.ndarray, order: int = 3) -> list[np.ndarray]:
+        """Gradient (d/dx, d/dy) of the smoothed image at points (n, 2)."""
+        return self._sample(slice(1, 3), points, order)
+
+    def smooth_and_gradient_at(self, points: np.ndarray, order: int = 3) -> list[np.ndarray]:
+        """Smoothed image and its gradient at points (n, 2)."""
+        return self._sample(slice(0, 3), points, order)
 
 
 def _edge_midpoints(data: np.ndarray) -> np.ndarray:
@@ -195,10 +202,16 @@ class _Problem:
     """The fine least-squares problem: before's band sampled in after's smoothed image."""
 
     def __init__(
-        self, fields_before: _Fields, fields_after: _Fields, centre: np.ndarray, stride: int = 1
+        self,
+        fields_before: _Fields,
+        fields_after: _Fields,
+        centre: np.ndarray,
+        stride: int = 1,
+        order: int = 3,
     ):
         self.after = fields_after
         self.centre = centre
+        self.order = order
         band = (fields_before.smooth > 0.01) & (fields_before.smooth < 0.99)
         rows, cols = np.nonzero(band)
         rows, cols = rows[::stride], cols[::stride]
@@ -210,10 +223,10 @@ class _Problem:
         return points_relative @ rotation_matrix(x[0]).T + self.centre + x[1:]
 
     def residuals(self, x) -> np.ndarray:
-        return self.after.smooth_at(self.moved(self.relative, x)) - self.values
+        return self.after.smooth_at(self.moved(self.relative, x), self.order) - self.values
 
     def jacobian(self, x) -> np.ndarray:
-        gx, gy = self.after.gradient_at(self.moved(self.relative, x))
+        gx, gy = self.after.gradient_at(self.moved(self.relative, x), self.order)
         turn = self.relative @ rotation_matrix(x[0] + math.pi / 2).T  # d(moved)/d(theta)
         return np.column_stack([gx * turn[:, 0] + gy * turn[:, 1], gx, gy])
 
@@ -226,7 +239,7 @@ class _Problem:
     def outline_rms(self, x) -> float:
         """RMS distance (px) of before's moved outline to after's outline."""
         q = self.moved(self.outline - self.centre, x)
-        value, gx, gy = self.after.smooth_at(q, gradient=True)
+        value, gx, gy = self.after.smooth_and_gradient_at(q)
         dist = (value - 0.5) / np.maximum(np.hypot(gx, gy), 1e-6)  # first order near the outline
         far = np.abs(value - 0.5) > 0.4
         dist[far] = self.after.signed_at(q[far])
@@ -273,7 +286,7 @@ def _wrap(theta):
 
 def _coarse_candidates(fields_before: _Fields, fields_after: _Fields, centre, t0) -> list[float]:
     """Local minima of the coarse cost over theta, best first, translation fixed at ``t0``."""
-    points = _edge_midpoints(fields_before.smooth > 0.5)
+    points = _edge_midpoints(fields_before.data)
     if len(points) > COARSE_POINTS:
         points = points[np.linspace(0, len(points) - 1, COARSE_POINTS).astype(int)]
     rel = points - centre
@@ -385,13 +398,13 @@ def _measure(before: Mask, after: Mask) -> tuple[MotionMeasurement, dict]:
     r0, r1 = max(rows[0] - CROP_PAD_PX, 0), min(rows[-1] + CROP_PAD_PX + 1, h)
     c0, c1 = max(cols[0] - CROP_PAD_PX, 0), min(cols[-1] + CROP_PAD_PX + 1, w)
     origin = np.array([c0, r0], dtype=float)
-    fields_before = _Fields(before.data[r0:r1, c0:c1])
+    fields_before = _Fields(before.data[r0:r1, c0:c1], full=False)
     fields_after = _Fields(after.data[r0:r1, c0:c1])
     centre = np.asarray(before.centroid) - origin
     t0 = np.asarray(after.centroid) - np.asarray(before.centroid)
 
     problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE)
+    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
     radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
     fits: list[tuple[np.ndarray, float]] = []
     for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):

@@ -1,0 +1,40 @@
+"""benchmarks/bench_measure_motion.py runs (as a subprocess, with small arguments)."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+
+def test_bench_measure_motion_script_runs():
+    pytest.importorskip("shapely")  # the simulator renders the masks
+    root = Path(__file__).resolve().parents[1]
+    env = {"PYTHONPATH": str(root), "PATH": ""}
+    args = ["--trials", "1", "--objects", "Obj5", "--resolutions", "0.005", "--per-object"]
+    out = subprocess.run(
+        [sys.executable, "benchmarks/bench_measure_motion.py", *args],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0].startswith(
+        "resolution 5 mm/px: 2 pushes (1 objects x 2 friction classes x 1, seed 1), images"
+    )
+    number = r"\d+\.\d+"
+    assert re.fullmatch(
+        rf"  theta error, 2 unflagged: median {number} deg, p95 {number} deg, max {number} deg",
+        lines[1],
+    )
+    assert re.fullmatch(rf"  translation error, all: median {number} px, .*", lines[2])
+    assert lines[3] == "  flagged ambiguous: 0 (none)"
+    assert lines[4].startswith("  pushes redrawn because the object left the camera image: ")
+    assert lines[5].startswith("  symmetry reported: {1: 2}")
+    assert re.fullmatch(rf"  time per call: median {number} ms \(p10 {number}, p90 {number}\)", lines[6])
+    assert lines[7].startswith("    Obj5: theta median ")
+    assert len(lines) == 8
