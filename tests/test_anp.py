@@ -229,10 +229,95 @@ def test_bad_weights_files_raise_clear_errors(tmp_path):
 def test_shipped_weights_load_and_are_documented():
     anp = AnpPredictor()
     record = json.loads(DEFAULT_WEIGHTS.with_suffix(".json").read_text())
-    for key in ("command", "date", "train_episodes", "train_seconds", "validation"):
+    for key in ("command", "date", "train_episodes", "train_seconds", "validation", "sha256"):
         assert key in record
     assert anp.config.to_dict() == record["config"]
     assert DEFAULT_WEIGHTS.stat().st_size < 5_000_000
+
+
+def shipped_copy(tmp_path):
+    import shutil
+
+    pt, record = tmp_path / "anp.pt", tmp_path / "anp.json"
+    shutil.copyfile(DEFAULT_WEIGHTS, pt)
+    shutil.copyfile(DEFAULT_WEIGHTS.with_suffix(".json"), record)
+    return pt, record
+
+
+def test_a_flipped_bit_in_the_weights_is_refused(tmp_path):
+    # One flipped bit used to load silently and predict 4e34.
+    pt, _ = shipped_copy(tmp_path)
+    assert load_weights(pt)[0].config == AnpPredictor().config  # the intact copy loads
+    data = bytearray(pt.read_bytes())
+    data[len(data) // 2] ^= 0x40
+    pt.write_bytes(bytes(data))
+    with pytest.raises(
+        ValueError, match=r"has SHA-256 [0-9a-f]{64}, but [0-9a-f]{64} was recorded"
+    ):
+        AnpPredictor(weights=pt)
+    with pytest.raises(ValueError, match="was recorded: the file is corrupt"):
+        load_weights(DEFAULT_WEIGHTS, sha256="0" * 64)
+
+
+def test_a_malformed_record_is_refused(tmp_path):
+    pt, record = shipped_copy(tmp_path)
+    record.write_text(json.dumps({"sha256": "abc"}))
+    with pytest.raises(ValueError, match="malformed sha256: 'abc'"):
+        load_weights(pt)
+
+
+def test_the_shipped_weights_need_a_recorded_hash(tmp_path, monkeypatch):
+    import predictors.anp.predictor as anp_predictor
+
+    pt, record = shipped_copy(tmp_path)
+    record.write_text("{}")
+    monkeypatch.setattr(anp_predictor, "DEFAULT_WEIGHTS", pt.resolve())
+    with pytest.raises(ValueError, match="shipped weights' record .* has no sha256"):
+        load_weights(pt)
+
+
+def test_non_finite_weights_are_refused(tmp_path):
+    # An inf weight used to predict inf.
+    model = AnpModel(TINY)
+    with torch.no_grad():
+        model.decoder[0].weight[0, 0] = float("inf")
+    path = save_weights(model, tmp_path / "w.pt")
+    with pytest.raises(ValueError, match=r"non-finite values \(NaN or inf\) in 'decoder.0.weight'"):
+        load_weights(path)
+    with pytest.raises(ValueError, match="model holds non-finite values"):
+        AnpPredictor(model=model)
+
+
+@pytest.mark.parametrize(
+    ("config", "match"),
+    [
+        ({"width": 10, "heads": 4}, "width 10 must be divisible by heads 4"),
+        ({"channels": [12]}, "channels must be multiples of 8 .or below 8., got 12"),
+        ({"image_size": 0}, "image_size must be an int >= 1, got 0"),
+        ({"latent": 1.5}, "latent must be an int >= 1, got 1.5"),
+        ({"channels": []}, "channels must be a non-empty tuple"),
+        ({"channels": 4}, "channels must be a list of ints"),
+        ({"heads": True}, "heads must be an int >= 1, got True"),
+    ],
+)
+def test_impossible_configs_are_refused(tmp_path, config, match):
+    with pytest.raises(ValueError, match=match):
+        AnpConfig.from_dict(config)
+    path = save_weights(AnpModel(TINY), tmp_path / "w.pt")
+    payload = torch.load(path, weights_only=True)
+    payload["config"] = config
+    torch.save(payload, path)
+    with pytest.raises(ValueError, match="bad config: config " + match):
+        load_weights(path)
+
+
+def test_the_com_from_the_shape_alone_needs_no_priors(scene):
+    # AnpPredictor().estimate_com(mask) crashed in encode_pushes (zero pushes to reshape).
+    mask, _, priors = scene
+    anp = tiny_predictor()
+    com = anp.estimate_com(mask)
+    assert len(com) == 2 and np.isfinite(com).all()
+    assert com != anp.estimate_com(mask, priors)
 
 
 # -- frame, features, symmetries ------------------------------------------------------------

@@ -25,6 +25,7 @@ Pipeline (paper Fig. 1, with the departures listed in ``docs/predictor-anp.md``)
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import asdict, dataclass
 
 import torch
@@ -71,11 +72,32 @@ class AnpConfig:
             )
         d = dict(d)
         if "channels" in d:
-            d["channels"] = tuple(int(c) for c in d["channels"])
-        cfg = cls(**d)
-        if cfg.width % cfg.heads:
-            raise ValueError(f"config width {cfg.width} must be divisible by heads {cfg.heads}")
-        return cfg
+            try:
+                d["channels"] = tuple(d["channels"])
+            except TypeError as e:
+                raise ValueError(
+                    f"config channels must be a list of ints, got {d['channels']!r}"
+                ) from e
+        return cls(**d)
+
+    def __post_init__(self):
+        def count(value, name):
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+                raise ValueError(f"config {name} must be an int >= 1, got {value!r}")
+            return int(value)
+
+        for name in ("image_size", "width", "heads", "latent"):
+            object.__setattr__(self, name, count(getattr(self, name), name))
+        if not isinstance(self.channels, tuple) or not self.channels:
+            raise ValueError(
+                f"config channels must be a non-empty tuple of ints, got {self.channels!r}"
+            )
+        object.__setattr__(self, "channels", tuple(count(c, "channels") for c in self.channels))
+        for c in self.channels:
+            if c % min(8, c):  # GroupNorm(min(8, c), c)
+                raise ValueError(f"config channels must be multiples of 8 (or below 8), got {c}")
+        if self.width % self.heads:
+            raise ValueError(f"config width {self.width} must be divisible by heads {self.heads}")
 
 
 class _ResBlock(nn.Module):
@@ -183,6 +205,8 @@ class AnpModel(nn.Module):
     def encode_pushes(self, fmap, pooled, size, features):
         """Push embeddings ``h``, shape (B, n, D), from (B, n, F) frame features."""
         b, n, _ = features.shape
+        if n == 0:  # no priors and no queries (grid_sample's output cannot be reshaped)
+            return features.new_zeros((b, 0, self.config.width))
         points = torch.stack([features[..., 0:2], features[..., 6:8], features[..., 2:4]], 2)
         grid = points.reshape(b, n * 3, 1, 2)
         samples = F.grid_sample(fmap, grid, mode="bilinear", align_corners=False)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import json
 import os
 from pathlib import Path
 
@@ -21,7 +23,7 @@ from .features import (
 )
 from .model import MIN_SIGMA, AnpConfig, AnpModel
 
-__all__ = ["DEFAULT_WEIGHTS", "AnpPredictor", "load_weights", "save_weights"]
+__all__ = ["DEFAULT_WEIGHTS", "AnpPredictor", "file_sha256", "load_weights", "save_weights"]
 
 #: The weights shipped with the package.
 DEFAULT_WEIGHTS = Path(__file__).resolve().parent / "weights" / "anp.pt"
@@ -49,16 +51,53 @@ def save_weights(model: AnpModel, path, meta: dict | None = None) -> Path:
     return path
 
 
-def load_weights(path) -> tuple[AnpModel, dict]:
+def file_sha256(path) -> str:
+    """The SHA-256 of a file's bytes, as 64 hex digits."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _recorded_sha256(path: Path) -> str | None:
+    """The ``"sha256"`` of the training record next to ``path`` (``.json``), if any."""
+    record = path.with_suffix(".json")
+    if not record.is_file():
+        return None
+    try:
+        value = json.loads(record.read_text()).get("sha256")
+    except (ValueError, AttributeError) as e:
+        raise ValueError(f"training record {str(record)!r} is not a JSON object: {e}") from e
+    if value is not None and not (isinstance(value, str) and len(value) == 64):
+        raise ValueError(f"training record {str(record)!r} has a malformed sha256: {value!r}")
+    return value
+
+
+def _check_finite(model: AnpModel, where: str) -> None:
+    for name, tensor in model.state_dict().items():
+        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+            raise ValueError(f"{where} holds non-finite values (NaN or inf) in {name!r}")
+
+
+def load_weights(path, sha256: str | None = None) -> tuple[AnpModel, dict]:
     """Read a weights file written by :func:`save_weights`.
+
+    The file's SHA-256 is checked first, against ``sha256`` if given, else
+    against the ``"sha256"`` of the training record next to it (``anp.json``
+    beside ``anp.pt``, written by ``python -m predictors.anp.train``). The
+    shipped weights must match their record; other files without a record are
+    not checked. Every parameter must be finite.
 
     Raises
     ------
     FileNotFoundError
         No such file.
     ValueError
-        The file is not a comcore ANP weights file, or its parameters do not
-        fit the model its config describes.
+        The file's SHA-256 differs from the expected one (a corrupt or replaced
+        file), the shipped weights have no recorded SHA-256, the file is not a
+        comcore ANP weights file, its config is impossible, its parameters do
+        not fit the model its config describes, or one is NaN or infinite.
     """
     path = Path(os.fspath(path))
     if not path.is_file():
@@ -66,6 +105,20 @@ def load_weights(path) -> tuple[AnpModel, dict]:
             f"weights file {str(path)!r} does not exist (train one with "
             "`python -m predictors.anp.train --out PATH`)"
         )
+    expected = _recorded_sha256(path) if sha256 is None else str(sha256).lower()
+    if expected is None and path.resolve() == DEFAULT_WEIGHTS:
+        raise ValueError(
+            f"the shipped weights' record {str(path.with_suffix('.json'))!r} has no sha256 "
+            "to check them against"
+        )
+    if expected is not None:
+        actual = file_sha256(path)
+        if actual != expected:
+            raise ValueError(
+                f"weights file {str(path)!r} has SHA-256 {actual}, but {expected} was "
+                "recorded: the file is corrupt or was replaced (restore it, e.g. with git, "
+                "or retrain with `python -m predictors.anp.train --out PATH`)"
+            )
     try:
         payload = torch.load(path, map_location="cpu", weights_only=True)
     except Exception as e:  # torch raises UnpicklingError, RuntimeError, EOFError ...
@@ -96,6 +149,7 @@ def load_weights(path) -> tuple[AnpModel, dict]:
         raise ValueError(
             f"weights file {str(path)!r} does not match the ANP model its config describes: {e}"
         ) from e
+    _check_finite(model, f"weights file {str(path)!r}")
     model.eval()
     return model, dict(payload.get("meta") or {})
 
@@ -150,6 +204,7 @@ class AnpPredictor:
         if model is not None:
             if not isinstance(model, AnpModel):
                 raise TypeError(f"model must be an AnpModel, got {type(model).__name__}")
+            _check_finite(model, "model")
             self.model, self.meta = model.eval(), {}
         else:
             self.model, self.meta = load_weights(DEFAULT_WEIGHTS if weights is None else weights)

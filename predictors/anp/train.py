@@ -29,7 +29,7 @@ import torch
 from .data import featurise, load_or_generate, progress_bar
 from .features import T_SCALE, THETA_SCALE, dihedral
 from .model import AnpConfig, AnpModel
-from .predictor import save_weights
+from .predictor import file_sha256, save_weights
 
 __all__ = ["evaluate", "main", "peak_rss_mib", "train_epoch"]
 
@@ -252,6 +252,7 @@ def main(argv=None) -> dict:
         "torch": torch.__version__,
     }  # fmt: skip
     save_weights(model, args.out, meta={k: record[k] for k in ("command", "date", "source")})
+    record["sha256"] = file_sha256(args.out)  # load_weights checks the file against it
     args.out.with_suffix(".json").write_text(json.dumps(record, indent=2) + "\n")
     return record
 
