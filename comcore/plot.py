@@ -41,29 +41,34 @@ __all__ = ["belief_of", "executed_pushes", "plot_estimate"]
 
 #: Up to this many executed pushes are numbered in order (more would hide the picture).
 MAX_NUMBERED = 15
+#: The posterior is drawn on a log scale down to this fraction of its maximum.
+POSTERIOR_FLOOR = 1e-4
 #: Colours of the picture's elements.
 COLORS = {
     "object": (0.78, 0.78, 0.78),
     "region": (1.0, 0.62, 0.18),
     "used": "tab:red",
     "other": "tab:blue",
+    "no_evidence": "tab:gray",
     "estimate": "black",
     "truth": "tab:green",
 }
 
 
 def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.ndarray]:
-    """The pushes an estimate rests on, in order, and the candidates it did not use.
+    """The pushes an estimate rests on, in order, and the given pushes not among them.
 
-    An active estimate pushed the object itself: its executed pushes are
-    ``extras["actions"]`` (``used`` indexes its candidates, not them). For the
-    others they are ``actions[used]`` in the order ``used`` lists them.
+    Where the estimate lists its pushes in ``extras["actions"]`` (the active
+    estimator's executed pushes, the offline posterior's recorded ones) those
+    are they, in order: an active run's ``used`` indexes its candidates, not
+    them. For the others they are ``actions[used]`` in the order ``used``
+    lists them.
 
     Returns
     -------
     executed : numpy.ndarray, shape (k, 4)
     others : numpy.ndarray, shape (m, 4)
-        The rows of ``actions`` not executed or used (empty without ``actions``).
+        The rows of ``actions`` not among them (empty without ``actions``).
 
     Examples
     --------
@@ -76,17 +81,32 @@ def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.nd
     candidates = check_actions(actions) if actions is not None else np.zeros((0, 4))
     if "actions" in estimate.extras:
         executed = check_actions(estimate.extras["actions"], "estimate.extras['actions']")
-        chosen = [i for i in estimate.used if 0 <= i < len(candidates)]
-    else:
-        bad = [i for i in estimate.used if not 0 <= i < len(candidates)]
-        if bad and actions is not None:
-            raise ValueError(
-                f"estimate.used indexes pushes {bad[:5]} beyond the {len(candidates)} actions given"
-            )
-        chosen = list(estimate.used) if actions is not None else []
-        executed = candidates[chosen] if chosen else np.zeros((0, 4))
-    others = np.delete(candidates, chosen, axis=0) if len(candidates) else candidates
-    return executed, others
+        if not len(candidates) or not len(executed):
+            return executed, candidates
+        done = (candidates[:, None, :] == executed[None, :, :]).all(axis=2).any(axis=1)
+        return executed, candidates[~done]
+    if actions is None:
+        return np.zeros((0, 4)), candidates
+    bad = [i for i in estimate.used if not 0 <= i < len(candidates)]
+    if bad:
+        raise ValueError(
+            f"estimate.used indexes pushes {bad[:5]} beyond the {len(candidates)} actions given"
+        )
+    chosen = list(estimate.used)
+    return candidates[chosen], np.delete(candidates, chosen, axis=0)
+
+
+def _evidence(estimate: Estimate, n_executed: int) -> np.ndarray:
+    """Per executed push: did it carry evidence (``extras["outcomes"]``; all, without it)."""
+    outcomes = estimate.extras.get("outcomes")
+    if outcomes is None or len(outcomes) != n_executed:
+        return np.ones(n_executed, bool)
+    return np.array([o == "evidence" for o in outcomes], bool)
+
+
+def _is_active(estimate: Estimate) -> bool:
+    """An active run (it chose and executed its pushes), not the offline posterior."""
+    return "pose" in estimate.extras or "camera_actions" in estimate.extras
 
 
 def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:
@@ -105,7 +125,7 @@ def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:
 
 
 def _name(estimate: Estimate, belief: str) -> str:
-    if "actions" in estimate.extras:
+    if _is_active(estimate):
         return "active posterior"
     if belief == "posterior":
         return "posterior"
@@ -114,8 +134,9 @@ def _name(estimate: Estimate, belief: str) -> str:
     return "Alg. 2 region" if estimate.used else "region"
 
 
-def _arrows(ax, pushes: np.ndarray, color: str, numbered: bool, **style) -> None:
-    for k, (sx, sy, ex, ey) in enumerate(pushes):
+def _arrows(ax, pushes: np.ndarray, color, numbered: bool, **style) -> None:
+    colors = [color] * len(pushes) if isinstance(color, str) else list(color)
+    for k, ((sx, sy, ex, ey), color) in enumerate(zip(pushes, colors)):
         ax.annotate(
             "", (ex, ey), (sx, sy),
             arrowprops={"arrowstyle": "-|>", "color": color, "lw": style.get("lw", 1.4),
@@ -132,17 +153,20 @@ def _marker(ax, point, marker: str, color, label: str) -> None:
     ax.plot(*point, marker, color=color, ms=12, mew=2.5, label=label)
 
 
-def _legend_pushes(ax, n_executed: int, n_others: int, active: bool) -> None:
+def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> None:
     """Legend entries for the arrows (annotations have none of their own)."""
     from matplotlib.lines import Line2D
 
-    if n_executed:
-        what = "pushes executed" if active else "pushes used"
-        if n_executed <= MAX_NUMBERED:
+    if evidence.any():
+        what = "pushes executed" if executed else "pushes used"
+        if len(evidence) <= MAX_NUMBERED:
             what += ", numbered in order"
         ax.add_line(Line2D([], [], color=COLORS["used"], marker=">", label=what))
+    if not evidence.all():
+        label = "pushes without evidence (missed or failed)"
+        ax.add_line(Line2D([], [], color=COLORS["no_evidence"], marker=">", label=label))
     if n_others:
-        label = "candidates not executed" if active else "pushes not used"
+        label = "candidates not executed" if executed else "pushes not used"
         ax.add_line(Line2D([], [], color=COLORS["other"], alpha=0.45, label=label))
 
 
@@ -216,15 +240,23 @@ def plot_estimate(
     ax.imshow(image, interpolation="nearest")
     if values is not None and values.shape == mask.shape:
         shown = np.ma.masked_where(~mask.data, values / max(float(np.nanmax(values)), 1e-300))
-        picture = ax.imshow(shown, cmap="viridis", vmin=0, vmax=1, interpolation="nearest")
-        label = "posterior (max = 1)" if belief == "posterior" else "normalised heat map"
+        if belief == "posterior":  # a posterior spans decades: a log scale shows its shape
+            from matplotlib.colors import LogNorm
+
+            norm, label = LogNorm(POSTERIOR_FLOOR, 1.0, clip=True), "posterior / its maximum"
+        else:
+            norm, label = None, "normalised heat map"
+        kwargs = {"norm": norm} if norm is not None else {"vmin": 0, "vmax": 1}
+        picture = ax.imshow(shown, cmap="viridis", interpolation="nearest", **kwargs)
         ax.figure.colorbar(picture, ax=ax, shrink=0.8, label=label)
     if estimate.region.any() and not estimate.region.all():
         ax.contour(estimate.region.astype(float), levels=[0.5], colors=[COLORS["region"]],
                    linewidths=1.5)  # fmt: skip
     _arrows(ax, others, COLORS["other"], False, lw=0.8, alpha=0.45)
-    _arrows(ax, executed, COLORS["used"], len(executed) <= MAX_NUMBERED)
-    _legend_pushes(ax, len(executed), len(others), "actions" in estimate.extras)
+    evidence = _evidence(estimate, len(executed))
+    colors = [COLORS["used"] if e else COLORS["no_evidence"] for e in evidence]
+    _arrows(ax, executed, colors, len(executed) <= MAX_NUMBERED)
+    _legend_pushes(ax, evidence, len(others), "actions" in estimate.extras)
     x, y = estimate.com
     _marker(ax, (x, y), "x", COLORS["estimate"], f"estimate ({x:.1f}, {y:.1f})")
     if truth is not None:
@@ -235,7 +267,7 @@ def plot_estimate(
     ax.set_ylabel("y (pixels, down)")
     n_all = len(executed) + len(others)
     used = f"{len(executed)} of {n_all} pushes used" if n_all else "no push"
-    if "actions" in estimate.extras:
+    if _is_active(estimate):
         used = f"{len(executed)} pushes executed"
     if title is None:
         title = f"{_name(estimate, belief)}: CoM ({x:.1f}, {y:.1f}) px, {used}"

@@ -1,4 +1,8 @@
-"""Every ```python block in docs/*.md and README.md runs (blocks of one file share a namespace)."""
+"""Every ```python block in docs/*.md and README.md runs ON ITS OWN, in a fresh namespace.
+
+A reader copies one block; it must carry its own imports and data. A block that needs an
+optional extra which is not installed is skipped, never one with a bad import.
+"""
 
 from __future__ import annotations
 
@@ -55,25 +59,54 @@ def missing_extra(error: BaseException) -> str | None:
     return None
 
 
-def run_blocks(code: list[str], name: str, namespace: dict) -> None:
-    """Run the blocks in order; skip the test if one needs an optional extra not installed."""
+def run_block(block: str, label: str, namespace: dict | None = None) -> None:
+    """Run one block in a fresh namespace (or ``namespace``).
+
+    Skips the test if the block needs an optional extra that is not installed.
+    """
+    scope = namespace if namespace is not None else {"__name__": "docs_block"}
+    try:
+        exec(compile(block, label, "exec"), scope)
+    except ImportError as e:
+        module = missing_extra(e)
+        if module is None:
+            raise
+        pytest.skip(f"{label} needs {module} (an optional extra)")
+
+
+def run_blocks(code: list[str], name: str) -> None:
+    """Run the blocks in order, each in a fresh namespace."""
     for i, block in enumerate(code):
-        try:
-            exec(compile(block, f"{name}[block {i}]", "exec"), namespace)
-        except ImportError as e:
-            module = missing_extra(e)
-            if module is None:
-                raise
-            pytest.skip(f"{name} needs {module} (an optional extra)")
+        run_block(block, f"{name}[block {i}]")
 
 
-@pytest.mark.parametrize("page", [p for p in PAGES if p.exists()], ids=lambda p: p.name)
-def test_code_blocks_run(page, tmp_path, monkeypatch):
+#: Blocks that still rely on an earlier block of their page, while their page's owner
+#: rewrites it (docs/active.md: helper "session", issue 13 section 5). Not strict, so the
+#: fix needs no edit here; remove the entry once the page is fixed.
+PENDING = {("active.md", 1), ("active.md", 2)}
+
+
+def all_blocks():
+    out = []
+    for page in PAGES:
+        for i in range(len(blocks(page)) if page.exists() else 0):
+            marks = ()
+            if (page.name, i) in PENDING:
+                marks = pytest.mark.xfail(raises=NameError, strict=False,
+                                          reason="relies on an earlier block (page being fixed)")  # fmt: skip
+            out.append(pytest.param(page, i, id=f"{page.name}[{i}]", marks=marks))
+    return out
+
+
+@pytest.mark.parametrize(("page", "index"), all_blocks())
+def test_each_code_block_runs_on_its_own(page, index, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    code = blocks(page)
-    if not code:
-        pytest.skip("no python blocks")
-    run_blocks(code, page.name, {"__name__": f"docs_{page.stem}"})
+    run_block(blocks(page)[index], f"{page.name}[block {index}]")
+
+
+def test_blocks_do_not_share_a_namespace():
+    with pytest.raises(NameError, match="'mask' is not defined"):
+        run_blocks(["mask = 1", "print(mask)"], "page.md")
 
 
 WRAPPED_EXTRA = """
@@ -94,7 +127,7 @@ except ImportError as e:
 )
 def test_a_block_needing_a_missing_extra_is_skipped(block):
     with pytest.raises(pytest.skip.Exception, match="needs"):
-        run_blocks([block], "page.md", {})
+        run_blocks([block], "page.md")
 
 
 @pytest.mark.parametrize(
@@ -110,7 +143,7 @@ def test_a_block_needing_a_missing_extra_is_skipped(block):
 )
 def test_a_block_with_a_bad_import_fails(block):
     try:
-        run_blocks([block], "page.md", {})
+        run_blocks([block], "page.md")
     except pytest.skip.Exception as e:  # a skip would hide the error: the old behaviour
         pytest.fail(f"skipped instead of failing: {e}")
     except ImportError:

@@ -21,14 +21,14 @@ MOTIONS = np.array([(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)], float
 TRUE_COM = np.array([10.5, 10.5])
 
 
-def arrows(ax, color):
-    """(start, end) of the arrows drawn in ``color``, in drawing order."""
+def arrows(ax, *colors):
+    """(start, end) of the arrows drawn in one of ``colors``, in drawing order."""
     from matplotlib.text import Annotation
 
     return [
         (tuple(a.xyann), tuple(a.xy))
         for a in ax.texts
-        if isinstance(a, Annotation) and a.arrowprops and a.arrowprops["color"] == color
+        if isinstance(a, Annotation) and a.arrowprops and a.arrowprops["color"] in colors
     ]
 
 
@@ -97,9 +97,13 @@ def test_an_active_estimate_shows_its_executed_pushes_not_candidates_by_index():
     executed = np.asarray(est.extras["actions"])
     assert len(executed) > 1
     ax = comcore.plot.plot_estimate(MASK, est, actions=ACTIONS)
-    red = arrows(ax, comcore.plot.COLORS["used"])
-    assert red == [(tuple(a[:2]), tuple(a[2:])) for a in executed]
-    blue = arrows(ax, comcore.plot.COLORS["other"])
+    colors = comcore.plot.COLORS
+    drawn = arrows(ax, colors["used"], colors["no_evidence"])
+    assert drawn == [(tuple(a[:2]), tuple(a[2:])) for a in executed]
+    evidence = [o == "evidence" for o in est.extras["outcomes"]]
+    red = arrows(ax, colors["used"])
+    assert red == [(tuple(a[:2]), tuple(a[2:])) for a, e in zip(executed, evidence) if e]
+    blue = arrows(ax, colors["other"])
     assert len(blue) == len(ACTIONS)  # the caller's pushes were none of them executed
     assert numbers(ax)["1"] == tuple(executed[0, :2])
 

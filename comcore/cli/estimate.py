@@ -39,6 +39,8 @@ HELP = "estimate the CoM of your object from a mask image and a CSV of observed 
 
 #: Methods without the offline posterior; ``posterior`` joins when the core has it.
 BASE_METHODS = ("alg2", "alg2-rotation", "alg1", "centroid")
+#: Probability of the posterior's credible region (printed and in the JSON).
+CREDIBLE = 0.9
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 
@@ -135,7 +137,9 @@ def overlay_path(args) -> Path | None:
 def estimate(mask: comcore.Mask, actions, motions, method: str) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes."""
     if method == "posterior":
-        return comcore.estimate_posterior(mask, actions, motions)  # type: ignore[attr-defined]
+        return comcore.estimate_posterior(  # type: ignore[attr-defined]
+            mask, actions, motions, credible=CREDIBLE
+        )
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -156,8 +160,7 @@ def region_summary(est: comcore.Estimate, resolution: float) -> dict:
         out["bbox_px"] = [int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())]
     if "credible_radius_px" in est.extras:
         out["credible_radius_px"] = float(est.extras["credible_radius_px"])
-    if "credible" in est.extras:
-        out["credible"] = float(est.extras["credible"])
+        out["credible"] = CREDIBLE
     out["radius_m"] = out.get("credible_radius_px", out["radius_px"]) * resolution
     return out
 
