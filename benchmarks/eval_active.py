@@ -66,6 +66,8 @@ def run_trial(name, friction, seed, args, model):
     flips = []
 
     def push(action):
+        if args.answer is not None:  # a broken robot (or tracker): the same answer every time
+            return comcore.Motion(args.answer, 0.0, 0.0)
         motion = sim.push(action).motion
         flip = bool(flip_rng.random() < args.flip)
         flips.append(flip)
@@ -202,6 +204,9 @@ def main(argv=None):
         "--motion-noise", type=float, nargs=2, default=None, help="estimator's: rad, metres"
     )
     parser.add_argument("--resolution", type=float, default=None, help="camera m/px")
+    parser.add_argument(
+        "--answer", type=float, default=None, help="the robot always answers (THETA, 0, 0)"
+    )
     parser.add_argument(
         "--max-pushes", type=int, default=None, help="budget (default: the estimator's)"
     )

@@ -2,11 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
-from scipy.special import logsumexp
-
 from ._active_setup import DEFAULT_MOTION_NOISE, active_options, build_estimate, prior_grid
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
@@ -14,8 +9,9 @@ from ._mask import Mask
 from ._planning import Candidates
 from ._posterior import GridPosterior
 from ._session import ActiveSession
+from ._session_log import SessionLog
 from ._session_pose import is_miss
-from ._session_update import consistency_threshold, push_evidence
+from ._session_update import push_evidence
 from ._types import Estimate
 from ._validation import check_actions, check_mask, check_motions
 
@@ -358,43 +354,21 @@ def estimate_posterior(
     pixels, prior_w = prior_grid(mask, prior)
     pushes = Candidates(mask, acts, opts, rng=None, name="actions")
     post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1))
-    history, outcomes, used = [], [], []
-    excess, log_evidence = np.zeros(post.log_w.shape), 0.0
+    log = SessionLog(post, opts.credible)
     for i, motion in enumerate(moves):
-        _, area = post.credible(opts.credible)
-        history.append(_state(post, area))
+        record = {"index": i, "object_action": acts[i], "object_motion": tuple(motion)}
         if is_miss(motion, mask.resolution):
-            outcomes.append("miss")
+            log.add({**record, "outcome": "miss"}, post)
             continue
-        loglik, push_excess = push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion)
-        log_evidence += float(logsumexp(post.log_w + loglik))
-        post.update(loglik)
-        excess = excess + push_excess
-        outcomes.append("evidence")
-        used.append(i)
-    _, area = post.credible(opts.credible)
-    history.append(_state(post, area))
-    worst = float(excess.min()) if used else 0.0
-    extras = {
-        "actions": acts,
-        "motions": moves,
-        "outcomes": tuple(outcomes),
-        "log_evidence": log_evidence,
-        "excess_nats": worst,
-    }
+        loglik, excess = push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion)
+        log.add({**record, "outcome": "evidence"}, post, loglik, excess)
+    used = [r["index"] for r in log.records if r["outcome"] == "evidence"]
+    extras = log.extras()
+    del extras["failed"]
     if not used:
         status = "no_evidence"
-    elif worst > consistency_threshold(len(used)):
+    elif not log.consistent:
         status = "inconsistent"
     else:
         status = "ok"
-    return build_estimate(mask, post, opts.credible, used, history, status, extras)
-
-
-def _state(post, area) -> dict:
-    return {
-        "com": tuple(float(v) for v in post.mean()),
-        "entropy_bits": post.entropy_bits(),
-        "credible_radius_px": math.sqrt(area / math.pi),
-        "expected_gain_bits": None,
-    }
+    return build_estimate(mask, post, opts.credible, used, log.history, status, extras)

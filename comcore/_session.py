@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import inspect
-import math
 
 import numpy as np
-from scipy.special import logsumexp
 
 from ._active_setup import active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
@@ -14,16 +12,9 @@ from ._errors import SessionError
 from ._mask import Mask
 from ._planning import Candidates
 from ._posterior import GridPosterior
-from ._session_pose import (
-    IDENTITY,
-    PoseReading,
-    compose,
-    is_miss,
-    measure_pose,
-    moved_mask,
-    relative,
-)
-from ._session_update import consistency_threshold, push_evidence
+from ._session_log import SessionLog
+from ._session_pose import IDENTITY, is_miss, moved_mask, read_pose, relative
+from ._session_update import push_evidence, tracking_noise
 from ._types import Action, Estimate, Motion
 from ._validation import check_mask, check_motions, check_rng
 
@@ -128,31 +119,13 @@ class ActiveSession:
         self._gyration_px = max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
-        self._records: list[dict] = []
-        self._excess = np.zeros(self._post.log_w.shape)  # summed excess surprise per hypothesis
-        self._log_evidence = 0.0
-        self._history: list[dict] = []
+        self._log = SessionLog(self._post, self._opts.credible)
         self._final: str | None = None
         self._pending: int | None = None
         self._handed_out = False
         self._planned = False
-        self._state_entry()
 
     # -- state ---------------------------------------------------------------------------
-
-    def _state_entry(self):
-        _, area = self._post.credible(self._opts.credible)
-        self._history.append(
-            {
-                "com": tuple(float(v) for v in self._post.mean()),
-                "entropy_bits": self._post.entropy_bits(),
-                "credible_radius_px": math.sqrt(area / math.pi),
-                "expected_gain_bits": None,
-                "log_evidence": self._log_evidence,
-                "excess_nats": self.excess_nats,
-            }
-        )
-        self._planned = False
 
     @property
     def excess_nats(self) -> float:
@@ -163,8 +136,7 @@ class ActiveSession:
         with evidence: about 0 or below when some hypothesis explains the
         data, large when none does (0 before the first push).
         """
-        n = sum(r["outcome"] == "evidence" for r in self._records)
-        return float(self._excess.min()) if n else 0.0
+        return self._log.excess_nats
 
     @property
     def consistent(self) -> bool:
@@ -174,8 +146,7 @@ class ActiveSession:
         ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
         quantile of its distribution under the likelihood).
         """
-        n = sum(r["outcome"] == "evidence" for r in self._records)
-        return n == 0 or self.excess_nats <= consistency_threshold(n)
+        return self._log.consistent
 
     def _plan(self):
         """Decide whether to stop, else choose the next push (lazily, once per state)."""
@@ -183,11 +154,11 @@ class ActiveSession:
             return
         self._planned = True
         self._final, self._pending = None, None
-        self._history[-1]["expected_gain_bits"] = None
-        executed = sum(r["outcome"] != "failed" for r in self._records)
-        if self._history[-1]["credible_radius_px"] <= self._opts.target_px:
+        state = self._log.history[-1]
+        state["expected_gain_bits"] = None
+        if state["credible_radius_px"] <= self._opts.target_px:
             self._final = "ok"
-        elif executed >= self._opts.max_pushes:
+        elif len(self._log.executed) >= self._opts.max_pushes:
             self._final = "budget"
         else:
             offered = self._cands.offerable(self._pose, self._current_mask())
@@ -196,8 +167,8 @@ class ActiveSession:
                 self._final = "exhausted" if gain is None else "uninformative"
             else:
                 self._pending = index
-                self._history[-1]["expected_gain_bits"] = gain
-        if self._final is not None and not self.consistent:
+                state["expected_gain_bits"] = gain
+        if self._final is not None and not self._log.consistent:
             self._final = "inconsistent"
 
     def _current_mask(self) -> Mask | None:
@@ -227,20 +198,18 @@ class ActiveSession:
     @property
     def actions(self) -> np.ndarray:
         """Pushes executed (misses included), camera frame as handed out, shape (k, 4)."""
-        rows = [r["camera_action"] for r in self._records if r["outcome"] != "failed"]
-        return np.array(rows, dtype=float).reshape(-1, 4)
+        return self._log.rows("camera_action", 4)
 
     @property
     def motions(self) -> np.ndarray:
         """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
-        rows = [r["camera_motion"] for r in self._records if r["outcome"] != "failed"]
-        return np.array(rows, dtype=float).reshape(-1, 3)
+        return self._log.rows("camera_motion", 3)
 
     @property
     def history(self) -> tuple[dict, ...]:
         """One dict per state (prior first): ``com``, ``entropy_bits``, ``credible_radius_px``..."""
         self._plan()
-        return tuple(dict(h) for h in self._history)
+        return tuple(dict(h) for h in self._log.history)
 
     # -- ask / tell ---------------------------------------------------------------------
 
@@ -302,7 +271,7 @@ class ActiveSession:
         if failed:
             self._commit(record, "failed", self._pose, None, None)
             return
-        reading = self._reading(mask, motion)
+        reading = read_pose(self._first, self._pose, mask, motion)
         camera_motion = relative(self._pose, reading.pose)
         record["camera_motion"] = tuple(camera_motion)
         record["residual_px"] = reading.residual_px
@@ -320,40 +289,9 @@ class ActiveSession:
             self._cands.lines[index],
             obj_motion,
             rotation_observed=not reading.ambiguous,
-            tracking=self._tracking(reading.residual_px),
+            tracking=tracking_noise(self._opts.tracking, reading.residual_px, self._gyration_px),
         )
-        record["log_evidence"] = float(logsumexp(self._post.log_w + loglik))
         self._commit(record, "evidence", reading.pose, mask, loglik, excess)
-
-    def _tracking(self, residual_px: float) -> tuple[float, float]:
-        """Measurement error (rad, px) of a motion: ``motion_noise``, and the registration's.
-
-        Where the session measured the motion, the outline's RMS residual
-        (px) adds in quadrature to the translation's error, and that residual
-        over the first mask's radius of gyration to the rotation's.
-        """
-        theta, px = self._opts.tracking
-        if not math.isfinite(residual_px):
-            return theta, px
-        return math.hypot(theta, residual_px / self._gyration_px), math.hypot(px, residual_px)
-
-    def _reading(self, mask, motion) -> PoseReading:
-        """The pose after the push, from a mask or a motion (validated, nothing changed)."""
-        if motion is not None:
-            m = check_motions(motion, n=1, name="motion")[0]
-            return PoseReading(compose(self._pose, m), False, float("nan"))
-        mask = check_mask(mask)
-        first = self._first
-        if mask.shape != first.shape:
-            raise ValueError(
-                f"mask must have the first mask's shape {first.shape}, got {mask.shape}"
-            )
-        if mask.resolution != first.resolution:
-            raise ValueError(
-                f"mask must have the first mask's resolution {first.resolution} m/px, "
-                f"got {mask.resolution}"
-            )
-        return measure_pose(first, mask, self._pose)
 
     def _commit(self, record, outcome, pose, mask, loglik, excess=None):
         record["outcome"] = outcome
@@ -362,17 +300,13 @@ class ActiveSession:
                 float(v)
                 for v in object_motion_from_camera(record["camera_motion"], self._pose.theta)
             )
-        if loglik is not None:
-            self._post.update(loglik)
-            self._excess = self._excess + excess
-            self._log_evidence += record["log_evidence"]
-        self._records.append(record)
+        self._log.add(record, self._post, loglik, excess)
         self._cands.made(record["index"])
         if outcome != "failed":
             self._mask_now = mask  # None after a motion: the first mask moved to the new pose
             self._pose = pose
         self._handed_out = False
-        self._state_entry()
+        self._planned = False
 
     def reset_pose(self, pose=None) -> None:
         """Tell the session the object was put back in the first pose (or moved to ``pose``).
@@ -404,21 +338,15 @@ class ActiveSession:
         return self._estimate(self.status)
 
     def _estimate(self, status: str) -> Estimate:
-        done = [r for r in self._records if r["outcome"] != "failed"]
         extras = {
-            "actions": np.array([r["object_action"] for r in done], float).reshape(-1, 4),
-            "motions": np.array([r["object_motion"] for r in done], float).reshape(-1, 3),
+            **self._log.extras(),
             "camera_actions": self.actions,
             "camera_motions": self.motions,
-            "outcomes": tuple(r["outcome"] for r in done),
-            "failed": tuple(r["index"] for r in self._records if r["outcome"] == "failed"),
             "pose": self._pose,
-            "log_evidence": self._log_evidence,
-            "excess_nats": self.excess_nats,
         }
-        used = [r["index"] for r in done]
+        used = [r["index"] for r in self._log.executed]
         return build_estimate(
-            self._first, self._post, self._opts.credible, used, self._history, status, extras
+            self._first, self._post, self._opts.credible, used, self._log.history, status, extras
         )
 
     def com_in_camera(self) -> tuple[float, float]:

@@ -21,6 +21,7 @@ from scipy import ndimage
 from ._conventions import apply_motion
 from ._mask import Mask
 from ._types import Motion
+from ._validation import check_mask, check_motions
 
 __all__ = [
     "IDENTITY",
@@ -32,6 +33,7 @@ __all__ = [
     "is_miss",
     "measure_pose",
     "moved_mask",
+    "read_pose",
     "relative",
 ]
 
@@ -118,3 +120,24 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     theta = previous.theta if m.ambiguous else float(m.motion.theta)
     pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
     return PoseReading(pose, bool(m.ambiguous), float(m.residual_px))
+
+
+def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
+    """The pose after a push, from the camera's mask or the caller's motion (validated).
+
+    ``motion`` (camera frame, about the current centroid) is composed with
+    ``pose``; a ``mask`` (same shape and resolution as ``first``) is
+    registered against ``first``. Raises naming the argument; changes nothing.
+    """
+    if motion is not None:
+        m = check_motions(motion, n=1, name="motion")[0]
+        return PoseReading(compose(pose, m), False, float("nan"))
+    mask = check_mask(mask)
+    if mask.shape != first.shape:
+        raise ValueError(f"mask must have the first mask's shape {first.shape}, got {mask.shape}")
+    if mask.resolution != first.resolution:
+        raise ValueError(
+            f"mask must have the first mask's resolution {first.resolution} m/px, "
+            f"got {mask.resolution}"
+        )
+    return measure_pose(first, mask, pose)

@@ -10,6 +10,8 @@ any) the whole motion. When the rotation was not observable (an
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.special import ndtr
 
@@ -18,7 +20,7 @@ from ._mask import Mask
 from ._motion import model_predictions, motion_excess, motion_log_likelihood
 from ._posterior import GridPosterior, line_distances, push_log_likelihood, side_probability
 
-__all__ = ["PRUNE_LOG", "consistency_threshold", "push_evidence"]
+__all__ = ["PRUNE_LOG", "consistency_threshold", "push_evidence", "tracking_noise"]
 
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
@@ -134,3 +136,17 @@ def consistency_threshold(n_pushes: int) -> float:
     before the minimum over hypotheses lowers it further.
     """
     return 10.0 + 6.0 * float(np.sqrt(max(n_pushes, 1)))
+
+
+def tracking_noise(tracking, residual_px: float, gyration_px: float) -> tuple[float, float]:
+    """Measurement error (rad, px) of a motion: ``motion_noise``, and the registration's.
+
+    Where the motion was measured from masks, the outline's RMS residual
+    (px) adds in quadrature to the translation's error, and that residual
+    over the first mask's radius of gyration to the rotation's (NaN: not
+    measured, ``tracking`` as it is).
+    """
+    theta, px = tracking
+    if not math.isfinite(residual_px):
+        return theta, px
+    return math.hypot(theta, residual_px / gyration_px), math.hypot(px, residual_px)

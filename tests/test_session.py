@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import comcore
-import comcore._session as session_module
+import comcore._session_pose as pose_module
 from comcore._session_pose import IDENTITY, compose, moved_mask
 
 TRUE_COM = (52.0, 60.0)  # object frame (first mask), off the centroid (59.5, 56.5)
@@ -276,7 +276,7 @@ def test_observed_masks_are_measured_against_the_first_mask(monkeypatch):
     mask = _mask()
     world = World(mask)
     stand_in = StandIn(world)
-    monkeypatch.setattr(session_module, "measure_pose", stand_in)
+    monkeypatch.setattr(pose_module, "measure_pose", stand_in)
     session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4)
     while not session.done:
         world.execute(session.next_push())
@@ -289,7 +289,7 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
     mask = _mask()
     world = World(mask)
     stand_in = StandIn(world, ambiguous=True)
-    monkeypatch.setattr(session_module, "measure_pose", stand_in)
+    monkeypatch.setattr(pose_module, "measure_pose", stand_in)
     session = comcore.ActiveSession(mask, rng=0, max_pushes=2)
     before = session.history[-1]["entropy_bits"]
     world.execute(session.next_push())
