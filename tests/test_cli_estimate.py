@@ -328,3 +328,21 @@ def test_the_real_entry_point_never_prints_a_traceback(files):
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp, env=env)
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "column tx: 'nan' is not finite" in done.stderr
+
+
+def test_the_methods_benchmark_script_runs():
+    pytest.importorskip("shapely")
+    root = Path(__file__).resolve().parent.parent
+    cmd = [sys.executable, "benchmarks/estimate_methods.py", "--objects", "Obj3", "--seeds",
+           "1", "--pushes", "12", "--flips", "0,1"]  # fmt: skip
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run(cmd, capture_output=True, text=True, cwd=root, env=env, timeout=120)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0].startswith("1 recordings (1 objects x seeds 0..0), 12 pushes each")
+    rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
+    from comcore.cli.estimate import methods
+
+    expected = [m for m in methods() if m != "alg2-rotation"]
+    assert rows == [m for m in expected for _ in (0, 1)]
+    assert lines[-1].startswith("time per estimate: ")
