@@ -170,3 +170,20 @@ def test_active_robot_refuses_an_unknown_observation():
     label = "active-robot(observe='psychic')"
     row = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)))[0]
     assert row["status"] == "error" and "observe must be" in row["message"]
+
+
+def test_command_line_writes_conditions_md(tmp_path, capsys):
+    from comcore.cli import main
+
+    out = tmp_path / "run"
+    args = ["bench", "--objects", "Obj3", "--trials", "1", "--friction", "low", "--candidates",
+            "4", "--workers", "1", "--no-progress", "--estimators", "alg2,centroid",
+            "--conditions", "exact,no-reset", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    text = (out / "conditions.md").read_text()
+    assert "## exact\n" in text and "## no-reset\n" in text
+    rows = (out / "conditions.jsonl").read_text().splitlines()
+    assert len(rows) == 3 and not (out / "conditions.partial.jsonl").exists()
+    assert "conditions.md" in capsys.readouterr().out
+    assert main([*args[:-4], "--conditions", "fog", "--out", str(out)]) == 2
+    assert "unknown condition 'fog'" in capsys.readouterr().err

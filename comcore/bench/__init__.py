@@ -14,6 +14,7 @@ Examples
 [('alg2', 'ok'), ('centroid', 'ok')]
 """
 
+from ._conditions import CONDITIONS, Condition, parse_condition, run_conditions
 from ._registry import (
     ESTIMATORS,
     PREDICTORS,
@@ -37,6 +38,7 @@ from ._trial import (
 )
 
 __all__ = [
+    "CONDITIONS",
     "DEFAULT_CANDIDATES",
     "DEFAULT_CONE",
     "DEFAULT_ESTIMATORS",
@@ -45,15 +47,18 @@ __all__ = [
     "ROW_FIELDS",
     "BenchConfig",
     "BenchResult",
+    "Condition",
     "EstimatorSpec",
     "PredictorSpec",
     "TrialContext",
     "TrialOutcome",
     "TrialSpec",
     "check_available",
+    "parse_condition",
     "parse_estimator",
     "register_estimator",
     "run_benchmark",
+    "run_conditions",
     "run_trial",
     "sort_rows",
     "split_estimators",
