@@ -420,6 +420,20 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         for label, reason in unfit.get(name, {}).items():
             lines.append(f"| `{label}` | not run: {reason} | | | | | | |")
         lines.append("")
+        predicted = [
+            e for e in (result.config.estimators if result is not None else ())
+            if parse_estimator(e)[0].uses_motions
+        ]  # fmt: skip
+        if predicted and not cond.plain:
+            names = ", ".join(f"`{e}`" for e in predicted)
+            source = (
+                "this condition's observations of every candidate, each pushed from the "
+                "initial pose (an optimistic stand-in for a predictor)"
+                if result.config.predictor == "oracle"
+                else f"the {result.config.predictor!r} predictor's, conditioned on prior "
+                "pushes observed under this condition"
+            )
+            lines += [f"{names} work on predicted motions of every candidate: here {source}.", ""]
     return "\n".join(lines)
 
 
