@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +26,9 @@ __all__ = ["LimitSurfaceModel"]
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _NODE_PRESSURES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_NODE_MOTIONS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: Action batches whose node motions are remembered per mask, and friction values.
+CACHED_PUSHES, MAX_REMEMBERED_MUS = 4, 12
 
 
 def _nearest_pixel(mask: Mask) -> np.ndarray:
@@ -124,14 +128,14 @@ class LimitSurfaceModel:
             raise ValueError(f"grid_px must be >= 0 (0: no interpolation), got {grid}")
         object.__setattr__(self, "grid_px", grid)
 
-    def _motions(self, mask: Mask, actions: np.ndarray, press: np.ndarray, mu: float):
+    def _motions(self, mask: Mask, actions: np.ndarray, press: np.ndarray, mu, same_as=None):
         """Integrated motions under pressures ``press`` (n, N), shape (n, n_actions, 3)."""
         sup = support(mask, self.support_points)
         eps2 = (SMOOTHING_CELLS * sup.cell) ** 2 / mask.area_px  # relative to the push speed
         radius = self.pusher_radius / mask.resolution
         return push_motions(
             outline_field(mask), actions, press, sup.points, np.asarray(mask.centroid), mu,
-            radius, self.n_steps, eps2,
+            radius, self.n_steps, eps2, same_as,
         )  # fmt: skip
 
     def _pressures(self, mask: Mask, coms: np.ndarray) -> np.ndarray:
@@ -200,8 +204,43 @@ class LimitSurfaceModel:
         keys, index = np.unique(corners[:, 0] * table.shape[1] + corners[:, 1], return_inverse=True)
         if len(keys) >= len(pts):  # interpolation would not save anything
             return self._motions(mask, acts, self._pressures(mask, pts), mu)
-        press = table[keys // table.shape[1], keys % table.shape[1]]
-        node_motion = self._motions(mask, acts, press, mu)
+        node_motion = self._node_motions(mask, acts, table, keys, mu)
         fx, fy = frac[:, 0], frac[:, 1]
         weights = np.stack([(1 - fx) * (1 - fy), (1 - fx) * fy, fx * (1 - fy), fx * fy])
         return np.einsum("kn,knas->nas", weights, node_motion[index.reshape(4, len(pts))])
+
+    def _node_motions(self, mask, acts, table, keys, mu) -> np.ndarray:
+        """Motions at lattice nodes ``keys`` for friction ``mu``, (n_keys, n_actions, 3).
+
+        Remembered per mask for the last ``CACHED_PUSHES`` action batches. An
+        estimator asks about one push for several friction values in turn: a
+        node not yet integrated is integrated for every friction value this
+        mask has been asked about at once (one batch costs little more than
+        one friction value).
+        """
+        memo = _NODE_MOTIONS.setdefault(mask, {"mus": [], "pushes": OrderedDict()})
+        if mu not in memo["mus"]:
+            memo["mus"] = [*memo["mus"][-(MAX_REMEMBERED_MUS - 1) :], mu]
+        key = (self, acts.tobytes())
+        pushes = memo["pushes"]
+        if key not in pushes:
+            if len(pushes) >= CACHED_PUSHES:
+                pushes.popitem(last=False)
+            pushes[key] = {}
+        per_mu = pushes[key]
+        size = table.shape[0] * table.shape[1]
+        for m in memo["mus"]:
+            per_mu.setdefault(m, np.full((size, len(acts), 3), np.nan))
+        todo = keys[np.isnan(per_mu[mu][keys, 0, 0])]
+        if len(todo):
+            mus = [m for m in memo["mus"] if np.isnan(per_mu[m][todo, 0, 0]).all()]
+            mus = sorted(mus, reverse=True)  # the first block has the highest friction
+            press = table[todo // table.shape[1], todo % table.shape[1]]
+            n = len(todo)
+            out = self._motions(
+                mask, acts, np.tile(press, (len(mus), 1)), np.repeat(mus, n),
+                same_as=np.tile(np.arange(n), len(mus)),
+            )  # fmt: skip
+            for i, m in enumerate(mus):
+                per_mu[m][todo] = out[i * len(todo) : (i + 1) * len(todo)]
+        return per_mu[mu][keys]

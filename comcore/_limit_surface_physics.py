@@ -42,9 +42,11 @@ CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
 #: Smoothing of ``|u|`` in units of the support cell's side.
 SMOOTHING_CELLS = 0.5
 #: Newton steps of the sticking and sliding solves (first step; later ones warm-start).
-STICK_ITERATIONS, SLIDE_ITERATIONS = (8, 4), (10, 4)
+STICK_ITERATIONS, SLIDE_ITERATIONS = (8, 3), (8, 3)
 #: Largest rotation per pixel of pusher travel (0.5 rad/px: a pivot 2 px from the contact).
 MAX_TURN_PER_PX = 0.5
+#: A sliding contact must move into the pusher at this fraction of its speed, at least.
+MIN_NORMAL_FRACTION = 0.05
 #: Longest Newton step of the sliding solve (normalised twist units).
 MAX_SLIDE_STEP = 0.5
 
@@ -85,10 +87,9 @@ def outline_field(mask: Mask) -> OutlineField:
     return field
 
 
-def _plane_dissipation(p, rx, ry, vx, vy, om, eps2):
-    ux = vx[:, None] + om[:, None] * ry
-    uy = vy[:, None] + om[:, None] * -rx
-    return ux, uy, np.sqrt(ux * ux + uy * uy + eps2)
+def _rowdot(a, b):
+    """Row-wise sums of products of two (m, N) arrays."""
+    return np.einsum("ij,ij->i", a, b)
 
 
 def stick_omega(p, rx, ry, cx, cy, ux, uy, omega, eps2, iterations):
@@ -100,31 +101,35 @@ def stick_omega(p, rx, ry, cx, cy, ux, uy, omega, eps2, iterations):
     monotone), so a bad step is replaced by bisection.
     """
     bx, by = ry[None, :] - cy[:, None], cx[:, None] - rx[None, :]  # J (r_j - c)
+    b2 = bx * bx + by * by
     speed = np.hypot(ux, uy)
-    reach = np.sqrt((p * (bx * bx + by * by)).sum(axis=1) / p.sum(axis=1))
-    lo, hi = -4.0 * speed / np.maximum(reach, 1e-9), 4.0 * speed / np.maximum(reach, 1e-9)
+    reach = np.maximum(np.sqrt(_rowdot(p, b2) / p.sum(axis=1)), 1e-9)
+    lo, hi = -4.0 * speed / reach, 4.0 * speed / reach
     omega = np.clip(omega, lo, hi)
+    ux, uy = ux[:, None], uy[:, None]
     for _ in range(iterations):
-        vx, vy = ux[:, None] + omega[:, None] * bx, uy[:, None] + omega[:, None] * by
-        s = np.sqrt(vx * vx + vy * vy + eps2)
+        vx, vy = ux + omega[:, None] * bx, uy + omega[:, None] * by
+        inv = 1.0 / np.sqrt(vx * vx + vy * vy + eps2)
         vb = vx * bx + vy * by
-        grad = (p * vb / s).sum(axis=1)
-        hess = (p * ((bx * bx + by * by) * s * s - vb * vb) / s**3).sum(axis=1)
+        pin = p * inv
+        grad = _rowdot(pin, vb)
+        vb *= inv
+        hess = _rowdot(pin, b2 - vb * vb)
         lo, hi = np.where(grad < 0, omega, lo), np.where(grad > 0, omega, hi)
         step = omega - grad / np.maximum(hess, 1e-300)
         omega = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
-    vx, vy = ux[:, None] + omega[:, None] * bx, uy[:, None] + omega[:, None] * by
-    s = np.sqrt(vx * vx + vy * vy + eps2)
-    return omega, (p * vx / s).sum(axis=1), (p * vy / s).sum(axis=1)
+    vx, vy = ux + omega[:, None] * bx, uy + omega[:, None] * by
+    pin = p / np.sqrt(vx * vx + vy * vy + eps2)
+    return omega, _rowdot(pin, vx), _rowdot(pin, vy)
 
 
-def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length):
+def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True):
     """Sliding: ``argmin D(xi)`` subject to ``wrench . xi = 1`` per row, (m, 3).
 
     Newton on the plane (lengths divided by ``length``, so that forces and
-    moments weigh alike), steps at most ``MAX_SLIDE_STEP`` long and halved up
-    to three times where they do not lower ``D``; warm-started from ``xi``
-    (rescaled onto the plane).
+    moments weigh alike), steps at most ``MAX_SLIDE_STEP`` long and, with
+    ``backtrack``, halved up to three times where they do not lower ``D``;
+    warm-started from ``xi`` (rescaled onto the plane).
     """
     rx, ry = rx / length, ry / length
     wrench = wrench * [1.0, 1.0, 1.0 / length]
@@ -134,46 +139,47 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length):
     e1 = np.cross(unit, axis)
     e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
     e2 = np.cross(unit, e1)
+    basis = np.stack([e1, e2], axis=2)  # (m, 3, 2)
     base = wrench / np.einsum("mk,mk->m", wrench, wrench)[:, None]
     power = np.einsum("mk,mk->m", wrench, xi)
     ok = power > 1e-12
     xi = np.where(ok[:, None], xi / np.where(ok, power, 1.0)[:, None], base)
-    z = np.column_stack([np.einsum("mk,mk->m", xi, e1), np.einsum("mk,mk->m", xi, e2)])
-    ex, ey = rx[None, :], ry[None, :]
+    z = np.einsum("mkj,mk->mj", basis, xi)
+    rxx, rxy, ryy = rx * rx, rx * ry, ry * ry
 
-    def point(z):
-        x = base + z[:, :1] * e1 + z[:, 1:] * e2
-        return x[:, 0], x[:, 1], x[:, 2]
+    def velocities(z):
+        x = base + np.einsum("mkj,mj->mk", basis, z)
+        ux = x[:, :1] + x[:, 2:] * ry[None, :]
+        uy = x[:, 1:2] - x[:, 2:] * rx[None, :]
+        return ux, uy, np.sqrt(ux * ux + uy * uy + eps2)
 
     for _ in range(iterations):
-        vx, vy, om = point(z)
-        ux, uy, s = _plane_dissipation(p, ex, ey, vx, vy, om, eps2)
-        hx, hy = ux / s, uy / s
-        # d(u)/d(xi): (1, 0, ry) and (0, 1, -rx)
-        a11, a12, a22 = p * (1 - hx * hx) / s, -p * hx * hy / s, p * (1 - hy * hy) / s
-        grad = np.column_stack([(p * hx).sum(1), (p * hy).sum(1), (p * (hx * ey - hy * ex)).sum(1)])
+        ux, uy, s = velocities(z)
+        inv = 1.0 / s
+        hx, hy = ux * inv, uy * inv
+        pin = p * inv
+        a11, a12, a22 = pin * (1 - hx * hx), -pin * hx * hy, pin * (1 - hy * hy)
+        grad = np.column_stack([_rowdot(p, hx), _rowdot(p, hy), (p * hx) @ ry - (p * hy) @ rx])
         h = np.empty((len(z), 3, 3))
         h[:, 0, 0], h[:, 0, 1], h[:, 1, 1] = a11.sum(1), a12.sum(1), a22.sum(1)
-        h[:, 0, 2] = (a11 * ey - a12 * ex).sum(1)
-        h[:, 1, 2] = (a12 * ey - a22 * ex).sum(1)
-        h[:, 2, 2] = (a11 * ey * ey - 2 * a12 * ex * ey + a22 * ex * ex).sum(1)
+        h[:, 0, 2] = a11 @ ry - a12 @ rx
+        h[:, 1, 2] = a12 @ ry - a22 @ rx
+        h[:, 2, 2] = a11 @ ryy - 2 * (a12 @ rxy) + a22 @ rxx
         h[:, 1, 0], h[:, 2, 0], h[:, 2, 1] = h[:, 0, 1], h[:, 0, 2], h[:, 1, 2]
-        basis = np.stack([e1, e2], axis=2)  # (m, 3, 2)
         g2 = np.einsum("mkj,mk->mj", basis, grad)
         h2 = np.einsum("mki,mkl,mlj->mij", basis, h, basis) + 1e-12 * np.eye(2)
         step = -np.linalg.solve(h2, g2[..., None])[..., 0]
         norm = np.hypot(step[:, 0], step[:, 1])
         step *= np.minimum(1.0, MAX_SLIDE_STEP / np.maximum(norm, 1e-300))[:, None]
-        f0 = (p * s).sum(1)
-        alpha = np.ones(len(z))
-        for _ in range(3):
-            f1 = (
-                p * _plane_dissipation(p, ex, ey, *point(z + alpha[:, None] * step), eps2)[2]
-            ).sum(1)
-            alpha = np.where(f1 > f0 * (1 + 1e-12), 0.5 * alpha, alpha)
-        z = z + alpha[:, None] * step
-    vx, vy, om = point(z)
-    return np.column_stack([vx, vy, om / length])
+        if backtrack:
+            f0, alpha = _rowdot(p, s), np.ones(len(z))
+            for _ in range(3):
+                f1 = _rowdot(p, velocities(z + alpha[:, None] * step)[2])
+                alpha = np.where(f1 > f0 * (1 + 1e-12), 0.5 * alpha, alpha)
+            step *= alpha[:, None]
+        z = z + step
+    x = base + np.einsum("mkj,mj->mk", basis, z)
+    return np.column_stack([x[:, 0], x[:, 1], x[:, 2] / length])
 
 
 def _first_contact(field, start, unit, length, radius):
@@ -221,13 +227,19 @@ def pusher_paths(field, actions, radius):
     return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii
 
 
-def push_motions(field, actions, pressure, support, centroid, mu, radius, n_steps, eps2):
+def push_motions(
+    field, actions, pressure, support, centroid, mu, radius, n_steps, eps2, same_as=None
+):
     """Integrate every push for every pressure distribution: ``(n_p, n_actions, 3)`` motions.
 
     ``pressure`` (n_p, N) over ``support`` (N, 2) points relative to ``centroid``
-    (pixels); ``mu`` the contact friction (``inf``: sticks); ``radius`` the
-    pusher's in pixels. Motions ``(theta, tx, ty)``: rotation (CCW on screen)
-    and displacement of the material point under the centroid; zeros for a miss.
+    (pixels); ``mu`` the contact friction, a number or one per pressure row
+    (``inf``: the contact sticks); ``radius`` the pusher's in pixels.
+    ``same_as`` (n_p,) optionally names, for each row, a row with the same
+    pressure and a friction at least as high: while a row sticks, it moves as
+    that one does, so its sticking solve is not repeated. Motions ``(theta, tx,
+    ty)``: rotation (CCW on screen) and displacement of the material point
+    under the centroid; zeros for a miss.
     """
     n_p, n_a = len(pressure), len(actions)
     first, unit, travel, hit, radii = pusher_paths(field, actions, radius)
@@ -241,8 +253,12 @@ def push_motions(field, actions, pressure, support, centroid, mu, radius, n_step
     X, Y, theta = np.full(len(rows), cx0), np.full(len(rows), cy0), np.zeros(len(rows))
     omega_rate = np.full(len(rows), np.nan)  # sticking omega per pixel of contact travel
     xi_slide = np.zeros((len(rows), 3))
-    tan_mu = np.inf if np.isinf(mu) else float(mu)
-    cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
+    tan_mu = np.broadcast_to(np.asarray(mu, dtype=float), (n_p,))[rows // n_a]
+    cos_a, sin_a = np.cos(np.arctan(tan_mu)), np.sin(np.arctan(tan_mu))
+    same = np.arange(n_p) if same_as is None else np.asarray(same_as, dtype=np.intp)
+    rep = same[rows // n_a] * n_a + act  # the row this one moves with while attached
+    attached = rep != rows
+    where = np.full(len(rows), -1)
     for k in range(1, n_steps + 1):
         live = rows[hit[act]]
         if not len(live):
@@ -269,28 +285,44 @@ def push_motions(field, actions, pressure, support, centroid, mu, radius, n_step
         guess = np.where(np.isnan(omega_rate[live]), 0.0, omega_rate[live])
         p = p_all[live]
         iters = STICK_ITERATIONS[0 if k == 1 else 1]
+        own = np.flatnonzero(~attached[live])
+        om, fx, fy = np.empty(len(live)), np.empty(len(live)), np.empty(len(live))
         # Solved for a unit contact speed: the smoothing of |.| is relative to it.
-        om, fx, fy = stick_omega(p, rx, ry, ccx, ccy, ux / speed, uy / speed, guess, eps2, iters)
+        om[own], fx[own], fy[own] = stick_omega(
+            p[own], rx, ry, ccx[own], ccy[own], ux[own] / speed[own], uy[own] / speed[own],
+            guess[own], eps2, iters,
+        )  # fmt: skip
+        clone = np.flatnonzero(attached[live])
+        if len(clone):  # the same state as the row they follow: the same solution
+            where[live] = np.arange(len(live))
+            src = where[rep[live[clone]]]
+            om[clone], fx[clone], fy[clone] = om[src], fx[src], fy[src]
         omega_rate[live] = om
         om = om * speed
         vx, vy = ux - om * ccy, uy + om * ccx  # v = u - omega J c
         f_n = fx * nx + fy * ny
         f_t = ny * fx - nx * fy
-        slide = ~((f_n > 0) & (np.abs(f_t) <= tan_mu * f_n))
+        slide = ~((f_n > 0) & (np.abs(f_t) <= tan_mu[live] * f_n))
         if slide.any():
             j = np.flatnonzero(slide)
-            sa = np.where(f_t[j] >= 0, sin_a, -sin_a)
-            ex = cos_a * nx[j] + sa * ny[j]
-            ey = -sa * nx[j] + cos_a * ny[j]
+            attached[live[j]] = False  # from here on it moves on its own
+            sa = np.where(f_t[j] >= 0, sin_a[live[j]], -sin_a[live[j]])
+            ex = cos_a[live[j]] * nx[j] + sa * ny[j]
+            ey = -sa * nx[j] + cos_a[live[j]] * ny[j]
             wrench = np.column_stack([ex, ey, ex * ccy[j] - ey * ccx[j]])
             iters = SLIDE_ITERATIONS[0 if k == 1 else 1]
             start = xi_slide[live[j]]
             fresh = ~start.any(axis=1)  # no earlier sliding: start from the sticking twist
             start[fresh] = np.column_stack([vx[j], vy[j], om[j]])[fresh]
-            xi = slide_twist(p[j], rx, ry, wrench, start, eps2, iters, length)
+            xi = slide_twist(p[j], rx, ry, wrench, start, eps2, iters, length, k == 1)
             xi_slide[live[j]] = xi
-            normal = (xi[:, 0] + xi[:, 2] * ccy[j]) * nx[j] + (xi[:, 1] - xi[:, 2] * ccx[j]) * ny[j]
-            scale = -gap[j] / np.maximum(normal, 1e-3 * np.linalg.norm(xi, axis=1))
+            cvx, cvy = xi[:, 0] + xi[:, 2] * ccy[j], xi[:, 1] - xi[:, 2] * ccx[j]
+            normal = cvx * nx[j] + cvy * ny[j]
+            # The contact must move into the pusher's way: a solve that is not there
+            # (unconverged, or a pusher grazing a corner) keeps the sticking twist.
+            good = np.isfinite(xi).all(axis=1) & (normal > MIN_NORMAL_FRACTION * np.hypot(cvx, cvy))
+            scale = -gap[j] / np.where(good, normal, 1.0)
+            j, xi, scale = j[good], xi[good], scale[good]
             vx[j], vy[j], om[j] = (xi * scale[:, None]).T
         # A quasi-static step turns the object by about its length over the distance from
         # the contact to the centre of rotation: cap it where a degenerate pressure (all

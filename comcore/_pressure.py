@@ -17,7 +17,7 @@ import numpy as np
 
 from ._mask import Mask
 
-__all__ = ["PRESSURES", "Support", "pressures", "support"]
+__all__ = ["PRESSURES", "Support", "into_hull", "pressures", "support"]
 
 #: Pressure families: ``"linear"`` (the clipped linear tilt) and ``"peaked"``
 #: (the tilt of a pressure that falls off linearly from the CoM hypothesis).
@@ -51,6 +51,42 @@ class Support:
         )
         self.weights = counts / counts.sum()
         self.cell = float(block)
+        self.hull = _hull_edges(self.points)
+
+
+def _hull_edges(points: np.ndarray) -> np.ndarray:
+    """Edges ``(x0, y0, x1, y1)`` of the convex hull of points, shape (k, 4)."""
+    if len(points) < 3 or np.linalg.matrix_rank(points - points.mean(axis=0)) < 2:
+        return np.empty((0, 4))
+    from scipy.spatial import ConvexHull
+
+    ring = points[ConvexHull(points).vertices]
+    return np.column_stack([ring, np.roll(ring, -1, axis=0)])
+
+
+def into_hull(sup: Support, targets: np.ndarray, margin: float = 1e-3) -> np.ndarray:
+    """Targets outside the support points' hull moved to its nearest point (pulled in a hair).
+
+    A centre of pressure can only lie inside that hull; a CoM hypothesis near
+    the outline, outside the blocks' centroids, gets the pressure of the
+    nearest centre of pressure that exists.
+    """
+    edges = sup.hull
+    if not len(edges):
+        return np.zeros_like(targets)  # one block (or a line of them): its centroid
+    a, b = edges[:, :2], edges[:, 2:]
+    d = b - a
+    # Counter-clockwise hull (scipy's order): inside is to the left of every edge.
+    rel = targets[:, None, :] - a[None]
+    outside = (d[None, :, 0] * rel[..., 1] - d[None, :, 1] * rel[..., 0] < 0).any(axis=1)
+    if not outside.any():
+        return targets
+    t = np.clip((rel * d[None]).sum(-1) / (d * d).sum(-1)[None], 0.0, 1.0)
+    foot = a[None] + t[..., None] * d[None]
+    nearest = foot[np.arange(len(targets)), np.argmin(((targets[:, None] - foot) ** 2).sum(-1), 1)]
+    centre = sup.weights @ sup.points
+    moved = centre + (1.0 - margin) * (nearest - centre)
+    return np.where(outside[:, None], moved, targets)
 
 
 _SUPPORTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -80,24 +116,35 @@ def _clipped_tilt(base: np.ndarray, x: np.ndarray, target: np.ndarray) -> np.nda
     moments = np.einsum("nj,jk,jl->nkl", base, feats, feats) + 1e-12 * np.eye(3)
     theta = np.linalg.solve(moments, goal[..., None])[..., 0]  # the unclipped tilt
 
-    def objective(theta):
+    def objective(theta, base, goal):
         lin = np.maximum(theta @ feats.T, 0.0)
         return 0.5 * (lin * lin * base).sum(axis=1) - np.einsum("nk,nk->n", theta, goal)
 
-    for _ in range(TILT_ITERATIONS):
-        lin = theta @ feats.T  # (n, N)
-        grad = (np.maximum(lin, 0.0) * base) @ feats - goal
-        if np.abs(grad).max() < 1e-10:
+    todo = np.arange(len(theta))
+    for _ in range(TILT_ITERATIONS):  # on the rows not yet solved (most never clip)
+        th, bs, gl = theta[todo], base[todo], goal[todo]
+        lin = th @ feats.T
+        grad = (np.maximum(lin, 0.0) * bs) @ feats - gl
+        keep = np.abs(grad).max(axis=1) >= 1e-10
+        todo, th, bs, gl, lin, grad = (
+            todo[keep],
+            th[keep],
+            bs[keep],
+            gl[keep],
+            lin[keep],
+            grad[keep],
+        )
+        if not len(todo):
             break
-        hess = np.einsum("nj,jk,jl->nkl", (lin > 0) * base, feats, feats) + 1e-12 * np.eye(3)
+        hess = np.einsum("nj,jk,jl->nkl", (lin > 0) * bs, feats, feats) + 1e-12 * np.eye(3)
         step = -np.linalg.solve(hess, grad[..., None])[..., 0]
-        f0, alpha = objective(theta), np.ones(len(theta))
+        f0, alpha = objective(th, bs, gl), np.ones(len(th))
         for _ in range(6):
-            worse = objective(theta + alpha[:, None] * step) > f0 + 1e-15
+            worse = objective(th + alpha[:, None] * step, bs, gl) > f0 + 1e-15
             if not worse.any():
                 break
             alpha = np.where(worse, 0.5 * alpha, alpha)
-        theta = theta + alpha[:, None] * step
+        theta[todo] = th + alpha[:, None] * step
     p = np.maximum(theta @ feats.T, 0.0) * base
     total = p.sum(axis=1, keepdims=True)
     return np.where(
@@ -115,7 +162,7 @@ def pressures(sup: Support, coms_rel: np.ndarray, family: str = "linear") -> np.
       tilted the same way: mass concentrated towards the CoM.
     """
     x = sup.points
-    coms_rel = np.asarray(coms_rel, dtype=float).reshape(-1, 2)
+    coms_rel = into_hull(sup, np.asarray(coms_rel, dtype=float).reshape(-1, 2))
     if family == "linear":
         return _clipped_tilt(sup.weights, x, coms_rel)
     d = np.hypot(x[None, :, 0] - coms_rel[:, :1], x[None, :, 1] - coms_rel[:, 1:])

@@ -1,0 +1,251 @@
+"""How well motion models predict a push, told the true CoM and friction (issue 12, section 2).
+
+For every benchmark object and friction class, ``--trials`` random trials
+(``simulators.random_simulator``: random mass distribution, CoM and contact
+friction), each pushed ``--pushes`` times with ``comcore.sample_pushes`` (3 cm
+after contact; half along the inward normal, half within ``--cone`` rad of it).
+The true motions come from the default exact quasi-static engine and from the
+pymunk engine (the same object, mass and friction). The models are asked about
+the true CoM and friction:
+
+* ``limit-surface``: ``comcore.LimitSurfaceModel(pusher_radius=...)`` with its
+  defaults, asked as the active estimator asks it (every pixel of the mask at
+  once, the true CoM among them, so its lattice interpolation is included);
+* ``limit-surface peaked``: the same with ``pressure="peaked"``;
+* ``ellipsoid``: ``predictors.EllipsoidPredictor(pusher_radius=...)``.
+
+Metrics per engine, model and friction class: how often the predicted sense
+of rotation is the true one (pushes that turn the object by more than 2 deg),
+median and 90th percentile of the rotation error (rad) by lever arm (the CoM's
+distance to the push line), and of the error of the CoM's displacement
+(metres: what the active likelihood compares); Obj19 (the 31 cm bar) apart.
+``--fit-scales`` fits the Student-t (3 dof) error scales in the active
+likelihood's form, ``a + b / (1 + (lever / 3.75 cm)^2)`` rad and
+``c + d * |predicted displacement|`` m, by maximum likelihood;
+``--scales a,b,c,d`` reports the coverage of given scales (tune on one seed,
+report on another).
+
+Usage::
+
+    PYTHONPATH=. nice -n 10 python benchmarks/eval_motion_model.py --seed 1 --fit-scales
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+from scipy import optimize
+
+import comcore
+import simulators
+from predictors import EllipsoidPredictor
+
+BIG_ROTATION_RAD = np.radians(2.0)
+LEVER_BINS_M = ((0.0, 0.01), (0.01, 0.03), (0.03, 1.0))
+NEAR_LINE_M = 0.0375
+DOF = 3.0
+MODELS = ("limit-surface", "limit-surface peaked", "ellipsoid")
+
+
+def parse_args(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--objects", default="all", help="'all', a count (first N) or names: Obj1,Obj19")
+    p.add_argument("--trials", type=int, default=2, help="trials per object and friction class")
+    p.add_argument("--pushes", type=int, default=12, help="pushes per trial (half along normals)")
+    p.add_argument("--cone", type=float, default=0.3)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--engines", default="quasistatic,pymunk")
+    p.add_argument("--models", default=",".join(MODELS))
+    p.add_argument("--fit-scales", action="store_true", help="fit the error scales (ML)")
+    p.add_argument("--scales", default=None, help="a,b,c,d: report these scales' coverage")
+    p.add_argument("--json", default=None, help="write the residuals here")
+    args = p.parse_args(argv)
+    names = list(simulators.BENCHMARK_OBJECTS)
+    if args.objects == "all":
+        args.objects = names
+    elif args.objects.isdigit():
+        args.objects = names[: int(args.objects)]
+    else:
+        args.objects = [o.strip() for o in args.objects.split(",") if o.strip()]
+    args.engines = [e.strip() for e in args.engines.split(",") if e.strip()]
+    args.models = [m.strip() for m in args.models.split(",") if m.strip()]
+    for bad in set(args.models) - set(MODELS):
+        p.error(f"unknown model {bad!r}; choose from {MODELS}")
+    if args.trials < 1 or args.pushes < 2:
+        p.error("--trials must be >= 1 and --pushes >= 2")
+    if args.scales is not None:
+        args.scales = [float(v) for v in args.scales.split(",")]
+        if len(args.scales) != 4:
+            p.error("--scales needs four numbers a,b,c,d")
+    return args
+
+
+def trial_pushes(sim, n, cone, rng):
+    """``n`` pushes (half along normals, half within ``cone``) the simulator accepts."""
+    out = []
+    for k, c in ((n // 2, 0.0), (n - n // 2, cone)):
+        got = []
+        for _ in range(20):
+            for push in comcore.sample_pushes(sim.mask, k - len(got), cone=c, rng=rng):
+                try:
+                    sim.push(push)
+                except ValueError:  # the disc would overlap the object at the start
+                    continue
+                got.append(push)
+            if len(got) == k:
+                break
+        out.extend(got)
+    return np.array(out)
+
+
+def predict(name, sim, pushes):
+    """Motions of the model ``name`` at the true CoM and friction, (n, 3)."""
+    mask, com, mu = sim.mask, np.asarray(sim.com_px), sim.mu_contact
+    if name == "ellipsoid":
+        model = EllipsoidPredictor(pusher_radius=sim.pusher_radius)
+        return model.predict_hypotheses(mask, pushes, com[None], mu)[0]
+    pressure = "peaked" if name.endswith("peaked") else "linear"
+    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius, pressure=pressure)
+    hyps = np.vstack([com, mask.pixels])  # as the active estimator asks: one push at a time
+    return np.stack([model.predict_hypotheses(mask, p[None], hyps, mu)[0, 0] for p in pushes])
+
+
+def residuals(sim, pushes, pred, true):
+    """Per push: lever (m), true and predicted theta, CoM displacement error and size (m)."""
+    res = sim.mask.resolution
+    com = np.asarray(sim.com_px)
+    lever = np.abs(comcore.signed_line_distance(com[None], pushes)[0]) * res
+    offset = com - np.asarray(sim.mask.centroid)
+
+    def com_move(m):
+        return m[:, 1:] + comcore.rotate_vectors(np.tile(offset, (len(m), 1)), m[:, 0]) - offset
+
+    moved_pred = com_move(pred)
+    err = np.hypot(*(com_move(true) - moved_pred).T) * res
+    size = np.hypot(*moved_pred.T) * res
+    return np.column_stack([lever, true[:, 0], pred[:, 0], err, size])
+
+
+def run(args):
+    rows = {}  # (engine, model, friction) -> list of residual arrays, with object names
+    for oi, name in enumerate(args.objects):
+        for fi, friction in enumerate(("low", "high")):
+            for t in range(args.trials):
+                seq = np.random.SeedSequence([args.seed, oi, fi, t])
+                sim_rng, push_rng = (np.random.default_rng(s) for s in seq.spawn(2))
+                sim = simulators.random_simulator(name, friction=friction, rng=sim_rng)
+                pushes = trial_pushes(sim, args.pushes, args.cone, push_rng)
+                preds = {m: predict(m, sim, pushes) for m in args.models}
+                for engine in args.engines:
+                    settings = simulators.EngineSettings(engine=engine)
+                    robot = sim.__class__(
+                        sim.shape, sim.mass, mu_contact=sim.mu_contact, settings=settings
+                    )
+                    true = robot.push_motions(pushes)
+                    for m, pred in preds.items():
+                        r = residuals(sim, pushes, pred, true)
+                        rows.setdefault((engine, m, friction), []).append((name, r))
+    return rows
+
+
+def summary(r):
+    """Sense agreement, rotation errors by lever bin and displacement errors of residual rows."""
+    big = np.abs(r[:, 1]) > BIG_ROTATION_RAD
+    sense = float(np.mean(np.sign(r[big, 1]) == np.sign(r[big, 2]))) if big.any() else np.nan
+    dtheta = np.abs(r[:, 2] - r[:, 1])
+    parts = [f"{sense:.3f}", f"{np.median(dtheta):.3f} / {np.percentile(dtheta, 90):.3f}"]
+    for lo, hi in LEVER_BINS_M:
+        sel = (r[:, 0] >= lo) & (r[:, 0] < hi)
+        e = dtheta[sel]
+        parts.append(f"{np.median(e):.3f} / {np.percentile(e, 90):.3f}" if sel.any() else "-")
+    parts.append(f"{1e3 * np.median(r[:, 3]):.2f} / {1e3 * np.percentile(r[:, 3], 90):.2f}")
+    return parts, len(r)
+
+
+def table(rows, objects=None):
+    bins = " | ".join(f"lever {100 * lo:g}-{100 * hi:g} cm" for lo, hi in LEVER_BINS_M[:-1])
+    lines = [
+        f"| engine | model | friction | sense | abs(dtheta) rad, median / p90 | {bins} "
+        f"| lever > {100 * LEVER_BINS_M[-1][0]:g} cm | CoM displacement error (mm) | pushes |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for (engine, model, friction), parts in rows.items():
+        chosen = [r for n, r in parts if objects is None or n in objects]
+        if chosen:
+            cells, n = summary(np.vstack(chosen))
+            lines.append(f"| {engine} | {model} | {friction} | " + " | ".join(cells) + f" | {n} |")
+    return "\n".join(lines)
+
+
+def _t_logpdf(res_sq, scale, dim):
+    return -0.5 * (DOF + dim) * np.log1p(res_sq / (DOF * scale**2)) - dim * np.log(scale)
+
+
+def scales_nll(params, r):
+    a, b, c, d = np.abs(params)
+    th_scale = a + b / (1 + (r[:, 0] / NEAR_LINE_M) ** 2)
+    tr_scale = c + d * r[:, 4]
+    ll = _t_logpdf((r[:, 2] - r[:, 1]) ** 2, th_scale, 1) + _t_logpdf(r[:, 3] ** 2, tr_scale, 2)
+    return -float(ll.mean())
+
+
+def fit_scales(r):
+    """Maximum-likelihood ``(a, b, c, d)`` of the Student-t error scales."""
+    start = np.array([0.01, 0.1, 0.001, 0.05])
+    best = optimize.minimize(scales_nll, start, args=(r,), method="Nelder-Mead",
+                             options={"xatol": 1e-6, "fatol": 1e-6, "maxiter": 4000})  # fmt: skip
+    return np.abs(best.x), best.fun
+
+
+def coverage(scales, r):
+    """Share of rotation and displacement residuals within 1, 2, 3 scales."""
+    a, b, c, d = scales
+    th = np.abs(r[:, 2] - r[:, 1]) / (a + b / (1 + (r[:, 0] / NEAR_LINE_M) ** 2))
+    tr = r[:, 3] / (c + d * r[:, 4])
+    return [float(np.mean(th <= k)) for k in (1, 2, 3)], [
+        float(np.mean(tr <= k)) for k in (1, 2, 3)
+    ]
+
+
+def scale_report(rows, args):
+    for (engine, model, friction), parts in sorted(rows.items()):
+        if friction != "low":
+            continue
+        r = np.vstack([p for _, p in parts] + [p for _, p in rows[(engine, model, "high")]])
+        if args.fit_scales:
+            s, nll = fit_scales(r)
+            print(f"{engine:11s} {model:21s} fitted a={s[0]:.4f} rad b={s[1]:.4f} rad "
+                  f"c={1e3 * s[2]:.2f} mm d={s[3]:.3f}  nll/push {nll:.3f}")  # fmt: skip
+        if args.scales is not None:
+            th, tr = coverage(args.scales, r)
+            nll = scales_nll(args.scales, r)
+            print(f"{engine:11s} {model:21s} given scales: nll/push {nll:.3f}"
+                  f"  rotation within 1/2/3 scales {th[0]:.2f}/{th[1]:.2f}/{th[2]:.2f}"
+                  f"  displacement {tr[0]:.2f}/{tr[1]:.2f}/{tr[2]:.2f}")  # fmt: skip
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    t0 = time.perf_counter()
+    rows = run(args)
+    n_trials = len(args.objects) * 2 * args.trials
+    print(f"{n_trials} trials x {args.pushes} pushes, seed {args.seed}, "
+          f"{time.perf_counter() - t0:.0f} s\n")  # fmt: skip
+    print(table(rows))
+    if "Obj19" in args.objects:
+        print("\nObj19 (the 31 cm bar) only:\n")
+        print(table(rows, {"Obj19"}))
+    if args.fit_scales or args.scales is not None:
+        print()
+        scale_report(rows, args)
+    if args.json:
+        out = {" / ".join(k): [[n, r.tolist()] for n, r in v] for k, v in rows.items()}
+        with open(args.json, "w") as f:
+            json.dump(out, f)
+
+
+if __name__ == "__main__":
+    main()
