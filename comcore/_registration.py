@@ -22,12 +22,19 @@ How it works
    the consistent rotations are evenly spaced by ``2 pi / n`` the outline has an
    ``n``-fold symmetry; ``theta`` is always the consistent rotation of smallest
    magnitude.
-5. **Observability.** ``ambiguous`` is set when the rotation moves the outline
-   along itself: the Gauss-Newton information on theta (translation
-   eliminated) expressed as a lever arm and divided by the outline's RMS radius
-   is below :data:`MIN_ROTATION_VISIBILITY` (a rasterised disc scores about
-   0.08 from its pixel staircase alone), or when the consistent rotations are
-   not evenly spaced (two different fits explain the masks).
+5. **Observability.** ``ambiguous`` is set when the rotation cannot be read
+   from the outline: (a) it moves the outline along itself: the Gauss-Newton
+   information on theta (translation eliminated) as a lever arm, divided by
+   the outline's RMS radius, is below :data:`MIN_ROTATION_VISIBILITY` (about
+   0 to 1; a rasterised disc scores 0.07 to 0.14 from its pixel staircase
+   alone, radius 40 to 6 px, a 1.1:1 ellipse 0.12, a 1.2:1 ellipse 0.19, a
+   regular octagon 0.26, the benchmark objects 0.26 (the hexagon) to 1.07);
+   or (b) the predicted
+   standard deviation of theta, :data:`OUTLINE_NOISE_PX` over the square root
+   of that information summed over the outline points, exceeds
+   :data:`MAX_THETA_STD` (a small object: too few outline pixels); or (c) the
+   consistent rotations are not evenly spaced (two different fits explain
+   the masks).
 """
 
 from __future__ import annotations
@@ -52,7 +59,7 @@ SCAN_STEP = math.radians(2.0)
 #: Signed distances (pixels) are clipped at this in the coarse cost.
 COARSE_CLIP_PX = 8.0
 #: At most this many outline points in the coarse cost.
-COARSE_POINTS = 400
+COARSE_POINTS = 200
 #: Coarse candidates whose RMS distance exceeds the best one's by more than this are dropped.
 COARSE_MARGIN_PX = 0.6
 #: At most this many candidates get a fine fit.

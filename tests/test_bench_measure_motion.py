@@ -35,6 +35,9 @@ def test_bench_measure_motion_script_runs():
     assert lines[3] == "  flagged ambiguous: 0 (none)"
     assert lines[4].startswith("  pushes redrawn because the object left the camera image: ")
     assert lines[5].startswith("  symmetry reported: {1: 2}")
-    assert re.fullmatch(rf"  time per call: median {number} ms \(p10 {number}, p90 {number}\)", lines[6])
+    assert re.fullmatch(
+        rf"  time per call: median {number} ms wall \(p10 {number}, p90 {number}\), {number} ms CPU",
+        lines[6],
+    )
     assert lines[7].startswith("    Obj5: theta median ")
     assert len(lines) == 8
