@@ -49,6 +49,7 @@ from ._conventions import rotation_matrix
 from ._errors import ImageError
 from ._mask import Mask
 from ._types import Motion
+from ._validation import check_finite
 
 __all__ = ["MotionMeasurement", "measure_motion"]
 
@@ -330,7 +331,7 @@ def _symmetry_order(angles: np.ndarray) -> int:
     return n if np.all(np.abs(rel - expected) <= SPACING_TOLERANCE) else 0
 
 
-def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
+def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> MotionMeasurement:
     """Measure the rigid motion of the object between two masks of one fixed camera.
 
     Parameters
@@ -338,6 +339,13 @@ def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
     before, after : Mask
         The object before and after the motion, in the same camera (same
         shape and resolution), each wholly in view.
+    near_theta : float, optional
+        Where several rotations are consistent with the masks (a symmetric
+        outline), the one nearest to this (radians) is returned, on its
+        branch: ``|theta - near_theta| <= pi / symmetry``. Default 0: the
+        smallest rotation, right for one push. A caller tracking an object
+        over many pushes against its first mask passes its predicted
+        rotation.
 
     Returns
     -------
@@ -351,9 +359,8 @@ def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
         rigid motions at 2.5 mm per pixel). ``symmetry`` is ``n`` when the
         outline matches itself turned by ``2 pi / n`` (a rectangle 2, a
         square 4, a regular hexagon 6); ``theta`` is then, as always, the
-        consistent rotation of smallest magnitude, so ``|theta| <= pi / n``:
-        a caller that knows the rotation may be larger adds a multiple of
-        ``2 pi / n``. ``ambiguous`` is True when the rotation is not
+        consistent rotation nearest to ``near_theta`` (by default the
+        smallest, ``|theta| <= pi / n``). ``ambiguous`` is True when the rotation is not
         observable from the outline (a disc, a near-disc, a small regular
         polygon) or two different rotations explain the masks; the
         translation is still valid, ``theta`` is not, and ``symmetry`` is 1.
@@ -363,7 +370,8 @@ def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
     TypeError
         If ``before`` or ``after`` is not a :class:`comcore.Mask`.
     ValueError
-        If the masks differ in shape or resolution.
+        If the masks differ in shape or resolution, or ``near_theta`` is not
+        finite.
     comcore.ImageError
         If a mask touches the image border (the object may be partly out of
         view; its outline would be cut). A ``ValueError``.
@@ -393,12 +401,13 @@ def measure_motion(before: Mask, after: Mask) -> MotionMeasurement:
     >>> m.ambiguous, round(m.motion.tx, 1), round(m.motion.ty, 1)
     (True, 4.0, 0.0)
     """
-    return _measure(before, after)[0]
+    return _measure(before, after, near_theta)[0]
 
 
-def _measure(before: Mask, after: Mask) -> tuple[MotionMeasurement, dict]:
+def _measure(before: Mask, after: Mask, near_theta=0.0) -> tuple[MotionMeasurement, dict]:
     """:func:`measure_motion` and its diagnostics (visibility, theta information, fits)."""
     _check_pair(before, after)
+    near = check_finite(near_theta, "near_theta")
     h, w = before.shape
     rows = np.flatnonzero(before.data.any(axis=1) | after.data.any(axis=1))
     cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
@@ -424,13 +433,13 @@ def _measure(before: Mask, after: Mask) -> tuple[MotionMeasurement, dict]:
     consistent = [x for x, r in fits if r <= best_rms + _consistency_tolerance(best_rms)]
     angles = np.array([x[0] for x in consistent])
     order = _symmetry_order(angles)
-    chosen = problem.fit(consistent[int(np.argmin(np.abs(angles)))], radius)
+    chosen = problem.fit(consistent[int(np.argmin(np.abs(_wrap(angles - near))))], radius)
     visible = problem.visibility(chosen)
     information = problem.theta_information(chosen)
     theta_std = OUTLINE_NOISE_PX / math.sqrt(information) if information > 0 else math.inf
     ambiguous = order == 0 or visible < MIN_ROTATION_VISIBILITY or theta_std > MAX_THETA_STD
     symmetry = 1 if ambiguous else order
-    motion = Motion(float(_wrap(chosen[0])), float(chosen[1]), float(chosen[2]))
+    motion = Motion(near + float(_wrap(chosen[0] - near)), float(chosen[1]), float(chosen[2]))
     diagnostics = {
         "visibility": visible,
         "theta_information": information,

@@ -127,6 +127,26 @@ def test_a_rectangle_turned_nearly_half_a_turn_reports_the_small_rotation():
     assert m.motion.theta == pytest.approx(math.radians(-5), abs=math.radians(0.5))
 
 
+def test_near_theta_picks_the_consistent_rotation_nearest_to_it():
+    before, after = pair(rectangle(30, 15), math.radians(100))
+    assert comcore.measure_motion(before, after).motion.theta == pytest.approx(
+        math.radians(-80), abs=math.radians(1.0)
+    )
+    m = comcore.measure_motion(before, after, near_theta=1.6)
+    assert m.motion.theta == pytest.approx(math.radians(100), abs=math.radians(1.0))
+
+
+def test_near_theta_puts_an_asymmetric_rotation_on_its_branch():
+    m = comcore.measure_motion(*pair(L_SHAPE, math.radians(150)), near_theta=2 * np.pi)
+    assert m.motion.theta == pytest.approx(math.radians(150) + 2 * np.pi, abs=math.radians(0.5))
+
+
+def test_near_theta_must_be_finite():
+    mask = comcore.Mask(np.pad(np.ones((10, 10), bool), 5))
+    with pytest.raises(ValueError, match="near_theta must be a finite number, got nan"):
+        comcore.measure_motion(mask, mask, near_theta=float("nan"))
+
+
 def test_an_asymmetric_shape_turned_far_is_measured_in_full():
     m = comcore.measure_motion(*pair(L_SHAPE, math.radians(150)))
     assert m.symmetry == 1
