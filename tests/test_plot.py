@@ -44,22 +44,18 @@ def toy_push(action):
 
 
 def estimates():
-    out = {
+    return {
         "alg1": comcore.estimate_heatmap(MASK, ACTIONS, MOTIONS),
         "alg2": comcore.estimate_progressive(MASK, ACTIONS, MOTIONS),
         "centroid": comcore.Estimate(MASK.centroid, MASK.centroid_m, MASK.data),
         "active": comcore.estimate_active(MASK, toy_push, max_pushes=4, rng=0),
+        "posterior": comcore.estimate_posterior(MASK, ACTIONS, MOTIONS),
     }
-    if hasattr(comcore, "estimate_posterior"):
-        out["posterior"] = comcore.estimate_posterior(MASK, ACTIONS, MOTIONS)
-    return out
 
 
 @pytest.mark.parametrize("name", ["alg1", "alg2", "centroid", "active", "posterior"])
 def test_every_estimate_renders_to_a_png(name, tmp_path):
-    est = estimates().get(name)
-    if est is None:
-        pytest.skip(f"{name} is not in this build")
+    est = estimates()[name]
     candidates = None if name == "active" else ACTIONS
     ax = comcore.plot.plot_estimate(MASK, est, actions=candidates, truth=TRUE_COM)
     path = tmp_path / f"{name}.png"
@@ -70,7 +66,9 @@ def test_every_estimate_renders_to_a_png(name, tmp_path):
     assert "true CoM (10.5, 10.5)" in labels
 
 
-@pytest.mark.parametrize(("name", "key"), [("alg1", "heatmap"), ("active", "posterior")])
+@pytest.mark.parametrize(
+    ("name", "key"), [("alg1", "heatmap"), ("active", "posterior"), ("posterior", "posterior")]
+)
 def test_a_heat_map_or_posterior_colours_the_object(name, key):
     est = estimates()[name]
     ax = comcore.plot.plot_estimate(MASK, est, actions=None if name == "active" else ACTIONS)

@@ -74,8 +74,8 @@ def check_resolution(value: float) -> float:
     return float(value)
 
 
-def _read_grey(path: Path) -> np.ndarray:
-    """The image as an array (grey (H, W) or colour (H, W, 3|4)), values 0..255."""
+def _read_image(path: Path) -> np.ndarray:
+    """The image file as an array: grey (H, W) or RGB(A) (H, W, 3|4), in its own units."""
     try:
         import cv2
     except ImportError:
@@ -86,59 +86,31 @@ def _read_grey(path: Path) -> np.ndarray:
             raise InputError(f"--mask: cannot read {path} as an image")
         if image.ndim == 3:  # OpenCV's BGR(A) to RGB(A)
             image = image[..., [2, 1, 0, *range(3, image.shape[2])]]
-        scale = 255.0 / 65535.0 if image.dtype == np.uint16 else 1.0
-        return np.asarray(image, float) * scale
+        return image
     try:
         from matplotlib import image as mpimg
     except ImportError as e:
         raise InputError("--mask: reading images needs pip install comcore[sim]") from e
     try:
-        image = np.asarray(mpimg.imread(path), float)
+        return np.asarray(mpimg.imread(path))
     except Exception as e:  # matplotlib/Pillow raise several types on a bad file
         raise InputError(f"--mask: cannot read {path} as an image") from e
-    return image * 255.0 if image.max() <= 1.0 else image
 
 
-def _fallback_mask(image: np.ndarray, resolution: float) -> comcore.Mask:
-    """A mask from an image when ``comcore.mask_from_image`` is not available.
+def read_mask(path, resolution: float, side: str = "auto") -> comcore.Mask:
+    """The object mask of an image file, through :func:`comcore.mask_from_image`.
 
-    Grey (colour averaged) above 127 is the object; the checks say what is
-    wrong with the image instead of letting the pushes fail later.
+    ``side``: whether the object is ``"bright"`` or ``"dark"`` on its table, or
+    ``"auto"``. What is wrong with an image (constant, several objects, touching
+    the border, ...) is said about the image, as :class:`comcore.ImageError`
+    words it.
     """
-    if image.ndim == 3:
-        rgb = image[..., :3]
-        if np.ptp(rgb, axis=2).max() > 32:
-            raise InputError(
-                "is a colour image, not a mask: give a black-and-white mask "
-                "(object white, background black)"
-            )
-        image = rgb.mean(axis=2)
-    data = image > 127
-    if not data.any():
-        raise InputError(
-            "the mask must contain at least one object pixel (none is brighter than 127)"
-        )
-    if data.all():
-        raise InputError("every pixel is brighter than 127: the mask holds no background")
-    border = np.concatenate([data[0], data[-1], data[:, 0], data[:, -1]])
-    if border.mean() > 0.5:
-        raise InputError(
-            "the object (pixels brighter than 127) covers most of the image border: "
-            "is the mask inverted? The object must be white on black"
-        )
-    return comcore.Mask(data, resolution=resolution)
-
-
-def read_mask(path, resolution: float) -> comcore.Mask:
-    """The object mask of an image file, through :func:`comcore.mask_from_image` if present."""
     path = Path(path)
     if not path.is_file():
         raise InputError(f"--mask: no such file: {path}")
-    image = _read_grey(path)
+    image = _read_image(path)
     try:
-        if hasattr(comcore, "mask_from_image"):
-            return comcore.mask_from_image(image, resolution=resolution)
-        return _fallback_mask(image, resolution)
+        return comcore.mask_from_image(image, object=side, resolution=resolution)
     except (TypeError, ValueError) as e:  # comcore.ImageError is a ValueError
         raise InputError(f"--mask: {path}: {e}") from e
 

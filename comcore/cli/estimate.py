@@ -1,7 +1,7 @@
 """``comcore estimate``: the CoM of your own object from a mask image and a CSV of pushes.
 
-The mask is an image of the object seen from above, read through
-:func:`comcore.mask_from_image` (where this build has it). The CSV has one row
+The mask is an image of the object seen from above (a mask, or a photo of
+the object on a plain table), read through :func:`comcore.mask_from_image`. The CSV has one row
 per push with the columns ``sx, sy, ex, ey`` (the pusher's path in pixels,
 x = column, y = row down) and ``theta, tx, ty`` (the observed rotation in
 radians, counter-clockwise on screen, and the displacement of the mask's area
@@ -37,8 +37,8 @@ from ._inputs import (
 
 HELP = "estimate the CoM of your object from a mask image and a CSV of observed pushes"
 
-#: Methods without the offline posterior; ``posterior`` joins when the core has it.
-BASE_METHODS = ("alg2", "alg2-rotation", "alg1", "centroid")
+#: The methods of ``--method``, the default first.
+METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 #: Probability of the posterior's credible region (printed and in the JSON).
 CREDIBLE = 0.9
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
@@ -46,15 +46,8 @@ EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 
 
 def methods() -> tuple[str, ...]:
-    """The methods this build offers, the default first."""
-    if hasattr(comcore, "estimate_posterior"):
-        return ("posterior", *BASE_METHODS)
-    return BASE_METHODS
-
-
-def default_method() -> str:
-    """``posterior`` where the core has it, else ``alg2`` (see ``--help``)."""
-    return methods()[0]
+    """The methods of ``--method``, the default (``posterior``) first."""
+    return METHODS
 
 
 def example_files() -> dict[str, Path]:
@@ -67,12 +60,21 @@ def add_arguments(parser) -> None:
     """Options of ``comcore estimate``."""
     add = parser.add_argument
     files = parser.add_argument_group("input (--mask and --pushes, or --example)")
-    files.add_argument("--mask", help="image of the object seen from above (object bright)")
+    files.add_argument(
+        "--mask", help="image of the object seen from above: a mask or a photo on a plain table"
+    )
     files.add_argument("--pushes", help="CSV with the columns " + ", ".join(COLUMNS))
     files.add_argument(
         "--example",
         action="store_true",
         help="use the example shipped with comcore (an object image and 40 simulated pushes)",
+    )
+    add(
+        "--object",
+        choices=("auto", "bright", "dark"),
+        default="auto",
+        help="the object is brighter or darker than its table in the image (default auto: "
+        "the side that does not touch the image border)",
     )
     lo, hi = RESOLUTION_RANGE
     add(
@@ -84,13 +86,13 @@ def add_arguments(parser) -> None:
     )
     add(
         "--method",
-        choices=methods(),
-        default=default_method(),
-        help="estimator. posterior: the active estimator's posterior over the recorded "
-        "pushes, with a credible region; it weighs every push, so one push observed the "
-        "wrong way does not cut the true CoM away as it does in alg2 (the default where "
-        "this build has it; else alg2). alg2: the paper's Alg. 2; alg2-rotation: Alg. 2 "
-        "taking pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
+        choices=METHODS,
+        default=METHODS[0],
+        help="estimator (default posterior). posterior: the active estimator's posterior over "
+        "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
+        "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
+        "(docs/bench.md measures it). alg2: the paper's Alg. 2; alg2-rotation: Alg. 2 taking "
+        "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
     )
     add(
         "--strict",
@@ -137,9 +139,7 @@ def overlay_path(args) -> Path | None:
 def estimate(mask: comcore.Mask, actions, motions, method: str) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes."""
     if method == "posterior":
-        return comcore.estimate_posterior(  # type: ignore[attr-defined]
-            mask, actions, motions, credible=CREDIBLE
-        )
+        return comcore.estimate_posterior(mask, actions, motions, credible=CREDIBLE)
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -196,7 +196,7 @@ def run(args) -> int:
     try:
         mask_path, pushes_path = _inputs(args)
         resolution = check_resolution(args.resolution)
-        mask = read_mask(mask_path, resolution)
+        mask = read_mask(mask_path, resolution, args.object)
         recorded = read_pushes(pushes_path)
         pushes, dropped = screen_pushes(mask, recorded, strict=args.strict)
     except InputError as e:
