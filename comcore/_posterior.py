@@ -246,14 +246,21 @@ class GridPosterior:
         self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
         self._normalise()
 
-    def _normalise(self):
-        self.log_w -= self.log_w.max()
-        self.log_w -= np.log(np.exp(self.log_w).sum())
+    def _normalise(self) -> float:
+        top = self.log_w.max()
+        self.log_w -= top
+        total = np.log(np.exp(self.log_w).sum())
+        self.log_w -= total
+        return float(top + total)
 
-    def update(self, log_likelihood):
-        """Multiply in a likelihood given as logs, broadcast to (p, m, k)."""
+    def update(self, log_likelihood) -> float:
+        """Multiply in a likelihood given as logs, broadcast to (p, m, k).
+
+        Returns the log of the normaliser: the log marginal likelihood of the
+        observation under the posterior before it.
+        """
         self.log_w = self.log_w + log_likelihood
-        self._normalise()
+        return self._normalise()
 
     @property
     def weights(self) -> np.ndarray:

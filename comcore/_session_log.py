@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import logsumexp
 
 from ._posterior import GridPosterior
 from ._session_update import consistency_threshold
@@ -50,8 +49,7 @@ class SessionLog:
     def add(self, record: dict, post: GridPosterior, loglik=None, excess=None) -> None:
         """Add a push's record; with evidence, multiply its likelihood into ``post``."""
         if loglik is not None:
-            record["log_evidence"] = float(logsumexp(post.log_w + loglik))
-            post.update(loglik)
+            record["log_evidence"] = post.update(loglik)
             self.excess = self.excess + excess
             self.log_evidence += record["log_evidence"]
         self.records.append(record)
