@@ -1,9 +1,12 @@
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import comcore
 
 from .conftest import synthetic_motions
+from .strategies import masks, seeds
 
 
 def random_pushes(mask, n=60, cone=0.0, seed=0):
@@ -328,3 +331,15 @@ def test_two_blobs_script_runs():
     assert lines[0] == "seeds 50:58, 30 pushes, cone 0.3"
     assert lines[2] == "wrong block, largest-area part (the paper): 2/8"  # seeds 53 and 56
     assert lines[3].startswith("wrong block, estimate_progressive: ")
+
+
+@settings(max_examples=30, deadline=None)
+@given(mask=masks(), seed=seeds, mu=st.floats(0.05, 1.5), cone=st.floats(0.0, 1.0))
+def test_exact_senses_are_never_a_contradiction(mask, seed, mu, cone):
+    # A pixel (the true CoM) explains every push, so the part chosen first by its support
+    # has a pixel explaining every left-out push.
+    rng = np.random.default_rng(seed)
+    com = mask.pixels[rng.integers(mask.area_px)]
+    acts = comcore.sample_pushes(mask, 20, cone=cone, rng=rng)
+    est = comcore.estimate_progressive(mask, acts, synthetic_motions(mask, acts, com, mu=mu))
+    assert est.status in ("ok", "no_actions")
