@@ -107,11 +107,12 @@ def test_an_estimator_option_typo_is_refused_before_the_first_trial(tmp_path, ca
     assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
 
 
-def test_an_unwritable_out_folder_is_one_line_not_a_traceback(tmp_path, capsys):
+@pytest.mark.parametrize("extra", [[], ["--conditions", "exact"]])
+def test_an_unwritable_out_folder_is_one_line_not_a_traceback(tmp_path, capsys, extra):
     blocker = tmp_path / "file.txt"
     blocker.write_text("a file where the folder should go")
     args = ["bench", *TINY, "--estimators", "centroid", "--no-figures",
-            "--out", str(blocker / "run")]  # fmt: skip
+            "--out", str(blocker / "run"), *extra]  # fmt: skip
     assert main(args) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"comcore bench: --out {blocker / 'run'}: cannot write there (")

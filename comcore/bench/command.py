@@ -123,6 +123,11 @@ def run(args) -> int:
     except (ValueError, RuntimeError) as e:
         print(f"comcore bench: {e}", file=sys.stderr)
         return 2
+    try:
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        print(f"comcore bench: --out {args.out}: cannot write there ({e})", file=sys.stderr)
+        return 2
     if getattr(args, "conditions", None):
         from ._conditions import run_conditions_command
 
