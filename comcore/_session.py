@@ -355,3 +355,17 @@ class ActiveSession:
         p = self._pose
         moved = apply_motion(com, p.theta, (p.tx, p.ty), self._first.centroid)
         return float(moved[0]), float(moved[1])
+
+
+def _signature() -> inspect.Signature:
+    """ActiveSession's signature with every option named (for introspection and typo checks)."""
+    own = list(inspect.signature(ActiveSession.__init__).parameters.values())
+    options = [
+        p.replace(kind=inspect.Parameter.KEYWORD_ONLY)
+        for name, p in inspect.signature(active_options).parameters.items()
+        if name in _OPTIONS
+    ]
+    return inspect.Signature([*own[:-1], *options])
+
+
+ActiveSession.__init__.__signature__ = _signature()  # type: ignore[attr-defined]
