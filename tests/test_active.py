@@ -371,6 +371,10 @@ def test_a_prior_off_the_object_is_allowed():
         ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
         ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
         ({"selection": "best"}, ValueError, "selection must be one of"),
+        ({"pusher_error": -0.001}, ValueError, "pusher_error"),
+        ({"motion_noise": (0.01,)}, TypeError, "motion_noise must be a pair"),
+        ({"motion_noise": (-0.01, 0.0)}, ValueError, "motion_noise must be a pair with both >= 0"),
+        ({"translation_error": (0.0, 0.1)}, ValueError, "translation_error must be a pair"),
         ({"model_weight": 0.0}, ValueError, "model_weight"),
         ({"model_weight": 1.5}, ValueError, "model_weight"),
         ({"selection": "model"}, ValueError, "selection='model' needs a model"),
@@ -573,3 +577,17 @@ def test_translation_noise_in_pixels_is_deprecated_and_still_works():
             mask, push, max_pushes=2, rng=0, model=ToyModel(), translation_noise=(0.4, 0.056)
         )
     np.testing.assert_allclose(old.extras["posterior"], new.extras["posterior"], atol=1e-12)
+
+
+def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
+    """The sense of a 0.01 rad turn seen through 0.05 rad of tracking noise is half a guess."""
+    mask = _plate()
+    action = comcore.sample_pushes(mask, 1, rng=0)
+    drops = {}
+    for noise in (0.0, 0.05):
+        est = comcore.estimate_posterior(
+            mask, action, [(0.01, 0.0, 0.0)], motion_noise=(noise, 0.0)
+        )
+        history = est.extras["history"]
+        drops[noise] = history[0]["entropy_bits"] - history[1]["entropy_bits"]
+    assert 0 < drops[0.05] < 0.5 * drops[0.0]

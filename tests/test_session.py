@@ -361,3 +361,11 @@ def test_a_mask_of_an_object_leaving_the_view_is_refused_and_changes_nothing():
     with pytest.raises(ValueError, match="mask cannot be registered"):
         session.observe(comcore.Mask(half_out))
     assert session.next_push() == first and session.status == "waiting_observation"
+
+
+def test_the_registration_residual_widens_the_tracking_noise():
+    from comcore._session_update import tracking_noise
+
+    assert tracking_noise((0.01, 0.2), float("nan"), 10.0) == (0.01, 0.2)
+    theta, px = tracking_noise((0.01, 0.2), 0.5, 10.0)
+    assert theta == pytest.approx(np.hypot(0.01, 0.05)) and px == pytest.approx(np.hypot(0.2, 0.5))
