@@ -171,3 +171,22 @@ def test_place_puts_the_object_back_without_a_push(sim):
     assert robot.pushes == 2 and np.array_equal(robot.camera_mask().data, first.data)
     with pytest.raises(ValueError, match="pose"):
         robot.place((0.0, float("nan"), 0.0))
+
+
+def test_a_start_inside_the_object_is_moved_back_along_the_push(sim):
+    shapely = pytest.importorskip("shapely")
+    from simulators._robot import RETREAT_STEP_M, retreat_starts
+
+    robot = SimulatedRobot(sim, rng=0)
+    world = robot.simulator
+    centre = np.array(robot.camera_mask().centroid)
+    starts = np.array([centre, centre - np.array([200.0, 0.0])])  # inside; far outside
+    out = retreat_starts(world, world.initial_pose, starts, np.array([[1.0, 0.0], [1.0, 0.0]]))
+    outline = shapely.Polygon(world.outline_at())
+    w = world.to_world(out)
+    assert not shapely.contains_xy(outline, w[:, 0], w[:, 1]).any()
+    assert out[0, 1] == centre[1] and out[0, 0] < centre[0]  # moved back along the push
+    step = RETREAT_STEP_M / world.resolution
+    back = world.to_world(out[0] + np.array([step, 0.0]))[0]
+    assert shapely.contains_xy(outline, *back)  # one step less would be inside: the nearest
+    assert np.array_equal(out[1], starts[1])
