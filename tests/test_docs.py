@@ -80,22 +80,13 @@ def run_blocks(code: list[str], name: str) -> None:
         run_block(block, f"{name}[block {i}]")
 
 
-#: Blocks that still rely on an earlier block of their page, while their page's owner
-#: rewrites it (docs/active.md: helper "session", issue 13 section 5). Not strict, so the
-#: fix needs no edit here; remove the entry once the page is fixed.
-PENDING = {("active.md", 1), ("active.md", 2)}
-
-
 def all_blocks():
-    out = []
-    for page in PAGES:
-        for i in range(len(blocks(page)) if page.exists() else 0):
-            marks = ()
-            if (page.name, i) in PENDING:
-                marks = pytest.mark.xfail(raises=NameError, strict=False,
-                                          reason="relies on an earlier block (page being fixed)")  # fmt: skip
-            out.append(pytest.param(page, i, id=f"{page.name}[{i}]", marks=marks))
-    return out
+    return [
+        pytest.param(page, i, id=f"{page.name}[{i}]")
+        for page in PAGES
+        if page.exists()
+        for i in range(len(blocks(page)))
+    ]
 
 
 @pytest.mark.parametrize(("page", "index"), all_blocks())
