@@ -1,7 +1,7 @@
 """Accuracy and speed of comcore.measure_motion on simulated 3 cm pushes.
 
 Run: ``python benchmarks/bench_measure_motion.py [--trials 3] [--seed 1]
-[--resolutions 0.0025,0.001,0.005] [--objects Obj1,Obj7] [--per-object]``.
+[--resolutions 0.0025,0.001,0.005] [--objects Obj1,Obj7] [--mask-flip 0.2] [--per-object]``.
 
 For every benchmark object, friction class and trial, a random simulator
 (``simulators.random_simulator``, camera margin ``--margin`` metres so that the
@@ -14,7 +14,9 @@ again, and counted) (about ``sim.mask``'s area centroid, the convention of
 function returns the smallest rotation consistent with a symmetric outline);
 pushes that turned a symmetric object by more than ``pi / symmetry`` are
 counted. The figures are on the shapes not flagged ``ambiguous``; the flagged
-ones are counted. Time: wall time of one call (``time.perf_counter``) and its
+ones are counted. ``--mask-flip p`` adds mask noise: each outline pixel of both
+masks (inside or outside) flipped with probability ``p``, holes filled, the
+largest component kept. Time: wall time of one call (``time.perf_counter``) and its
 CPU time (``time.process_time``: what it costs on a machine others share). Needs
 the ``sim`` extra.
 """
@@ -27,6 +29,7 @@ import time
 from collections import Counter
 
 import numpy as np
+from scipy import ndimage
 
 import comcore
 
@@ -35,7 +38,22 @@ def _parse_list(text: str, kind=str) -> list:
     return [kind(item) for item in text.split(",") if item.strip()]
 
 
-def run(resolution: float, objects, trials: int, seed: int, margin: float) -> list[dict]:
+def noisy(mask: comcore.Mask, flip: float, rng: np.random.Generator) -> comcore.Mask:
+    """The mask with each outline pixel (inside or outside) flipped with probability ``flip``.
+
+    Holes are then filled and the largest component kept, as mask_from_image does.
+    """
+    if flip == 0:
+        return mask
+    data = mask.data
+    edge = (data & ~ndimage.binary_erosion(data)) | (ndimage.binary_dilation(data) & ~data)
+    out = ndimage.binary_fill_holes(data ^ (edge & (rng.random(data.shape) < flip)))
+    return comcore.Mask(comcore.largest_component(out), resolution=mask.resolution)
+
+
+def run(
+    resolution: float, objects, trials: int, seed: int, margin: float, flip: float = 0.0
+) -> list[dict]:
     """One row per push: the errors, the flags and the time of measure_motion."""
     import simulators
 
@@ -56,8 +74,10 @@ def run(resolution: float, objects, trials: int, seed: int, margin: float) -> li
                     d = after.data
                     if not (d[0].any() or d[-1].any() or d[:, 0].any() or d[:, -1].any()):
                         break
+                before = noisy(sim.mask, flip, rng)
+                after = noisy(after, flip, rng)
                 start, start_cpu = time.perf_counter(), time.process_time()
-                m = comcore.measure_motion(sim.mask, after)
+                m = comcore.measure_motion(before, after)
                 seconds = time.perf_counter() - start
                 cpu_seconds = time.process_time() - start_cpu
                 period = 2 * math.pi / m.symmetry
@@ -83,12 +103,15 @@ def run(resolution: float, objects, trials: int, seed: int, margin: float) -> li
     return rows
 
 
-def report(rows: list[dict], resolution: float, trials: int, seed: int, per_object: bool) -> None:
+def report(
+    rows: list[dict], resolution: float, trials: int, seed: int, per_object: bool, flip: float
+) -> None:
     """Print the summary of one resolution (and a line per object if asked)."""
     objects = sorted({r["object"] for r in rows}, key=lambda n: int(n[3:]))
     sizes = np.array([r["shape"] for r in rows])
+    noise = f", outline pixels flipped with p={flip:g}" if flip else ""
     print(
-        f"resolution {resolution * 1000:g} mm/px: {len(rows)} pushes "
+        f"resolution {resolution * 1000:g} mm/px{noise}: {len(rows)} pushes "
         f"({len(objects)} objects x 2 friction classes x {trials}, seed {seed}), "
         f"images {sizes.min(axis=0).tolist()} to {sizes.max(axis=0).tolist()} px"
     )
@@ -145,16 +168,21 @@ def main(argv=None) -> None:
     )
     parser.add_argument("--objects", default="", help="comma-separated (default: all 20)")
     parser.add_argument("--margin", type=float, default=0.08, help="camera margin, metres")
+    parser.add_argument(
+        "--mask-flip", type=float, default=0.0, help="mask noise: outline pixel flip probability"
+    )
     parser.add_argument("--per-object", action="store_true", help="one line per object too")
     args = parser.parse_args(argv)
     if args.trials < 1:
         parser.error(f"--trials must be at least 1, got {args.trials}")
+    if not 0 <= args.mask_flip <= 1:
+        parser.error(f"--mask-flip must be in [0, 1], got {args.mask_flip}")
     import simulators
 
     objects = _parse_list(args.objects) or list(simulators.BENCHMARK_OBJECTS)
     for resolution in _parse_list(args.resolutions, float):
-        rows = run(resolution, objects, args.trials, args.seed, args.margin)
-        report(rows, resolution, args.trials, args.seed, args.per_object)
+        rows = run(resolution, objects, args.trials, args.seed, args.margin, args.mask_flip)
+        report(rows, resolution, args.trials, args.seed, args.per_object, args.mask_flip)
 
 
 if __name__ == "__main__":

@@ -30,8 +30,10 @@ How it works
    alone, radius 40 to 6 px, a 1.1:1 ellipse 0.12, a 1.2:1 ellipse 0.19, a
    regular octagon 0.26, the benchmark objects 0.26 (the hexagon) to 1.07);
    or (b) the predicted
-   standard deviation of theta, :data:`OUTLINE_NOISE_PX` over the square root
-   of that information summed over the outline points, exceeds
+   standard deviation of theta, :data:`OUTLINE_NOISE_PX` (scaled up by
+   ``residual_px / REFERENCE_RESIDUAL_PX`` when the fit is worse than an exact
+   rigid motion's: mask noise) over the square root of that information
+   summed over the outline points, exceeds
    :data:`MAX_THETA_STD` (a small object: too few outline pixels); or (c) the
    consistent rotations are not evenly spaced (two different fits explain
    the masks).
@@ -74,6 +76,9 @@ MIN_ROTATION_VISIBILITY = 0.2
 #: Effective independent error (px) of one outline point of a binary mask, calibrated so
 #: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std.
 OUTLINE_NOISE_PX = 0.35
+#: The 90th percentile of ``residual_px`` over those exact rigid motions: a fit whose residual
+#: is larger (mask noise) has its outline noise, and the predicted theta std, scaled up.
+REFERENCE_RESIDUAL_PX = 0.21
 #: Above this predicted theta std (radians, 1 degree) the rotation is not observable.
 MAX_THETA_STD = math.radians(1.0)
 #: Candidates are told apart on every QUICK_STRIDE-th band pixel (bilinear sampling); the
@@ -436,7 +441,9 @@ def _measure(before: Mask, after: Mask, near_theta=0.0) -> tuple[MotionMeasureme
     chosen = problem.fit(consistent[int(np.argmin(np.abs(_wrap(angles - near))))], radius)
     visible = problem.visibility(chosen)
     information = problem.theta_information(chosen)
-    theta_std = OUTLINE_NOISE_PX / math.sqrt(information) if information > 0 else math.inf
+    residual = problem.outline_rms(chosen)
+    noise = OUTLINE_NOISE_PX * max(1.0, residual / REFERENCE_RESIDUAL_PX)
+    theta_std = noise / math.sqrt(information) if information > 0 else math.inf
     ambiguous = order == 0 or visible < MIN_ROTATION_VISIBILITY or theta_std > MAX_THETA_STD
     symmetry = 1 if ambiguous else order
     motion = Motion(near + float(_wrap(chosen[0] - near)), float(chosen[1]), float(chosen[2]))
@@ -447,7 +454,5 @@ def _measure(before: Mask, after: Mask, near_theta=0.0) -> tuple[MotionMeasureme
         "fits": fits,
         "order": order,
     }
-    measurement = MotionMeasurement(
-        motion, problem.outline_rms(chosen), bool(ambiguous), int(symmetry)
-    )
+    measurement = MotionMeasurement(motion, residual, bool(ambiguous), int(symmetry))
     return measurement, diagnostics

@@ -44,7 +44,7 @@ def angle_error(measured, truth, order=1):
 
 
 # -- laws -----------------------------------------------------------------------------------
-@settings(max_examples=25)
+@settings(max_examples=20)
 @given(cst.masks())
 def test_a_mask_against_itself_did_not_move(mask):
     m = comcore.measure_motion(mask, mask)
@@ -58,7 +58,7 @@ def displacement_rms(mask, a, b):
     return float(np.sqrt(np.mean(np.sum((pa - pb) ** 2, axis=1))))
 
 
-@settings(max_examples=40)
+@settings(max_examples=30)
 @given(cst.moved_polygon_masks())
 def test_recovers_the_rigid_motion_of_a_rendered_polygon_to_half_a_pixel(case):
     # the law: the measured motion moves the object's pixels within half a pixel (RMS) of
@@ -72,14 +72,14 @@ def test_recovers_the_rigid_motion_of_a_rendered_polygon_to_half_a_pixel(case):
         assert displacement_rms(before, m.motion, (nearest, truth.tx, truth.ty)) < 0.5
 
 
-@settings(max_examples=25)
+@settings(max_examples=20)
 @given(cst.moved_polygon_masks())
 def test_theta_is_the_smallest_consistent_rotation(case):
     m = comcore.measure_motion(*case[:2])
     assert abs(m.motion.theta) <= np.pi / m.symmetry + 1e-9
 
 
-@settings(max_examples=25)
+@settings(max_examples=15)
 @given(cst.moved_polygon_masks())
 def test_measuring_backwards_gives_the_inverse_rotation(case):
     before, after, _ = case
