@@ -56,6 +56,12 @@ class ActiveSession:
     registration is ``ambiguous`` (a disc: the rotation cannot be seen) gives
     the translation only.
 
+    **Noise.** The likelihood's scales are in metres and radians
+    (``pusher_error``, ``motion_noise``, ``theta_noise``,
+    ``translation_error``: see :func:`comcore.estimate_active`); where the
+    session registers masks itself, the registration's residual widens the
+    tracking noise of that push.
+
     Parameters
     ----------
     mask : Mask
@@ -79,7 +85,8 @@ class ActiveSession:
         ``"waiting_push"`` (call :meth:`next_push`), ``"waiting_observation"``
         (call :meth:`observe`), or final: ``"ok"``, ``"budget"``,
         ``"exhausted"`` (no candidate left that can be pushed in this pose),
-        ``"uninformative"``.
+        ``"uninformative"``, or ``"inconsistent"`` (instead of any of them)
+        when no hypothesis explains the motions well (:attr:`consistent`).
     pose : Motion
         The object's pose now relative to the first mask.
 
