@@ -350,3 +350,16 @@ def test_the_methods_benchmark_script_runs():
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]
     assert lines[-1].startswith("time per estimate: ")
+
+
+def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys):
+    _, mask, pushes = files
+    # Both pushes cross the square left to right, the upper one turning it counter-clockwise
+    # (CoM above row 8) and the lower one clockwise (CoM below row 18): no CoM is both.
+    pushes.write_text(HEADER + "0,8,30,8,0.2,3,0\n0,18,30,18,-0.2,3,0\n")
+    code, result, err = estimate_json(capsys, mask, pushes)
+    assert code == 0 and result["status"] == "contradiction"
+    assert "warning: status contradiction: some pushes contradict the others" in err
+    pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES))
+    code, result, err = estimate_json(capsys, mask, pushes)
+    assert code == 0 and result["status"] == "ok" and err == ""

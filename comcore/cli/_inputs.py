@@ -21,6 +21,7 @@ __all__ = [
     "InputError",
     "Pushes",
     "check_resolution",
+    "line_list",
     "read_mask",
     "read_pushes",
     "screen_pushes",
@@ -155,7 +156,17 @@ def read_pushes(path) -> Pushes:
     return Pushes(values[:, :4], values[:, 4:], np.asarray(lines, int))
 
 
-def _lines(lines) -> str:
+def line_list(lines) -> str:
+    """Line numbers for a message: the first ten, then how many more.
+
+    Examples
+    --------
+    >>> line_list([4, 6, 7])
+    '4, 6, 7'
+    >>> line_list(range(2, 14))
+    '2, 3, 4, 5, 6, 7, 8, 9, 10, 11 and 2 more'
+    """
+    lines = list(lines)
     shown = ", ".join(str(int(v)) for v in lines[:10])
     return shown + (f" and {len(lines) - 10} more" if len(lines) > 10 else "")
 
@@ -176,7 +187,7 @@ def screen_pushes(mask: comcore.Mask, pushes: Pushes, *, strict: bool) -> tuple[
     }
     if not reasons:
         return pushes, {}
-    where = _lines(list(reasons))
+    where = line_list(reasons)
     if strict:
         raise InputError(
             f"--strict: {len(reasons)} push(es) miss the object or start inside it: "

@@ -30,6 +30,7 @@ from ._inputs import (
     RESOLUTION_RANGE,
     InputError,
     check_resolution,
+    line_list,
     read_mask,
     read_pushes,
     screen_pushes,
@@ -191,6 +192,82 @@ def _inputs(args):
     return Path(args.mask), Path(args.pushes)
 
 
+#: What a status other than ``ok`` means for the user's recording (a warning on stderr).
+STATUS_MEANINGS = {
+    "inconsistent": "no CoM explains the observed motions well: check the pixel frame, the "
+    "sign of theta (counter-clockwise on screen is positive) and that every push started "
+    "from the pose of the mask",
+    "contradiction": "some pushes contradict the others (a sense observed the wrong way?); "
+    "the estimate rests on the consistent ones",
+    "no_evidence": "no push moved the object measurably: the estimate is the prior's mean",
+    "no_actions": "no push turned the object enough to use: the estimate is the centroid",
+    "flat_heatmap": "the pushes do not single out a region: the estimate is the centroid",
+}
+
+
+def _result(args, mask, recorded, pushes, dropped, est) -> dict:
+    """The JSON object of a run (without the overlay)."""
+    return {
+        "com_px": list(est.com),
+        "com_m": list(est.com_m),
+        "method": args.method,
+        "status": est.status,
+        "used_lines": [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)],
+        "dropped_lines": {str(k): v for k, v in dropped.items()},
+        "n_pushes": len(recorded.lines),
+        "resolution": mask.resolution,
+        "region": region_summary(est, mask.resolution),
+        "covariance_px2": None if est.covariance is None else np.asarray(est.covariance).tolist(),
+        "overlay": None,
+        "overlay_replaced": False,
+    }
+
+
+def _overlay(args, mask, pushes, est, result: dict) -> int:
+    """Write the overlay if asked for (by default it is); fills ``result``; the exit status."""
+    overlay = overlay_path(args)
+    if overlay is None:
+        return 0
+    try:
+        result["overlay_replaced"] = _write_overlay(overlay, mask, pushes, est, args.method)
+    except ModuleNotFoundError as e:
+        why = "the overlay needs matplotlib: pip install comcore[plot]"
+        if args.overlay:  # asked for by name: an error
+            print(f"comcore estimate: cannot write the overlay {overlay}: {why}", file=sys.stderr)
+            return 2
+        print(f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
+              file=sys.stderr)  # fmt: skip
+        return 0
+    except (OSError, ValueError) as e:
+        print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
+        return 2
+    result["overlay"] = str(overlay)
+    if result["overlay_replaced"] and args.json:
+        print(f"comcore estimate: overwrote the existing file {overlay}", file=sys.stderr)
+    return 0
+
+
+def _print_text(result: dict, est: comcore.Estimate) -> None:
+    x, y = est.com
+    print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
+    n_kept = result["n_pushes"] - len(result["dropped_lines"])
+    print(f"method {result['method']}, status {est.status}, {len(est.used)} of {n_kept} "
+          "pushes used")  # fmt: skip
+    region = result["region"]
+    if "credible_radius_px" in region:
+        print(
+            f"{100 * region['credible']:.0f} % credible region: {region['area_px']} px, radius "
+            f"{region['credible_radius_px']:.2f} px = {region['radius_m'] * 1000:.1f} mm"
+        )
+    else:
+        print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
+    if result["used_lines"]:
+        print("pushes used (CSV lines, in order): " + ", ".join(map(str, result["used_lines"])))
+    if result["overlay"] is not None:
+        replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
+        print(f"overlay: {result['overlay']}{replaced}")
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; 0 on success, 2 on a bad file or option, 1 if estimation fails."""
     try:
@@ -205,8 +282,7 @@ def run(args) -> int:
     if dropped:
         print(
             f"comcore estimate: warning: dropped {len(dropped)} of {len(recorded.lines)} pushes "
-            f"that miss the object or start inside it: CSV line(s) "
-            f"{', '.join(map(str, list(dropped)[:10]))}{' ...' if len(dropped) > 10 else ''} "
+            f"that miss the object or start inside it: CSV line(s) {line_list(list(dropped))} "
             "(--strict refuses them)",
             file=sys.stderr,
         )
@@ -215,60 +291,15 @@ def run(args) -> int:
     except (TypeError, ValueError) as e:
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1
-    used_lines = [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)]
-    result = {
-        "com_px": list(est.com),
-        "com_m": list(est.com_m),
-        "method": args.method,
-        "status": est.status,
-        "used_lines": used_lines,
-        "dropped_lines": {str(k): v for k, v in dropped.items()},
-        "n_pushes": len(recorded.lines),
-        "resolution": mask.resolution,
-        "region": region_summary(est, mask.resolution),
-        "covariance_px2": None if est.covariance is None else np.asarray(est.covariance).tolist(),
-        "overlay": None,
-        "overlay_replaced": False,
-    }
-    overlay = overlay_path(args)
-    if overlay is not None:
-        try:
-            result["overlay_replaced"] = _write_overlay(overlay, mask, pushes, est, args.method)
-            result["overlay"] = str(overlay)
-        except ModuleNotFoundError as e:
-            why = "the overlay needs matplotlib: pip install comcore[plot]"
-            if args.overlay:  # asked for by name: an error
-                print(f"comcore estimate: cannot write the overlay {overlay}: {why}",
-                      file=sys.stderr)  # fmt: skip
-                return 2
-            print(f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
-                  file=sys.stderr)  # fmt: skip
-            overlay = None
-        except (OSError, ValueError) as e:
-            print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
-            return 2
-        if overlay is not None and result["overlay_replaced"] and args.json:
-            print(f"comcore estimate: overwrote the existing file {overlay}", file=sys.stderr)
+    if not est.ok:
+        meaning = STATUS_MEANINGS.get(est.status, "the estimator could not do its job fully")
+        print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
+    result = _result(args, mask, recorded, pushes, dropped, est)
+    code = _overlay(args, mask, pushes, est, result)
+    if code:
+        return code
     if args.json:
         print(json.dumps(result))
-        return 0
-    x, y = est.com
-    print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
-    n_used = f"{len(est.used)} of {len(pushes.lines)} pushes used"
-    print(f"method {args.method}, status {est.status}, {n_used}")
-    region = result["region"]
-    if "credible_radius_px" in region:
-        share = f"{100 * region['credible']:.0f} % " if "credible" in region else ""
-        print(
-            f"{share}credible region: {region['area_px']} px, radius "
-            f"{region['credible_radius_px']:.2f} px = {region['radius_m'] * 1000:.1f} mm"
-        )
     else:
-        print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
-    if used_lines:
-        print("pushes used (CSV lines, in order): " + ", ".join(map(str, used_lines)))
-    if overlay is not None:
-        replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
-        print(f"overlay: {overlay}{replaced}")
+        _print_text(result, est)
     return 0
-
