@@ -176,3 +176,35 @@ def test_mask_of_a_camera_image_points_at_mask_from_image():
     img, _ = scene(0, 255)
     with pytest.raises(ValueError, match=r"got values from 0 to 255.*comcore.mask_from_image"):
         comcore.Mask(img)
+
+
+# -- a camera's view ------------------------------------------------------------------------
+def camera_image(mask, rng, table=180.0, ink=60.0, blur=1.0, noise=8.0):
+    """A blurred, noisy uint8 camera image of a dark object given by a mask."""
+    from scipy import ndimage
+
+    grey = np.where(mask.data, ink, table)
+    grey = ndimage.gaussian_filter(grey, blur) + rng.normal(0.0, noise, grey.shape)
+    return np.clip(grey, 0, 255).astype(np.uint8)
+
+
+def test_a_blurred_noisy_camera_image_of_a_simulated_object():
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    sim = simulators.random_simulator("Obj12", "low", rng=0)
+    image = camera_image(sim.mask, np.random.default_rng(1))
+    mask = comcore.mask_from_image(image)
+    overlap = (mask.data & sim.mask.data).sum() / (mask.data | sim.mask.data).sum()
+    assert overlap > 0.97
+
+
+def test_images_to_motion():
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    sim = simulators.random_simulator("Obj5", "low", rng=2, margin=0.08)
+    res = sim.push(comcore.sample_pushes(sim.mask, 1, cone=0.2, rng=3)[0])
+    rng = np.random.default_rng(4)
+    before = comcore.mask_from_image(camera_image(sim.mask, rng, noise=3.0))
+    after = comcore.mask_from_image(camera_image(sim.mask_at(res.pose), rng, noise=3.0))
+    m = comcore.measure_motion(before, after)
+    assert not m.ambiguous and abs(m.motion.theta - res.motion.theta) < np.radians(1.0)
