@@ -65,6 +65,8 @@ class RobotPush(NamedTuple):
     """Whether the pusher touched the object (``False``: a miss, the object did not move)."""
     result: PushResult
     """The simulator's result (world pose, contact)."""
+    frames: tuple = ()
+    """Camera masks during the push (``execute(..., frames=k)``), the last at its end."""
 
 
 def perturb_actions(actions, offset_px, angle, retreat=None) -> np.ndarray:
@@ -361,13 +363,17 @@ class SimulatedRobot:
     def _retreat(self, starts: np.ndarray, directions: np.ndarray) -> np.ndarray:
         return retreat_starts(self.simulator, self._world, starts, directions)
 
-    def execute(self, action) -> RobotPush:
+    def execute(self, action, frames: int = 0) -> RobotPush:
         """Push the object from where it is now; the object stays where the push leaves it.
 
         Parameters
         ----------
         action : Action or array_like, shape (4,)
             The commanded pusher path in camera pixels (the leading point's path).
+        frames : int, optional
+            Also return this many camera masks (with ``mask_noise``) taken during the
+            push, evenly spaced along its steps, the last one at its end: what a
+            video camera gives a tracker that follows the object (default none).
 
         Returns
         -------
@@ -385,6 +391,8 @@ class SimulatedRobot:
         acts = comcore.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
+        if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 0:
+            raise ValueError(f"frames must be an integer >= 0, got {frames!r}")
         sim = self.simulator
         shapely = require_shapely()
         start_w = sim.to_world(acts[0, :2])[0]
@@ -409,8 +417,17 @@ class SimulatedRobot:
         x, y, a = before
         c, s = math.cos(a), math.sin(a)
         body = np.array([c * (w[0] - x) + s * (w[1] - y), -s * (w[0] - x) + c * (w[1] - y)])
-        result = sim.push(executed[0], pose=before)
+        result = sim.push(executed[0], pose=before, record=bool(frames))
         self._world = tuple(float(v) for v in result.pose)
+        shots: tuple = ()
+        if frames:
+            traj = np.asarray(result.trajectory, float)
+            picks = np.round(np.linspace(0, len(traj) - 1, int(frames) + 1)[1:]).astype(int)
+            picks[-1] = len(traj) - 1
+            poses = [*traj[picks[:-1]], result.pose]
+            shots = tuple(
+                noisy_mask(sim.mask_at(tuple(p)), self.mask_noise, self._rng) for p in poses
+            )
         record = RobotPush(
             Action(*acts[0]),
             Action(*executed[0]),
@@ -418,6 +435,7 @@ class SimulatedRobot:
             self.pose,
             result.contact_px is not None,
             result,
+            shots,
         )
         self.history.append(record)
         return record

@@ -156,7 +156,7 @@ def test_run_conditions_bad_input():
         run_conditions(config, "")
 
 
-@pytest.mark.parametrize("observe", ["mask", "consecutive", "motion"])
+@pytest.mark.parametrize("observe", ["mask", "consecutive", "video", "motion"])
 def test_active_robot_counts_the_robots_pushes(observe):
     label = f"active-robot(max_pushes=2, observe={observe!r})"
     outcome = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)), keep=True)
@@ -187,3 +187,20 @@ def test_command_line_writes_conditions_md(tmp_path, capsys):
     assert "conditions.md" in capsys.readouterr().out
     assert main([*args[:-4], "--conditions", "fog", "--out", str(out)]) == 2
     assert "unknown condition 'fog'" in capsys.readouterr().err
+
+
+def test_video_tracking_sees_past_a_rotational_symmetry():
+    import simulators
+    from comcore.bench._builtins import _tracked_motion
+
+    # Obj3 is a regular hexagon: a 3 cm push turns this instance by about 1 rad, more
+    # than half its symmetry angle, so two masks alone give the wrong rotation.
+    robot = simulators.SimulatedRobot(simulators.random_simulator("Obj3", "high", rng=1), rng=0)
+    first = robot.camera_mask()
+    push = robot.execute(comcore.sample_pushes(first, 1, rng=0)[0], frames=8)
+    assert abs(push.motion.theta) > math.pi / 6
+    tracked = _tracked_motion(first, push.frames)
+    assert abs(tracked.theta - push.motion.theta) < 0.02
+    assert np.hypot(tracked.tx - push.motion.tx, tracked.ty - push.motion.ty) < 0.5
+    two_masks = comcore.measure_motion(first, push.frames[-1])
+    assert abs(two_masks.motion.theta - push.motion.theta) > 0.5  # flagged or not, not seen

@@ -190,3 +190,14 @@ def test_a_start_inside_the_object_is_moved_back_along_the_push(sim):
     back = world.to_world(out[0] + np.array([step, 0.0]))[0]
     assert shapely.contains_xy(outline, *back)  # one step less would be inside: the nearest
     assert np.array_equal(out[1], starts[1])
+
+
+def test_frames_follow_the_push_and_end_at_its_pose(sim):
+    robot = SimulatedRobot(sim, rng=0)
+    action = comcore.sample_pushes(robot.camera_mask(), 1, rng=0)[0]
+    push = robot.execute(action, frames=5)
+    assert len(push.frames) == 5
+    assert np.array_equal(push.frames[-1].data, robot.camera_mask().data)
+    assert len({f.data.tobytes() for f in push.frames}) == 5  # the object moved between frames
+    with pytest.raises(ValueError, match="frames"):
+        robot.execute(action, frames=-1)

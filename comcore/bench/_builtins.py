@@ -84,6 +84,26 @@ def _active_vt(ctx: TrialContext, **options):
     return _active(ctx, **{"model": None, **options})
 
 
+#: How ``active-robot`` shows the session what a push did.
+OBSERVATIONS = ("mask", "consecutive", "video", "motion")
+
+
+def _tracked_motion(before, frames) -> comcore.Motion:
+    """The motion from ``before`` to the last of ``frames``, chained frame to frame.
+
+    In the camera frame about ``before``'s area centroid: each step's motion
+    (:func:`comcore.measure_motion`) moves the tracked point about the centroid of
+    the frame it starts from (:func:`comcore.apply_motion`).
+    """
+    start = np.array(before.centroid, float)
+    point, theta, prev = start.copy(), 0.0, before
+    for frame in frames:
+        m = comcore.measure_motion(prev, frame).motion  # type: ignore[attr-defined]
+        point = comcore.apply_motion(point, m.theta, (m.tx, m.ty), prev.centroid)
+        theta, prev = theta + m.theta, frame
+    return comcore.Motion(theta, *(np.asarray(point, float).reshape(2) - start))
+
+
 def _active_robot(
     ctx: TrialContext,
     model="ellipsoid",
@@ -92,6 +112,7 @@ def _active_robot(
     pusher_error=None,
     mask_noise=None,
     camera_margin=None,
+    frames=8,
     **options,
 ):
     """:class:`comcore.ActiveSession` against ``simulators.SimulatedRobot``, never reset.
@@ -100,7 +121,9 @@ def _active_robot(
     the session gets the camera's mask after every push and measures the pose
     itself (against the first mask); ``"consecutive"``: the motion of each push is
     measured between the camera's masks before and after it
-    (:func:`comcore.measure_motion`) and handed in as ``motion=``; ``"motion"``: it
+    (:func:`comcore.measure_motion`) and handed in as ``motion=``; ``"video"``: the
+    same, chained over ``frames`` camera masks taken during the push (a tracker
+    following the object, which a rotational symmetry cannot fool); ``"motion"``: it
     gets the robot's exact motion plus ``motion_noise`` ``(radians, metres)`` of
     tracking noise (the default under the ``motion-noise`` condition).
     ``pusher_error`` (metres), ``mask_noise`` (flip probability) and
@@ -112,8 +135,8 @@ def _active_robot(
     if observe is None:
         noisy = condition is not None and condition.motion_noise is not None
         observe = "motion" if noisy else "mask"
-    if observe not in ("mask", "consecutive", "motion"):
-        raise ValueError(f"observe must be 'mask', 'consecutive' or 'motion', got {observe!r}")
+    if observe not in OBSERVATIONS:
+        raise ValueError(f"observe must be one of {OBSERVATIONS}, got {observe!r}")
     if motion_noise is None and condition is not None:
         motion_noise = condition.motion_noise
     overrides = {"pusher_error": pusher_error, "mask_noise": mask_noise}
@@ -128,7 +151,7 @@ def _active_robot(
     while not session.done:
         action = session.next_push()
         try:
-            push = robot.execute(action)
+            push = robot.execute(action, frames=frames if observe == "video" else 0)
         except ValueError:
             failures += 1
             session.observe(failed=True)
@@ -138,9 +161,10 @@ def _active_robot(
         if observe == "mask":
             session.observe(robot.camera_mask())
             continue
-        if observe == "consecutive":
-            before, seen = seen, robot.camera_mask()
-            session.observe(motion=comcore.measure_motion(before, seen).motion)  # type: ignore[attr-defined]
+        if observe in ("consecutive", "video"):
+            shots = push.frames or (robot.camera_mask(),)
+            session.observe(motion=_tracked_motion(seen, shots))
+            seen = shots[-1]
             continue
         motion = np.asarray(push.motion, float)
         if motion_noise is not None:
