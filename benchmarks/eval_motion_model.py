@@ -11,8 +11,15 @@ the true CoM and friction:
 * ``limit-surface``: ``comcore.LimitSurfaceModel(pusher_radius=...)`` with its
   defaults, asked as the active estimator asks it (every pixel of the mask at
   once, the true CoM among them, so its lattice interpolation is included);
-* ``limit-surface peaked``: the same with ``pressure="peaked"``;
+* ``limit-surface linear`` / ``tilted`` / ``peaked``: the same with that ``pressure``;
 * ``ellipsoid``: ``predictors.EllipsoidPredictor(pusher_radius=...)``.
+
+The benchmark draws each trial's mass as uniform, a linear density gradient
+or point masses, then tilts it exponentially to the drawn CoM; the
+``tilted`` pressure is that very tilt of a uniform footprint, so the rows are
+also given per mass style (``--by-style``; the style is re-drawn from the
+trial's seed as ``random_simulator`` draws it) to show what matching the
+benchmark's own pressure is worth.
 
 Metrics per engine, model and friction class: how often the predicted sense
 of rotation is the true one (pushes that turn the object by more than 2 deg),
@@ -47,7 +54,11 @@ BIG_ROTATION_RAD = np.radians(2.0)
 LEVER_BINS_M = ((0.0, 0.01), (0.01, 0.03), (0.03, 1.0))
 NEAR_LINE_M = 0.0375
 DOF = 3.0
-MODELS = ("limit-surface", "limit-surface peaked", "ellipsoid")
+MODELS = (
+    "limit-surface", "limit-surface linear", "limit-surface tilted", "limit-surface peaked",
+    "ellipsoid",
+)  # fmt: skip
+DEFAULT_MODELS = ("limit-surface", "ellipsoid")
 
 
 def parse_args(argv=None):
@@ -58,7 +69,8 @@ def parse_args(argv=None):
     p.add_argument("--cone", type=float, default=0.3)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--engines", default="quasistatic,pymunk")
-    p.add_argument("--models", default=",".join(MODELS))
+    p.add_argument("--models", default=",".join(DEFAULT_MODELS), help=f"of {MODELS}")
+    p.add_argument("--by-style", action="store_true", help="rows per mass style too")
     p.add_argument("--fit-scales", action="store_true", help="fit the error scales (ML)")
     p.add_argument("--scales", default=None, help="a,b,c,d: report these scales' coverage")
     p.add_argument("--json", default=None, help="write the residuals here")
@@ -81,6 +93,17 @@ def parse_args(argv=None):
         if len(args.scales) != 4:
             p.error("--scales needs four numbers a,b,c,d")
     return args
+
+
+def mass_style(sim, seed_seq):
+    """The mass style ``random_simulator`` drew for this trial (its second draw)."""
+    rng = np.random.default_rng(seed_seq)
+    rng.uniform()  # the contact friction
+    style = simulators.MASS_STYLES[int(rng.integers(len(simulators.MASS_STYLES)))]
+    plain = simulators.MassDistribution.on_shape(sim.shape, com=sim.com_m)
+    if (style == "point_masses") != (len(sim.mass.masses) > len(plain.masses)):
+        raise RuntimeError("random_simulator's draws changed: --by-style cannot tell the style")
+    return style
 
 
 def trial_pushes(sim, n, cone, rng):
@@ -107,8 +130,8 @@ def predict(name, sim, pushes):
     if name == "ellipsoid":
         model = EllipsoidPredictor(pusher_radius=sim.pusher_radius)
         return model.predict_hypotheses(mask, pushes, com[None], mu)[0]
-    pressure = "peaked" if name.endswith("peaked") else "linear"
-    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius, pressure=pressure)
+    options = {"pressure": name.split()[1]} if " " in name else {}
+    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius, **options)
     hyps = np.vstack([com, mask.pixels])  # as the active estimator asks: one push at a time
     return np.stack([model.predict_hypotheses(mask, p[None], hyps, mu)[0, 0] for p in pushes])
 
@@ -135,8 +158,12 @@ def run(args):
         for fi, friction in enumerate(("low", "high")):
             for t in range(args.trials):
                 seq = np.random.SeedSequence([args.seed, oi, fi, t])
-                sim_rng, push_rng = (np.random.default_rng(s) for s in seq.spawn(2))
-                sim = simulators.random_simulator(name, friction=friction, rng=sim_rng)
+                sim_seq, push_seq = seq.spawn(2)
+                sim = simulators.random_simulator(
+                    name, friction=friction, rng=np.random.default_rng(sim_seq)
+                )
+                style = mass_style(sim, sim_seq)
+                push_rng = np.random.default_rng(push_seq)
                 pushes = trial_pushes(sim, args.pushes, args.cone, push_rng)
                 preds = {m: predict(m, sim, pushes) for m in args.models}
                 for engine in args.engines:
@@ -148,6 +175,9 @@ def run(args):
                     for m, pred in preds.items():
                         r = residuals(sim, pushes, pred, true)
                         rows.setdefault((engine, m, friction), []).append((name, r))
+                        if args.by_style:
+                            key = (engine, m, f"{friction}, {style}")
+                            rows.setdefault(key, []).append((name, r))
     return rows
 
 

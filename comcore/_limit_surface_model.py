@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import weakref
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,15 +19,12 @@ from scipy import ndimage
 from ._limit_surface_physics import SMOOTHING_CELLS, outline_field, push_motions
 from ._mask import Mask
 from ._pressure import PRESSURES, pressures, support
+from ._push_lattice import PushLattice, pressure_table, remembered, table_pressures
 from ._validation import check_actions, check_mask, check_points
 
 __all__ = ["LimitSurfaceModel"]
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_NODE_PRESSURES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_NODE_MOTIONS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-#: Action batches whose node motions are remembered per mask, and friction values.
-CACHED_PUSHES, MAX_REMEMBERED_MUS = 4, 12
 
 
 def _nearest_pixel(mask: Mask) -> np.ndarray:
@@ -143,21 +139,6 @@ class LimitSurfaceModel:
         sup = support(mask, self.support_points)
         return pressures(sup, _on_object(mask, coms) - np.asarray(mask.centroid), self.pressure)
 
-    def _node_pressures(self, mask: Mask) -> np.ndarray:
-        """Pressures at every node of the lattice ``grid_px * (i, j)`` over the image (cached)."""
-        key = (self.grid_px, self.pressure, self.support_points)
-        table = _NODE_PRESSURES.setdefault(mask, {})
-        if key not in table:
-            h, w = mask.shape
-            ni, nj = (
-                int(np.ceil((w - 1) / self.grid_px)) + 2,
-                int(np.ceil((h - 1) / self.grid_px)) + 2,
-            )
-            ii, jj = np.meshgrid(np.arange(ni), np.arange(nj), indexing="ij")
-            nodes = self.grid_px * np.column_stack([ii.ravel(), jj.ravel()]).astype(float)
-            table[key] = self._pressures(mask, nodes).reshape(ni, nj, -1)
-        return table[key]
-
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
         """Motions of each action for each CoM hypothesis (:class:`comcore.HypothesisPredictor`).
 
@@ -193,54 +174,37 @@ class LimitSurfaceModel:
             raise ValueError(f"mu must be >= 0 (inf allowed), got {mu}")
         if len(acts) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(acts), 3))
-        h = self.grid_px
-        if h == 0:
+        if self.grid_px == 0:
             return self._motions(mask, acts, self._pressures(mask, pts), mu)
-        table = self._node_pressures(mask)
-        cell = np.clip(pts / h, 0.0, np.array(table.shape[:2]) - 1.0 - 1e-9)
-        lo = np.floor(cell).astype(np.intp)
-        frac = cell - lo
-        corners = np.concatenate([lo + np.array([i, j]) for i in (0, 1) for j in (0, 1)])
-        keys, index = np.unique(corners[:, 0] * table.shape[1] + corners[:, 1], return_inverse=True)
+        return np.concatenate([self._interpolated(mask, a, pts, mu) for a in acts], axis=1)
+
+    def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float):
+        """Motions of one push, interpolated from its lattice's nodes, (n, 1, 3)."""
+        lattice, per_mu, mus = remembered(
+            mask, (self, action.tobytes()), lambda: PushLattice(mask, action, self.grid_px), mu
+        )
+        corners, weights = lattice.locate(pts)
+        used = np.zeros(len(lattice.points), dtype=bool)
+        used[corners.ravel()] = True
+        keys = np.flatnonzero(used)
         if len(keys) >= len(pts):  # interpolation would not save anything
-            return self._motions(mask, acts, self._pressures(mask, pts), mu)
-        node_motion = self._node_motions(mask, acts, table, keys, mu)
-        fx, fy = frac[:, 0], frac[:, 1]
-        weights = np.stack([(1 - fx) * (1 - fy), (1 - fx) * fy, fx * (1 - fy), fx * fy])
-        return np.einsum("kn,knas->nas", weights, node_motion[index.reshape(4, len(pts))])
-
-    def _node_motions(self, mask, acts, table, keys, mu) -> np.ndarray:
-        """Motions at lattice nodes ``keys`` for friction ``mu``, (n_keys, n_actions, 3).
-
-        Remembered per mask for the last ``CACHED_PUSHES`` action batches. An
-        estimator asks about one push for several friction values in turn: a
-        node not yet integrated is integrated for every friction value this
-        mask has been asked about at once (one batch costs little more than
-        one friction value).
-        """
-        memo = _NODE_MOTIONS.setdefault(mask, {"mus": [], "pushes": OrderedDict()})
-        if mu not in memo["mus"]:
-            memo["mus"] = [*memo["mus"][-(MAX_REMEMBERED_MUS - 1) :], mu]
-        key = (self, acts.tobytes())
-        pushes = memo["pushes"]
-        if key not in pushes:
-            if len(pushes) >= CACHED_PUSHES:
-                pushes.popitem(last=False)
-            pushes[key] = {}
-        per_mu = pushes[key]
-        size = table.shape[0] * table.shape[1]
-        for m in memo["mus"]:
-            per_mu.setdefault(m, np.full((size, len(acts), 3), np.nan))
-        todo = keys[np.isnan(per_mu[mu][keys, 0, 0])]
+            return self._motions(mask, action[None], self._pressures(mask, pts), mu)
+        todo = keys[np.isnan(per_mu[mu][keys, 0])]
         if len(todo):
-            mus = [m for m in memo["mus"] if np.isnan(per_mu[m][todo, 0, 0]).all()]
-            mus = sorted(mus, reverse=True)  # the first block has the highest friction
-            press = table[todo // table.shape[1], todo % table.shape[1]]
+            # Every friction value not yet known there, highest first: a row that
+            # sticks moves as the highest-friction copy of its node does.
+            mus = sorted((m for m in mus if np.isnan(per_mu[m][todo, 0]).all()), reverse=True)
+            table = pressure_table(
+                mask, (self.pressure, self.support_points),
+                lambda points: self._pressures(mask, points),
+            )  # fmt: skip
+            press = table_pressures(table, lattice.points[todo])
             n = len(todo)
             out = self._motions(
-                mask, acts, np.tile(press, (len(mus), 1)), np.repeat(mus, n),
+                mask, action[None], np.tile(press, (len(mus), 1)), np.repeat(mus, n),
                 same_as=np.tile(np.arange(n), len(mus)),
-            )  # fmt: skip
-            for i, m in enumerate(mus):
-                per_mu[m][todo] = out[i * len(todo) : (i + 1) * len(todo)]
-        return per_mu[mu][keys]
+            )[:, 0]  # fmt: skip
+            for k, m in enumerate(mus):
+                per_mu[m][todo] = out[k * n : (k + 1) * n]
+        motion = per_mu[mu]
+        return np.einsum("kn,kns->ns", weights, motion[corners])[:, None, :]

@@ -144,11 +144,11 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
     power = np.einsum("mk,mk->m", wrench, xi)
     ok = power > 1e-12
     xi = np.where(ok[:, None], xi / np.where(ok, power, 1.0)[:, None], base)
-    z = np.einsum("mkj,mk->mj", basis, xi)
+    z = np.matmul(xi[:, None, :], basis)[:, 0]
     rxx, rxy, ryy = rx * rx, rx * ry, ry * ry
 
     def velocities(z):
-        x = base + np.einsum("mkj,mj->mk", basis, z)
+        x = base + np.matmul(basis, z[:, :, None])[..., 0]
         ux = x[:, :1] + x[:, 2:] * ry[None, :]
         uy = x[:, 1:2] - x[:, 2:] * rx[None, :]
         return ux, uy, np.sqrt(ux * ux + uy * uy + eps2)
@@ -166,9 +166,13 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
         h[:, 1, 2] = a12 @ ry - a22 @ rx
         h[:, 2, 2] = a11 @ ryy - 2 * (a12 @ rxy) + a22 @ rxx
         h[:, 1, 0], h[:, 2, 0], h[:, 2, 1] = h[:, 0, 1], h[:, 0, 2], h[:, 1, 2]
-        g2 = np.einsum("mkj,mk->mj", basis, grad)
-        h2 = np.einsum("mki,mkl,mlj->mij", basis, h, basis) + 1e-12 * np.eye(2)
-        step = -np.linalg.solve(h2, g2[..., None])[..., 0]
+        g2 = np.matmul(grad[:, None, :], basis)[:, 0]
+        h2 = np.matmul(basis.transpose(0, 2, 1), np.matmul(h, basis)) + 1e-12 * np.eye(2)
+        det = h2[:, 0, 0] * h2[:, 1, 1] - h2[:, 0, 1] * h2[:, 1, 0]
+        step = -np.column_stack(
+            [h2[:, 1, 1] * g2[:, 0] - h2[:, 0, 1] * g2[:, 1],
+             h2[:, 0, 0] * g2[:, 1] - h2[:, 1, 0] * g2[:, 0]]
+        ) / det[:, None]  # fmt: skip
         norm = np.hypot(step[:, 0], step[:, 1])
         step *= np.minimum(1.0, MAX_SLIDE_STEP / np.maximum(norm, 1e-300))[:, None]
         if backtrack:
@@ -178,7 +182,7 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
                 alpha = np.where(f1 > f0 * (1 + 1e-12), 0.5 * alpha, alpha)
             step *= alpha[:, None]
         z = z + step
-    x = base + np.einsum("mkj,mj->mk", basis, z)
+    x = base + np.matmul(basis, z[:, :, None])[..., 0]
     return np.column_stack([x[:, 0], x[:, 1], x[:, 2] / length])
 
 

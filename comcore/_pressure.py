@@ -21,7 +21,7 @@ __all__ = ["PRESSURES", "Support", "into_hull", "pressures", "support"]
 
 #: Pressure families: ``"linear"`` (the clipped linear tilt) and ``"peaked"``
 #: (the tilt of a pressure that falls off linearly from the CoM hypothesis).
-PRESSURES = ("linear", "peaked")
+PRESSURES = ("linear", "tilted", "peaked")
 #: Semi-smooth Newton steps solving the clipped tilt.
 TILT_ITERATIONS = 25
 
@@ -126,14 +126,8 @@ def _clipped_tilt(base: np.ndarray, x: np.ndarray, target: np.ndarray) -> np.nda
         lin = th @ feats.T
         grad = (np.maximum(lin, 0.0) * bs) @ feats - gl
         keep = np.abs(grad).max(axis=1) >= 1e-10
-        todo, th, bs, gl, lin, grad = (
-            todo[keep],
-            th[keep],
-            bs[keep],
-            gl[keep],
-            lin[keep],
-            grad[keep],
-        )
+        todo, th, bs, gl = todo[keep], th[keep], bs[keep], gl[keep]
+        lin, grad = lin[keep], grad[keep]
         if not len(todo):
             break
         hess = np.einsum("nj,jk,jl->nkl", (lin > 0) * bs, feats, feats) + 1e-12 * np.eye(3)
@@ -152,6 +146,36 @@ def _clipped_tilt(base: np.ndarray, x: np.ndarray, target: np.ndarray) -> np.nda
     )
 
 
+def _exponential_tilt(base: np.ndarray, x: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Pressures ``base * exp(lam . x)`` with total 1 and mean ``target``, shape (n, N).
+
+    ``lam`` minimises the convex log-partition function minus ``lam . target``
+    (Newton steps, capped in length, on the rows not yet solved); the
+    distribution closest to ``base`` in relative entropy with that mean.
+    """
+    scale = max(float(np.ptp(x, axis=0).max()), 1.0)
+    xs, ts = x / scale, target / scale
+    lam = np.zeros_like(ts)
+    todo = np.arange(len(ts))
+    for _ in range(TILT_ITERATIONS):
+        z = lam[todo] @ xs.T
+        q = base * np.exp(z - z.max(axis=1, keepdims=True))
+        q /= q.sum(axis=1, keepdims=True)
+        mean = q @ xs
+        grad = mean - ts[todo]
+        keep = np.abs(grad).max(axis=1) * scale >= 1e-9
+        todo, q, mean, grad = todo[keep], q[keep], mean[keep], grad[keep]
+        if not len(todo):
+            break
+        cov = np.einsum("nj,jk,jl->nkl", q, xs, xs) - mean[:, :, None] * mean[:, None, :]
+        step = -np.linalg.solve(cov + 1e-12 * np.eye(2), grad[..., None])[..., 0]
+        norm = np.hypot(step[:, 0], step[:, 1])
+        lam[todo] += step * np.minimum(1.0, 8.0 / np.maximum(norm, 1e-300))[:, None]
+    z = lam @ xs.T
+    q = base * np.exp(z - z.max(axis=1, keepdims=True))
+    return q / q.sum(axis=1, keepdims=True)
+
+
 def pressures(sup: Support, coms_rel: np.ndarray, family: str = "linear") -> np.ndarray:
     """Pressure over the support for each CoM (relative to the centroid), (n, N), rows sum to 1.
 
@@ -165,6 +189,8 @@ def pressures(sup: Support, coms_rel: np.ndarray, family: str = "linear") -> np.
     coms_rel = into_hull(sup, np.asarray(coms_rel, dtype=float).reshape(-1, 2))
     if family == "linear":
         return _clipped_tilt(sup.weights, x, coms_rel)
+    if family == "tilted":
+        return _exponential_tilt(sup.weights, x, coms_rel)
     d = np.hypot(x[None, :, 0] - coms_rel[:, :1], x[None, :, 1] - coms_rel[:, 1:])
     base = sup.weights * (1.0 - d / (d.max(axis=1, keepdims=True) + sup.cell))
     return _clipped_tilt(base, x, coms_rel)

@@ -5,6 +5,7 @@ import pytest
 
 import comcore
 from comcore._pressure import pressures, support
+from comcore._push_lattice import PushLattice, pressure_table, table_pressures
 
 
 def plate(h=20, w=30, pad=10):
@@ -81,17 +82,27 @@ def test_outputs_are_finite_for_every_pixel_and_friction():
         assert np.isfinite(out).all()
 
 
-def test_interpolation_is_exact_at_the_grid_nodes():
+def test_interpolation_is_exact_at_the_lattice_nodes():
     mask = notched()
     push = comcore.sample_pushes(mask, 1, rng=2)
-    nodes = np.array([[x, y] for x in range(12, 48, 4) for y in range(20, 40, 4)], float)
-    nodes = nodes[mask.contains(nodes)]
+    lattice = PushLattice(mask, push[0], 4.0)
+    nodes = lattice.points[mask.contains(lattice.points)][::3]
     grid = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=4.0)
-    np.testing.assert_allclose(
-        grid.predict_hypotheses(mask, push, nodes, 0.4),
-        MODEL.predict_hypotheses(mask, push, nodes, 0.4),
-        atol=1e-9,
-    )
+    direct = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=0.0)
+    table = pressure_table(mask, ("linear", 32), lambda p: direct._pressures(mask, p))
+    # The nodes' pressures come from the per-mask table: the same pressures, directly.
+    expected = direct._motions(mask, push, table_pressures(table, nodes), 0.4)
+    asked = np.vstack([nodes, mask.pixels])  # many hypotheses: the lattice is used
+    got = grid.predict_hypotheses(mask, push, asked, 0.4)[: len(nodes)]
+    np.testing.assert_allclose(got, expected, atol=1e-9)
+
+
+def test_lattice_is_fine_near_the_push_line():
+    lattice = PushLattice(notched(), np.array([0.0, 30.0, 20.0, 30.0]), 4.0)
+    steps = np.diff(lattice.lever)
+    near = np.abs(lattice.lever[:-1] + steps / 2) < 2
+    assert steps[near].max() <= 1.5 and steps.max() == 4.0
+    assert np.isclose(lattice.lever, 0).any()  # a node line on the push line
 
 
 def test_a_push_that_misses_gives_no_motion():

@@ -1,0 +1,132 @@
+"""CoM lattices aligned with a push: where :class:`LimitSurfaceModel` integrates, and interpolates.
+
+A push's motion is a smooth function of the CoM hypothesis except across the
+push's line, where the rotation changes sense: a CoM just beside the line
+balances on an unstable equilibrium and turns fast over a 3 cm push. So the
+nodes lie on lines parallel to the push, close together near the push line
+(``NEAR_LINE_SPACING_PX``, growing by ``SPACING_GROWTH`` per pixel of lever
+arm) and ``spacing`` apart far from it and along it. The pressure at a node
+is interpolated bilinearly from a table of the pressure family on a square
+grid over the image (``PRESSURE_GRID_PX``), computed once per mask.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections import OrderedDict
+
+import numpy as np
+
+from ._mask import Mask
+
+__all__ = ["PushLattice", "pressure_table", "remembered"]
+
+#: Node spacing (pixels) on the push line, and its growth per pixel of lever arm.
+NEAR_LINE_SPACING_PX, SPACING_GROWTH = 1.0, 0.5
+#: Spacing (pixels) of the per-mask table the nodes' pressures are interpolated from.
+PRESSURE_GRID_PX = 2.0
+#: Pushes whose node motions are remembered per mask and model, and friction values.
+CACHED_PUSHES, MAX_REMEMBERED_MUS = 4, 12
+
+_TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_MEMOS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def lever_nodes(spacing: float, reach: float) -> np.ndarray:
+    """Node offsets (pixels) across the push line, sorted, symmetric, covering ``+-reach``."""
+    out = [0.0]
+    while out[-1] < reach:
+        out.append(out[-1] + min(spacing, NEAR_LINE_SPACING_PX + SPACING_GROWTH * out[-1]))
+    half = np.array(out)
+    return np.concatenate([-half[:0:-1], half])
+
+
+class PushLattice:
+    """Nodes on lines parallel to one push, over the whole image.
+
+    Node ``(i, j)`` lies at ``start + along[i] * u + lever[j] * w``, ``u`` the
+    push direction and ``w`` its perpendicular; ``points`` (n_i * n_j, 2) in
+    that order.
+    """
+
+    def __init__(self, mask: Mask, action: np.ndarray, spacing: float):
+        self.start = np.asarray(action[:2], dtype=float)
+        d = np.asarray(action[2:], dtype=float) - self.start
+        self.u = d / np.hypot(d[0], d[1])
+        self.w = np.array([-self.u[1], self.u[0]])
+        h, w = mask.shape
+        corners = np.array([[-1, -1], [w, -1], [-1, h], [w, h]], dtype=float) - self.start
+        a, b = corners @ self.u, corners @ self.w
+        self.spacing = float(spacing)
+        first, last = np.floor(a.min() / spacing), np.ceil(a.max() / spacing)
+        self.along = spacing * np.arange(first, last + 1)
+        self.lever = lever_nodes(spacing, float(np.abs(b).max()) + spacing)
+        grid_a, grid_b = np.meshgrid(self.along, self.lever, indexing="ij")
+        self.points = (
+            self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
+        )  # fmt: skip
+
+    def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Corner nodes (4, n) and bilinear weights (4, n) of each point's cell."""
+        rel = points - self.start
+        a, b = rel @ self.u, rel @ self.w
+        n_i, n_j = len(self.along), len(self.lever)
+        fi = np.clip((a - self.along[0]) / self.spacing, 0.0, n_i - 1 - 1e-9)
+        i = np.floor(fi).astype(np.intp)
+        j = np.clip(np.searchsorted(self.lever, b, side="right") - 1, 0, n_j - 2)
+        fa = fi - i
+        fb = np.clip((b - self.lever[j]) / (self.lever[j + 1] - self.lever[j]), 0.0, 1.0)
+        nodes = np.stack([i * n_j + j, i * n_j + j + 1, (i + 1) * n_j + j, (i + 1) * n_j + j + 1])
+        weights = np.stack([(1 - fa) * (1 - fb), (1 - fa) * fb, fa * (1 - fb), fa * fb])
+        return nodes, weights
+
+
+def pressure_table(mask: Mask, key, compute) -> np.ndarray:
+    """``compute(points)`` (n, N) on the square grid ``PRESSURE_GRID_PX * (i, j)``, cached.
+
+    Returns the table, shape (n_i, n_j, N), for :func:`table_pressures`.
+    """
+    tables = _TABLES.setdefault(mask, {})
+    if key not in tables:
+        h, w = mask.shape
+        g = PRESSURE_GRID_PX
+        ni, nj = int(np.ceil((w - 1) / g)) + 2, int(np.ceil((h - 1) / g)) + 2
+        ii, jj = np.meshgrid(np.arange(ni), np.arange(nj), indexing="ij")
+        points = g * np.column_stack([ii.ravel(), jj.ravel()]).astype(float)
+        tables[key] = compute(points).reshape(ni, nj, -1)
+    return tables[key]
+
+
+def table_pressures(table: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Pressures at points, bilinear in the table of :func:`pressure_table`, (n, N)."""
+    cell = np.clip(points / PRESSURE_GRID_PX, 0.0, np.array(table.shape[:2]) - 1 - 1e-9)
+    lo = np.floor(cell).astype(np.intp)
+    f = cell - lo
+    i, j = lo[:, 0], lo[:, 1]
+    fx, fy = f[:, :1], f[:, 1:]
+    return (
+        table[i, j] * (1 - fx) * (1 - fy) + table[i, j + 1] * (1 - fx) * fy
+        + table[i + 1, j] * fx * (1 - fy) + table[i + 1, j + 1] * fx * fy
+    )  # fmt: skip
+
+
+def remembered(mask: Mask, key, make_lattice, mu: float):
+    """The remembered lattice and node motions of one push (``key``), and the frictions to batch.
+
+    Returns ``(lattice, per_mu, mus)``: the push's lattice (``make_lattice()``
+    the first time), a dict from friction value to a NaN-initialised array of
+    node motions, shape (n_nodes, 3), and every friction value this mask has
+    been asked about (up to ``MAX_REMEMBERED_MUS``, ``mu`` included).
+    """
+    memo = _MEMOS.setdefault(mask, {"mus": [], "pushes": OrderedDict()})
+    if mu not in memo["mus"]:
+        memo["mus"] = [*memo["mus"][-(MAX_REMEMBERED_MUS - 1) :], mu]
+    pushes = memo["pushes"]
+    if key not in pushes:
+        if len(pushes) >= CACHED_PUSHES:
+            pushes.popitem(last=False)
+        pushes[key] = (make_lattice(), {})
+    lattice, per_mu = pushes[key]
+    for m in memo["mus"]:
+        per_mu.setdefault(m, np.full((len(lattice.points), 3), np.nan))
+    return lattice, per_mu, list(memo["mus"])
