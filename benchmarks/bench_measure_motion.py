@@ -56,6 +56,7 @@ def run(
 ) -> list[dict]:
     """One row per push: the errors, the flags and the time of measure_motion."""
     import simulators
+    from comcore._registration import _measure  # the same fit, with its diagnostics
 
     rng = np.random.default_rng([seed, round(resolution * 1e6)])
     rows = []
@@ -80,6 +81,7 @@ def run(
                 m = comcore.measure_motion(before, after)
                 seconds = time.perf_counter() - start
                 cpu_seconds = time.process_time() - start_cpu
+                visibility = _measure(before, after)[1]["visibility"]
                 period = 2 * math.pi / m.symmetry
                 error = abs((m.motion.theta - res.motion.theta + period / 2) % period - period / 2)
                 rows.append(
@@ -96,6 +98,7 @@ def run(
                         "residual_px": m.residual_px,
                         "seconds": seconds,
                         "cpu_seconds": cpu_seconds,
+                        "visibility": visibility,
                         "shape": sim.mask.shape,
                         "redrawn": redrawn,
                     }
@@ -130,6 +133,12 @@ def report(
     )
     flagged_text = ", ".join(f"{k} x{v}" for k, v in sorted(flagged.items())) or "none"
     print(f"  flagged ambiguous: {sum(flagged.values())} ({flagged_text})")
+    low = min(rows, key=lambda r: r["visibility"])
+    high = max(rows, key=lambda r: r["visibility"])
+    print(
+        f"  rotation visibility: {low['visibility']:.2f} ({low['object']}) to "
+        f"{high['visibility']:.2f} ({high['object']})"
+    )
     redrawn = sum(r["redrawn"] for r in rows)
     print(f"  pushes redrawn because the object left the camera image: {redrawn}")
     symmetry = Counter(r["symmetry"] for r in rows)
@@ -158,6 +167,83 @@ def report(
             )
 
 
+def rasterise(vertices: np.ndarray, side: int) -> np.ndarray:
+    """Pixel centres inside a polygon (even-odd rule), a (side, side) bool image."""
+    ys, xs = np.mgrid[0:side, 0:side].astype(float)
+    inside = np.zeros((side, side), bool)
+    for (a, b), (c, d) in zip(vertices, np.roll(vertices, -1, axis=0)):
+        crosses = (b > ys) != (d > ys)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x_at = a + (ys - b) * (c - a) / (d - b)
+        inside ^= crosses & (xs < x_at)
+    return inside
+
+
+def random_polygon(rng: np.random.Generator, size: float) -> np.ndarray:
+    """A star-shaped, regular or rectangular polygon about the origin, ``size`` px across."""
+    kind = rng.choice(["star", "regular", "rectangle"])
+    if kind == "rectangle":
+        aspect = rng.uniform(1.2, 4.0)
+        half = 1 / aspect
+        return np.array([[-1, -half], [1, -half], [1, half], [-1, half]]) * size
+    k = int(rng.integers(3, 10 if kind == "star" else 9))
+    if kind == "star":
+        angles = np.sort(rng.uniform(0, 2 * np.pi, k))
+        radii = rng.uniform(0.45, 1.0, k) * size
+    else:
+        angles, radii = np.arange(k) * 2 * np.pi / k, np.full(k, size)
+    return np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
+
+
+def calibrate(n: int, seed: int) -> None:
+    """The figures behind OUTLINE_NOISE_PX and REFERENCE_RESIDUAL_PX, and disc visibilities."""
+    from comcore._registration import _measure
+
+    rng = np.random.default_rng(seed)
+    scores, residuals, clear_errors = [], [], []
+    while len(scores) < n:
+        size = rng.uniform(8, 50)
+        side = int(2 * size + 40)
+        centre = np.array([side / 2, side / 2])
+        v0 = comcore.apply_motion(random_polygon(rng, size) + centre, rng.uniform(0, 2 * np.pi),
+                                  (0.0, 0.0), centre)  # fmt: skip
+        img = rasterise(v0, side)
+        if img.sum() < 30 or comcore.largest_component(img).sum() != img.sum():
+            continue
+        before = comcore.Mask(img)
+        theta, shift = rng.uniform(-0.5, 0.5), rng.uniform(-5, 5, 2)
+        img = rasterise(comcore.apply_motion(v0, theta, shift, before.centroid), side)
+        if comcore.largest_component(img).sum() != img.sum():
+            continue
+        m, info = _measure(before, comcore.Mask(img))
+        period = 2 * math.pi / m.symmetry
+        error = abs((m.motion.theta - theta + period / 2) % period - period / 2)
+        scores.append(error * math.sqrt(info["theta_information"]))
+        residuals.append(m.residual_px)
+        if not m.ambiguous:
+            clear_errors.append(math.degrees(error))
+    print(
+        f"{n} random polygons (seed {seed}, 8 to 50 px): 68th percentile of |theta error| * "
+        f"sqrt(information) {np.percentile(scores, 68):.3f} px; residual_px median "
+        f"{np.median(residuals):.3f}, 90th percentile {np.percentile(residuals, 90):.3f} px"
+    )
+    if clear_errors:
+        print(
+            f"  theta error, {len(clear_errors)} unflagged: median {np.median(clear_errors):.3f} "
+            f"deg, p95 {np.percentile(clear_errors, 95):.3f} deg, max {max(clear_errors):.3f} deg"
+        )
+    shapes = [(f"disc radius {r} px", r, 1.0, 180) for r in (6, 15, 40)]
+    shapes += [("ellipse 1.1:1", 25, 1.1, 120), ("ellipse 1.2:1", 25, 1.2, 120)]
+    shapes += [("regular octagon", 25, 1.0, 8), ("regular hexagon", 30, 1.0, 6)]
+    for label, radius, aspect, k in shapes:
+        t = np.arange(k) * 2 * np.pi / k + 0.37
+        v0 = np.column_stack([radius * aspect * np.cos(t), radius * np.sin(t)]) + 60.0
+        before = comcore.Mask(rasterise(v0, 120))
+        moved = comcore.apply_motion(v0, 0.2, (2.0, 1.0), before.centroid)
+        _, info = _measure(before, comcore.Mask(rasterise(moved, 120)))
+        print(f"  {label}: visibility {info['visibility']:.2f}")
+
+
 def main(argv=None) -> None:
     """Parse the options, run every resolution and print its summary."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -172,11 +258,18 @@ def main(argv=None) -> None:
         "--mask-flip", type=float, default=0.0, help="mask noise: outline pixel flip probability"
     )
     parser.add_argument("--per-object", action="store_true", help="one line per object too")
+    parser.add_argument(
+        "--calibrate", type=int, default=0, metavar="N",
+        help="instead: the calibration on N random polygons (seed --seed; it used 0)",
+    )  # fmt: skip
     args = parser.parse_args(argv)
     if args.trials < 1:
         parser.error(f"--trials must be at least 1, got {args.trials}")
     if not 0 <= args.mask_flip <= 1:
         parser.error(f"--mask-flip must be in [0, 1], got {args.mask_flip}")
+    if args.calibrate:
+        calibrate(args.calibrate, args.seed)
+        return
     import simulators
 
     objects = _parse_list(args.objects) or list(simulators.BENCHMARK_OBJECTS)

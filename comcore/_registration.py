@@ -27,8 +27,8 @@ How it works
    information on theta (translation eliminated) as a lever arm, divided by
    the outline's RMS radius, is below :data:`MIN_ROTATION_VISIBILITY` (about
    0 to 1; a rasterised disc scores 0.07 to 0.14 from its pixel staircase
-   alone, radius 40 to 6 px, a 1.1:1 ellipse 0.12, a 1.2:1 ellipse 0.19, a
-   regular octagon 0.26, the benchmark objects 0.26 (the hexagon) to 1.07);
+   alone, radius 40 to 6 px, a 1.1:1 ellipse 0.12, a 1.2:1 ellipse 0.20, a
+   regular octagon 0.23: ``bench_measure_motion.py --calibrate``);
    or (b) the predicted
    standard deviation of theta, :data:`OUTLINE_NOISE_PX` (scaled up by
    ``residual_px / REFERENCE_RESIDUAL_PX`` when the fit is worse than an exact
@@ -74,11 +74,12 @@ SPACING_TOLERANCE = math.radians(3.0)
 #: Below this visibility (0..1) the rotation is not observable from the outline.
 MIN_ROTATION_VISIBILITY = 0.2
 #: Effective independent error (px) of one outline point of a binary mask, calibrated so
-#: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std.
-OUTLINE_NOISE_PX = 0.35
+#: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std
+#: (``python benchmarks/bench_measure_motion.py --calibrate 290 --seed 0``).
+OUTLINE_NOISE_PX = 0.365
 #: The 90th percentile of ``residual_px`` over those exact rigid motions: a fit whose residual
 #: is larger (mask noise) has its outline noise, and the predicted theta std, scaled up.
-REFERENCE_RESIDUAL_PX = 0.21
+REFERENCE_RESIDUAL_PX = 0.225
 #: Above this predicted theta std (radians, 1 degree) the rotation is not observable.
 MAX_THETA_STD = math.radians(1.0)
 #: Candidates are told apart on every QUICK_STRIDE-th band pixel (bilinear sampling); the

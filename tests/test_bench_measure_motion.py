@@ -33,11 +33,35 @@ def test_bench_measure_motion_script_runs():
     )
     assert re.fullmatch(rf"  translation error, all: median {number} px, .*", lines[2])
     assert lines[3] == "  flagged ambiguous: 0 (none)"
-    assert lines[4].startswith("  pushes redrawn because the object left the camera image: ")
-    assert lines[5].startswith("  symmetry reported: {1: 2}")
+    assert re.fullmatch(rf"  rotation visibility: {number} \(Obj5\) to {number} \(Obj5\)", lines[4])
+    assert lines[5].startswith("  pushes redrawn because the object left the camera image: ")
+    assert lines[6].startswith("  symmetry reported: {1: 2}")
     assert re.fullmatch(
         rf"  time per call: median {number} ms wall \(p10 {number}, p90 {number}\), {number} ms CPU",
-        lines[6],
+        lines[7],
     )
-    assert lines[7].startswith("    Obj5: theta median ")
-    assert len(lines) == 8
+    assert lines[8].startswith("    Obj5: theta median ")
+    assert len(lines) == 9
+
+
+def test_bench_measure_motion_calibration_runs():
+    root = Path(__file__).resolve().parents[1]
+    env = {"PYTHONPATH": str(root), "PATH": ""}
+    out = subprocess.run(
+        [sys.executable, "benchmarks/bench_measure_motion.py", "--calibrate", "5", "--seed", "0"],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert re.fullmatch(
+        r"5 random polygons \(seed 0, 8 to 50 px\): 68th percentile of \|theta error\| \* "
+        r"sqrt\(information\) \d\.\d{3} px; residual_px median \d\.\d{3}, 90th percentile \d\.\d{3} px",
+        lines[0],
+    )
+    assert re.fullmatch(r"  theta error, \d unflagged: median .* deg, max \d+\.\d{3} deg", lines[1])
+    assert re.fullmatch(r"  disc radius 6 px: visibility \d\.\d\d", lines[2])
+    assert len(lines) == 9
