@@ -340,7 +340,7 @@ def run_conditions(
     ----------
     config : BenchConfig
     conditions : str or sequence of str or Condition
-        Condition labels (``"exact,pusher-error"``) or :class:`Condition` objects.
+        Condition labels (``"exact,pusher-error"``, ``"all"``) or :class:`Condition` objects.
     workers, progress, on_rows
         As for :func:`comcore.bench.run_benchmark`.
 
@@ -350,7 +350,7 @@ def run_conditions(
         ``{condition: BenchResult}`` and ``{condition: {estimator: why it was not run}}``.
     """
     if isinstance(conditions, str):
-        conditions = split_estimators(conditions)
+        conditions = list(CONDITIONS) if conditions == "all" else split_estimators(conditions)
     parsed = [c if isinstance(c, Condition) else parse_condition(c) for c in conditions]
     if not parsed:
         raise ValueError("conditions must name at least one condition")
@@ -453,7 +453,7 @@ def run_conditions_command(args, config: BenchConfig, skipped: dict[str, str]) -
         print("comcore bench: --conditions runs locally (drop --dask)", file=sys.stderr)
         return 2
     try:
-        labels = split_estimators(args.conditions)
+        labels = list(CONDITIONS) if args.conditions == "all" else split_estimators(args.conditions)
         conditions = [parse_condition(label) for label in labels]
         if not conditions:
             raise ValueError("conditions: name at least one condition")
