@@ -85,6 +85,8 @@ MAX_THETA_STD = math.radians(1.0)
 #: Candidates are told apart on every QUICK_STRIDE-th band pixel (bilinear sampling); the
 #: chosen one is fitted on all of them (cubic splines).
 QUICK_STRIDE = 4
+#: Fewer sub-pixel outline points than this (a tiny or thin object): the pixel-edge midpoints.
+MIN_OUTLINE_POINTS = 8
 #: Pixels of empty border kept around the two objects when the images are cropped.
 CROP_PAD_PX = 10
 
@@ -231,7 +233,11 @@ class _Problem:
         rows, cols = rows[::stride], cols[::stride]
         self.relative = np.column_stack([cols, rows]).astype(float) - centre
         self.values = fields_before.smooth[rows, cols]
-        self.outline = _level_points(fields_before.smooth)
+        outline = _level_points(fields_before.smooth)
+        # an object thinner than the smoothing has (almost) no 0.5 level: its pixel edges,
+        # and distances from the signed distance transform alone
+        self.thin = len(outline) < MIN_OUTLINE_POINTS
+        self.outline = _edge_midpoints(fields_before.data) if self.thin else outline
 
     def moved(self, points_relative, x) -> np.ndarray:
         return points_relative @ rotation_matrix(x[0]).T + self.centre + x[1:]
@@ -253,6 +259,8 @@ class _Problem:
     def outline_rms(self, x) -> float:
         """RMS distance (px) of before's moved outline to after's outline."""
         q = self.moved(self.outline - self.centre, x)
+        if self.thin:
+            return float(np.sqrt(np.mean(self.after.signed_at(q) ** 2)))
         value, gx, gy = self.after.smooth_and_gradient_at(q)
         dist = (value - 0.5) / np.maximum(np.hypot(gx, gy), 1e-6)  # first order near the outline
         far = np.abs(value - 0.5) > 0.4

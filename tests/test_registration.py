@@ -171,6 +171,25 @@ def test_an_elongated_ellipse_is_not_ambiguous():
     assert m.motion.theta == pytest.approx(0.2, abs=math.radians(1.0))
 
 
+def test_a_single_pixel_moved_is_ambiguous_and_its_translation_exact():
+    a = np.zeros((20, 20), bool)
+    a[10, 10] = True
+    b = np.zeros((20, 20), bool)
+    b[11, 12] = True
+    m = comcore.measure_motion(comcore.Mask(a), comcore.Mask(b))
+    assert m.ambiguous and (m.motion.tx, m.motion.ty) == pytest.approx((2.0, 1.0), abs=1e-6)
+
+
+def test_a_one_pixel_wide_bar_turned_a_quarter_turn():
+    a = np.zeros((30, 30), bool)
+    a[15, 5:25] = True
+    b = np.zeros((30, 30), bool)
+    b[5:25, 15] = True
+    m = comcore.measure_motion(comcore.Mask(a), comcore.Mask(b))
+    assert m.symmetry == 2 and abs(m.motion.theta) == pytest.approx(np.pi / 2, abs=0.01)
+    assert m.residual_px < 0.1
+
+
 # -- simulator-rendered masks ---------------------------------------------------------------
 @pytest.mark.parametrize("name", ["Obj5", "Obj14"])
 def test_motions_of_simulated_pushes(name):
