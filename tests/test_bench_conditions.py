@@ -20,7 +20,7 @@ from comcore.bench._conditions import (
 )
 from comcore.bench._trial import _random_simulator
 
-ESTIMATORS = ("alg2", "active(max_pushes=2)", "active-robot(max_pushes=2)", "centroid")
+ESTIMATORS = ("alg2", "active(max_pushes=1)", "active-robot(max_pushes=1)", "centroid")
 NAMES = (
     "exact",
     "pymunk",
@@ -98,7 +98,7 @@ def test_conditions_table_has_one_table_per_condition(runs):
     for name in NAMES:
         assert f"## {name}\n" in text
     assert "| `alg2` | not run: needs the object put back before every push |" in text
-    assert text.count("| `active-robot(max_pushes=2)` | 1 |") == len(NAMES)
+    assert text.count("| `active-robot(max_pushes=1)` | 1 |") == len(NAMES)
 
 
 @pytest.fixture(scope="module")
