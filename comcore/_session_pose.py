@@ -109,12 +109,16 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     """The pose of the object in ``mask`` relative to ``first`` (comcore.measure_motion).
 
     When the rotation is ambiguous (a disc) the previous pose's rotation is
-    kept: the camera cannot see it turn.
+    kept: the camera cannot see it turn. For a shape with a rotational
+    symmetry the rotation consistent with the masks nearest the previous
+    pose's is taken (pushes turn the object far less than a symmetry angle).
     """
     from ._registration import measure_motion
 
     try:
-        m = measure_motion(first, mask)
+        # near the previous pose: for a symmetric shape that has turned past pi / n the
+        # smallest consistent rotation is wrong by 2 pi / n
+        m = measure_motion(first, mask, near_theta=float(previous.theta))
     except ValueError as e:  # e.g. the object touches the border: part of it out of view
         raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
     theta = previous.theta if m.ambiguous else float(m.motion.theta)
