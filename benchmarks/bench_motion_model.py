@@ -46,13 +46,14 @@ def ellipse_mask(n_pixels: int) -> comcore.Mask:
     return comcore.Mask(((xx - size / 2) / a) ** 2 + ((yy - size / 2) / (0.8 * a)) ** 2 < 1)
 
 
-def step_times(model, mask, pushes, mus):
-    """Wall and CPU seconds of one active step (all pixels x all mu) per push."""
+def step_times(models, mask, pushes, mus):
+    """Wall and CPU seconds of one active step (all pixels x all mu x all models) per push."""
     wall, cpu = [], []
     for push in pushes:
         t0, c0 = time.perf_counter(), time.process_time()
         for mu in mus:
-            model.predict_hypotheses(mask, push[None], mask.pixels, float(mu))
+            for model in models:
+                model.predict_hypotheses(mask, push[None], mask.pixels, float(mu))
         wall.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
     return np.array(wall), np.array(cpu)
@@ -76,12 +77,15 @@ def main(argv=None):
         name, mask = args.object, simulators.random_simulator(args.object, rng=0).mask
     mus = mu_grid(None, 6)
     radius = simulators.DEFAULT_PUSHER_RADIUS
-    models = {"LimitSurfaceModel": comcore.LimitSurfaceModel(pusher_radius=radius)}
+    models = {
+        "LimitSurfaceModel": [comcore.LimitSurfaceModel(pusher_radius=radius)],
+        "family (2 models)": list(comcore.LimitSurfaceModel.family(pusher_radius=radius)),
+    }
     if not args.no_ellipsoid:
-        models["EllipsoidPredictor"] = EllipsoidPredictor(pusher_radius=radius)
+        models["EllipsoidPredictor"] = [EllipsoidPredictor(pusher_radius=radius)]
     print(f"{name}: {mask.area_px} pixels x {len(mus)} friction values, one push per step, "
           f"{args.pushes} pushes x {args.repeats} masks")  # fmt: skip
-    for label, model in models.items():
+    for label, model in models.items():  # a list of models, weighed together
         cold, walls, cpus = [], [], []
         for r in range(args.repeats):
             fresh = comcore.Mask(mask.data.copy(), mask.resolution)  # new per-mask tables

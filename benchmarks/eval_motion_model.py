@@ -11,7 +11,9 @@ the true CoM and friction:
 * ``limit-surface``: ``comcore.LimitSurfaceModel(pusher_radius=...)`` with its
   defaults, asked as the active estimator asks it (every pixel of the mask at
   once, the true CoM among them, so its lattice interpolation is included);
-* ``limit-surface linear`` / ``tilted`` / ``peaked``: the same with that ``pressure``;
+* ``limit-surface/key=value/...``: the same with those settings, e.g.
+  ``limit-surface/pressure=tilted`` or ``limit-surface/grid_px=0/n_steps=16``
+  (0: no interpolation, every hypothesis integrated);
 * ``ellipsoid``: ``predictors.EllipsoidPredictor(pusher_radius=...)``.
 
 The benchmark draws each trial's mass as uniform, a linear density gradient
@@ -54,10 +56,6 @@ BIG_ROTATION_RAD = np.radians(2.0)
 LEVER_BINS_M = ((0.0, 0.01), (0.01, 0.03), (0.03, 1.0))
 NEAR_LINE_M = 0.0375
 DOF = 3.0
-MODELS = (
-    "limit-surface", "limit-surface linear", "limit-surface tilted", "limit-surface peaked",
-    "ellipsoid",
-)  # fmt: skip
 DEFAULT_MODELS = ("limit-surface", "ellipsoid")
 
 
@@ -69,7 +67,8 @@ def parse_args(argv=None):
     p.add_argument("--cone", type=float, default=0.3)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--engines", default="quasistatic,pymunk")
-    p.add_argument("--models", default=",".join(DEFAULT_MODELS), help=f"of {MODELS}")
+    p.add_argument("--models", default=",".join(DEFAULT_MODELS),
+                   help="ellipsoid, limit-surface, limit-surface/key=value/...")  # fmt: skip
     p.add_argument("--by-style", action="store_true", help="rows per mass style too")
     p.add_argument("--fit-scales", action="store_true", help="fit the error scales (ML)")
     p.add_argument("--scales", default=None, help="a,b,c,d: report these scales' coverage")
@@ -84,8 +83,11 @@ def parse_args(argv=None):
         args.objects = [o.strip() for o in args.objects.split(",") if o.strip()]
     args.engines = [e.strip() for e in args.engines.split(",") if e.strip()]
     args.models = [m.strip() for m in args.models.split(",") if m.strip()]
-    for bad in set(args.models) - set(MODELS):
-        p.error(f"unknown model {bad!r}; choose from {MODELS}")
+    for name in args.models:
+        try:
+            make_model(name, 0.004)
+        except (ValueError, TypeError) as e:
+            p.error(f"bad model {name!r}: {e}")
     if args.trials < 1 or args.pushes < 2:
         p.error("--trials must be >= 1 and --pushes >= 2")
     if args.scales is not None:
@@ -124,14 +126,34 @@ def trial_pushes(sim, n, cone, rng):
     return np.array(out)
 
 
+def _value(text):
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def make_model(name, radius):
+    """The model a ``--models`` entry names, for a pusher of ``radius`` metres."""
+    if name == "ellipsoid":
+        return EllipsoidPredictor(pusher_radius=radius)
+    head, *options = name.split("/")
+    if head != "limit-surface":
+        raise ValueError("models are 'ellipsoid' or 'limit-surface[/key=value...]'")
+    pairs = [o.split("=", 1) for o in options]
+    if any(len(p) != 2 for p in pairs):
+        raise ValueError("options are key=value")
+    return comcore.LimitSurfaceModel(pusher_radius=radius, **{k: _value(v) for k, v in pairs})
+
+
 def predict(name, sim, pushes):
     """Motions of the model ``name`` at the true CoM and friction, (n, 3)."""
     mask, com, mu = sim.mask, np.asarray(sim.com_px), sim.mu_contact
-    if name == "ellipsoid":
-        model = EllipsoidPredictor(pusher_radius=sim.pusher_radius)
+    model = make_model(name, sim.pusher_radius)
+    if name == "ellipsoid" or model.grid_px == 0:  # nothing interpolated: ask the CoM alone
         return model.predict_hypotheses(mask, pushes, com[None], mu)[0]
-    options = {"pressure": name.split()[1]} if " " in name else {}
-    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius, **options)
     hyps = np.vstack([com, mask.pixels])  # as the active estimator asks: one push at a time
     return np.stack([model.predict_hypotheses(mask, p[None], hyps, mu)[0, 0] for p in pushes])
 

@@ -22,7 +22,11 @@ from ._pressure import PRESSURES, pressures, support
 from ._push_lattice import PushLattice, pressure_table, remembered, table_pressures
 from ._validation import check_actions, check_mask, check_points
 
-__all__ = ["LimitSurfaceModel"]
+__all__ = ["FAMILY", "LimitSurfaceModel"]
+
+#: The pressure spreads :meth:`LimitSurfaceModel.family` weighs: the clipped linear
+#: and the exponential tilt of a uniform footprint (see docs/motion-model.md).
+FAMILY = ("linear", "tilted")
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -65,27 +69,37 @@ class LimitSurfaceModel:
 
     The floor's friction is integrated over the mask's pixels (gathered into
     about ``support_points`` blocks) under a pressure consistent with each
-    CoM hypothesis: the uniform footprint tilted linearly so that its centre
-    of pressure is the CoM, clipped at zero (``pressure="linear"``), or a
-    pressure peaked at the CoM (``"peaked"``). A round pusher of
-    ``pusher_radius`` metres pushes with contact friction ``mu`` (sticking or
-    sliding, Mason's motion cone), integrated over the push in ``n_steps``
-    steps: the object turns and the contact moves along the outline.
+    CoM hypothesis: its centre of pressure is the CoM. How the pressure is
+    spread is unknown; ``pressure`` picks one of three spreads, and
+    :meth:`family` gives the pair the active estimator should weigh (as it
+    weighs the friction). A round pusher of ``pusher_radius`` metres pushes
+    with contact friction ``mu`` (sticking or sliding: Mason's motion cone),
+    integrated over the push in ``n_steps`` steps: the object turns and the
+    contact moves along the outline. See ``docs/motion-model.md``.
 
     Parameters
     ----------
     pusher_radius : float, optional
         Radius of the round pusher, metres (0: a point). An action is the path
         of the disc's leading point, as in :mod:`simulators`.
-    pressure : {"linear", "peaked"}, optional
+    pressure : {"linear", "tilted", "peaked"}, optional
+        ``"linear"``: the uniform footprint tilted linearly, clipped at zero
+        (the least committal); ``"tilted"``: tilted exponentially (the
+        closest to uniform in relative entropy); ``"peaked"``: falling off
+        linearly from the CoM, then tilted linearly (mass near the CoM).
     n_steps : int, optional
         Integration steps after first contact (default 6).
     support_points : int, optional
         About how many blocks of pixels carry the pressure (default 32).
     grid_px : float, optional
-        Spacing (pixels) of the CoM nodes the push is integrated for; the
-        motions of other CoMs are interpolated bilinearly. 0 integrates every
-        hypothesis (slow, exact).
+        Spacing (pixels) of the CoM nodes the push is integrated for, along
+        the push and far from its line (1 px at the line); the motions of
+        other CoMs are interpolated bilinearly. 0 integrates every hypothesis
+        (slow, exact).
+    batch_pressures : tuple of str, optional
+        Pressure spreads integrated in the same batch as this one (and
+        remembered for the models that use them): :meth:`family` sets it, so
+        that weighing the family costs little more than one model.
 
     Examples
     --------
@@ -99,6 +113,8 @@ class LimitSurfaceModel:
     >>> out = model.predict_hypotheses(mask, [(0, 19.5, 24, 19.5)], coms, 0.5)
     >>> out.shape, bool(out[0, 0, 0] > 0.05), abs(float(out[1, 0, 0])) < 1e-9
     ((2, 1, 3), True, True)
+    >>> [m.pressure for m in comcore.LimitSurfaceModel.family(pusher_radius=0.004)]
+    ['linear', 'tilted']
     """
 
     pusher_radius: float = 0.0
@@ -106,6 +122,7 @@ class LimitSurfaceModel:
     n_steps: int = 6
     support_points: int = 32
     grid_px: float = 4.0
+    batch_pressures: tuple[str, ...] = ()
 
     def __post_init__(self):
         radius = _number(self.pusher_radius, "pusher_radius")
@@ -119,10 +136,25 @@ class LimitSurfaceModel:
             if value < low:
                 raise ValueError(f"{name} must be an integer >= {low}, got {int(value)}")
             object.__setattr__(self, name, int(value))
+        batch = self.batch_pressures
+        if not isinstance(batch, (tuple, list)) or any(b not in PRESSURES for b in batch):
+            raise ValueError(f"batch_pressures must be a tuple of {PRESSURES}, got {batch!r}")
+        object.__setattr__(self, "batch_pressures", tuple(batch))
         grid = _number(self.grid_px, "grid_px")
         if grid < 0:
             raise ValueError(f"grid_px must be >= 0 (0: no interpolation), got {grid}")
         object.__setattr__(self, "grid_px", grid)
+
+    @classmethod
+    def family(cls, pusher_radius: float = 0.0, **options) -> tuple[LimitSurfaceModel, ...]:
+        """One model per pressure spread of :data:`FAMILY`, to weigh as several models.
+
+        ``comcore.estimate_active(mask, push, model=LimitSurfaceModel.family(r))``
+        marginalises the unknown spread with a uniform prior, as it does the
+        friction. ``options`` are passed to every model.
+        """
+        options = {**options, "batch_pressures": FAMILY}
+        return tuple(cls(pusher_radius, pressure, **options) for pressure in FAMILY)
 
     def _motions(self, mask: Mask, actions: np.ndarray, press: np.ndarray, mu, same_as=None):
         """Integrated motions under pressures ``press`` (n, N), shape (n, n_actions, 3)."""
@@ -134,10 +166,11 @@ class LimitSurfaceModel:
             radius, self.n_steps, eps2, same_as,
         )  # fmt: skip
 
-    def _pressures(self, mask: Mask, coms: np.ndarray) -> np.ndarray:
+    def _pressures(self, mask: Mask, coms: np.ndarray, spread: str | None = None) -> np.ndarray:
         """Pressures for CoMs (moved onto the object), (n, N)."""
         sup = support(mask, self.support_points)
-        return pressures(sup, _on_object(mask, coms) - np.asarray(mask.centroid), self.pressure)
+        rel = _on_object(mask, coms) - np.asarray(mask.centroid)
+        return pressures(sup, rel, self.pressure if spread is None else spread)
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
         """Motions of each action for each CoM hypothesis (:class:`comcore.HypothesisPredictor`).
@@ -180,31 +213,44 @@ class LimitSurfaceModel:
 
     def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float):
         """Motions of one push, interpolated from its lattice's nodes, (n, 1, 3)."""
-        lattice, per_mu, mus = remembered(
-            mask, (self, action.tobytes()), lambda: PushLattice(mask, action, self.grid_px), mu
-        )
-        corners, weights = lattice.locate(pts)
-        used = np.zeros(len(lattice.points), dtype=bool)
-        used[corners.ravel()] = True
-        keys = np.flatnonzero(used)
+        spreads = tuple(p for p in PRESSURES if p == self.pressure or p in self.batch_pressures)
+        settings = (self.pusher_radius, self.n_steps, self.support_points, self.grid_px)
+        lattice, known, mus = remembered(
+            mask, (settings, spreads, action.tobytes()),
+            lambda: PushLattice(mask, action, self.grid_px), mu, spreads,
+        )  # fmt: skip
+        corners, weights, keys = lattice.cells(pts)
         if len(keys) >= len(pts):  # interpolation would not save anything
             return self._motions(mask, action[None], self._pressures(mask, pts), mu)
-        todo = keys[np.isnan(per_mu[mu][keys, 0])]
+        todo = keys[np.isnan(known[self.pressure, mu][keys, 0])]
         if len(todo):
-            # Every friction value not yet known there, highest first: a row that
-            # sticks moves as the highest-friction copy of its node does.
-            mus = sorted((m for m in mus if np.isnan(per_mu[m][todo, 0]).all()), reverse=True)
-            table = pressure_table(
-                mask, (self.pressure, self.support_points),
-                lambda points: self._pressures(mask, points),
-            )  # fmt: skip
-            press = table_pressures(table, lattice.points[todo])
-            n = len(todo)
-            out = self._motions(
-                mask, action[None], np.tile(press, (len(mus), 1)), np.repeat(mus, n),
-                same_as=np.tile(np.arange(n), len(mus)),
-            )[:, 0]  # fmt: skip
-            for k, m in enumerate(mus):
-                per_mu[m][todo] = out[k * n : (k + 1) * n]
-        motion = per_mu[mu]
+            self._integrate_nodes(mask, action, lattice.points[todo], todo, known, mus, spreads)
+        motion = known[self.pressure, mu]
         return np.einsum("kn,kns->ns", weights, motion[corners])[:, None, :]
+
+    def _integrate_nodes(self, mask, action, points, todo, known, mus, spreads):
+        """Integrate the push at nodes for every pressure spread and friction not yet known.
+
+        One batch: per spread the friction values highest first, so that a row
+        that sticks can move as its spread's highest-friction copy does.
+        """
+        n = len(todo)
+        jobs = [
+            (spread, m) for spread in spreads for m in sorted(mus, reverse=True)
+            if np.isnan(known[spread, m][todo, 0]).all()
+        ]  # fmt: skip
+        press, same = {}, []
+        for k, (spread, _) in enumerate(jobs):
+            if spread not in press:
+                table = pressure_table(
+                    mask, (spread, self.support_points),
+                    lambda p, spread=spread: self._pressures(mask, p, spread),
+                )  # fmt: skip
+                press[spread] = (table_pressures(table, points), k)
+            same.append(press[spread][1] * n + np.arange(n))
+        out = self._motions(
+            mask, action[None], np.vstack([press[spread][0] for spread, _ in jobs]),
+            np.repeat([m for _, m in jobs], n), same_as=np.concatenate(same),
+        )[:, 0]  # fmt: skip
+        for k, job in enumerate(jobs):
+            known[job][todo] = out[k * n : (k + 1) * n]

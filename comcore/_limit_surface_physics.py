@@ -42,7 +42,7 @@ CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
 #: Smoothing of ``|u|`` in units of the support cell's side.
 SMOOTHING_CELLS = 0.5
 #: Newton steps of the sticking and sliding solves (first step; later ones warm-start).
-STICK_ITERATIONS, SLIDE_ITERATIONS = (8, 3), (8, 3)
+STICK_ITERATIONS, SLIDE_ITERATIONS = (8, 4), (5, 4)
 #: Largest rotation per pixel of pusher travel (0.5 rad/px: a pivot 2 px from the contact).
 MAX_TURN_PER_PX = 0.5
 #: A sliding contact must move into the pusher at this fraction of its speed, at least.
@@ -100,6 +100,9 @@ def stick_omega(p, rx, ry, cx, cy, ux, uy, omega, eps2, iterations):
     Newton steps clipped to a bracket that holds the root (the derivative is
     monotone), so a bad step is replaced by bisection.
     """
+    f = np.float32  # single precision, as in slide_twist
+    p, rx, ry, cx, cy, ux, uy = (np.asarray(a, dtype=f) for a in (p, rx, ry, cx, cy, ux, uy))
+    omega, eps2 = np.asarray(omega, dtype=f), f(eps2)
     bx, by = ry[None, :] - cy[:, None], cx[:, None] - rx[None, :]  # J (r_j - c)
     b2 = bx * bx + by * by
     speed = np.hypot(ux, uy)
@@ -116,11 +119,25 @@ def stick_omega(p, rx, ry, cx, cy, ux, uy, omega, eps2, iterations):
         vb *= inv
         hess = _rowdot(pin, b2 - vb * vb)
         lo, hi = np.where(grad < 0, omega, lo), np.where(grad > 0, omega, hi)
-        step = omega - grad / np.maximum(hess, 1e-300)
+        step = omega - grad / np.maximum(hess, f(1e-30))
         omega = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
     vx, vy = ux + omega[:, None] * bx, uy + omega[:, None] * by
     pin = p / np.sqrt(vx * vx + vy * vy + eps2)
-    return omega, _rowdot(pin, vx), _rowdot(pin, vy)
+    d = np.float64
+    return omega.astype(d), _rowdot(pin, vx).astype(d), _rowdot(pin, vy).astype(d)
+
+
+def _ellipsoid_twist(p, rx, ry, wrench):
+    """The sliding twist under the ellipsoidal approximation of the limit surface, (m, 3).
+
+    About the centre of pressure ``q`` the ellipsoid's twist is ``(f, m_q / c^2)``,
+    ``c^2 = <|r - q|^2> / 2``: a start for :func:`slide_twist` close to its answer.
+    """
+    qx, qy = p @ rx, p @ ry
+    c2 = np.maximum(0.5 * (p @ (rx * rx + ry * ry) - qx * qx - qy * qy), 1e-9)
+    fx, fy = wrench[:, 0], wrench[:, 1]
+    omega = (wrench[:, 2] - (fx * qy - fy * qx)) / c2
+    return np.column_stack([fx - omega * qy, fy + omega * qx, omega])
 
 
 def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True):
@@ -128,7 +145,7 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
 
     Newton on the plane (lengths divided by ``length``, so that forces and
     moments weigh alike), steps at most ``MAX_SLIDE_STEP`` long and, with
-    ``backtrack``, halved up to three times where they do not lower ``D``;
+    ``backtrack``, halved up to twice where they do not lower ``D``;
     warm-started from ``xi`` (rescaled onto the plane).
     """
     rx, ry = rx / length, ry / length
@@ -145,10 +162,14 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
     ok = power > 1e-12
     xi = np.where(ok[:, None], xi / np.where(ok, power, 1.0)[:, None], base)
     z = np.matmul(xi[:, None, :], basis)[:, 0]
+    # The (rows x support points) work in single precision: twice as fast, and
+    # the answer is needed to far less than its 1e-7.
+    f = np.float32
+    p, rx, ry, eps2 = p.astype(f), rx.astype(f), ry.astype(f), f(eps2)
     rxx, rxy, ryy = rx * rx, rx * ry, ry * ry
 
     def velocities(z):
-        x = base + np.matmul(basis, z[:, :, None])[..., 0]
+        x = (base + np.matmul(basis, z[:, :, None])[..., 0]).astype(f)
         ux = x[:, :1] + x[:, 2:] * ry[None, :]
         uy = x[:, 1:2] - x[:, 2:] * rx[None, :]
         return ux, uy, np.sqrt(ux * ux + uy * uy + eps2)
@@ -158,7 +179,7 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
         inv = 1.0 / s
         hx, hy = ux * inv, uy * inv
         pin = p * inv
-        a11, a12, a22 = pin * (1 - hx * hx), -pin * hx * hy, pin * (1 - hy * hy)
+        a11, a12, a22 = pin * (f(1) - hx * hx), -pin * hx * hy, pin * (f(1) - hy * hy)
         grad = np.column_stack([_rowdot(p, hx), _rowdot(p, hy), (p * hx) @ ry - (p * hy) @ rx])
         h = np.empty((len(z), 3, 3))
         h[:, 0, 0], h[:, 0, 1], h[:, 1, 1] = a11.sum(1), a12.sum(1), a22.sum(1)
@@ -177,7 +198,7 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
         step *= np.minimum(1.0, MAX_SLIDE_STEP / np.maximum(norm, 1e-300))[:, None]
         if backtrack:
             f0, alpha = _rowdot(p, s), np.ones(len(z))
-            for _ in range(3):
+            for _ in range(2):
                 f1 = _rowdot(p, velocities(z + alpha[:, None] * step)[2])
                 alpha = np.where(f1 > f0 * (1 + 1e-12), 0.5 * alpha, alpha)
             step *= alpha[:, None]
@@ -250,7 +271,6 @@ def push_motions(
     step = travel / n_steps
     rows = np.arange(n_p * n_a)
     act = rows % n_a
-    p_all = pressure[rows // n_a]
     rx, ry = support[:, 0], support[:, 1]
     length = float(np.sqrt(np.mean(rx * rx + ry * ry)))
     cx0, cy0 = float(centroid[0]), float(centroid[1])
@@ -287,7 +307,7 @@ def push_motions(
         ux, uy = mx - (mn + gap) * nx, my - (mn + gap) * ny  # sticking contact displacement
         speed = np.maximum(np.hypot(ux, uy), 1e-12)
         guess = np.where(np.isnan(omega_rate[live]), 0.0, omega_rate[live])
-        p = p_all[live]
+        p = pressure[live // n_a]
         iters = STICK_ITERATIONS[0 if k == 1 else 1]
         own = np.flatnonzero(~attached[live])
         om, fx, fy = np.empty(len(live)), np.empty(len(live)), np.empty(len(live))
@@ -317,7 +337,8 @@ def push_motions(
             iters = SLIDE_ITERATIONS[0 if k == 1 else 1]
             start = xi_slide[live[j]]
             fresh = ~start.any(axis=1)  # no earlier sliding: start from the sticking twist
-            start[fresh] = np.column_stack([vx[j], vy[j], om[j]])[fresh]
+            if fresh.any():
+                start[fresh] = _ellipsoid_twist(p[j[fresh]], rx, ry, wrench[fresh])
             xi = slide_twist(p[j], rx, ry, wrench, start, eps2, iters, length, k == 1)
             xi_slide[live[j]] = xi
             cvx, cvy = xi[:, 0] + xi[:, 2] * ccy[j], xi[:, 1] - xi[:, 2] * ccx[j]

@@ -66,6 +66,20 @@ class PushLattice:
             self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
         )  # fmt: skip
 
+    def cells(self, points: np.ndarray):
+        """:meth:`locate` and the sorted distinct nodes used, remembered for the last points.
+
+        An estimator asks about the same hypotheses for several friction values
+        and models in turn.
+        """
+        last = getattr(self, "_last", None)
+        if last is None or not np.array_equal(last[0], points):
+            corners, weights = self.locate(points)
+            used = np.zeros(len(self.points), dtype=bool)
+            used[corners.ravel()] = True
+            last = self._last = (points.copy(), (corners, weights, np.flatnonzero(used)))
+        return last[1]
+
     def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Corner nodes (4, n) and bilinear weights (4, n) of each point's cell."""
         rel = points - self.start
@@ -110,13 +124,14 @@ def table_pressures(table: np.ndarray, points: np.ndarray) -> np.ndarray:
     )  # fmt: skip
 
 
-def remembered(mask: Mask, key, make_lattice, mu: float):
+def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     """The remembered lattice and node motions of one push (``key``), and the frictions to batch.
 
     Returns ``(lattice, per_mu, mus)``: the push's lattice (``make_lattice()``
-    the first time), a dict from friction value to a NaN-initialised array of
-    node motions, shape (n_nodes, 3), and every friction value this mask has
-    been asked about (up to ``MAX_REMEMBERED_MUS``, ``mu`` included).
+    the first time), a dict from ``(spread, friction)`` to a NaN-initialised
+    array of node motions, shape (n_nodes, 3), for every pressure spread in
+    ``spreads``, and every friction value this mask has been asked about (up
+    to ``MAX_REMEMBERED_MUS``, ``mu`` included).
     """
     memo = _MEMOS.setdefault(mask, {"mus": [], "pushes": OrderedDict()})
     if mu not in memo["mus"]:
@@ -127,6 +142,7 @@ def remembered(mask: Mask, key, make_lattice, mu: float):
             pushes.popitem(last=False)
         pushes[key] = (make_lattice(), {})
     lattice, per_mu = pushes[key]
-    for m in memo["mus"]:
-        per_mu.setdefault(m, np.full((len(lattice.points), 3), np.nan))
+    for spread in spreads:
+        for m in memo["mus"]:
+            per_mu.setdefault((spread, m), np.full((len(lattice.points), 3), np.nan))
     return lattice, per_mu, list(memo["mus"])

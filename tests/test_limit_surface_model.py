@@ -40,7 +40,8 @@ def test_mirror_symmetric_object_mirrors_the_motion(mu):
     com, com_m = np.array([[21.0, 22.0]]), np.array([[28.0, 22.0]])
     a = MODEL.predict_hypotheses(mask, action, com, mu)[0, 0]
     b = MODEL.predict_hypotheses(mask, mirrored, com_m, mu)[0, 0]
-    np.testing.assert_allclose(b, [-a[0], -a[1], a[2]], atol=1e-6)
+    # Single-precision solves (1e-7 relative) over a 3 cm push: 1e-4 rad and px.
+    np.testing.assert_allclose(b, [-a[0], -a[1], a[2]], atol=1e-4)
 
 
 @pytest.mark.parametrize("com", [(24.5, 19.5), (20.0, 15.0)])
@@ -94,7 +95,7 @@ def test_interpolation_is_exact_at_the_lattice_nodes():
     expected = direct._motions(mask, push, table_pressures(table, nodes), 0.4)
     asked = np.vstack([nodes, mask.pixels])  # many hypotheses: the lattice is used
     got = grid.predict_hypotheses(mask, push, asked, 0.4)[: len(nodes)]
-    np.testing.assert_allclose(got, expected, atol=1e-9)
+    np.testing.assert_allclose(got, expected, atol=1e-5)  # single-precision solves
 
 
 def test_lattice_is_fine_near_the_push_line():
