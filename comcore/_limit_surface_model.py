@@ -16,8 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ._limit_surface_physics import SMOOTHING_CELLS, outline_field, push_motions
+from ._limit_surface_physics import SMOOTHING_CELLS, push_motions
 from ._mask import Mask
+from ._outline_field import outline_field
 from ._pressure import PRESSURES, pressures, support
 from ._push_lattice import PushLattice, pressure_table, remembered, table_pressures
 from ._validation import check_actions, check_mask, check_points

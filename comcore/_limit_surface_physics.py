@@ -24,21 +24,12 @@ the penetration, so the contact slides along the outline as the object turns.
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
-from scipy import ndimage
 
-from ._mask import Mask
+from ._outline_field import pusher_paths
 
-__all__ = ["OutlineField", "outline_field", "push_motions", "slide_twist", "stick_omega"]
+__all__ = ["push_motions", "slide_twist", "stick_omega"]
 
-#: Gaussian sigma (pixels) smoothing the pixel outline's signed distance.
-SDF_SMOOTHING_PX = 1.0
-#: Padding (pixels) of the distance field around the mask image.
-FIELD_PAD_PX = 24
-#: March step (pixels) and bisections of the search for the first contact.
-CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
 #: Smoothing of ``|u|`` in units of the support cell's side.
 SMOOTHING_CELLS = 0.5
 #: Newton steps of the sticking and sliding solves (first step; later ones warm-start).
@@ -49,42 +40,6 @@ MAX_TURN_PER_PX = 0.5
 MIN_NORMAL_FRACTION = 0.05
 #: Longest Newton step of the sliding solve (normalised twist units).
 MAX_SLIDE_STEP = 0.5
-
-
-class OutlineField:
-    """Smoothed signed distance (px, > 0 outside) to a mask's pixel outline, and its gradient."""
-
-    def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
-        img = np.pad(mask.data, pad)
-        outside = ndimage.distance_transform_edt(~img)
-        inside = ndimage.distance_transform_edt(img)
-        sdf = ndimage.gaussian_filter(
-            np.where(img, 0.5 - inside, outside - 0.5), SDF_SMOOTHING_PX, mode="nearest"
-        )
-        gy, gx = np.gradient(sdf)
-        self.pad = pad
-        self._fields = (sdf, gx, gy)
-
-    def sample(self, x, y):
-        """Distance and unit outward gradient ``(gx, gy)`` at points ``(x, y)`` (bilinear)."""
-        shape = np.shape(x)
-        coords = np.vstack([np.ravel(y) + self.pad, np.ravel(x) + self.pad])
-        d, gx, gy = (
-            ndimage.map_coordinates(f, coords, order=1, mode="nearest") for f in self._fields
-        )
-        norm = np.maximum(np.hypot(gx, gy), 1e-12)
-        return d.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
-
-
-_FIELDS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def outline_field(mask: Mask) -> OutlineField:
-    """The (cached) :class:`OutlineField` of an immutable mask."""
-    field = _FIELDS.get(mask)
-    if field is None:
-        field = _FIELDS[mask] = OutlineField(mask)
-    return field
 
 
 def _rowdot(a, b):
@@ -205,51 +160,6 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
         z = z + step
     x = base + np.matmul(basis, z[:, :, None])[..., 0]
     return np.column_stack([x[:, 0], x[:, 1], x[:, 2] / length])
-
-
-def _first_contact(field, start, unit, length, radius):
-    """Travel to first contact of a disc of ``radius`` along each path, and a hit flag."""
-    n = int(np.ceil(length.max(initial=0.0) / CONTACT_MARCH_PX)) + 1
-    t = np.minimum(np.arange(n)[None, :] * CONTACT_MARCH_PX, length[:, None])
-    px, py = start[:, :1] + t * unit[:, :1], start[:, 1:] + t * unit[:, 1:]
-    touching = field.sample(px, py)[0] <= radius[:, None]
-    hit = touching.any(axis=1) & ~touching[:, 0]
-    first = np.argmax(touching, axis=1)
-    rows = np.arange(len(start))
-    lo = np.where(hit, t[rows, np.maximum(first - 1, 0)], 0.0)
-    hi = np.where(hit, t[rows, first], 0.0)
-    for _ in range(CONTACT_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        inside = field.sample(start[:, 0] + mid * unit[:, 0], start[:, 1] + mid * unit[:, 1])[0]
-        inside = inside <= radius
-        hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
-    return np.where(hit, hi, 0.0), hit
-
-
-def pusher_paths(field, actions, radius):
-    """Centre start, unit direction, travel after first contact, contact flag and radius per action.
-
-    An action is the path of the disc's leading point; its centre runs
-    ``radius`` behind. Where that disc would overlap the outline at the start
-    (a notch), the largest disc that surely fits (0.45 of the leading point's
-    distance to the outline) is used instead. Raises ValueError for an action
-    whose leading point starts inside the object.
-    """
-    delta = actions[:, 2:] - actions[:, :2]
-    length = np.hypot(delta[:, 0], delta[:, 1])
-    unit = delta / length[:, None]
-    lead = field.sample(actions[:, 0], actions[:, 1])[0]
-    if (lead <= 0).any():
-        bad = np.flatnonzero(lead <= 0)[:5].tolist()
-        raise ValueError(f"actions must start outside the object; action(s) {bad} start inside it")
-    radii = np.full(len(actions), float(radius))
-    if radius > 0:
-        back = actions[:, :2] - radius * unit
-        overlap = field.sample(back[:, 0], back[:, 1])[0] <= radius
-        radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
-    start = actions[:, :2] - radii[:, None] * unit
-    travel, hit = _first_contact(field, start, unit, length, radii)
-    return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii
 
 
 def push_motions(

@@ -1,11 +1,13 @@
 """Support points of a pixel footprint and pressure distributions consistent with a CoM.
 
 A rigid object on a flat floor presses with its centre of pressure at its
-CoM, but how the pressure is spread is unknown. The family here is the
-smallest departure from a uniform footprint that puts the centre of pressure
-at a CoM hypothesis: the uniform pressure tilted linearly, ``p(x) = a + g . x``,
-with the tilt clipped at zero where it would go negative (and ``a, g`` solved
-again so that the total and the centre of pressure stay right).
+CoM, but how the pressure is spread is unknown. The spreads here are small
+departures from a uniform footprint that put the centre of pressure at a CoM
+hypothesis: the uniform pressure tilted linearly, ``p(x) = a + g . x``, with
+the tilt clipped at zero where it would go negative (and ``a, g`` solved
+again so that the total and the centre of pressure stay right), or tilted
+exponentially, ``p(x) ~ exp(lam . x)``; and, concentrated towards the CoM, a
+pressure falling off from it, tilted linearly.
 """
 
 from __future__ import annotations
@@ -19,10 +21,11 @@ from ._mask import Mask
 
 __all__ = ["PRESSURES", "Support", "into_hull", "pressures", "support"]
 
-#: Pressure families: ``"linear"`` (the clipped linear tilt) and ``"peaked"``
-#: (the tilt of a pressure that falls off linearly from the CoM hypothesis).
+#: Pressure spreads: ``"linear"`` (the clipped linear tilt), ``"tilted"`` (the
+#: exponential tilt) and ``"peaked"`` (the linear tilt of a pressure that falls
+#: off linearly from the CoM hypothesis).
 PRESSURES = ("linear", "tilted", "peaked")
-#: Semi-smooth Newton steps solving the clipped tilt.
+#: Newton steps solving a tilt.
 TILT_ITERATIONS = 25
 
 
@@ -181,6 +184,8 @@ def pressures(sup: Support, coms_rel: np.ndarray, family: str = "linear") -> np.
 
     * ``"linear"``: the uniform footprint tilted linearly (clipped at zero) so
       that the centre of pressure is the CoM: the least committal choice.
+    * ``"tilted"``: the uniform footprint tilted exponentially: the
+      distribution closest to uniform in relative entropy with that centre.
     * ``"peaked"``: a pressure falling off linearly with the distance from the
       CoM hypothesis, to zero just beyond the footprint's farthest point, then
       tilted the same way: mass concentrated towards the CoM.
