@@ -263,18 +263,23 @@ def coverage(scales, r):
 
 
 def scale_report(rows, args):
-    for (engine, model, friction), parts in sorted(rows.items()):
-        if friction != "low":
-            continue
-        r = np.vstack([p for _, p in parts] + [p for _, p in rows[(engine, model, "high")]])
+    """Fitted and given scales per engine and model (friction classes pooled), and all engines."""
+    pooled = {}
+    for (engine, model, friction), parts in rows.items():
+        if friction in ("low", "high"):
+            pooled.setdefault((engine, model), []).extend(p for _, p in parts)
+            pooled.setdefault(("all engines", model), []).extend(p for _, p in parts)
+    for (engine, model), parts in sorted(pooled.items()):
+        r = np.vstack(parts)
+        label = f"{engine:11s} {model:40s}"
         if args.fit_scales:
             s, nll = fit_scales(r)
-            print(f"{engine:11s} {model:21s} fitted a={s[0]:.4f} rad b={s[1]:.4f} rad "
+            print(f"{label} fitted a={s[0]:.4f} rad b={s[1]:.4f} rad "
                   f"c={1e3 * s[2]:.2f} mm d={s[3]:.3f}  nll/push {nll:.3f}")  # fmt: skip
         if args.scales is not None:
             th, tr = coverage(args.scales, r)
             nll = scales_nll(args.scales, r)
-            print(f"{engine:11s} {model:21s} given scales: nll/push {nll:.3f}"
+            print(f"{label} given scales: nll/push {nll:.3f}"
                   f"  rotation within 1/2/3 scales {th[0]:.2f}/{th[1]:.2f}/{th[2]:.2f}"
                   f"  displacement {tr[0]:.2f}/{tr[1]:.2f}/{tr[2]:.2f}")  # fmt: skip
 
