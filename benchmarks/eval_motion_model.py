@@ -220,15 +220,22 @@ def summary(r):
 def table(rows, objects=None):
     bins = " | ".join(f"lever {100 * lo:g}-{100 * hi:g} cm" for lo, hi in LEVER_BINS_M[:-1])
     lines = [
-        f"| engine | model | friction | sense | abs(dtheta) rad, median / p90 | {bins} "
+        f"| engine | friction | model | sense | abs(dtheta) rad, median / p90 | {bins} "
         f"| lever > {100 * LEVER_BINS_M[-1][0]:g} cm | CoM displacement error (mm) | pushes |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for (engine, model, friction), parts in rows.items():
-        chosen = [r for n, r in parts if objects is None or n in objects]
-        if chosen:
-            cells, n = summary(np.vstack(chosen))
-            lines.append(f"| {engine} | {model} | {friction} | " + " | ".join(cells) + f" | {n} |")
+    engines = list(dict.fromkeys(k[0] for k in rows))
+    models = list(dict.fromkeys(k[1] for k in rows))
+    classes = sorted({k[2] for k in rows}, key=lambda c: (c.split(",")[0] != "low", "," in c, c))
+    for engine in engines:
+        for friction in classes:
+            for model in models:
+                parts = rows.get((engine, model, friction), [])
+                chosen = [r for n, r in parts if objects is None or n in objects]
+                if chosen:
+                    cells, n = summary(np.vstack(chosen))
+                    row = f"| {engine} | {friction} | {model} | " + " | ".join(cells)
+                    lines.append(row + f" | {n} |")
     return "\n".join(lines)
 
 

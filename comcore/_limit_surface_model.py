@@ -25,9 +25,9 @@ from ._validation import check_actions, check_mask, check_points
 
 __all__ = ["FAMILY", "LimitSurfaceModel"]
 
-#: The pressure spreads :meth:`LimitSurfaceModel.family` weighs: the clipped linear
-#: and the exponential tilt of a uniform footprint (see docs/motion-model.md).
-FAMILY = ("linear", "tilted")
+#: The pressure spreads :meth:`LimitSurfaceModel.family` weighs: the exponential
+#: and the clipped linear tilt of a uniform footprint (see docs/motion-model.md).
+FAMILY = ("tilted", "linear")
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -83,11 +83,11 @@ class LimitSurfaceModel:
     pusher_radius : float, optional
         Radius of the round pusher, metres (0: a point). An action is the path
         of the disc's leading point, as in :mod:`simulators`.
-    pressure : {"linear", "tilted", "peaked"}, optional
-        ``"linear"``: the uniform footprint tilted linearly, clipped at zero
-        (the least committal); ``"tilted"``: tilted exponentially (the
-        closest to uniform in relative entropy); ``"peaked"``: falling off
-        linearly from the CoM, then tilted linearly (mass near the CoM).
+    pressure : {"tilted", "linear", "peaked"}, optional
+        ``"tilted"`` (default): the uniform footprint tilted exponentially (the
+        spread closest to uniform in relative entropy); ``"linear"``: tilted
+        linearly, clipped at zero; ``"peaked"``: falling off linearly from the
+        CoM, then tilted linearly (mass near the CoM).
     n_steps : int, optional
         Integration steps after first contact (default 6).
     support_points : int, optional
@@ -115,11 +115,11 @@ class LimitSurfaceModel:
     >>> out.shape, bool(out[0, 0, 0] > 0.05), abs(float(out[1, 0, 0])) < 1e-9
     ((2, 1, 3), True, True)
     >>> [m.pressure for m in comcore.LimitSurfaceModel.family(pusher_radius=0.004)]
-    ['linear', 'tilted']
+    ['tilted', 'linear']
     """
 
     pusher_radius: float = 0.0
-    pressure: str = "linear"
+    pressure: str = "tilted"
     n_steps: int = 6
     support_points: int = 32
     grid_px: float = 4.0

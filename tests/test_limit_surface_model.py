@@ -22,7 +22,7 @@ def notched():
 MODEL = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=0.0)
 
 
-@pytest.mark.parametrize("family", ["linear", "peaked"])
+@pytest.mark.parametrize("family", ["linear", "tilted", "peaked"])
 def test_pressure_has_its_centre_at_the_com(family):
     sup = support(plate(), 32)
     coms = np.array([[0.0, 0.0], [8.0, -4.0], [-10.0, 6.0]])  # the last one needs clipping
@@ -90,7 +90,7 @@ def test_interpolation_is_exact_at_the_lattice_nodes():
     nodes = lattice.points[mask.contains(lattice.points)][::3]
     grid = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=4.0)
     direct = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=0.0)
-    table = pressure_table(mask, ("linear", 32), lambda p: direct._pressures(mask, p))
+    table = pressure_table(mask, ("tilted", 32), lambda p: direct._pressures(mask, p))
     # The nodes' pressures come from the per-mask table: the same pressures, directly.
     expected = direct._motions(mask, push, table_pressures(table, nodes), 0.4)
     asked = np.vstack([nodes, mask.pixels])  # many hypotheses: the lattice is used

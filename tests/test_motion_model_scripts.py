@@ -27,7 +27,7 @@ def test_eval_motion_model_runs():
         "--scales", "0.01,0.1,0.001,0.05",
     )  # fmt: skip
     assert out.startswith("2 trials x 2 pushes, seed 0")
-    assert out.count("| quasistatic | limit-surface | low |") == 2  # all, and Obj19 only
+    assert out.count("| quasistatic | low | limit-surface |") == 2  # all, and Obj19 only
     assert "fitted a=" in out and "given scales: nll/push" in out
 
 
