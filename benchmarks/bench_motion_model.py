@@ -28,11 +28,11 @@ from comcore._active_setup import mu_grid
 from predictors import EllipsoidPredictor
 
 
-def largest_object():
+def largest_object(resolution):
     """The benchmark object whose mask has the most pixels, and that mask."""
     best = None
     for name in simulators.BENCHMARK_OBJECTS:
-        mask = simulators.random_simulator(name, rng=0).mask
+        mask = simulators.random_simulator(name, rng=0, resolution=resolution).mask
         if best is None or mask.area_px > best[1].area_px:
             best = (name, mask)
     return best
@@ -65,6 +65,8 @@ def main(argv=None):
     parser.add_argument(
         "--pixels", type=int, default=None, help="time an ellipse of about this many pixels instead"
     )
+    parser.add_argument("--resolution", type=float, default=comcore.DEFAULT_RESOLUTION,
+                        help="camera resolution, metres per pixel (benchmark objects)")  # fmt: skip
     parser.add_argument("--pushes", type=int, default=5, help="timed pushes per mask")
     parser.add_argument("--repeats", type=int, default=3, help="fresh copies of the mask")
     parser.add_argument("--no-ellipsoid", action="store_true")
@@ -72,9 +74,10 @@ def main(argv=None):
     if args.pixels is not None:
         name, mask = "ellipse", ellipse_mask(args.pixels)
     elif args.object is None:
-        name, mask = largest_object()
+        name, mask = largest_object(args.resolution)
     else:
-        name, mask = args.object, simulators.random_simulator(args.object, rng=0).mask
+        sim = simulators.random_simulator(args.object, rng=0, resolution=args.resolution)
+        name, mask = args.object, sim.mask
     mus = mu_grid(None, 6)
     radius = simulators.DEFAULT_PUSHER_RADIUS
     models = {

@@ -12,7 +12,7 @@ the true CoM and friction:
   defaults, asked as the active estimator asks it (every pixel of the mask at
   once, the true CoM among them, so its lattice interpolation is included);
 * ``limit-surface/key=value/...``: the same with those settings, e.g.
-  ``limit-surface/pressure=tilted`` or ``limit-surface/grid_px=0/n_steps=16``
+  ``limit-surface/pressure=linear`` or ``limit-surface/node_spacing=0/n_steps=16``
   (0: no interpolation, every hypothesis integrated);
 * ``ellipsoid``: ``predictors.EllipsoidPredictor(pusher_radius=...)``.
 
@@ -152,7 +152,7 @@ def predict(name, sim, pushes):
     """Motions of the model ``name`` at the true CoM and friction, (n, 3)."""
     mask, com, mu = sim.mask, np.asarray(sim.com_px), sim.mu_contact
     model = make_model(name, sim.pusher_radius)
-    if name == "ellipsoid" or model.grid_px == 0:  # nothing interpolated: ask the CoM alone
+    if name == "ellipsoid" or model.node_spacing == 0:  # nothing interpolated: ask the CoM alone
         return model.predict_hypotheses(mask, pushes, com[None], mu)[0]
     hyps = np.vstack([com, mask.pixels])  # as the active estimator asks: one push at a time
     return np.stack([model.predict_hypotheses(mask, p[None], hyps, mu)[0, 0] for p in pushes])

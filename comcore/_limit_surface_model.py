@@ -20,7 +20,13 @@ from ._limit_surface_physics import SMOOTHING_CELLS, push_motions
 from ._mask import Mask
 from ._outline_field import outline_field
 from ._pressure import PRESSURES, pressures, support
-from ._push_lattice import PushLattice, pressure_table, remembered, table_pressures
+from ._push_lattice import (
+    PushLattice,
+    _table_step,
+    pressure_table,
+    remembered,
+    table_pressures,
+)
 from ._validation import check_actions, check_mask, check_points
 
 __all__ = ["FAMILY", "LimitSurfaceModel"]
@@ -89,14 +95,14 @@ class LimitSurfaceModel:
         linearly, clipped at zero; ``"peaked"``: falling off linearly from the
         CoM, then tilted linearly (mass near the CoM).
     n_steps : int, optional
-        Integration steps after first contact (default 6).
+        Integration steps after first contact (default 8).
     support_points : int, optional
         About how many blocks of pixels carry the pressure (default 32).
-    grid_px : float, optional
-        Spacing (pixels) of the CoM nodes the push is integrated for, along
-        the push and far from its line (1 px at the line); the motions of
-        other CoMs are interpolated bilinearly. 0 integrates every hypothesis
-        (slow, exact).
+    node_spacing : float, optional
+        Spacing (metres, default 1 cm) of the CoM nodes the push is
+        integrated for, along the push and far from its line (2.5 mm at the
+        line); the motions of other CoMs are interpolated bilinearly. 0
+        integrates every hypothesis (slow, exact).
     batch_pressures : tuple of str, optional
         Pressure spreads integrated in the same batch as this one (and
         remembered for the models that use them): :meth:`family` sets it, so
@@ -120,9 +126,9 @@ class LimitSurfaceModel:
 
     pusher_radius: float = 0.0
     pressure: str = "tilted"
-    n_steps: int = 6
+    n_steps: int = 8
     support_points: int = 32
-    grid_px: float = 4.0
+    node_spacing: float = 0.01
     batch_pressures: tuple[str, ...] = ()
 
     def __post_init__(self):
@@ -141,10 +147,10 @@ class LimitSurfaceModel:
         if not isinstance(batch, (tuple, list)) or any(b not in PRESSURES for b in batch):
             raise ValueError(f"batch_pressures must be a tuple of {PRESSURES}, got {batch!r}")
         object.__setattr__(self, "batch_pressures", tuple(batch))
-        grid = _number(self.grid_px, "grid_px")
-        if grid < 0:
-            raise ValueError(f"grid_px must be >= 0 (0: no interpolation), got {grid}")
-        object.__setattr__(self, "grid_px", grid)
+        spacing = _number(self.node_spacing, "node_spacing")
+        if spacing < 0:
+            raise ValueError(f"node_spacing must be >= 0 metres (0: none), got {spacing}")
+        object.__setattr__(self, "node_spacing", spacing)
 
     @classmethod
     def family(cls, pusher_radius: float = 0.0, **options) -> tuple[LimitSurfaceModel, ...]:
@@ -208,17 +214,17 @@ class LimitSurfaceModel:
             raise ValueError(f"mu must be >= 0 (inf allowed), got {mu}")
         if len(acts) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(acts), 3))
-        if self.grid_px == 0:
+        if self.node_spacing == 0:
             return self._motions(mask, acts, self._pressures(mask, pts), mu)
         return np.concatenate([self._interpolated(mask, a, pts, mu) for a in acts], axis=1)
 
     def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float):
         """Motions of one push, interpolated from its lattice's nodes, (n, 1, 3)."""
         spreads = tuple(p for p in PRESSURES if p == self.pressure or p in self.batch_pressures)
-        settings = (self.pusher_radius, self.n_steps, self.support_points, self.grid_px)
+        settings = (self.pusher_radius, self.n_steps, self.support_points, self.node_spacing)
         lattice, known, mus = remembered(
             mask, (settings, spreads, action.tobytes()),
-            lambda: PushLattice(mask, action, self.grid_px), mu, spreads,
+            lambda: PushLattice(mask, action, self.node_spacing), mu, spreads,
         )  # fmt: skip
         corners, weights, keys = lattice.cells(pts)
         if len(keys) >= len(pts):  # interpolation would not save anything
@@ -247,7 +253,7 @@ class LimitSurfaceModel:
                     mask, (spread, self.support_points),
                     lambda p, spread=spread: self._pressures(mask, p, spread),
                 )  # fmt: skip
-                press[spread] = (table_pressures(table, points), k)
+                press[spread] = (table_pressures(table, points, _table_step(mask)), k)
             same.append(press[spread][1] * n + np.arange(n))
         out = self._motions(
             mask, action[None], np.vstack([press[spread][0] for spread, _ in jobs]),

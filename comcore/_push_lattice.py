@@ -4,10 +4,11 @@ A push's motion is a smooth function of the CoM hypothesis except across the
 push's line, where the rotation changes sense: a CoM just beside the line
 balances on an unstable equilibrium and turns fast over a 3 cm push. So the
 nodes lie on lines parallel to the push, close together near the push line
-(``NEAR_LINE_SPACING_PX``, growing by ``SPACING_GROWTH`` per pixel of lever
-arm) and ``spacing`` apart far from it and along it. The pressure at a node
-is interpolated bilinearly from a table of the pressure family on a square
-grid over the image (``PRESSURE_GRID_PX``), computed once per mask.
+(``NEAR_LINE_SPACING_M``, growing by ``SPACING_GROWTH`` per unit of lever
+arm) and ``spacing`` apart far from it and along it: spacings in metres, so
+a finer camera does not multiply the nodes. The pressure at a node is
+interpolated bilinearly from a table of the pressure spread on a square grid
+over the image (``PRESSURE_GRID_M``), computed once per mask.
 """
 
 from __future__ import annotations
@@ -21,10 +22,10 @@ from ._mask import Mask
 
 __all__ = ["PushLattice", "pressure_table", "remembered"]
 
-#: Node spacing (pixels) on the push line, and its growth per pixel of lever arm.
-NEAR_LINE_SPACING_PX, SPACING_GROWTH = 1.0, 0.5
-#: Spacing (pixels) of the per-mask table the nodes' pressures are interpolated from.
-PRESSURE_GRID_PX = 2.0
+#: Node spacing (metres) on the push line, and its growth per unit of lever arm.
+NEAR_LINE_SPACING_M, SPACING_GROWTH = 0.0025, 0.5
+#: Spacing (metres) of the per-mask table the nodes' pressures are interpolated from.
+PRESSURE_GRID_M = 0.005
 #: Pushes whose node motions are remembered per mask and model, and friction values.
 CACHED_PUSHES, MAX_REMEMBERED_MUS = 4, 12
 
@@ -32,11 +33,15 @@ _TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _MEMOS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def lever_nodes(spacing: float, reach: float) -> np.ndarray:
-    """Node offsets (pixels) across the push line, sorted, symmetric, covering ``+-reach``."""
+def lever_nodes(spacing: float, near: float, reach: float) -> np.ndarray:
+    """Node offsets across the push line, sorted, symmetric, covering ``+-reach``.
+
+    ``near`` apart at the line, growing by ``SPACING_GROWTH`` per unit of
+    offset up to ``spacing`` (all in the same unit).
+    """
     out = [0.0]
     while out[-1] < reach:
-        out.append(out[-1] + min(spacing, NEAR_LINE_SPACING_PX + SPACING_GROWTH * out[-1]))
+        out.append(out[-1] + min(spacing, near + SPACING_GROWTH * out[-1]))
     half = np.array(out)
     return np.concatenate([-half[:0:-1], half])
 
@@ -49,7 +54,7 @@ class PushLattice:
     that order.
     """
 
-    def __init__(self, mask: Mask, action: np.ndarray, spacing: float):
+    def __init__(self, mask: Mask, action: np.ndarray, spacing_m: float):
         self.start = np.asarray(action[:2], dtype=float)
         d = np.asarray(action[2:], dtype=float) - self.start
         self.u = d / np.hypot(d[0], d[1])
@@ -57,10 +62,11 @@ class PushLattice:
         h, w = mask.shape
         corners = np.array([[-1, -1], [w, -1], [-1, h], [w, h]], dtype=float) - self.start
         a, b = corners @ self.u, corners @ self.w
-        self.spacing = float(spacing)
+        spacing = self.spacing = max(float(spacing_m) / mask.resolution, 1e-3)
+        near = min(NEAR_LINE_SPACING_M / mask.resolution, spacing)
         first, last = np.floor(a.min() / spacing), np.ceil(a.max() / spacing)
         self.along = spacing * np.arange(first, last + 1)
-        self.lever = lever_nodes(spacing, float(np.abs(b).max()) + spacing)
+        self.lever = lever_nodes(spacing, near, float(np.abs(b).max()) + spacing)
         grid_a, grid_b = np.meshgrid(self.along, self.lever, indexing="ij")
         self.points = (
             self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
@@ -96,14 +102,14 @@ class PushLattice:
 
 
 def pressure_table(mask: Mask, key, compute) -> np.ndarray:
-    """``compute(points)`` (n, N) on the square grid ``PRESSURE_GRID_PX * (i, j)``, cached.
+    """``compute(points)`` (n, N) on the square grid ``PRESSURE_GRID_M`` apart, cached.
 
     Returns the table, shape (n_i, n_j, N), for :func:`table_pressures`.
     """
     tables = _TABLES.setdefault(mask, {})
     if key not in tables:
         h, w = mask.shape
-        g = PRESSURE_GRID_PX
+        g = _table_step(mask)
         ni, nj = int(np.ceil((w - 1) / g)) + 2, int(np.ceil((h - 1) / g)) + 2
         ii, jj = np.meshgrid(np.arange(ni), np.arange(nj), indexing="ij")
         points = g * np.column_stack([ii.ravel(), jj.ravel()]).astype(float)
@@ -111,9 +117,14 @@ def pressure_table(mask: Mask, key, compute) -> np.ndarray:
     return tables[key]
 
 
-def table_pressures(table: np.ndarray, points: np.ndarray) -> np.ndarray:
+def _table_step(mask: Mask) -> float:
+    """Spacing (pixels) of a mask's pressure table: ``PRESSURE_GRID_M``, at least 1 px."""
+    return max(PRESSURE_GRID_M / mask.resolution, 1.0)
+
+
+def table_pressures(table: np.ndarray, points: np.ndarray, step: float) -> np.ndarray:
     """Pressures at points, bilinear in the table of :func:`pressure_table`, (n, N)."""
-    cell = np.clip(points / PRESSURE_GRID_PX, 0.0, np.array(table.shape[:2]) - 1 - 1e-9)
+    cell = np.clip(points / step, 0.0, np.array(table.shape[:2]) - 1 - 1e-9)
     lo = np.floor(cell).astype(np.intp)
     f = cell - lo
     i, j = lo[:, 0], lo[:, 1]

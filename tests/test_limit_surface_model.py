@@ -19,7 +19,7 @@ def notched():
     return comcore.Mask(img)
 
 
-MODEL = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=0.0)
+MODEL = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=0.0)
 
 
 @pytest.mark.parametrize("family", ["linear", "tilted", "peaked"])
@@ -86,23 +86,23 @@ def test_outputs_are_finite_for_every_pixel_and_friction():
 def test_interpolation_is_exact_at_the_lattice_nodes():
     mask = notched()
     push = comcore.sample_pushes(mask, 1, rng=2)
-    lattice = PushLattice(mask, push[0], 4.0)
+    lattice = PushLattice(mask, push[0], 0.01)
     nodes = lattice.points[mask.contains(lattice.points)][::3]
-    grid = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=4.0)
-    direct = comcore.LimitSurfaceModel(pusher_radius=0.004, grid_px=0.0)
+    grid = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=0.01)
+    direct = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=0.0)
     table = pressure_table(mask, ("tilted", 32), lambda p: direct._pressures(mask, p))
     # The nodes' pressures come from the per-mask table: the same pressures, directly.
-    expected = direct._motions(mask, push, table_pressures(table, nodes), 0.4)
+    expected = direct._motions(mask, push, table_pressures(table, nodes, 2.0), 0.4)
     asked = np.vstack([nodes, mask.pixels])  # many hypotheses: the lattice is used
     got = grid.predict_hypotheses(mask, push, asked, 0.4)[: len(nodes)]
     np.testing.assert_allclose(got, expected, atol=1e-5)  # single-precision solves
 
 
 def test_lattice_is_fine_near_the_push_line():
-    lattice = PushLattice(notched(), np.array([0.0, 30.0, 20.0, 30.0]), 4.0)
+    lattice = PushLattice(notched(), np.array([0.0, 30.0, 20.0, 30.0]), 0.01)  # 4 px
     steps = np.diff(lattice.lever)
     near = np.abs(lattice.lever[:-1] + steps / 2) < 2
-    assert steps[near].max() <= 1.5 and steps.max() == 4.0
+    assert steps[near].max() <= 1.5 and np.isclose(steps.max(), 4.0)
     assert np.isclose(lattice.lever, 0).any()  # a node line on the push line
 
 
@@ -150,7 +150,7 @@ def test_bad_coms_are_refused():
      ({"n_steps": 0}, ValueError, "n_steps must be an integer >= 1"),
      ({"n_steps": 2.5}, TypeError, "n_steps must be an integer"),
      ({"support_points": 3}, ValueError, "support_points must be an integer >= 4"),
-     ({"grid_px": -1.0}, ValueError, "grid_px must be >= 0")],
+     ({"node_spacing": -1.0}, ValueError, "node_spacing must be >= 0")],
 )  # fmt: skip
 def test_bad_settings_are_refused(kwargs, error, match):
     with pytest.raises(error, match=match):
