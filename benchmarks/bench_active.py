@@ -1,4 +1,4 @@
-"""Timing of comcore.estimate_active: choosing a push, and a whole run without a model.
+"""Timing of comcore.estimate_active: choosing a push, a run without a model, a default step.
 
 The issue's budget: choosing from 200 candidates on a 5,000-pixel mask takes
 under 50 ms (median). The choice is the expected information gain of every
@@ -48,6 +48,11 @@ def main(argv=None):
     parser.add_argument("--candidates", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--objects",
+        default="Obj1,Obj7,Obj10,Obj19,Obj20",
+        help="benchmark objects to time the default model's steps on ('' for none)",
+    )
     args = parser.parse_args(argv)
 
     mask = ellipse_mask(args.pixels)
@@ -80,10 +85,46 @@ def main(argv=None):
     print(f"choose a push, after 3 pushes:  {median_ms(choose, args.repeats):6.1f} ms (median)")
 
     def run():
-        return comcore.estimate_active(mask, push, cands, max_pushes=4, target_radius=1e-6)
+        return comcore.estimate_active(
+            mask, push, cands, max_pushes=4, target_radius=1e-6, model=None
+        )
 
     per_push = median_ms(run, max(3, args.repeats // 5)) / 4
     print(f"whole run without a model:      {per_push:6.1f} ms per push (median of runs / 4)")
+    if args.objects:
+        default_model_steps(args.objects.split(","), args.seed)
+
+
+def default_model_steps(objects, seed: int) -> None:
+    """Time the active steps of the defaults (the motion model included) on benchmark masks.
+
+    A step is ``observe`` (the posterior update, the model asked about every
+    live hypothesis at the pusher-offset nodes) plus ``next_push`` (the
+    choice), on the object pushed by the benchmark's simulator (reset before
+    each push). CPU time, so that a machine shared with other jobs does not
+    inflate it.
+    """
+    import simulators
+
+    for name in objects:
+        sim = simulators.random_simulator(name, "low", rng=seed)
+        session = comcore.ActiveSession(sim.mask, pusher_radius=sim.pusher_radius, rng=seed)
+        steps = []
+        while not session.done:
+            start = time.process_time()
+            action = session.next_push()
+            steps.append(time.process_time() - start)
+            motion = sim.push(action).motion
+            start = time.process_time()
+            session.observe(motion=motion)
+            session.reset_pose()
+            _ = session.done  # plans the next push
+            steps[-1] += time.process_time() - start
+        ms = 1e3 * np.array(steps)
+        print(
+            f"default model, {name:6s} ({sim.mask.area_px:5d} px): {len(ms)} steps, "
+            f"median {np.median(ms):6.1f} ms, max {ms.max():6.1f} ms (CPU)"
+        )
 
 
 if __name__ == "__main__":

@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from ._active_setup import DEFAULT_MOTION_NOISE, active_options, build_estimate, prior_grid
+from ._active_setup import (
+    DEFAULT_MODEL,
+    DEFAULT_MOTION_NOISE,
+    DEFAULT_PUSHER_RADIUS,
+    active_options,
+    build_estimate,
+    prior_grid,
+)
 from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._mask import Mask
@@ -29,7 +36,8 @@ def estimate_active(
     candidates=None,
     max_pushes: int = 5,
     *,
-    model=None,
+    model=DEFAULT_MODEL,
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     mu=None,
     target_radius: float = 0.0045,
     credible: float = 0.9,
@@ -217,7 +225,8 @@ def estimate_active(
 
     Examples
     --------
-    A toy robot whose object turns 0.1 rad in the Voting Theorem's sense:
+    A toy robot whose object turns 0.1 rad in the Voting Theorem's sense and
+    does not move (no physics: the Voting Theorem alone, ``model=None``):
 
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
@@ -226,10 +235,10 @@ def estimate_active(
     ...     c = comcore.contacts(mask, action)
     ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
     ...     return comcore.Motion(0.1 * s, 0.0, 0.0)
-    >>> est = comcore.estimate_active(mask, push, max_pushes=8, rng=0)
+    >>> est = comcore.estimate_active(mask, push, max_pushes=8, model=None, rng=0)
     >>> est.status, len(est.used), round(est.error_px(true_com), 1)
     ('budget', 8, 1.2)
-    >>> comcore.estimate_active(mask, push, max_pushes=0).com  # the prior: the centroid
+    >>> comcore.estimate_active(mask, push, max_pushes=0, model=None).com  # the prior
     (22.5, 22.5)
     """
     mask = check_mask(mask)
@@ -242,6 +251,7 @@ def estimate_active(
         candidates=candidates,
         max_pushes=max_pushes,
         model=model,
+        pusher_radius=pusher_radius,
         mu=mu,
         target_radius=target_radius,
         credible=credible,

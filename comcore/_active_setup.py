@@ -15,7 +15,9 @@ from ._types import Estimate
 from ._validation import check_mu, check_positive, check_probability
 
 __all__ = [
+    "DEFAULT_MODEL",
     "DEFAULT_MOTION_NOISE",
+    "DEFAULT_PUSHER_RADIUS",
     "LINE_BLUR_M",
     "MAX_ALPHA",
     "NEAR_LINE_M",
@@ -46,6 +48,22 @@ SELECTIONS = ("sense", "model")
 LINE_BLUR_M = 1.2 * 0.0025 * math.pi / math.sqrt(3.0)
 #: Default tracking error of a measured motion: 0.5 deg and 0.5 mm (a camera's).
 DEFAULT_MOTION_NOISE = (math.radians(0.5), 0.0005)
+#: Radius (metres) of the pusher assumed when none is given: the simulators' default pusher.
+DEFAULT_PUSHER_RADIUS = 0.004
+
+
+class _DefaultModel:
+    """The ``model`` argument's default: ``LimitSurfaceModel(pusher_radius=pusher_radius)``."""
+
+    def __repr__(self) -> str:
+        return "<default: comcore.LimitSurfaceModel(pusher_radius=pusher_radius)>"
+
+    def __reduce__(self):
+        return "DEFAULT_MODEL"
+
+
+#: ``model``'s default (``model=None`` asks for the Voting Theorem alone).
+DEFAULT_MODEL = _DefaultModel()
 #: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
 _LOGISTIC_STD = math.pi / math.sqrt(3.0)
 
@@ -75,6 +93,7 @@ class ActiveOptions:
     near_px: float
     line_scale_px: float
     tracking: tuple[float, float]
+    pusher_px: float = 0.0
 
 
 def _count(value, name: str, minimum: int) -> int:
@@ -88,7 +107,8 @@ def _count(value, name: str, minimum: int) -> int:
 def active_options(
     mask: Mask,
     *,
-    model=None,
+    model=DEFAULT_MODEL,
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     max_pushes: int = 5,
     mu=None,
     target_radius: float = 0.0045,
@@ -115,7 +135,8 @@ def active_options(
     the deprecated form of ``translation_error`` (metres).
     """
     max_pushes = _count(max_pushes, "max_pushes", 0)
-    models = check_models(model)
+    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
+    models = check_models(model, pusher_radius)
     target_px = check_positive(target_radius, "target_radius") / mask.resolution
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
     flip_prob = check_probability(flip_prob, "flip_prob", open_low=True)
@@ -163,6 +184,7 @@ def active_options(
         near_px=NEAR_LINE_M / mask.resolution,
         line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
         tracking=(track_theta, track_m / mask.resolution),
+        pusher_px=pusher_error / mask.resolution,
     )
 
 
@@ -206,8 +228,15 @@ def pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
     return a, r
 
 
-def check_models(model) -> tuple:
-    """``model`` as a tuple of HypothesisPredictors (empty for None)."""
+def check_models(model, pusher_radius: float = DEFAULT_PUSHER_RADIUS) -> tuple:
+    """``model`` as a tuple of HypothesisPredictors (empty for None).
+
+    :data:`DEFAULT_MODEL` becomes ``LimitSurfaceModel(pusher_radius=pusher_radius)``.
+    """
+    if model is DEFAULT_MODEL:
+        from ._limit_surface_model import LimitSurfaceModel
+
+        return (LimitSurfaceModel(pusher_radius=pusher_radius),)
     if model is None:
         return ()
     models = tuple(model) if isinstance(model, (list, tuple)) else (model,)

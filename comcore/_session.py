@@ -6,7 +6,7 @@ import inspect
 
 import numpy as np
 
-from ._active_setup import active_options, build_estimate, prior_grid
+from ._active_setup import DEFAULT_MODEL, active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
 from ._mask import Mask
@@ -97,12 +97,13 @@ class ActiveSession:
 
     Examples
     --------
-    The object turns 0.1 rad in the Voting Theorem's sense and stays put:
+    The object turns 0.1 rad in the Voting Theorem's sense and stays put (no
+    physics: the Voting Theorem alone, ``model=None``):
 
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
     >>> true_com = np.array([17.0, 20.0])
-    >>> session = comcore.ActiveSession(mask, max_pushes=3, rng=0)
+    >>> session = comcore.ActiveSession(mask, max_pushes=3, model=None, rng=0)
     >>> while not session.done:
     ...     action = session.next_push()
     ...     c = comcore.contacts(mask, action)
@@ -113,7 +114,9 @@ class ActiveSession:
     ('budget', 3)
     """
 
-    def __init__(self, mask: Mask, *, model=None, candidates=None, rng=None, prior=None, **options):
+    def __init__(
+        self, mask: Mask, *, model=DEFAULT_MODEL, candidates=None, rng=None, prior=None, **options
+    ):
         self._first = check_mask(mask)
         unknown = sorted(set(options) - _OPTIONS)
         if unknown:

@@ -17,14 +17,25 @@ from scipy.special import ndtr
 
 from ._active_setup import ActiveOptions
 from ._mask import Mask
-from ._motion import model_predictions, motion_excess, motion_log_likelihood
+from ._motion import com_shift, model_predictions, motion_excess, motion_log_likelihood
 from ._posterior import GridPosterior, line_distances, push_log_likelihood, side_probability
 
-__all__ = ["PRUNE_LOG", "consistency_threshold", "push_evidence", "tracking_noise"]
+__all__ = [
+    "HERMITE_NODES",
+    "PRUNE_LOG",
+    "consistency_threshold",
+    "push_evidence",
+    "pusher_nodes",
+    "tracking_noise",
+]
 
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
 PRUNE_LOG = 25.0
+#: Three-point Gauss-Hermite rule for a standard normal: nodes (standard
+#: deviations) and weights. The pusher's offset is marginalised over it.
+HERMITE_NODES = np.array([0.0, -math.sqrt(3.0), math.sqrt(3.0)])
+HERMITE_WEIGHTS = np.array([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0])
 
 
 def push_evidence(
@@ -79,11 +90,8 @@ def push_evidence(
     model_term = flipped_term = None
     if options.models:
         alive = post.log_w > post.log_w.max() - PRUNE_LOG
-        predicted = model_predictions(
-            options.models, mask, np.asarray(action, float)[None], post.pixels, options.mus, alive
-        )[..., 0, :]
-        predicted = np.where(alive[..., None], predicted, 0.0)  # the dead are not asked (NaN)
         offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
+        predicted, spread = _offset_marginal(options, mask, action, post.pixels, offset, alive)
         args = (
             np.abs(distances),
             offset,
@@ -91,7 +99,9 @@ def push_evidence(
             options.translation_noise,
             options.near_px,
         )
-        kw = {"rotation": rotation_observed, "tracking": tracking}
+        # The pusher's offset spreads the prediction: its std adds to the tracking's.
+        track = (np.hypot(tracking[0], spread[0]), np.hypot(tracking[1], spread[1]))
+        kw = {"rotation": rotation_observed, "tracking": track}
         weight = options.model_weight
         model_term = np.where(
             alive, weight * motion_log_likelihood(observed, predicted, *args, **kw), -np.inf
@@ -114,6 +124,57 @@ def push_evidence(
         distances, observed, flip_prob, theta_tol, model_term, flipped_term, options.line_scale_px
     )
     return loglik, excess
+
+
+def _offset_marginal(options, mask, action, pixels, offset, alive):
+    """The model's motion (p, m, k, 3) marginalised over the pusher's offset, and its spread.
+
+    The executed push lies ``s ~ N(0, pusher_error)`` across the planned one.
+    To first order a push moved aside by ``s`` is the planned push on an
+    object whose CoM is moved by ``-s``, so the model is asked once about the
+    CoMs ``pixels - s`` at the three Gauss-Hermite nodes of ``s``
+    (:func:`pusher_nodes`; on a lattice model such as
+    :class:`comcore.LimitSurfaceModel` the neighbouring CoMs cost little
+    more), the displacement it predicts for the moved CoM kept as that of the
+    hypothesis' CoM. Returned: the nodes' mean motion and the standard
+    deviations ``(rad, px)`` of the rotation and of each component of the
+    CoM's displacement over the nodes (zeros without a pusher error).
+    """
+    shifts, log_w = pusher_nodes(action, options)
+    n, p = len(shifts), len(pixels)
+    coms = (pixels[None] - shifts[:, None]).reshape(n * p, 2)
+    act = np.asarray(action, dtype=float)[None]
+    many = np.concatenate([alive] * n)
+    pred = model_predictions(options.models, mask, act, coms, options.mus, many)[..., 0, :]
+    pred = np.where(many[..., None], pred, 0.0).reshape(n, p, *alive.shape[1:], 3)
+    if n == 1:
+        return pred[0], (0.0, 0.0)
+    asked = (coms.reshape(n, p, 2) - np.asarray(mask.centroid))[:, :, None, None, :]
+    moved = pred[..., 1:] + com_shift(pred[..., 0], asked)  # each node's CoM displacement
+    w = np.exp(log_w)
+    theta = np.tensordot(w, pred[..., 0], axes=1)
+    moved_mean = np.tensordot(w, moved, axes=1)
+    theta_sd = np.sqrt(np.tensordot(w, (pred[..., 0] - theta) ** 2, axes=1))
+    moved_sd = np.sqrt(np.tensordot(w, ((moved - moved_mean) ** 2).sum(axis=-1), axes=1) / 2)
+    mean = np.concatenate([theta[..., None], moved_mean - com_shift(theta, offset)], axis=-1)
+    return mean, (theta_sd, moved_sd)
+
+
+def pusher_nodes(action, options: ActiveOptions):
+    """The pusher's offset across its path at Gauss-Hermite nodes: (n, 2) px and log weights.
+
+    The planned push alone (weight 1) without a pusher error; else the three
+    nodes ``s = 0, +-sqrt(3) sigma`` (weights 2/3, 1/6, 1/6) across the
+    push's direction.
+    """
+    action = np.asarray(action, dtype=float)
+    if options.pusher_px <= 0:
+        return np.zeros((1, 2)), np.zeros(1)
+    direction = action[2:] - action[:2]
+    direction = direction / math.hypot(*direction)
+    across = np.array([-direction[1], direction[0]])
+    shifts = HERMITE_NODES[:, None] * options.pusher_px * across
+    return shifts, np.log(HERMITE_WEIGHTS)
 
 
 def _sense_excess(distances, sense: int, flip_prob: float, scale: float):

@@ -160,7 +160,7 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     mask = _plate()
     com = (float(col), float(row))
     push = _robot(mask, com, mu)
-    est = comcore.estimate_active(mask, push, max_pushes=5, cone=0.0, rng=seed, mu=mu)
+    est = comcore.estimate_active(mask, push, max_pushes=5, cone=0.0, rng=seed, mu=mu, model=None)
     acts = est.extras["actions"]
     con = comcore.contacts(mask, acts)
     direction = (acts[:, 2:] - acts[:, :2]) / np.hypot(*(acts[:, 2:] - acts[:, :2]).T)[:, None]
@@ -210,13 +210,13 @@ def test_same_seed_same_result():
     mask = _ell()
     com = (30.0, 25.0)
     runs = [
-        comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=11)
+        comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=11, model=None)
         for _ in range(2)
     ]
     assert runs[0].used == runs[1].used
     assert runs[0].com == runs[1].com
     np.testing.assert_array_equal(runs[0].extras["posterior"], runs[1].extras["posterior"])
-    other = comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=12)
+    other = comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=12, model=None)
     assert other.used != runs[0].used
 
 
@@ -224,7 +224,7 @@ def test_result_fields_and_history():
     mask = _plate()
     com = (20.0, 15.0)
     push = _robot(mask, com, 0.3)
-    est = comcore.estimate_active(mask, push, max_pushes=3, rng=0, target_radius=1e-4)
+    est = comcore.estimate_active(mask, push, max_pushes=3, rng=0, target_radius=1e-4, model=None)
     assert est.status == "budget" and len(est.used) == 3 == len(set(est.used))
     motions, actions = est.extras["motions"], est.extras["actions"]
     assert motions.shape == (3, 3) and actions.shape == (3, 4)
@@ -264,7 +264,7 @@ def test_stops_when_the_credible_region_is_small_enough():
 def test_zero_budget_returns_the_prior_with_a_flag():
     mask = _ell()
     push = _robot(mask, (30.0, 25.0), 0.3)
-    est = comcore.estimate_active(mask, push, max_pushes=0)
+    est = comcore.estimate_active(mask, push, max_pushes=0, model=None)
     assert est.status == "budget" and not est.ok
     assert est.com == pytest.approx(mask.centroid)
     assert est.used == () and push.calls == []
@@ -303,19 +303,23 @@ def test_a_failing_push_names_the_push_and_keeps_what_was_learned(failure, match
         return good(action)
 
     with pytest.raises(comcore.PushFailedError, match=f"push 2 .*{match}") as info:
-        comcore.estimate_active(mask, push, max_pushes=5, rng=0)
+        comcore.estimate_active(mask, push, max_pushes=5, rng=0, model=None)
     err = info.value
     assert err.index == 2 and isinstance(err.action, comcore.Action)
     assert isinstance(err.partial, comcore.Estimate)
     assert err.partial.status == "push_failed" and len(err.partial.used) == 2
-    expected = comcore.estimate_active(mask, _robot(mask, (30.0, 25.0), 0.3), max_pushes=2, rng=0)
+    expected = comcore.estimate_active(
+        mask, _robot(mask, (30.0, 25.0), 0.3), max_pushes=2, rng=0, model=None
+    )
     assert err.partial.com == pytest.approx(expected.com)
 
 
 def test_candidates_are_used_as_given_and_exhausted():
     mask = _plate()
     cands = [(0, 20, 20, 20), (20, 0, 20, 20)]
-    est = comcore.estimate_active(mask, _robot(mask, (21.0, 19.0), 0.3), cands, max_pushes=5)
+    est = comcore.estimate_active(
+        mask, _robot(mask, (21.0, 19.0), 0.3), cands, max_pushes=5, model=None
+    )
     assert sorted(est.used) == [0, 1] and est.status == "exhausted"
 
 
@@ -325,7 +329,9 @@ def test_caller_input_is_not_mutated():
     cands.setflags(write=False)
     prior = mask.data.astype(float)
     before = prior.copy()
-    comcore.estimate_active(mask, _robot(mask, (21.0, 19.0), 0.3), cands, 2, prior=prior)
+    comcore.estimate_active(
+        mask, _robot(mask, (21.0, 19.0), 0.3), cands, 2, prior=prior, model=None
+    )
     np.testing.assert_array_equal(prior, before)
 
 
@@ -377,7 +383,7 @@ def test_a_prior_off_the_object_is_allowed():
         ({"translation_error": (0.0, 0.1)}, ValueError, "translation_error must be a pair"),
         ({"model_weight": 0.0}, ValueError, "model_weight"),
         ({"model_weight": 1.5}, ValueError, "model_weight"),
-        ({"selection": "model"}, ValueError, "selection='model' needs a model"),
+        ({"selection": "model", "model": None}, ValueError, "selection='model' needs a model"),
     ],
 )
 def test_bad_arguments_are_named(kwargs, error, match):
@@ -422,9 +428,11 @@ def _run_script(*args):
 
 def test_bench_script_runs():
     out = _run_script(
-        "benchmarks/bench_active.py", "--pixels", "600", "--candidates", "20", "--repeats", "2"
+        "benchmarks/bench_active.py",
+        *("--pixels", "600", "--candidates", "20", "--repeats", "2", "--objects", "Obj1"),
     )
     assert "choose a push, uniform prior" in out
+    assert "default model, Obj1" in out
 
 
 def test_eval_script_runs():
@@ -509,7 +517,7 @@ def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
     brute = (entr(total) + entr(1 - total)) / np.log(2) - weights[:, 0] @ h
     np.testing.assert_allclose(gains, brute, atol=1e-4)
     est = comcore.estimate_active(
-        mask, _robot(mask, (20.0, 15.0), 0.3), cands, 3, flip_prob=flip_prob
+        mask, _robot(mask, (20.0, 15.0), 0.3), cands, 3, flip_prob=flip_prob, model=None
     )
     assert est.used != (0, 1, 2)
     assert all(np.isfinite(h["expected_gain_bits"]) for h in est.extras["history"][:-1])
@@ -591,3 +599,66 @@ def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
         history = est.extras["history"]
         drops[noise] = history[0]["entropy_bits"] - history[1]["entropy_bits"]
     assert 0 < drops[0.05] < 0.5 * drops[0.0]
+
+
+# -- the default model and the pusher's offset ----------------------------------------
+
+
+def test_the_default_model_is_the_limit_surface_with_the_pusher_radius():
+    mask = _plate(12, 16, 6)
+    push = _robot(mask, (14.0, 12.0), 0.4, model=comcore.LimitSurfaceModel(pusher_radius=0.002))
+    default = comcore.estimate_active(mask, push, max_pushes=1, rng=0, pusher_radius=0.002)
+    explicit = comcore.estimate_active(
+        mask, push, max_pushes=1, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002)
+    )
+    other = comcore.estimate_active(mask, push, max_pushes=1, rng=0, pusher_radius=0.006)
+    np.testing.assert_allclose(default.extras["posterior"], explicit.extras["posterior"])
+    assert np.abs(default.extras["posterior"] - other.extras["posterior"]).max() > 1e-6
+
+
+def test_model_none_is_the_voting_theorem_alone():
+    mask = _plate(12, 16, 6)
+    push = _robot(mask, (14.0, 12.0), 0.4)
+    vt = comcore.estimate_active(mask, push, max_pushes=2, rng=0, model=None)
+    default = comcore.estimate_active(mask, push, max_pushes=2, rng=0)
+    assert vt.extras["model_posterior"].shape == (1,)
+    assert np.abs(vt.extras["posterior"] - default.extras["posterior"]).max() > 1e-3
+
+
+def test_the_pusher_offset_nodes_straddle_the_planned_push():
+    from comcore._active_setup import active_options
+    from comcore._session_update import pusher_nodes
+
+    mask = _plate()
+    action = np.array([0.0, 20.0, 30.0, 20.0])
+    opts = active_options(mask, pusher_error=2 * mask.resolution, model=ToyModel())
+    offsets, log_w = pusher_nodes(action, opts)
+    np.testing.assert_allclose(sorted(offsets[:, 1]), [-2 * np.sqrt(3), 0.0, 2 * np.sqrt(3)])
+    np.testing.assert_allclose(offsets[:, 0], 0.0, atol=1e-12)  # across the push, not along
+    assert np.exp(log_w).sum() == pytest.approx(1.0)
+
+
+def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
+    mask, model = _plate(), ToyModel(length=40.0)  # the rotation grows with the lever arm
+    com, sigma = (24.0, 19.0), 3.0
+    actions = comcore.sample_pushes(mask, 20, cone=0.0, rng=2)
+    shifts = np.random.default_rng(0).normal(0.0, sigma, len(actions))
+
+    def executed(a, s):
+        d = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
+        return a + s * np.r_[-d[1], d[0], -d[1], d[0]]
+
+    motions = [
+        model.predict_hypotheses(mask, [executed(a, s)], [com], 0.4)[0, 0]
+        for a, s in zip(actions, shifts)
+    ]
+    # a model error far below the offset's effect: the offset is what must be explained
+    sharp = {"theta_noise": (0.002, 0.0), "translation_error": (0.0001, 0.0)}
+    sharp["motion_noise"] = (0.0, 0.0)
+    evidence = {
+        err: comcore.estimate_posterior(
+            mask, actions, motions, model=model, pusher_error=err * mask.resolution, **sharp
+        ).extras["log_evidence"]
+        for err in (0.0, sigma)
+    }
+    assert evidence[sigma] > evidence[0.0] + 5

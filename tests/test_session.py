@@ -63,8 +63,10 @@ def _run(session, world, steps=100):
 def test_estimate_active_is_the_session_with_resets():
     mask = _mask(10)
     world = World(mask, com=(12.0, 20.0), slide=0.0)
-    est = comcore.estimate_active(mask, lambda a: world.object_motion(np.asarray(a)), rng=4)
-    session = comcore.ActiveSession(mask, rng=4)
+    est = comcore.estimate_active(
+        mask, lambda a: world.object_motion(np.asarray(a)), rng=4, model=None
+    )
+    session = comcore.ActiveSession(mask, rng=4, model=None)
     while not session.done:
         motion = world.object_motion(np.asarray(session.next_push()))
         session.observe(motion=motion)
@@ -77,7 +79,7 @@ def test_estimate_active_is_the_session_with_resets():
 def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=8, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=8, target_radius=1e-4, model=None)
     _run(session, world)
     assert session.status == "budget" and len(session.actions) == 8
     np.testing.assert_allclose(session.pose, world.pose, atol=1e-12)
@@ -91,7 +93,7 @@ def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
 def test_offered_pushes_hit_the_object_where_it_is_now():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=1, max_pushes=8, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=1, max_pushes=8, target_radius=1e-4, model=None)
     for action, seen in _run(session, world):
         c = comcore.contacts(seen, action)
         assert c.hit[0] and not c.starts_inside[0]
@@ -103,11 +105,11 @@ def test_motions_are_scored_in_the_object_frame():
     """The posterior of a no-reset run equals the one of the same pushes with resets."""
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=2, max_pushes=5, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=2, max_pushes=5, target_radius=1e-4, model=None)
     _run(session, world)
     est = session.estimate()
     reset = comcore.ActiveSession(
-        mask, candidates=est.extras["actions"], max_pushes=5, min_information=0.0
+        mask, candidates=est.extras["actions"], max_pushes=5, min_information=0.0, model=None
     )
     while not reset.done:
         reset.observe(motion=World(mask).object_motion(np.asarray(reset.next_push())))
@@ -121,7 +123,7 @@ def test_motions_are_scored_in_the_object_frame():
 def test_a_push_that_does_not_move_the_object_is_a_miss():
     """No reset, a push misses the moved object: zero motion is no evidence."""
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=3)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=3, model=None)
     before = session.history[-1]["entropy_bits"]
     first = session.next_push()
     session.observe(motion=(0.0, 0.0, 0.0))
@@ -132,7 +134,7 @@ def test_a_push_that_does_not_move_the_object_is_a_miss():
 
 def test_a_failed_push_is_no_evidence_and_not_counted():
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=1)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=1, model=None)
     first = session.next_push()
     session.observe(failed=True)
     assert session.status == "waiting_push" and session.next_push() != first
@@ -164,11 +166,11 @@ def test_a_failed_push_is_no_evidence_and_not_counted():
 )
 def test_bad_observations_are_named_and_change_nothing(call, error, match):
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0)
+    session = comcore.ActiveSession(mask, rng=0, model=None)
     first = session.next_push()
     if error is comcore.SessionError:  # observe twice for one push
         session.observe(motion=(0.1, 1.0, 0.0))
-        twin = comcore.ActiveSession(mask, rng=0)
+        twin = comcore.ActiveSession(mask, rng=0, model=None)
         twin.next_push()
         twin.observe(motion=(0.1, 1.0, 0.0))
         first = twin.next_push()
@@ -181,7 +183,7 @@ def test_bad_observations_are_named_and_change_nothing(call, error, match):
 
 def test_observe_before_the_first_push_and_after_the_end():
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=1)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=1, model=None)
     with pytest.raises(comcore.SessionError, match="call next_push"):
         session.observe(motion=(0.1, 0, 0))
     session.next_push()
@@ -197,7 +199,7 @@ def test_same_seed_same_pushes():
     mask = _mask()
     runs = []
     for _ in range(2):
-        session = comcore.ActiveSession(mask, rng=7, max_pushes=4, target_radius=1e-4)
+        session = comcore.ActiveSession(mask, rng=7, max_pushes=4, target_radius=1e-4, model=None)
         _run(session, World(mask))
         runs.append(session.actions)
     np.testing.assert_array_equal(runs[0], runs[1])
@@ -221,7 +223,7 @@ def test_candidates_outside_the_image_are_not_offered():
     mask = _mask(10)
     inside = (0.0, 20.0, 25.0, 20.0)
     outside = (-30.0, 25.0, 25.0, 25.0)  # hits the object but starts off the image
-    session = comcore.ActiveSession(mask, candidates=[outside, inside], max_pushes=5)
+    session = comcore.ActiveSession(mask, candidates=[outside, inside], max_pushes=5, model=None)
     assert tuple(session.next_push()) == inside
     session.observe(motion=(0.1, 1.0, 0.0))
     assert session.status == "exhausted"
@@ -277,7 +279,7 @@ def test_observed_masks_are_measured_against_the_first_mask(monkeypatch):
     world = World(mask)
     stand_in = StandIn(world)
     monkeypatch.setattr(pose_module, "measure_pose", stand_in)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
     while not session.done:
         world.execute(session.next_push())
         session.observe(stand_in.mask())
@@ -290,7 +292,7 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
     world = World(mask)
     stand_in = StandIn(world, ambiguous=True)
     monkeypatch.setattr(pose_module, "measure_pose", stand_in)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=2)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=2, model=None)
     before = session.history[-1]["entropy_bits"]
     world.execute(session.next_push())
     session.observe(stand_in.mask())
@@ -327,7 +329,7 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
     """The session believes the object is 30 px off where it is: its pushes miss."""
     mask = _mask(45)
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
     session.reset_pose(comcore.Motion(0.0, 30.0, 0.0))
     while not session.done:
         session.observe(motion=world.execute(session.next_push()))
@@ -343,7 +345,7 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
 def test_observed_masks_are_registered_with_measure_motion():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=6, target_radius=1e-4)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=6, target_radius=1e-4, model=None)
     while not session.done:
         world.execute(session.next_push())
         session.observe(world.camera_mask())
@@ -354,7 +356,7 @@ def test_observed_masks_are_registered_with_measure_motion():
 
 def test_a_mask_of_an_object_leaving_the_view_is_refused_and_changes_nothing():
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0)
+    session = comcore.ActiveSession(mask, rng=0, model=None)
     first = session.next_push()
     half_out = np.roll(mask.data, -25, axis=1)  # the object slid half out of the view
     half_out[:, -25:] = False

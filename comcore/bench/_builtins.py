@@ -57,10 +57,21 @@ def _hypothesis_model(ctx: TrialContext, model):
         from predictors import EllipsoidPredictor
 
         return EllipsoidPredictor(pusher_radius=ctx.simulator.pusher_radius)
-    raise ValueError(f"model must be 'ellipsoid' or None, got {model!r}")
+    if model == "limit-surface":
+        return comcore.LimitSurfaceModel(pusher_radius=ctx.simulator.pusher_radius)
+    raise ValueError(
+        f"model must be 'default', 'limit-surface', 'ellipsoid' or None, got {model!r}"
+    )
 
 
-def _active(ctx: TrialContext, model="ellipsoid", candidates="own", **options):
+def _model_options(ctx: TrialContext, model) -> dict:
+    """``"default"``: as a user runs it, comcore's own model and the robot's pusher radius."""
+    if model == "default":
+        return {"pusher_radius": ctx.simulator.pusher_radius}
+    return {"model": _hypothesis_model(ctx, model)}
+
+
+def _active(ctx: TrialContext, model="default", candidates="own", **options):
     """Run :func:`comcore.estimate_active` on the trial's object, with its own defaults.
 
     ``candidates``: ``"own"`` (default: the estimator draws its pushes, 200 along the
@@ -74,7 +85,7 @@ def _active(ctx: TrialContext, model="ellipsoid", candidates="own", **options):
         ctx.mask,
         ctx.push,
         ctx.candidates if candidates == "trial" else None,
-        model=_hypothesis_model(ctx, model),
+        **_model_options(ctx, model),
         rng=ctx.rng,
         **options,
     )
@@ -106,7 +117,7 @@ def _tracked_motion(before, frames) -> comcore.Motion:
 
 def _active_robot(
     ctx: TrialContext,
-    model="ellipsoid",
+    model="default",
     observe=None,
     motion_noise=None,
     pusher_error=None,
@@ -145,7 +156,7 @@ def _active_robot(
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
     seen = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        seen, model=_hypothesis_model(ctx, model), rng=ctx.rng, **options
+        seen, **_model_options(ctx, model), rng=ctx.rng, **options
     )
     failures = 0
     while not session.done:
@@ -196,7 +207,7 @@ register_estimator(
 register_estimator(
     "active",
     _active,
-    description="comcore.estimate_active pushing the object, ellipsoid motion model",
+    description="comcore.estimate_active pushing the object, its defaults (limit-surface model)",
     uses_motions=False,
     requires=requirements(_ACTIVE, _ELLIPSOID),
 )
