@@ -21,7 +21,13 @@ import comcore
 OUT = Path(__file__).resolve().parents[1] / "tests" / "data" / "active_golden.json"
 #: The noise of the estimator as it was when the record was made (in physical
 #: units since: no pusher error, no tracking noise on top of the fitted scales).
-LEGACY = {"pusher_error": 0.0, "motion_noise": (0.0, 0.0), "model": None}
+LEGACY = {
+    "pusher_error": 0.0,
+    "motion_noise": (0.0, 0.0),
+    "model": None,
+    "model_weight": 1.0,
+    "target_radius": 0.0045,
+}
 
 
 def toy_case(seed: int):

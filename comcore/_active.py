@@ -4,8 +4,11 @@ from __future__ import annotations
 
 from ._active_setup import (
     DEFAULT_MODEL,
+    DEFAULT_MODEL_SCALES,
+    DEFAULT_MODEL_WEIGHT,
     DEFAULT_MOTION_NOISE,
     DEFAULT_PUSHER_RADIUS,
+    DEFAULT_TARGET_RADIUS,
     active_options,
     build_estimate,
     prior_grid,
@@ -39,7 +42,7 @@ def estimate_active(
     model=DEFAULT_MODEL,
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     mu=None,
-    target_radius: float = 0.0045,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
     credible: float = 0.9,
     flip_prob: float = 0.05,
     rng=None,
@@ -53,7 +56,8 @@ def estimate_active(
     motion_noise=DEFAULT_MOTION_NOISE,
     translation_noise=None,
     selection: str = "sense",
-    model_weight: float = 1.0,
+    model_weight: float = DEFAULT_MODEL_WEIGHT,
+    model_scales=DEFAULT_MODEL_SCALES,
     prior=None,
     min_information: float = 1e-3,
 ) -> Estimate:
@@ -268,6 +272,7 @@ def estimate_active(
         translation_noise=translation_noise,
         selection=selection,
         model_weight=model_weight,
+        model_scales=model_scales,
         prior=prior,
         min_information=min_information,
     )
@@ -363,7 +368,7 @@ def estimate_posterior(
     opts = active_options(mask, model=model, **options)
     pixels, prior_w = prior_grid(mask, prior)
     pushes = Candidates(mask, acts, opts, rng=None, name="actions")
-    post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1))
+    post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1), opts.n_scales)
     log = SessionLog(post, opts.credible)
     for i, motion in enumerate(moves):
         record = {"index": i, "object_action": acts[i], "object_motion": tuple(motion)}

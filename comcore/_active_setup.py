@@ -16,8 +16,11 @@ from ._validation import check_mu, check_positive, check_probability
 
 __all__ = [
     "DEFAULT_MODEL",
+    "DEFAULT_MODEL_SCALES",
+    "DEFAULT_MODEL_WEIGHT",
     "DEFAULT_MOTION_NOISE",
     "DEFAULT_PUSHER_RADIUS",
+    "DEFAULT_TARGET_RADIUS",
     "LINE_BLUR_M",
     "MAX_ALPHA",
     "NEAR_LINE_M",
@@ -64,6 +67,14 @@ class _DefaultModel:
 
 #: ``model``'s default (``model=None`` asks for the Voting Theorem alone).
 DEFAULT_MODEL = _DefaultModel()
+#: Power on the motion model's likelihood (tempered: a model errs alike on the pushes
+#: of one object). Chosen on benchmark trials of seed 1 (docs/active.md).
+DEFAULT_MODEL_WEIGHT = 0.6
+#: Credible-region radius (metres) at which the estimator stops (seed 1, docs/active.md).
+DEFAULT_TARGET_RADIUS = 0.006
+#: Factors on the motion model's error scales (``theta_noise``, ``translation_error``)
+#: weighed like the friction: one unknown factor for all pushes of a session.
+DEFAULT_MODEL_SCALES = (1.0,)
 #: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
 _LOGISTIC_STD = math.pi / math.sqrt(3.0)
 
@@ -94,6 +105,12 @@ class ActiveOptions:
     line_scale_px: float
     tracking: tuple[float, float]
     pusher_px: float = 0.0
+    model_scales: tuple = (1.0,)
+
+    @property
+    def n_scales(self) -> int:
+        """Model-error scale factors marginalised (1 without a model)."""
+        return len(self.model_scales) if self.models else 1
 
 
 def _count(value, name: str, minimum: int) -> int:
@@ -111,7 +128,7 @@ def active_options(
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     max_pushes: int = 5,
     mu=None,
-    target_radius: float = 0.0045,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
     credible: float = 0.9,
     flip_prob: float = 0.05,
     cone: float = 0.0,
@@ -124,7 +141,8 @@ def active_options(
     motion_noise=DEFAULT_MOTION_NOISE,
     translation_noise=None,
     selection: str = "sense",
-    model_weight: float = 1.0,
+    model_weight: float = DEFAULT_MODEL_WEIGHT,
+    model_scales=DEFAULT_MODEL_SCALES,
     min_information: float = 1e-3,
 ) -> ActiveOptions:
     """Validate the active estimator's options (each error names its argument).
@@ -161,6 +179,12 @@ def active_options(
         t_abs, t_rel = pair(translation_error, "translation_error")
         translation_noise = (t_abs / mask.resolution, t_rel)
     pusher_error = check_positive(pusher_error, "pusher_error", allow_zero=True)
+    try:
+        scales = tuple(float(v) for v in model_scales)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"model_scales must be a sequence of numbers, got {model_scales!r}") from e
+    if not scales or not all(math.isfinite(v) and v > 0 for v in scales):
+        raise ValueError(f"model_scales must be positive finite factors, got {model_scales!r}")
     track_theta, track_m = pair(motion_noise, "motion_noise", allow_zero=True)
     line_std_m = math.hypot(pusher_error, LINE_BLUR_M)
     for value, name in ((n_mu, "n_mu"), (n_candidates, "n_candidates")):
@@ -185,6 +209,7 @@ def active_options(
         line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
         tracking=(track_theta, track_m / mask.resolution),
         pusher_px=pusher_error / mask.resolution,
+        model_scales=scales,
     )
 
 
@@ -256,7 +281,8 @@ def build_estimate(mask, post, level, used, history, status, extras) -> Estimate
 
     ``extras`` (the executed actions and motions, ...) are added to the
     posterior's own: ``"posterior"``, ``"credible_radius_px"``, ``"mu_grid"``,
-    ``"mu_posterior"``, ``"model_posterior"`` and ``"history"``.
+    ``"mu_posterior"``, ``"model_posterior"``, ``"scale_posterior"`` (one
+    weight per ``model_scales`` factor) and ``"history"``.
     """
     region_idx, area = post.credible(level)
     rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
@@ -279,6 +305,7 @@ def build_estimate(mask, post, level, used, history, status, extras) -> Estimate
             "mu_grid": post.mus.copy(),
             "mu_posterior": post.mu_marginal,
             "model_posterior": post.model_marginal,
+            "scale_posterior": post.scale_marginal,
             "history": tuple(dict(h) for h in history),
         },
     )

@@ -234,15 +234,17 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
 class GridPosterior:
     """Joint log-posterior over CoM pixels, friction values and models (internal, mutable).
 
-    ``log_w`` has shape (p, m, k): pixel, friction value, motion model (``k = 1``
-    without a model or with one).
+    ``log_w`` has shape (p, m, k): pixel, friction value, and motion model x
+    model-error scale factor (``k = n_models * n_scales``, model-major; ``k = 1``
+    without a model).
     """
 
-    def __init__(self, pixels, prior_weights, mus, n_models: int = 1):
+    def __init__(self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1):
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
+        self.n_models, self.n_scales = int(n_models), int(n_scales)
         log_prior = np.log(np.asarray(prior_weights, dtype=float))
-        shape = (len(self.pixels), len(self.mus), n_models)
+        shape = (len(self.pixels), len(self.mus), self.n_models * self.n_scales)
         self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
         self._normalise()
 
@@ -284,8 +286,13 @@ class GridPosterior:
 
     @property
     def model_marginal(self) -> np.ndarray:
-        """Posterior of the models, shape (k,)."""
-        return self.weights.sum(axis=(0, 1))
+        """Posterior of the models, shape (n_models,)."""
+        return self.weights.sum(axis=(0, 1)).reshape(self.n_models, self.n_scales).sum(axis=1)
+
+    @property
+    def scale_marginal(self) -> np.ndarray:
+        """Posterior of the model-error scale factors, shape (n_scales,)."""
+        return self.weights.sum(axis=(0, 1)).reshape(self.n_models, self.n_scales).sum(axis=0)
 
     def mean(self) -> np.ndarray:
         """Posterior mean of the CoM (x, y) in pixels."""

@@ -124,7 +124,9 @@ class ActiveSession:
         self._opts = active_options(self._first, model=model, **options)
         pixels, prior_w = prior_grid(self._first, prior)
         self._cands = Candidates(self._first, candidates, self._opts, check_rng(rng))
-        self._post = GridPosterior(pixels, prior_w, self._opts.mus, max(len(self._opts.models), 1))
+        self._post = GridPosterior(
+            pixels, prior_w, self._opts.mus, max(len(self._opts.models), 1), self._opts.n_scales
+        )
         offsets = self._first.pixels - np.asarray(self._first.centroid)
         self._gyration_px = max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
         self._pose = IDENTITY

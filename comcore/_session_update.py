@@ -89,36 +89,42 @@ def push_evidence(
     excess = _sense_excess(distances, sense, flip_prob, options.line_scale_px)
     model_term = flipped_term = None
     if options.models:
-        alive = post.log_w > post.log_w.max() - PRUNE_LOG
+        alive = post.log_w > post.log_w.max() - PRUNE_LOG  # (p, m, models x scales)
+        n_s = options.n_scales
+        per_model = alive.reshape(*alive.shape[:2], -1, n_s).any(axis=-1)
         offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
-        predicted, spread = _offset_marginal(options, mask, action, post.pixels, offset, alive)
-        args = (
-            np.abs(distances),
-            offset,
-            options.theta_noise,
-            options.translation_noise,
-            options.near_px,
-        )
+        predicted, spread = _offset_marginal(options, mask, action, post.pixels, offset, per_model)
         # The pusher's offset spreads the prediction: its std adds to the tracking's.
         track = (np.hypot(tracking[0], spread[0]), np.hypot(tracking[1], spread[1]))
         kw = {"rotation": rotation_observed, "tracking": track}
-        weight = options.model_weight
-        model_term = np.where(
-            alive, weight * motion_log_likelihood(observed, predicted, *args, **kw), -np.inf
-        )
-        model_excess = motion_excess(observed, predicted, *args, **kw)
+        (th_a, th_n), (tr_a, tr_r) = options.theta_noise, options.translation_noise
+
+        def args(factor):
+            noise = ((factor * th_a, factor * th_n), (factor * tr_a, factor * tr_r))
+            return (np.abs(distances), offset, *noise, options.near_px)
+
+        def scored(motion):
+            terms = [
+                motion_log_likelihood(motion, predicted, *args(c), **kw)
+                for c in options.model_scales
+            ]
+            full = np.stack(terms, axis=-1).reshape(alive.shape)
+            return np.where(alive, options.model_weight * full, -np.inf)
+
+        model_term = scored(observed)
+        # The consistency check keeps the base scales (a wider factor must not hide a misfit).
+        model_excess = motion_excess(observed, predicted, *args(1.0), **kw)
         if rotation_observed:
             flipped = observed * np.array([-1.0, 1.0, 1.0])
-            flipped_term = np.where(
-                alive, weight * motion_log_likelihood(flipped, predicted, *args, **kw), -np.inf
-            )
+            flipped_term = scored(flipped)
             # A flipped sense explains the motion at the price of the flip.
             flip_cost = np.log((1 - flip_prob) / flip_prob)
             model_excess = np.minimum(
-                model_excess, motion_excess(flipped, predicted, *args, **kw) + flip_cost
+                model_excess, motion_excess(flipped, predicted, *args(1.0), **kw) + flip_cost
             )
         else:
             flipped_term = model_term
+        model_excess = np.repeat(model_excess, n_s, axis=-1)
         excess = excess + np.where(alive, model_excess, np.inf)
     loglik = push_log_likelihood(
         distances, observed, flip_prob, theta_tol, model_term, flipped_term, options.line_scale_px

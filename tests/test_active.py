@@ -199,7 +199,12 @@ def test_several_models_are_weighed_by_the_data():
     truth = ToyModel(length=16.0)
     models = [ToyModel(length=6.0), truth]
     est = comcore.estimate_active(
-        mask, _robot(mask, com, 0.4, model=truth), model=models, rng=0, selection="sense"
+        mask,
+        _robot(mask, com, 0.4, model=truth),
+        model=models,
+        rng=0,
+        selection="sense",
+        model_weight=1.0,  # the likelihood untempered: what the data say of each model
     )
     assert est.extras["model_posterior"].shape == (2,)
     assert est.extras["model_posterior"][1] > 0.99
@@ -654,7 +659,7 @@ def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
     ]
     # a model error far below the offset's effect: the offset is what must be explained
     sharp = {"theta_noise": (0.002, 0.0), "translation_error": (0.0001, 0.0)}
-    sharp["motion_noise"] = (0.0, 0.0)
+    sharp.update(motion_noise=(0.0, 0.0), model_scales=(1.0,))
     evidence = {
         err: comcore.estimate_posterior(
             mask, actions, motions, model=model, pusher_error=err * mask.resolution, **sharp
@@ -662,3 +667,16 @@ def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
         for err in (0.0, sigma)
     }
     assert evidence[sigma] > evidence[0.0] + 5
+
+
+def test_a_model_erring_more_than_its_scales_say_is_recognised():
+    mask, model = _ell(), ToyModel()
+    com = (30.0, 24.0)
+    actions = comcore.sample_pushes(mask, 10, cone=0.0, rng=3)
+    noise = np.random.default_rng(1).normal(0.0, 1.0, (len(actions), 3)) * (0.27, 5.0, 5.0)
+    clean = [model.predict_hypotheses(mask, [a], [com], 0.4)[0, 0] for a in actions]
+    kwargs = {"model": model, "mu": 0.4, "model_scales": (1.0, 2.0)}
+    honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
+    erring = comcore.estimate_posterior(mask, actions, np.add(clean, noise), **kwargs)
+    assert honest.extras["scale_posterior"][0] > 0.9
+    assert erring.extras["scale_posterior"][1] > 0.9

@@ -320,6 +320,7 @@ def test_the_evidence_falls_with_surprising_pushes():
 
     mask = _ell()
     kwargs = {"model": ToyModel(), "rng": 1, "max_pushes": 4, "target_radius": 1e-4}
+    kwargs["model_weight"] = 1.0  # the untempered likelihood's evidence
     honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), **kwargs)
     liar = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), **kwargs)
     assert liar.extras["log_evidence"] < honest.extras["log_evidence"] - 20
