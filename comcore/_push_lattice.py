@@ -141,19 +141,24 @@ def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     Returns ``(lattice, per_mu, mus)``: the push's lattice (``make_lattice()``
     the first time), a dict from ``(spread, friction)`` to a NaN-initialised
     array of node motions, shape (n_nodes, 3), for every pressure spread in
-    ``spreads``, and every friction value this mask has been asked about (up
-    to ``MAX_REMEMBERED_MUS``, ``mu`` included).
+    ``spreads``, and the friction values to integrate together: ``mu`` and
+    those asked about for the push before (an estimator asks about the same
+    ones for every push; at most ``MAX_REMEMBERED_MUS``).
     """
-    memo = _MEMOS.setdefault(mask, {"mus": [], "pushes": OrderedDict()})
-    if mu not in memo["mus"]:
-        memo["mus"] = [*memo["mus"][-(MAX_REMEMBERED_MUS - 1) :], mu]
+    memo = _MEMOS.setdefault(mask, {"push": None, "mus": [], "before": [], "pushes": OrderedDict()})
     pushes = memo["pushes"]
     if key not in pushes:
         if len(pushes) >= CACHED_PUSHES:
             pushes.popitem(last=False)
         pushes[key] = (make_lattice(), {})
+    if key != memo["push"]:  # a new push: expect the friction values of the one before
+        memo["push"], memo["before"], memo["mus"] = key, memo["mus"] or memo["before"], []
+    if mu not in memo["mus"]:
+        memo["mus"].append(mu)
+    expected = [m for m in memo["before"] if m not in memo["mus"]]
+    mus = [mu, *(m for m in [*memo["mus"], *expected] if m != mu)][:MAX_REMEMBERED_MUS]
     lattice, per_mu = pushes[key]
     for spread in spreads:
-        for m in memo["mus"]:
+        for m in mus:
             per_mu.setdefault((spread, m), np.full((len(lattice.points), 3), np.nan))
-    return lattice, per_mu, list(memo["mus"])
+    return lattice, per_mu, mus
