@@ -30,7 +30,7 @@ class ActiveSession:
     likelihood, push choice and stop rule; see there), for a robot that
     cannot reset the object and sees it through a camera::
 
-        session = comcore.ActiveSession(first_mask, model=..., rng=0)
+        session = comcore.ActiveSession(first_mask, pusher_radius=0.004, rng=0)
         while not session.done:
             action = session.next_push()   # camera frame, on the object as it is now
             robot.execute(action)
@@ -66,8 +66,11 @@ class ActiveSession:
     ----------
     mask : Mask
         The object as the camera sees it before the first push.
-    model : HypothesisPredictor or sequence of them, optional
-        Motion model (see :func:`comcore.estimate_active`).
+    model : HypothesisPredictor, sequence of them, or None, optional
+        Motion model (see :func:`comcore.estimate_active`): by default
+        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)`` (the
+        option ``pusher_radius``, metres, default 4 mm); ``None``: the Voting
+        Theorem alone.
     candidates : array_like, shape (n, 4), optional
         Pushes in the first mask's frame; default ``comcore.sample_pushes``.
     rng : None, int or numpy.random.Generator, optional
