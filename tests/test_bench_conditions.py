@@ -204,3 +204,20 @@ def test_video_tracking_sees_past_a_rotational_symmetry():
     assert np.hypot(tracked.tx - push.motion.tx, tracked.ty - push.motion.ty) < 0.5
     two_masks = comcore.measure_motion(first, push.frames[-1])
     assert abs(two_masks.motion.theta - push.motion.theta) > 0.5  # flagged or not, not seen
+
+
+def test_friction_table_ratios_to_the_baseline(runs, tmp_path):
+    import json
+
+    from comcore.bench._conditions import friction_table
+
+    rows = runs[0]["exact"].rows
+    path = tmp_path / "rows.jsonl"
+    path.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    text = friction_table(path, baseline="alg2")
+    alg2, centroid = (
+        next(r["error_cm"] for r in rows if r["estimator"] == e) for e in ("alg2", "centroid")
+    )
+    assert f"| `centroid` | both | {centroid:.3f} ({centroid / alg2:.2f} x) |" in text
+    with pytest.raises(ValueError, match="baseline"):
+        friction_table(rows, baseline="alg9")

@@ -44,6 +44,7 @@ __all__ = [
     "ConditionConfig",
     "ConditionWorld",
     "conditions_table",
+    "friction_table",
     "parse_condition",
     "run_conditions",
     "run_conditions_command",
@@ -500,3 +501,66 @@ def run_conditions_command(args, config: BenchConfig, skipped: dict[str, str]) -
     print(text)
     print(f"conditions: {out / 'conditions.md'}; rows: {out / 'conditions.jsonl'}")
     return 0
+
+
+def friction_table(rows, baseline: str | None = None) -> str:
+    """A Markdown table of result rows by estimator and friction class (and both).
+
+    Parameters
+    ----------
+    rows : iterable of dict or str or os.PathLike
+        Result rows, or a ``conditions.jsonl`` / ``results.jsonl`` file of them.
+    baseline : str, optional
+        An estimator label: the "both" rows then give each mean error as a ratio of
+        its, and each mean push count as a difference.
+
+    Examples
+    --------
+    >>> rows = [{"estimator": "a", "friction": f, "error_cm": e, "total_pushes": 3,
+    ...          "covered": True, "status": "ok", "push_failures": 0}
+    ...         for f, e in (("low", 0.2), ("high", 0.4))]
+    >>> print(friction_table(rows).splitlines()[-1])
+    | `a` | both | 0.300 | 0.300 | 0.40 | 3.00 | 100 % | 0.0 % | 0 |
+    """
+    import json
+    import os
+
+    if isinstance(rows, (str, os.PathLike)):
+        with open(rows, encoding="utf-8") as stream:
+            rows = [json.loads(line) for line in stream if line.strip()]
+    rows = list(rows)
+    labels = list(dict.fromkeys(r["estimator"] for r in rows))
+    frictions = [f for f in ("low", "high") if any(r["friction"] == f for r in rows)]
+    lines = [
+        "| estimator | friction | mean error (cm) | median | max | pushes "
+        "| region holds the CoM | ok > 1 cm | failed |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    base = None
+    if baseline is not None:
+        ref = [r for r in rows if r["estimator"] == baseline]
+        if not ref:
+            raise ValueError(f"baseline {baseline!r} is not among the estimators {labels}")
+        base = (
+            float(np.mean([r["error_cm"] for r in ref])),
+            float(np.mean([r["total_pushes"] for r in ref])),
+        )
+    for friction in [*frictions, "both"]:
+        for label in labels:
+            sel = [
+                r for r in rows if r["estimator"] == label and friction in ("both", r["friction"])
+            ]
+            err = np.array([r["error_cm"] for r in sel], float)
+            pushes = np.array([r["total_pushes"] for r in sel], float)
+            mean, push = f"{err.mean():.3f}", f"{pushes.mean():.2f}"
+            if friction == "both" and base is not None and label != baseline:
+                mean += f" ({err.mean() / base[0]:.2f} x)"
+                push += f" ({pushes.mean() - base[1]:+.2f})"
+            cover = np.mean([bool(r["covered"]) for r in sel])
+            bad = np.mean([r["status"] == "ok" and r["error_cm"] > 1.0 for r in sel])
+            failed = sum(r["status"] == "error" or (r["push_failures"] or 0) > 0 for r in sel)
+            lines.append(
+                f"| `{label}` | {friction} | {mean} | {np.median(err):.3f} | {err.max():.2f} | "
+                f"{push} | {100 * cover:.0f} % | {100 * bad:.1f} % | {failed} |"
+            )
+    return "\n".join(lines)
