@@ -221,3 +221,10 @@ def test_friction_table_ratios_to_the_baseline(runs, tmp_path):
     assert f"| `centroid` | both | {centroid:.3f} ({centroid / alg2:.2f} x) |" in text
     with pytest.raises(ValueError, match="baseline"):
         friction_table(rows, baseline="alg9")
+
+
+def test_a_failed_robot_run_is_scored_at_the_centroid_of_its_own_camera():
+    label = "active-robot(colour=1)"  # the session refuses it, after the robot was built
+    row = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label, "centroid")))
+    assert row[0]["status"] == "error"
+    assert abs(row[0]["error_cm"] - row[1]["error_cm"]) < 0.05  # the same centroid, its frame

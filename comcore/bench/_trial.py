@@ -334,7 +334,8 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
             est = est_spec.run(run_ctx, **options)
         except Exception as e:  # one bad trial must not end a long benchmark
             message = f"{note}{type(e).__name__}: {e}"
-            est = comcore.Estimate(mask.centroid, mask.centroid_m, mask.data, status="error")
+            seen = robots.robots[-1].simulator.mask if robots.robots else mask  # its frame
+            est = comcore.Estimate(seen.centroid, seen.centroid_m, seen.data, status="error")
         if est_spec.uses_motions:
             used, prior = len(est.used), prior_count
         else:
