@@ -331,7 +331,9 @@ def estimate_posterior(
         Their observed motions ``(theta, tx, ty)`` (radians, pixels), about
         ``mask``'s centroid.
     model : HypothesisPredictor or sequence of them, optional
-        Motion model for the likelihood of the whole motion.
+        Motion model for the likelihood of the whole motion. Default None:
+        the Voting Theorem alone (pass ``comcore.LimitSurfaceModel(
+        pusher_radius=...)`` for :func:`comcore.estimate_active`'s default).
     prior : array_like, shape (H, W), optional
         Prior weights of the CoM (default uniform over the object).
     **options
