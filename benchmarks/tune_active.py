@@ -101,8 +101,9 @@ def _one(spec: TrialSpec, variants=None) -> list[dict]:
                 "hpd": _hpd_rank(est, true_px) if est is not None else float("nan"),
                 "history_cm": errs,
                 "cpu_s": cpu / max(len(out.rows), 1),
+                # without resets the pushes live on the robot's camera mask: not rescored
                 "rescored": _rescored(est, out.context.mask, true_px, variants or {})
-                if est is not None
+                if est is not None and (spec.condition is None or spec.condition.resets)
                 else {},
             }
         )

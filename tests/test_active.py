@@ -680,3 +680,13 @@ def test_a_model_erring_more_than_its_scales_say_is_recognised():
     erring = comcore.estimate_posterior(mask, actions, np.add(clean, noise), **kwargs)
     assert honest.extras["scale_posterior"][0] > 0.9
     assert erring.extras["scale_posterior"][1] > 0.9
+
+
+def test_tune_script_runs():
+    out = _run_script(
+        "benchmarks/tune_active.py",
+        *("--objects", "Obj1", "--friction", "low", "--conditions", "exact,no-reset"),
+        *("--estimators", "active-vt", "--no-reset-estimators", "active-robot(model=None)"),
+        *("--workers", "1", "--rescore", '{"vt": {"model": null}}'),
+    )
+    assert "rescored vt" in out and "after push k" in out and "no-reset " in out
