@@ -5,6 +5,7 @@ from __future__ import annotations
 import inspect
 
 import numpy as np
+from scipy.special import logsumexp
 
 from ._active_setup import DEFAULT_MODEL, active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
@@ -13,7 +14,7 @@ from ._mask import Mask
 from ._planning import Candidates
 from ._posterior import GridPosterior
 from ._session_log import SessionLog
-from ._session_pose import IDENTITY, is_miss, moved_mask, read_pose, relative
+from ._session_pose import IDENTITY, is_miss, moved_mask, read_pose, relative, symmetric_branches
 from ._session_update import push_evidence, tracking_noise
 from ._types import Action, Estimate, Motion
 from ._validation import check_mask, check_motions, check_rng
@@ -287,26 +288,41 @@ class ActiveSession:
             self._commit(record, "failed", self._pose, None, None)
             return
         reading = read_pose(self._first, self._pose, mask, motion)
-        camera_motion = relative(self._pose, reading.pose)
-        record["camera_motion"] = tuple(camera_motion)
+        branches = symmetric_branches(reading, self._pose)
+        if is_miss(relative(self._pose, branches[0].pose), self._first.resolution):
+            self._record_reading(record, branches[0])
+            self._commit(record, "miss", branches[0].pose, mask, None)
+            return
+        # A symmetric outline (a hexagon) turned by more than half its symmetry angle looks
+        # like a smaller turn the other way: of the rotations the masks allow, keep the one
+        # the posterior explains best (its marginal likelihood), not merely the nearest.
+        best = None
+        for branch in branches:
+            camera_motion = relative(self._pose, branch.pose)
+            obj_motion = object_motion_from_camera(camera_motion, self._pose.theta)
+            loglik, excess = push_evidence(
+                self._post,
+                self._opts,
+                self._first,
+                self._cands.actions[index],
+                self._cands.lines[index],
+                obj_motion,
+                rotation_observed=not branch.ambiguous,
+                tracking=tracking_noise(self._opts.tracking, branch.residual_px, self._gyration_px),
+            )
+            evidence = float(logsumexp(self._post.log_w + loglik))
+            if best is None or evidence > best[0]:
+                best = (evidence, branch, obj_motion, loglik, excess)
+        _, branch, obj_motion, loglik, excess = best
+        self._record_reading(record, branch)
+        record["object_motion"] = tuple(float(v) for v in obj_motion)
+        self._commit(record, "evidence", branch.pose, mask, loglik, excess)
+
+    def _record_reading(self, record, reading) -> None:
+        record["camera_motion"] = tuple(relative(self._pose, reading.pose))
         record["residual_px"] = reading.residual_px
         record["ambiguous"] = reading.ambiguous
-        if is_miss(camera_motion, self._first.resolution):
-            self._commit(record, "miss", reading.pose, mask, None)
-            return
-        obj_motion = object_motion_from_camera(camera_motion, self._pose.theta)
-        record["object_motion"] = tuple(float(v) for v in obj_motion)
-        loglik, excess = push_evidence(
-            self._post,
-            self._opts,
-            self._first,
-            self._cands.actions[index],
-            self._cands.lines[index],
-            obj_motion,
-            rotation_observed=not reading.ambiguous,
-            tracking=tracking_noise(self._opts.tracking, reading.residual_px, self._gyration_px),
-        )
-        self._commit(record, "evidence", reading.pose, mask, loglik, excess)
+        record["symmetry"] = reading.symmetry
 
     def _commit(self, record, outcome, pose, mask, loglik, excess=None):
         record["outcome"] = outcome

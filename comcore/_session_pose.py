@@ -35,6 +35,7 @@ __all__ = [
     "moved_mask",
     "read_pose",
     "relative",
+    "symmetric_branches",
 ]
 
 #: A push after which the object turned by less than this (radians, 0.57 deg) ...
@@ -53,6 +54,7 @@ class PoseReading(NamedTuple):
     pose: Motion  # relative to the first mask
     ambiguous: bool  # the rotation is not observable from the outline
     residual_px: float  # the registration's RMS outline distance (NaN: not measured)
+    symmetry: int = 1  # order of the outline's rotational symmetry (1: none)
 
 
 def compose(pose: Motion, motion) -> Motion:
@@ -123,7 +125,30 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
         raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
     theta = previous.theta if m.ambiguous else float(m.motion.theta)
     pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
-    return PoseReading(pose, bool(m.ambiguous), float(m.residual_px))
+    return PoseReading(pose, bool(m.ambiguous), float(m.residual_px), int(m.symmetry))
+
+
+def symmetric_branches(reading: PoseReading, previous: Motion) -> list[PoseReading]:
+    """The poses a symmetric outline cannot tell apart, nearest the previous pose first.
+
+    An outline with an ``n``-fold symmetry about its centroid looks the same
+    turned by ``2 pi / n``; the centroid stays where it is, so only the
+    rotation differs. Branches whose push would have turned the object by
+    more than half a turn either way are left out (a push turns an object by
+    far less).
+    """
+    n = int(reading.symmetry)
+    if n <= 1 or reading.ambiguous:
+        return [reading]
+    step = 2 * math.pi / n
+    base = reading.pose
+    out = []
+    for k in range(-n, n + 1):
+        theta = base.theta + k * step
+        if abs(theta - previous.theta) <= math.pi / 2 + 1e-9:
+            out.append(reading._replace(pose=Motion(theta, base.tx, base.ty)))
+    out.sort(key=lambda r: abs(r.pose.theta - previous.theta))
+    return out or [reading]
 
 
 def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:

@@ -23,3 +23,16 @@ def test_a_rectangle_turned_past_half_a_turn_keeps_its_rotation():
     assert abs(reading.pose.theta - 1.9) < math.radians(1.0)
     from_rest = measure_pose(first, mask, comcore.Motion(0.0, 0.0, 0.0))
     assert abs(from_rest.pose.theta - (1.9 - math.pi)) < math.radians(1.0)
+
+
+def test_branches_of_a_hexagon_are_its_rotations_within_a_quarter_turn_of_the_pose():
+    from comcore._session_pose import PoseReading, symmetric_branches
+
+    reading = PoseReading(comcore.Motion(-0.5, 3.0, 1.0), False, 0.2, 6)
+    branches = symmetric_branches(reading, comcore.Motion(0.2, 0.0, 0.0))
+    thetas = [b.pose.theta for b in branches]
+    assert thetas[0] == pytest.approx(-0.5 + 2 * math.pi / 6)  # nearest the previous pose first
+    assert sorted(thetas) == pytest.approx([-0.5, -0.5 + math.pi / 3, -0.5 + 2 * math.pi / 3])
+    assert all((b.pose.tx, b.pose.ty) == (3.0, 1.0) for b in branches)
+    plain = reading._replace(symmetry=1)
+    assert symmetric_branches(plain, comcore.Motion(0.2, 0.0, 0.0)) == [plain]
