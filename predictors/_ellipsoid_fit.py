@@ -9,8 +9,9 @@ import numpy as np
 from scipy.special import logsumexp
 
 from comcore import Estimate, Mask
+from comcore._outline_field import outline_field
 
-from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_model import simulate
 from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["MU_GRID", "EllipsoidFit", "fit_priors"]
@@ -203,7 +204,7 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_
 
     See :class:`EllipsoidFit` for what is returned.
     """
-    field = distance_field(mask)
+    field = outline_field(mask)
     kw = {"support": support, "radius": radius}
     mus = np.array(MU_GRID if mu is None else (mu,), dtype=float)
     floors = (MIN_THETA_SCALE, MIN_TRANSLATION_SCALE_M / mask.resolution)

@@ -31,146 +31,11 @@ points from the corner to the disc's centre, as for a real round pusher.
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
-from scipy import ndimage
 
-from comcore import Mask
+from comcore._outline_field import pusher_paths
 
-__all__ = [
-    "DistanceField",
-    "body_twist",
-    "distance_field",
-    "first_contact",
-    "pusher_paths",
-    "simulate",
-]
-
-#: Gaussian sigma (pixels) that smooths the pixel outline's signed distance.
-SDF_SMOOTHING_PX = 1.0
-#: Padding (pixels) of the distance field around the mask image.
-FIELD_PAD_PX = 24
-#: March step (pixels) of the search for the first contact.
-CONTACT_MARCH_PX = 0.25
-#: Bisection steps refining the first contact.
-CONTACT_BISECTIONS = 8
-
-
-class DistanceField:
-    """Signed distance (pixels, > 0 outside) to a mask's outline and its gradient.
-
-    The outline is the boundary of the object's pixel squares (as in
-    :func:`comcore.contacts`); the distance is smoothed with a Gaussian of
-    ``SDF_SMOOTHING_PX`` to remove the staircase of a pixel outline.
-    """
-
-    def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
-        img = np.pad(mask.data, pad)
-        outside = ndimage.distance_transform_edt(~img)
-        inside = ndimage.distance_transform_edt(img)
-        sdf = np.where(img, 0.5 - inside, outside - 0.5)
-        sdf = ndimage.gaussian_filter(sdf, SDF_SMOOTHING_PX, mode="nearest")
-        gy, gx = np.gradient(sdf)
-        self.pad = pad
-        self._fields = (sdf, gx, gy)
-
-    def sample_xy(self, x, y) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Distance and unit outward gradient ``(gx, gy)`` at points ``(x, y)`` (same shapes).
-
-        Bilinear interpolation; points off the padded grid take the nearest border value.
-        """
-        shape = np.shape(x)
-        coords = np.vstack([np.ravel(y) + self.pad, np.ravel(x) + self.pad])
-        sdf, gx, gy = (
-            ndimage.map_coordinates(f, coords, order=1, mode="nearest") for f in self._fields
-        )
-        norm = np.maximum(np.sqrt(gx * gx + gy * gy), 1e-12)
-        return sdf.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
-
-    def sample(self, points) -> tuple[np.ndarray, np.ndarray]:
-        """Distance, shape (...), and unit outward gradient, shape (..., 2), at points."""
-        p = np.asarray(points, dtype=float)
-        sdf, gx, gy = self.sample_xy(p[..., 0], p[..., 1])
-        return sdf, np.stack([gx, gy], axis=-1)
-
-
-_FIELDS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def distance_field(mask: Mask) -> DistanceField:
-    """The (cached) :class:`DistanceField` of an immutable mask."""
-    field = _FIELDS.get(mask)
-    if field is None:
-        field = _FIELDS[mask] = DistanceField(mask)
-    return field
-
-
-def pusher_paths(field: DistanceField, actions: np.ndarray, radius: float):
-    """Paths of the disc's centre and the disc's radius, per action.
-
-    An action is the path of the disc's leading point; its centre runs
-    ``radius`` behind. Where a disc that large would overlap the outline at
-    the start (in a concave corner, or through the smoothing of the outline),
-    the largest disc that surely fits is used instead (``0.45`` times the
-    leading point's distance to the outline).
-
-    Returns
-    -------
-    centres : numpy.ndarray, shape (n, 4)
-    radii : numpy.ndarray, shape (n,)
-
-    Raises
-    ------
-    ValueError
-        If an action's leading point starts inside the object.
-    """
-    delta = actions[:, 2:] - actions[:, :2]
-    unit = delta / np.hypot(delta[:, 0], delta[:, 1])[:, None]
-    lead = field.sample(actions[:, :2])[0]
-    if (lead <= 0).any():
-        bad = np.flatnonzero(lead <= 0)[:5].tolist()
-        raise ValueError(f"actions must start outside the object; action(s) {bad} start inside it")
-    radii = np.full(len(actions), float(radius))
-    if radius > 0:
-        overlap = field.sample(actions[:, :2] - radius * unit)[0] <= radius
-        radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
-    return actions - np.tile(radii[:, None] * unit, 2), radii
-
-
-def first_contact(field: DistanceField, actions: np.ndarray, radius):
-    """Pusher travel to first contact, and hit / starts-inside flags, per action.
-
-    The pusher is a disc of ``radius`` pixels (a number or one per action)
-    whose centre follows the action.
-
-    Returns
-    -------
-    travel : numpy.ndarray, shape (n,)
-    hit : numpy.ndarray of bool, shape (n,)
-    starts_inside : numpy.ndarray of bool, shape (n,)
-    """
-    start = actions[:, :2]
-    delta = actions[:, 2:] - start
-    length = np.hypot(delta[:, 0], delta[:, 1])
-    unit = delta / length[:, None]
-    n_samples = int(np.ceil(length.max(initial=0.0) / CONTACT_MARCH_PX)) + 1
-    t = np.minimum(np.arange(n_samples)[None, :] * CONTACT_MARCH_PX, length[:, None])
-    radius = np.broadcast_to(np.asarray(radius, dtype=float), length.shape)
-    gap = field.sample(start[:, None, :] + t[..., None] * unit[:, None, :])[0] - radius[:, None]
-    touching = gap <= 0
-    starts_inside = touching[:, 0]
-    hit = touching.any(axis=1) & ~starts_inside
-    first = np.argmax(touching, axis=1)
-    rows = np.arange(len(actions))
-    lo = np.where(hit, t[rows, np.maximum(first - 1, 0)], 0.0)
-    hi = np.where(hit, t[rows, first], 0.0)
-    for _ in range(CONTACT_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        inside = field.sample(start + mid[:, None] * unit)[0] - radius <= 0
-        hi = np.where(inside, mid, hi)
-        lo = np.where(inside, lo, mid)
-    return np.where(hit, hi, 0.0), hit, starts_inside
+__all__ = ["body_twist", "simulate"]
 
 
 def _twist(rx, ry, nx, ny, ux, uy, c2, mu, cos_a, sin_a):
@@ -231,8 +96,9 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     Parameters
     ----------
     mask : Mask
-    field : DistanceField
-        ``distance_field(mask)``.
+    field : comcore._outline_field.OutlineField
+        ``outline_field(mask)``: the smoothed signed distance to the outline
+        (shared with :class:`comcore.LimitSurfaceModel`).
     actions : numpy.ndarray, shape (n_actions, 4)
     coms : numpy.ndarray, shape (n_hyp, 2)
     c2 : numpy.ndarray, shape (n_hyp,) or (n_hyp, 3)
@@ -261,13 +127,10 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     ValueError
         If a push starts inside the object.
     """
-    delta = actions[:, 2:] - actions[:, :2]
-    length = np.hypot(delta[:, 0], delta[:, 1])
-    actions, radius = pusher_paths(field, actions, radius)
-    travel, hit, _ = first_contact(field, actions, radius)
-    step = np.where(hit, (length - travel) / n_steps, 0.0)
-    ux, uy = delta[:, 0] / length, delta[:, 1] / length
-    sx, sy = actions[:, 0] + travel * ux, actions[:, 1] + travel * uy  # first contact
+    first, unit, after, hit, radius = pusher_paths(field, actions, radius)
+    step = after / n_steps  # 0 for a push that misses
+    ux, uy = unit[:, 0], unit[:, 1]
+    sx, sy = first[:, 0], first[:, 1]  # the disc's centre at first contact
     dx, dy = step * ux, step * uy  # pusher displacement per step (world)
     comx, comy = coms[:, 0:1], coms[:, 1:2]  # (H, 1)
     c2 = np.asarray(c2, dtype=float)
@@ -278,7 +141,7 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         c2 = c2[:, None]
     mu = np.asarray(mu, dtype=float)[:, None]
     cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
-    theta = np.zeros((len(coms), len(actions)))
+    theta = np.zeros((len(coms), len(first)))
     px, py = comx + theta, comy + theta  # CoM position (world)
     for k in range(1, n_steps + 1):
         # comcore convention: R(theta) = [[c, s], [-s, c]]; the body frame is R(-theta).
@@ -286,7 +149,7 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         ox, oy = sx + k * dx - px, sy + k * dy - py
         qx = cos_t * ox - sin_t * oy + comx
         qy = sin_t * ox + cos_t * oy + comy
-        dist, gx, gy = field.sample_xy(qx, qy)
+        dist, gx, gy = field.sample(qx, qy)
         gap = dist - radius  # < 0: the pusher is inside by -gap
         nx, ny = -gx, -gy
         mx, my = cos_t * dx - sin_t * dy, sin_t * dx + cos_t * dy

@@ -12,9 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from comcore import check_actions, check_mask, check_points, check_priors
+from comcore._outline_field import outline_field
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
-from ._ellipsoid_model import distance_field, simulate
+from ._ellipsoid_model import simulate
 from ._ellipsoid_support import characteristic_length_sq
 
 __all__ = ["DEFAULT_MU_CONTACT", "MU_GRID", "EllipsoidFit", "EllipsoidPredictor"]
@@ -173,7 +174,7 @@ class EllipsoidPredictor:
             return np.zeros((len(pts), len(acts), 3))
         c2 = characteristic_length_sq(mask, pts, self.pressure, self.limit_surface)
         return simulate(
-            mask, distance_field(mask), acts, pts, c2, np.full(len(pts), mu),
+            mask, outline_field(mask), acts, pts, c2, np.full(len(pts), mu),
             self._radius_px(mask), self.n_steps,
         )  # fmt: skip
 

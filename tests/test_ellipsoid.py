@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import comcore
+from comcore._outline_field import outline_field
 from predictors import EllipsoidFit, EllipsoidPredictor
-from predictors._ellipsoid_model import body_twist, distance_field
+from predictors._ellipsoid_model import body_twist
 from predictors._ellipsoid_support import (
     _characteristic_length_sq,
     _tilted_weights,
@@ -168,13 +169,13 @@ def test_contact_sticks_to_the_pusher_and_motion_moves_the_area_centroid():
 def test_sliding_pusher_stays_on_the_moved_outline(blob):
     acts = comcore.sample_pushes(blob, 30, cone=1.0, rng=7)
     out = EllipsoidPredictor(com=(35.0, 30.0), mu_contact=0.1).predict(blob, acts)
-    field = distance_field(blob)
+    field = outline_field(blob)
     # The pusher's end, taken back into the object's initial frame, is on the
     # outline, or off it when the pusher slid past the end of an edge; never inside.
     gap = np.empty(len(acts))
     for i in range(len(acts)):
         body = comcore.apply_motion(acts[i, 2:] - out[i, 1:], -out[i, 0], (0, 0), blob.centroid)
-        gap[i] = field.sample(body)[0]
+        gap[i] = field.sample(body[..., 0], body[..., 1])[0]
     assert gap.min() > -0.15
     assert np.mean(gap < 0.15) >= 0.9
 
@@ -249,7 +250,8 @@ def test_remembered_lengths_equal_fresh_ones(blob, limit_surface):
 
 def test_tilted_pressure_has_its_centre_at_the_com(blob):
     coms = blob.pixels[::37]
-    coms = coms[distance_field(blob).sample(coms)[0] < -2.0]  # 2 px inside the outline
+    depth = outline_field(blob).sample(coms[:, 0], coms[:, 1])[0]
+    coms = coms[depth < -2.0]  # 2 px inside the outline
     w = _tilted_weights(blob.pixels, coms)
     np.testing.assert_allclose(w @ blob.pixels / w.sum(axis=1, keepdims=True), coms, atol=1e-3)
 
