@@ -17,6 +17,8 @@ from comcore._posterior import (
     side_probability,
 )
 
+from .scripts import run_script
+
 
 def _plate(h=26, w=34, pad=8):
     return comcore.Mask(np.pad(np.ones((h, w), bool), pad))
@@ -417,22 +419,8 @@ def test_a_model_returning_garbage_is_reported():
 # -- the scripts ------------------------------------------------------------------------
 
 
-def _run_script(*args):
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    env = {"PYTHONPATH": str(root), "PATH": ""}
-    out = subprocess.run(
-        [sys.executable, *args], cwd=root, env=env, capture_output=True, text=True, timeout=300
-    )
-    assert out.returncode == 0, out.stderr
-    return out.stdout
-
-
 def test_bench_script_runs():
-    out = _run_script(
+    out = run_script(
         "benchmarks/bench_active.py",
         *("--pixels", "600", "--candidates", "20", "--repeats", "2", "--objects", "Obj1"),
     )
@@ -442,7 +430,7 @@ def test_bench_script_runs():
 
 def test_eval_script_runs():
     pytest.importorskip("pymunk")
-    out = _run_script(
+    out = run_script(
         "benchmarks/eval_active.py",
         "--objects",
         "Obj3",
@@ -461,14 +449,14 @@ def test_eval_script_plots_with_the_estimators_default_budget(tmp_path):
     pytest.importorskip("pymunk")
     path = tmp_path / "posterior.png"
     args = ["--objects", "Obj3", "--friction", "high", "--model", "none", "--plot", str(path)]
-    assert f"saved {path}" in _run_script("benchmarks/eval_active.py", *args)
+    assert f"saved {path}" in run_script("benchmarks/eval_active.py", *args)
     assert path.stat().st_size > 0
 
 
 def test_stopping_rule_script_runs():
     pytest.importorskip("pymunk")
     args = ["--objects", "Obj3", "--trials", "1", "--budget", "3", "--workers", "1"]
-    out = _run_script("benchmarks/tune_active_stop.py", *args)
+    out = run_script("benchmarks/tune_active_stop.py", *args)
     assert "2 trials, seed 1" in out and "| 3 | 4.5 |" in out
 
 
@@ -683,7 +671,7 @@ def test_a_model_erring_more_than_its_scales_say_is_recognised():
 
 
 def test_tune_script_runs():
-    out = _run_script(
+    out = run_script(
         "benchmarks/tune_active.py",
         *("--objects", "Obj1", "--friction", "low", "--conditions", "exact,no-reset"),
         *("--estimators", "active-vt", "--no-reset-estimators", "active-robot(model=None)"),

@@ -1,25 +1,14 @@
 """benchmarks/bench_core.py runs (as a subprocess, with small arguments)."""
 
 import re
-import subprocess
-import sys
-from pathlib import Path
+
+from .scripts import run_script
 
 
 def test_bench_core_script_runs():
-    root = Path(__file__).resolve().parents[1]
-    env = {"PYTHONPATH": str(root), "PATH": ""}
     args = ["--repeats", "2", "--actions", "10", "--size", "60"]
-    out = subprocess.run(
-        [sys.executable, "benchmarks/bench_core.py", *args],
-        cwd=root,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert out.returncode == 0, out.stderr
-    lines = out.stdout.splitlines()
+    out = run_script("benchmarks/bench_core.py", *args, timeout=120)
+    lines = out.splitlines()
     assert lines[0] == "mask (60, 60) with 1792 object pixels, 10 actions"
     for name, line in zip(
         ["estimate_heatmap (Alg. 1)", "estimate_progressive (Alg. 2)"], lines[1:]

@@ -1,28 +1,17 @@
 """benchmarks/bench_measure_motion.py runs (as a subprocess, with small arguments)."""
 
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
+
+from .scripts import run_script
 
 
 def test_bench_measure_motion_script_runs():
     pytest.importorskip("shapely")  # the simulator renders the masks
-    root = Path(__file__).resolve().parents[1]
-    env = {"PYTHONPATH": str(root), "PATH": ""}
     args = ["--trials", "1", "--objects", "Obj5", "--resolutions", "0.005", "--per-object"]
-    out = subprocess.run(
-        [sys.executable, "benchmarks/bench_measure_motion.py", *args],
-        cwd=root,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert out.returncode == 0, out.stderr
-    lines = out.stdout.splitlines()
+    out = run_script("benchmarks/bench_measure_motion.py", *args, timeout=120)
+    lines = out.splitlines()
     assert lines[0].startswith(
         "resolution 5 mm/px: 2 pushes (1 objects x 2 friction classes x 1, seed 1), images"
     )
@@ -45,18 +34,9 @@ def test_bench_measure_motion_script_runs():
 
 
 def test_bench_measure_motion_calibration_runs():
-    root = Path(__file__).resolve().parents[1]
-    env = {"PYTHONPATH": str(root), "PATH": ""}
-    out = subprocess.run(
-        [sys.executable, "benchmarks/bench_measure_motion.py", "--calibrate", "5", "--seed", "0"],
-        cwd=root,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert out.returncode == 0, out.stderr
-    lines = out.stdout.splitlines()
+    args = ["--calibrate", "5", "--seed", "0"]
+    out = run_script("benchmarks/bench_measure_motion.py", *args, timeout=120)
+    lines = out.splitlines()
     assert re.fullmatch(
         r"5 random polygons \(seed 0, 8 to 50 px\): 68th percentile of \|theta error\| \* "
         r"sqrt\(information\) \d\.\d{3} px; residual_px median \d\.\d{3}, 90th percentile \d\.\d{3} px",

@@ -14,6 +14,8 @@ import pytest
 import comcore
 from comcore.cli import main
 
+from .scripts import run_script
+
 HEADER = "sx,sy,ex,ey,theta,tx,ty\n"
 # A 20 x 20 square (pixels 4..23) pushed across its rows and columns; the
 # signs follow the Voting Theorem for a CoM at (10.5, 10.5).
@@ -338,13 +340,8 @@ def test_the_real_entry_point_never_prints_a_traceback(files):
 
 def test_the_methods_benchmark_script_runs():
     pytest.importorskip("shapely")
-    root = Path(__file__).resolve().parent.parent
-    cmd = [sys.executable, "benchmarks/estimate_methods.py", "--objects", "Obj3", "--seeds",
-           "1", "--pushes", "12", "--flips", "0,1"]  # fmt: skip
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
-    done = subprocess.run(cmd, capture_output=True, text=True, cwd=root, env=env, timeout=120)
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.splitlines()
+    args = ["--objects", "Obj3", "--seeds", "1", "--pushes", "12", "--flips", "0,1"]
+    lines = run_script("benchmarks/estimate_methods.py", *args, timeout=120).splitlines()
     assert lines[0].startswith("1 recordings (1 objects x seeds 0..0), 12 pushes each")
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]

@@ -1,28 +1,11 @@
 """benchmarks/eval_motion_model.py and bench_motion_model.py run (subprocesses, tiny arguments)."""
 
-import subprocess
-import sys
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def run(script, *args):
-    out = subprocess.run(
-        [sys.executable, f"benchmarks/{script}", *args],
-        cwd=ROOT,
-        env={"PYTHONPATH": str(ROOT), "PATH": ""},
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert out.returncode == 0, out.stderr
-    return out.stdout
+from .scripts import run_script
 
 
 def test_eval_motion_model_runs():
-    out = run(
-        "eval_motion_model.py", "--objects", "Obj19", "--trials", "1", "--pushes", "2",
+    out = run_script(
+        "benchmarks/eval_motion_model.py", "--objects", "Obj19", "--trials", "1", "--pushes", "2",
         "--engines", "quasistatic", "--models", "limit-surface,ellipsoid", "--fit-scales",
         "--scales", "0.01,0.1,0.001,0.05",
     )  # fmt: skip
@@ -32,6 +15,6 @@ def test_eval_motion_model_runs():
 
 
 def test_bench_motion_model_runs():
-    out = run("bench_motion_model.py", "--object", "Obj1", "--pushes", "1", "--repeats", "1",
+    out = run_script("benchmarks/bench_motion_model.py", "--object", "Obj1", "--pushes", "1", "--repeats", "1",
               "--no-ellipsoid")  # fmt: skip
     assert "LimitSurfaceModel   one step: median" in out

@@ -6,6 +6,7 @@ from hypothesis import strategies as st
 import comcore
 
 from .conftest import synthetic_motions
+from .scripts import run_script
 from .strategies import masks, seeds
 
 
@@ -313,21 +314,8 @@ def test_two_block_seed_that_the_largest_part_got_wrong():
 
 
 def test_two_blobs_script_runs():
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    out = subprocess.run(
-        [sys.executable, "benchmarks/alg2_two_blobs.py", "--seeds", "50:58"],
-        cwd=root,
-        env={"PYTHONPATH": str(root), "PATH": ""},
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert out.returncode == 0, out.stderr
-    lines = out.stdout.splitlines()
+    out = run_script("benchmarks/alg2_two_blobs.py", "--seeds", "50:58", timeout=120)
+    lines = out.splitlines()
     assert lines[0] == "seeds 50:58, 30 pushes, cone 0.3"
     assert lines[2] == "wrong block, largest-area part (the paper): 2/8"  # seeds 53 and 56
     assert lines[3].startswith("wrong block, estimate_progressive: ")
