@@ -47,7 +47,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy import ndimage, optimize
 
-from ._conventions import rotation_matrix
+from ._conventions import rotate_vectors, rotation_matrix
 from ._errors import ImageError
 from ._mask import Mask
 from ._types import Motion
@@ -313,10 +313,7 @@ def _coarse_candidates(fields_before: _Fields, fields_after: _Fields, centre, t0
         points = points[np.linspace(0, len(points) - 1, COARSE_POINTS).astype(int)]
     rel = points - centre
     thetas = np.arange(-np.pi, np.pi, SCAN_STEP)
-    c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
-    moved = np.stack(
-        [c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]], axis=-1
-    ) + (centre + t0)
+    moved = rotate_vectors(rel[None], thetas[:, None]) + (centre + t0)  # (thetas, points, 2)
     dist = np.clip(fields_after.signed_at(moved), -COARSE_CLIP_PX, COARSE_CLIP_PX)
     cost = np.mean(dist**2, axis=1)
     left, right = np.roll(cost, 1), np.roll(cost, -1)
