@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import pickle
 import shlex
 import sys
 import time
@@ -72,7 +73,19 @@ def _rescored(est, mask, true_px, variants: dict) -> dict:
     return out
 
 
-def _one(spec: TrialSpec, variants=None) -> list[dict]:
+def _kept(est, mask, true_px) -> dict:
+    """What :func:`_rescored` needs to score a run's pushes again later (``--keep-pushes``)."""
+    ok = [i for i, o in enumerate(est.extras.get("outcomes", ())) if o == "evidence"]
+    return {
+        "mask": np.asarray(mask.data, dtype=bool),
+        "resolution": mask.resolution,
+        "actions": np.asarray(est.extras["actions"])[ok] if ok else np.zeros((0, 4)),
+        "motions": np.asarray(est.extras["motions"])[ok] if ok else np.zeros((0, 3)),
+        "true_px": tuple(float(v) for v in true_px),
+    }
+
+
+def _one(spec: TrialSpec, variants=None, keep_pushes=False) -> list[dict]:
     start = time.process_time()
     out = run_trial(spec, keep=True)
     cpu = time.process_time() - start
@@ -105,6 +118,9 @@ def _one(spec: TrialSpec, variants=None) -> list[dict]:
                 "rescored": _rescored(est, out.context.mask, true_px, variants or {})
                 if est is not None and (spec.condition is None or spec.condition.resets)
                 else {},
+                "pushes_kept": _kept(est, out.context.mask, true_px)
+                if keep_pushes and est is not None
+                else None,
             }
         )
     return rows
@@ -211,6 +227,11 @@ def main(argv=None):
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--json", default=None)
     p.add_argument("--rescore", default="{}", help="JSON: name -> estimate_posterior options")
+    p.add_argument(
+        "--keep-pushes",
+        default=None,
+        help="pickle every run's row with its mask and evidence pushes here (to rescore later)",
+    )
     args = p.parse_args(argv)
     variants = {}
     for name, options in json.loads(args.rescore).items():
@@ -245,7 +266,8 @@ def main(argv=None):
         ]
     start = time.time()
     with ProcessPoolExecutor(args.workers) as pool:
-        batches = pool.map(_one, specs, [variants] * len(specs))
+        keep = [args.keep_pushes is not None] * len(specs)
+        batches = pool.map(_one, specs, [variants] * len(specs), keep)
         rows = [r for batch in batches for r in batch]
     print(summarise(rows))
     print(f"{len(specs)} trials, seed {args.seed}, {time.time() - start:.0f} s")
@@ -255,6 +277,11 @@ def main(argv=None):
         )
         with open(args.markdown, "w") as f:
             f.write(markdown(rows, command))
+    if args.keep_pushes:
+        with open(args.keep_pushes, "wb") as f:
+            pickle.dump(rows, f)
+        for r in rows:
+            r.pop("pushes_kept")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f)
