@@ -384,7 +384,9 @@ def estimate_posterior(
     opts = active_options(mask, model=model, **options)
     pixels, prior_w = prior_grid(mask, prior)
     pushes = Candidates(mask, acts, opts, rng=None, name="actions")
-    post = GridPosterior(pixels, prior_w, opts.mus, max(len(opts.models), 1), opts.n_scales)
+    post = GridPosterior(
+        pixels, prior_w, opts.mus, max(len(opts.models), 1), opts.n_scales, opts.n_tempers
+    )
     log = SessionLog(post, opts.credible)
     for i, motion in enumerate(moves):
         record = {"index": i, "object_action": acts[i], "object_motion": tuple(motion)}

@@ -29,6 +29,7 @@ __all__ = [
     "ActiveOptions",
     "active_options",
     "build_estimate",
+    "check_model_weight",
     "check_models",
     "mu_grid",
     "pair",
@@ -69,7 +70,7 @@ class _DefaultModel:
 DEFAULT_MODEL = _DefaultModel()
 #: Power on the motion model's likelihood (tempered: a model errs alike on the pushes
 #: of one object). Chosen on benchmark trials of seed 1 (docs/active.md).
-DEFAULT_MODEL_WEIGHT = 0.6
+DEFAULT_MODEL_WEIGHT = (0.25, 0.4, 0.6, 1.0)
 #: Credible-region radius (metres) at which the estimator stops (seed 1, docs/active.md).
 DEFAULT_TARGET_RADIUS = 0.006
 #: Factors on the motion model's error scales (``theta_noise``, ``translation_error``)
@@ -99,13 +100,18 @@ class ActiveOptions:
     theta_noise: tuple[float, float]
     translation_noise: tuple[float, float]
     selection: str
-    model_weight: float
+    model_weights: tuple
     min_information: float
     near_px: float
     line_scale_px: float
     tracking: tuple[float, float]
     pusher_px: float = 0.0
     model_scales: tuple = (1.0,)
+
+    @property
+    def n_tempers(self) -> int:
+        """Powers on the model's likelihood weighed per session (1 without a model)."""
+        return len(self.model_weights) if self.models else 1
 
     @property
     def n_scales(self) -> int:
@@ -167,7 +173,7 @@ def active_options(
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
     if selection == "model" and not models:
         raise ValueError("selection='model' needs a model")
-    model_weight = check_probability(model_weight, "model_weight", open_low=True)
+    model_weights = check_model_weight(model_weight)
     if translation_noise is not None:
         translation_noise = pair(translation_noise, "translation_noise")
         warnings.warn(
@@ -203,7 +209,7 @@ def active_options(
         theta_noise=theta_noise,
         translation_noise=translation_noise,
         selection=selection,
-        model_weight=model_weight,
+        model_weights=model_weights,
         min_information=min_information,
         near_px=NEAR_LINE_M / mask.resolution,
         line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
@@ -211,6 +217,28 @@ def active_options(
         pusher_px=pusher_error / mask.resolution,
         model_scales=scales,
     )
+
+
+def check_model_weight(model_weight) -> tuple[float, ...]:
+    """``model_weight`` as a tuple of powers in (0, 1]: one fixed power, or the learned set."""
+    if isinstance(model_weight, str):
+        raise TypeError(
+            f"model_weight must be a number or a sequence of numbers, got {model_weight!r}"
+        )
+    if np.ndim(model_weight) == 0:
+        return (check_probability(model_weight, "model_weight", open_low=True),)
+    try:
+        values = tuple(model_weight)
+    except TypeError as e:
+        raise TypeError(
+            f"model_weight must be a number or a sequence of numbers, got {model_weight!r}"
+        ) from e
+    if not values:
+        raise ValueError("model_weight must not be an empty sequence")
+    out = tuple(check_probability(v, "model_weight", open_low=True) for v in values)
+    if len(set(out)) != len(out):
+        raise ValueError(f"model_weight's powers must be distinct, got {model_weight!r}")
+    return out
 
 
 def mu_grid(mu, n_mu: int) -> np.ndarray:
@@ -306,6 +334,7 @@ def build_estimate(mask, post, level, used, history, status, extras) -> Estimate
             "mu_posterior": post.mu_marginal,
             "model_posterior": post.model_marginal,
             "scale_posterior": post.scale_marginal,
+            "model_weight_posterior": post.temper_weights,
             "history": tuple(dict(h) for h in history),
         },
     )

@@ -237,9 +237,23 @@ class GridPosterior:
     ``log_w`` has shape (p, m, k): pixel, friction value, and motion model x
     model-error scale factor (``k = n_models * n_scales``, model-major; ``k = 1``
     without a model).
+
+    With ``n_tempers > 1`` it is a mixture of ``n_tempers`` posteriors, each of
+    which raised the motion model's likelihood to its own power (the
+    *learned tempering* of :func:`comcore.estimate_active`'s ``model_weight``),
+    weighted by how well each predicted every push before that push was seen:
+    the weight of member ``e`` is ``exp(S_e) / sum_f exp(S_f)`` with
+    ``S_e = sum_i log sum_h post_e,i-1(h) p(y_i | h)`` the log-probability its
+    posterior before each push gave that push's motion under the untempered
+    likelihood (Grünwald's SafeBayes, with the posterior predictive as the
+    loss: a power that leaves the posterior too narrow for the model's errors
+    predicts the next push badly, one too wide predicts it vaguely).
+    ``log_w`` is the mixture.
     """
 
-    def __init__(self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1):
+    def __init__(
+        self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1, n_tempers: int = 1
+    ):
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
         self.n_models, self.n_scales = int(n_models), int(n_scales)
@@ -247,6 +261,10 @@ class GridPosterior:
         shape = (len(self.pixels), len(self.mus), self.n_models * self.n_scales)
         self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
         self._normalise()
+        self.n_tempers = int(n_tempers)
+        #: Each temper's log predictive score S_e (nats) so far.
+        self.temper_scores = np.zeros(self.n_tempers)
+        self._members = np.stack([self.log_w] * self.n_tempers) if self.n_tempers > 1 else None
 
     def _normalise(self) -> float:
         top = self.log_w.max()
@@ -255,14 +273,52 @@ class GridPosterior:
         self.log_w -= total
         return float(top + total)
 
-    def update(self, log_likelihood) -> float:
+    @property
+    def temper_weights(self) -> np.ndarray:
+        """Weight of each temper in the mixture, shape (n_tempers,), summing to 1."""
+        z = self.temper_scores - self.temper_scores.max()
+        w = np.exp(z)
+        return w / w.sum()
+
+    def predictive(self, full) -> float:
+        """Log-probability the posterior gave an observation of log-likelihood ``full``."""
+        if self._members is None:
+            return float(_logsumexp(self.log_w + full))
+        per = np.array([_logsumexp(member + full) for member in self._members])
+        return float(_logsumexp(per + np.log(self.temper_weights)))
+
+    def update(self, log_likelihood, full=None) -> float:
         """Multiply in a likelihood given as logs, broadcast to (p, m, k).
 
-        Returns the log of the normaliser: the log marginal likelihood of the
-        observation under the posterior before it.
+        With tempers, ``log_likelihood`` has shape (n_tempers, p, m, k), one
+        tempered likelihood per member, and ``full`` (p, m, k) is the
+        untempered one that scores them. Returns the log-probability the
+        posterior before gave the observation under ``full`` (default
+        ``log_likelihood``): its log marginal likelihood.
         """
-        self.log_w = self.log_w + log_likelihood
-        return self._normalise()
+        if self._members is None:
+            loglik = np.asarray(log_likelihood)
+            if loglik.ndim == 4:
+                loglik = loglik[0]
+            if full is None:
+                self.log_w = self.log_w + loglik
+                return self._normalise()
+            evidence = self.predictive(full)
+            self.log_w = self.log_w + loglik
+            self._normalise()
+            return evidence
+        if full is None:
+            raise ValueError("a tempered posterior needs the untempered likelihood (full)")
+        per = np.array([_logsumexp(member + full) for member in self._members])
+        evidence = float(_logsumexp(per + np.log(self.temper_weights)))
+        self.temper_scores = self.temper_scores + per
+        members = self._members + log_likelihood
+        members -= members.max(axis=(1, 2, 3), keepdims=True)
+        members -= np.log(np.exp(members).sum(axis=(1, 2, 3), keepdims=True))
+        self._members = members
+        self.log_w = _logsumexp_axis0(members + np.log(self.temper_weights)[:, None, None, None])
+        self._normalise()
+        return evidence
 
     @property
     def weights(self) -> np.ndarray:
@@ -325,6 +381,20 @@ class GridPosterior:
         chosen = np.zeros(len(w), dtype=bool)
         chosen[order[: k + 1]] = True
         return chosen, float(k + min(max(fraction, 0.0), 1.0))
+
+
+def _logsumexp(a) -> float:
+    top = float(np.max(a))
+    if not np.isfinite(top):
+        return top
+    return top + float(np.log(np.exp(a - top).sum()))
+
+
+def _logsumexp_axis0(a) -> np.ndarray:
+    top = a.max(axis=0)
+    safe = np.where(np.isfinite(top), top, 0.0)
+    with np.errstate(divide="ignore"):  # a hypothesis every member dropped: -inf
+        return safe + np.log(np.exp(a - safe).sum(axis=0))
 
 
 def push_log_likelihood(

@@ -5,7 +5,6 @@ from __future__ import annotations
 import inspect
 
 import numpy as np
-from scipy.special import logsumexp
 
 from ._active_setup import DEFAULT_MODEL, active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
@@ -129,7 +128,12 @@ class ActiveSession:
         pixels, prior_w = prior_grid(self._first, prior)
         self._cands = Candidates(self._first, candidates, self._opts, check_rng(rng))
         self._post = GridPosterior(
-            pixels, prior_w, self._opts.mus, max(len(self._opts.models), 1), self._opts.n_scales
+            pixels,
+            prior_w,
+            self._opts.mus,
+            max(len(self._opts.models), 1),
+            self._opts.n_scales,
+            self._opts.n_tempers,
         )
         offsets = self._first.pixels - np.asarray(self._first.centroid)
         self._gyration_px = max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
@@ -310,7 +314,7 @@ class ActiveSession:
                 rotation_observed=not branch.ambiguous,
                 tracking=tracking_noise(self._opts.tracking, branch.residual_px, self._gyration_px),
             )
-            evidence = float(logsumexp(self._post.log_w + loglik))
+            evidence = self._post.predictive(loglik.full)
             if best is None or evidence > best[0]:
                 best = (evidence, branch, obj_motion, loglik, excess)
         _, branch, obj_motion, loglik, excess = best

@@ -49,7 +49,7 @@ class SessionLog:
     def add(self, record: dict, post: GridPosterior, loglik=None, excess=None) -> None:
         """Add a push's record; with evidence, multiply its likelihood into ``post``."""
         if loglik is not None:
-            record["log_evidence"] = post.update(loglik)
+            record["log_evidence"] = post.update(loglik.tempered, loglik.full)
             self.excess = self.excess + excess
             self.log_evidence += record["log_evidence"]
         self.records.append(record)

@@ -11,6 +11,7 @@ any) the whole motion. When the rotation was not observable (an
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.special import ndtr
@@ -23,6 +24,7 @@ from ._posterior import GridPosterior, line_distances, push_log_likelihood, side
 __all__ = [
     "HERMITE_NODES",
     "PRUNE_LOG",
+    "Evidence",
     "consistency_threshold",
     "push_evidence",
     "pusher_nodes",
@@ -109,7 +111,7 @@ def push_evidence(
                 for c in options.model_scales
             ]
             full = np.stack(terms, axis=-1).reshape(alive.shape)
-            return np.where(alive, options.model_weight * full, -np.inf)
+            return np.where(alive, full, -np.inf)
 
         model_term = scored(observed)
         # The consistency check keeps the base scales (a wider factor must not hide a misfit).
@@ -126,10 +128,33 @@ def push_evidence(
             flipped_term = model_term
         model_excess = np.repeat(model_excess, n_s, axis=-1)
         excess = excess + np.where(alive, model_excess, np.inf)
-    loglik = push_log_likelihood(
-        distances, observed, flip_prob, theta_tol, model_term, flipped_term, options.line_scale_px
-    )
-    return loglik, excess
+
+    def loglik(weight):
+        if model_term is None:
+            return push_log_likelihood(
+                distances, observed, flip_prob, theta_tol, None, None, options.line_scale_px
+            )
+        return push_log_likelihood(
+            distances,
+            observed,
+            flip_prob,
+            theta_tol,
+            weight * model_term,
+            weight * flipped_term,
+            options.line_scale_px,
+        )
+
+    full = loglik(1.0)
+    weights = options.model_weights if model_term is not None else (1.0,)
+    tempered = np.stack([full if w == 1.0 else loglik(w) for w in weights])
+    return Evidence(tempered, full), excess
+
+
+class Evidence(NamedTuple):
+    """One push's log-likelihood over the grid: per temper (n_tempers, p, m, k), and untempered."""
+
+    tempered: np.ndarray
+    full: np.ndarray
 
 
 def _offset_marginal(options, mask, action, pixels, offset, alive):

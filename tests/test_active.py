@@ -390,6 +390,10 @@ def test_a_prior_off_the_object_is_allowed():
         ({"translation_error": (0.0, 0.1)}, ValueError, "translation_error must be a pair"),
         ({"model_weight": 0.0}, ValueError, "model_weight"),
         ({"model_weight": 1.5}, ValueError, "model_weight"),
+        ({"model_weight": []}, ValueError, "model_weight must not be an empty sequence"),
+        ({"model_weight": (0.5, 0.5)}, ValueError, "model_weight's powers must be distinct"),
+        ({"model_weight": (0.5, 1.5)}, ValueError, "model_weight"),
+        ({"model_weight": "0.6"}, TypeError, "model_weight must be a number or a sequence"),
         ({"selection": "model", "model": None}, ValueError, "selection='model' needs a model"),
     ],
 )
@@ -647,7 +651,8 @@ def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
     ]
     # a model error far below the offset's effect: the offset is what must be explained
     sharp = {"theta_noise": (0.002, 0.0), "translation_error": (0.0001, 0.0)}
-    sharp.update(motion_noise=(0.0, 0.0), model_scales=(1.0,))
+    # the untempered likelihood's evidence (a learned power would absorb part of the misfit)
+    sharp.update(motion_noise=(0.0, 0.0), model_scales=(1.0,), model_weight=1.0)
     evidence = {
         err: comcore.estimate_posterior(
             mask, actions, motions, model=model, pusher_error=err * mask.resolution, **sharp
@@ -670,6 +675,33 @@ def test_a_model_erring_more_than_its_scales_say_is_recognised():
     assert erring.extras["scale_posterior"][1] > 0.9
 
 
+def test_one_power_as_a_sequence_is_the_fixed_power():
+    mask, model = _ell(), ToyModel()
+    actions = comcore.sample_pushes(mask, 4, cone=0.0, rng=3)
+    motions = [model.predict_hypotheses(mask, [a], [(30.0, 24.0)], 0.4)[0, 0] for a in actions]
+    fixed = comcore.estimate_posterior(mask, actions, motions, model=model, model_weight=0.6)
+    one = comcore.estimate_posterior(mask, actions, motions, model=model, model_weight=[0.6])
+    np.testing.assert_array_equal(fixed.extras["posterior"], one.extras["posterior"])
+    assert one.extras["model_weight_posterior"].tolist() == [1.0]
+
+
+def test_learned_tempering_lowers_the_power_for_a_model_that_errs():
+    mask, model = _ell(), ToyModel()
+    com = (30.0, 24.0)
+    actions = comcore.sample_pushes(mask, 8, cone=0.0, rng=3)
+    clean = [model.predict_hypotheses(mask, [a], [com], 0.4)[0, 0] for a in actions]
+    # the same error on every push (a model wrong the same way for one object), larger
+    # than its scales
+    biased = np.add(clean, np.array([0.2, 3.0, -3.0]))
+    powers = (0.25, 0.5, 1.0)
+    kwargs = {"model": model, "mu": 0.4, "model_weight": powers}
+    honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
+    erring = comcore.estimate_posterior(mask, actions, biased, **kwargs)
+    mean = {k: e.extras["model_weight_posterior"] @ powers for k, e in (("h", honest), ("e", erring))}
+    assert mean["h"] > mean["e"] + 0.2
+    assert honest.extras["model_weight_posterior"].sum() == pytest.approx(1.0)
+
+
 def test_tune_script_runs():
     out = run_script(
         "benchmarks/tune_active.py",
@@ -678,3 +710,21 @@ def test_tune_script_runs():
         *("--workers", "1", "--rescore", '{"vt": {"model": null}}'),
     )
     assert "rescored vt" in out and "after push k" in out and "no-reset " in out
+
+
+def test_kept_pushes_are_rescored(tmp_path):
+    kept = tmp_path / "runs.pkl"
+    run_script(
+        "benchmarks/tune_active.py",
+        *("--objects", "Obj1", "--friction", "low", "--conditions", "exact"),
+        *("--estimators", "active-vt", "--workers", "1", "--keep-pushes", str(kept)),
+    )
+    out = run_script(
+        "benchmarks/rescore_pushes.py",
+        *(str(kept), "--workers", "1", "--prefixes"),
+        *("--variants", '{"vt": {"vt": true}, "learned": {"model_weight": [0.5, 1.0]}}'),
+    )
+    lines = [line.split() for line in out.splitlines() if line.startswith("exact")]
+    # one run of k pushes: k prefix rows per variant, the last with every push
+    assert {row[1] for row in lines} == {"vt", "learned"}
+    assert lines[0][2] == "k=1" and "1 runs" in out

@@ -70,3 +70,55 @@ def test_pushes_no_com_explains_are_inconsistent():
     liar = [(0.1, 0.0, 0.0)] * 5
     est = comcore.estimate_posterior(mask, actions, liar, **kwargs)
     assert est.status == "inconsistent" and est.extras["excess_nats"] > 30
+
+
+# -- learned tempering (model_weight as a set of powers) --------------------------------
+
+
+def _toy_tempered(powers):
+    from comcore._posterior import GridPosterior
+
+    pixels = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    return GridPosterior(pixels, [1 / 3] * 3, [0.3], n_tempers=len(powers))
+
+
+def test_tempered_posterior_is_the_prequential_mixture_of_its_members():
+    powers = np.array([0.25, 1.0])
+    post = _toy_tempered(powers)
+    pushes = [np.log([0.7, 0.2, 0.1]), np.log([0.1, 0.3, 0.6]), np.log([0.6, 0.3, 0.1])]
+    members = np.tile(np.log(np.full(3, 1 / 3)), (2, 1))
+    scores = np.zeros(2)
+    for full in pushes:
+        full3 = full[:, None, None]
+        evidence = post.update(powers[:, None, None, None] * full3, full3)
+        member_w = np.exp(members)
+        predictive = np.log(member_w @ np.exp(full))
+        mix_before = np.exp(scores - scores.max()) / np.exp(scores - scores.max()).sum()
+        assert evidence == pytest.approx(np.log(mix_before @ np.exp(predictive)))
+        scores = scores + predictive
+        members = members + powers[:, None] * full
+        members -= np.log(np.exp(members).sum(axis=1, keepdims=True))
+    mix = np.exp(scores) / np.exp(scores).sum()
+    np.testing.assert_allclose(post.temper_weights, mix)
+    np.testing.assert_allclose(post.marginal, mix @ np.exp(members))
+    assert post.marginal.sum() == pytest.approx(1.0)
+
+
+def test_tempering_favours_the_power_that_predicts_the_next_push():
+    # Pushes that contradict each other: the flat power predicts each next one better.
+    post = _toy_tempered([0.2, 1.0])
+    for full in (np.log([0.98, 0.01, 0.01]), np.log([0.01, 0.01, 0.98])) * 3:
+        post.update(np.stack([0.2 * full, full])[:, :, None, None], full[:, None, None])
+    assert post.temper_weights[0] > 0.9
+    # Pushes that agree: the untempered power wins (once both members hold the same
+    # pixel they predict alike, so its lead stops growing).
+    post = _toy_tempered([0.2, 1.0])
+    for full in (np.log([0.9, 0.05, 0.05]),) * 6:
+        post.update(np.stack([0.2 * full, full])[:, :, None, None], full[:, None, None])
+    assert post.temper_weights[1] > 0.8
+
+
+def test_a_tempered_posterior_needs_the_untempered_likelihood():
+    post = _toy_tempered([0.5, 1.0])
+    with pytest.raises(ValueError, match="untempered"):
+        post.update(np.zeros((2, 3, 1, 1)))
