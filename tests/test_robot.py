@@ -130,6 +130,24 @@ def test_object_leaving_the_view_raises(sim):
         robot.camera_mask()
 
 
+@pytest.mark.parametrize("end", [0.9, -0.9])
+def test_the_view_holds_a_bar_turned_about_a_com_near_its_end(end):
+    # Obj8 is a 23.5 cm bar; a CoM near one end swings the other end around it (a
+    # no-reset benchmark trial left the view that way). Turned any way about its
+    # CoM and carried almost camera_margin any way, the object stays in view.
+    bar = simulators.random_simulator("Obj8", friction="high", rng=0)
+    x_min, _, x_max, _ = bar.shape.bounds_m
+    com = np.asarray(bar.shape.centroid_m) + (end * (x_max - x_min) / 2 * 0.9, 0.0)
+    margin = 0.05
+    robot = SimulatedRobot(bar.with_com(com), camera_margin=margin, rng=0)
+    x, y, _ = robot.simulator.initial_pose
+    for heading in np.linspace(0.0, 2 * np.pi, 8, endpoint=False):
+        dx, dy = 0.9 * margin * np.cos(heading), 0.9 * margin * np.sin(heading)
+        for angle in np.linspace(0.0, 2 * np.pi, 12, endpoint=False):
+            robot.place((x + dx, y + dy, angle))
+            robot.camera_mask()  # raises if the object touches the border
+
+
 def test_pymunk_engine_plays_the_robot(sim):
     robot = SimulatedRobot(sim, engine="pymunk", rng=0)
     assert robot.simulator.settings.engine == "pymunk"

@@ -155,7 +155,9 @@ class Condition:
             simulator.mass,
             mu_contact=simulator.mu_contact,
             resolution=self.resolution or simulator.resolution,
-            margin=camera_frame_margin(simulator.shape, simulators.DEFAULT_CAMERA_MARGIN)
+            margin=camera_frame_margin(
+                simulator.shape, simulators.DEFAULT_CAMERA_MARGIN, simulator.com_m
+            )
             if self.measured
             else simulator.margin,
             pusher_radius=simulator.pusher_radius,
