@@ -137,7 +137,7 @@ def test_the_view_holds_a_bar_turned_about_a_com_near_its_end(end):
     # CoM and carried almost camera_margin any way, the object stays in view.
     bar = simulators.random_simulator("Obj8", friction="high", rng=0)
     x_min, _, x_max, _ = bar.shape.bounds_m
-    com = np.asarray(bar.shape.centroid_m) + (end * (x_max - x_min) / 2 * 0.9, 0.0)
+    com = np.asarray(bar.shape.centroid_m) + np.array([end * (x_max - x_min) / 2 * 0.9, 0.0])
     margin = 0.05
     robot = SimulatedRobot(bar.with_com(com), camera_margin=margin, rng=0)
     x, y, _ = robot.simulator.initial_pose
