@@ -18,6 +18,7 @@ Examples
 
 from . import vt
 from ._active import estimate_active, estimate_posterior
+from ._calibrate import PowerCalibration, calibrate_model_weight
 from ._conventions import (
     ANGLE_EPS,
     DEFAULT_RESOLUTION,
@@ -71,11 +72,13 @@ __all__ = [
     "Mask",
     "Motion",
     "MotionMeasurement",
+    "PowerCalibration",
     "Predictor",
     "PushFailedError",
     "SessionError",
     "__version__",
     "apply_motion",
+    "calibrate_model_weight",
     "ccw_cross",
     "check_actions",
     "check_mask",

@@ -702,6 +702,50 @@ def test_learned_tempering_lowers_the_power_for_a_model_that_errs():
     assert honest.extras["model_weight_posterior"].sum() == pytest.approx(1.0)
 
 
+def _calibration_objects(robot):
+    mask = _ell()
+    coms = [(30.0, 24.0), (26.0, 28.0), (34.0, 22.0), (22.0, 30.0), (38.0, 26.0), (30.0, 30.0)]
+    records = []
+    for i, com in enumerate(coms):
+        actions = comcore.sample_pushes(mask, 5, cone=0.0, rng=i)
+        motions = [robot.predict_hypotheses(mask, [a], [com], 0.4)[0, 0] for a in actions]
+        records.append((mask, actions, motions, com))
+    return records
+
+
+def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms():
+    records = _calibration_objects(ToyModel(8.0))
+    kwargs = {"mu": 0.4, "powers": (1.0, 0.1, 0.5, 0.25), "motion_noise": (0.0, 0.0)}
+    right = comcore.calibrate_model_weight(records, model=ToyModel(8.0), **kwargs)
+    assert right.powers == (0.1, 0.25, 0.5, 1.0) and right.n_objects == 6
+    assert right.coverage.tolist() == [1.0] * 4 and right.recommended == 1.0
+    assert np.all(np.diff(right.radius_m) < 0)  # a higher power, a smaller region
+    # A model wrong the same way on every push (its rotations grow slower with the
+    # lever arm than the robot's): the untempered region misses, a low power holds.
+    wrong = comcore.calibrate_model_weight(records, model=ToyModel(20.0), **kwargs)
+    assert wrong.coverage[-1] < 0.5 and wrong.coverage[0] == 1.0
+    held = [p for p, c in zip(wrong.powers, wrong.coverage) if c >= 0.9]
+    assert wrong.recommended == max(held) < 1.0
+
+
+@pytest.mark.parametrize(
+    ("records", "kwargs", "error", "match"),
+    [
+        ([], {}, ValueError, "at least one calibration object"),
+        ([(1, 2)], {}, TypeError, r"records\[0\] must be a \(mask, actions, motions, true_com\)"),
+        (None, {}, TypeError, "records must be an iterable"),
+        ("ok", {"powers": 0.5}, TypeError, "powers must be a sequence"),
+        ("ok", {"powers": (0.5, 1.5)}, ValueError, "model_weight"),
+        ("ok", {"target_radius": 0.01}, TypeError, "chooses no pushes"),
+    ],
+)
+def test_calibration_names_bad_input(records, kwargs, error, match):
+    if records == "ok":
+        records = _calibration_objects(ToyModel(8.0))[:1]
+    with pytest.raises(error, match=match):
+        comcore.calibrate_model_weight(records, model=ToyModel(8.0), mu=0.4, **kwargs)
+
+
 def test_tune_script_runs():
     out = run_script(
         "benchmarks/tune_active.py",
@@ -728,3 +772,7 @@ def test_kept_pushes_are_rescored(tmp_path):
     # one run of k pushes: k prefix rows per variant, the last with every push
     assert {row[1] for row in lines} == {"vt", "learned"}
     assert lines[0][2] == "k=1" and "1 runs" in out
+    out = run_script(
+        "benchmarks/calibrate_power.py", *(str(kept), "--workers", "1", "--powers", "0.5,1.0")
+    )
+    assert out.startswith("exact") and "n=1 recommended" in out and "1: " in out

@@ -1,0 +1,65 @@
+"""Choose a fixed model power per condition from runs with a known CoM (issue 12).
+
+Loads the runs ``benchmarks/tune_active.py --keep-pushes`` recorded and, per
+condition, scores their pushes again under fixed powers of the model's
+likelihood with :func:`comcore.calibrate_model_weight`, as a user would with
+calibration objects whose CoM they measured: how often each power's 90 %
+region held the CoM, its mean radius and error, and the recommended power (the
+largest that held the CoM at least 90 % of the time). Calibrate on seed 1, then
+measure the recommended powers on seed 0 (docs/active.md).
+
+Usage::
+
+    PYTHONPATH=. python benchmarks/tune_active.py --seed 1 --trials 2 --conditions exact,pymunk \\
+        --estimators active --keep-pushes runs.pkl
+    PYTHONPATH=. python benchmarks/calibrate_power.py runs.pkl
+"""
+
+from __future__ import annotations
+
+import argparse
+import pickle
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+
+def _calibrate(job):
+    import comcore
+
+    cond, kept, powers = job
+    records = [
+        (comcore.Mask(k["mask"], resolution=k["resolution"]), k["actions"], k["motions"],
+         k["true_px"])
+        for k in kept
+    ]
+    return cond, comcore.calibrate_model_weight(records, pusher_radius=0.004, powers=powers)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("runs", help="pickle written by tune_active.py --keep-pushes")
+    p.add_argument("--powers", default="0.25,0.4,0.6,0.8,1.0")
+    p.add_argument("--conditions", default=None, help="only these (comma-separated)")
+    p.add_argument("--workers", type=int, default=2)
+    args = p.parse_args(argv)
+    powers = tuple(float(v) for v in args.powers.split(","))
+    with open(args.runs, "rb") as f:
+        rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
+    rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
+    conds = list(dict.fromkeys(r["condition"] for r in rows))
+    if args.conditions:
+        conds = [c for c in conds if c in args.conditions.split(",")]
+    start = time.time()
+    jobs = [(c, [r["pushes_kept"] for r in rows if r["condition"] == c], powers) for c in conds]
+    with ProcessPoolExecutor(args.workers) as pool:
+        for cond, cal in pool.map(_calibrate, jobs):
+            cells = " | ".join(
+                f"{p:g}: {100 * c:.0f} % / {1000 * r:.2f} mm / {100 * e:.3f} cm"
+                for p, c, r, e in zip(cal.powers, cal.coverage, cal.radius_m, cal.error_m)
+            )
+            print(f"{cond:15s} n={cal.n_objects} recommended {cal.recommended:g} | {cells}")
+    print(f"{len(rows)} runs, {time.time() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
