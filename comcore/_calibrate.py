@@ -4,11 +4,11 @@ The default power on the motion model's likelihood is learned per session
 (``model_weight=(0.25, 0.4, 0.6, 1.0)``), but four or five pushes of one object
 cannot tell a model that is right from one that errs the same way on every push,
 so the default region is wider than it must be where the model is right, and
-that costs pushes. Nothing in the motions tells the two apart: on the benchmark,
-a power learned from the motions of many sessions chose 1.0 on our own engine
-(right) and on pymunk (where the 90 % region then held the CoM in 65 % of the
-trials). What does tell them apart is the truth: a few objects whose CoM the
-user measured (a balance, or hanging the object from two points). This module
+that costs pushes. The motions hardly tell the two apart: on the benchmark the
+power learned from them averaged 0.66 on our own engine, where the model is
+nearly right, and 0.63 on pymunk, where it errs (docs/active.md). What does
+tell them apart is the truth: a few objects whose CoM the user measured (a
+balance, or hanging the object from two points). This module
 scores their pushes again under each power and reports how often each power's
 region held the measured CoM.
 """
