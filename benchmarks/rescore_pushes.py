@@ -31,15 +31,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
-
-
-def _hpd_rank(est, true_px) -> float:
-    post = est.extras["posterior"]
-    h, w = post.shape
-    c, r = round(float(true_px[0])), round(float(true_px[1]))
-    if not (0 <= r < h and 0 <= c < w):
-        return 1.0
-    return float(post[post > post[r, c]].sum())
+from tune_active import _hpd_rank  # this folder is on the path when run as a script
 
 
 def _score(job) -> list[tuple]:
@@ -61,8 +53,6 @@ def _score(job) -> list[tuple]:
             radius = options.pop("pusher_radius", 0.004)
             options.setdefault("model", comcore.LimitSurfaceModel(pusher_radius=radius))
         for k in ks:
-            if k == 0:
-                continue
             est = comcore.estimate_posterior(mask, acts[:k], moves[:k], **options)
             err = float(np.hypot(*(np.asarray(est.com) - kept["true_px"]))) * mask.resolution
             radius_mm = est.extras["credible_radius_px"] * mask.resolution * 1000

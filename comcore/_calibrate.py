@@ -15,12 +15,12 @@ region held the measured CoM.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ._active_setup import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, check_models
+from ._active import estimate_posterior
+from ._active_setup import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, check_model_weight, check_models
 from ._validation import check_mask, check_point
 
 __all__ = ["PowerCalibration", "calibrate_model_weight"]
@@ -123,9 +123,6 @@ def calibrate_model_weight(
     >>> cal.n_objects, cal.coverage.tolist(), cal.recommended
     (2, [1.0, 1.0], 1.0)
     """
-    from ._active import estimate_posterior
-    from ._active_setup import check_model_weight
-
     models = check_models(model, pusher_radius)
     if isinstance(powers, str) or np.ndim(powers) != 1:
         raise TypeError(f"powers must be a sequence of numbers in (0, 1], got {powers!r}")
@@ -151,7 +148,6 @@ def calibrate_model_weight(
             ) from e
         mask = check_mask(mask)
         truth = check_point(truth, f"records[{i}] true_com")
-        col, row = (round(float(v)) for v in truth)
         for j, power in enumerate(grid):
             est = estimate_posterior(
                 mask,
@@ -162,10 +158,9 @@ def calibrate_model_weight(
                 credible=credible,
                 **options,
             )
-            h, w = est.region.shape
-            hits[i, j] = bool(0 <= row < h and 0 <= col < w and est.region[row, col])
+            hits[i, j] = est.region_holds(truth)
             radius[i, j] = est.extras["credible_radius_px"] * mask.resolution
-            error[i, j] = math.dist(est.com, truth) * mask.resolution
+            error[i, j] = est.error_px(truth) * mask.resolution
     coverage = hits.mean(axis=0)
     good = [p for p, c in zip(grid, coverage) if c >= credible - 1e-12]
     return PowerCalibration(

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.special import logsumexp
 
 from ._conventions import ccw_cross, rotate_vectors
 
@@ -264,7 +265,7 @@ class GridPosterior:
         self.n_tempers = int(n_tempers)
         #: Each temper's log predictive score S_e (nats) so far.
         self.temper_scores = np.zeros(self.n_tempers)
-        self._members = np.stack([self.log_w] * self.n_tempers) if self.n_tempers > 1 else None
+        self._members = np.stack([self.log_w] * self.n_tempers)  # (n_tempers, p, m, k)
 
     def _normalise(self) -> float:
         top = self.log_w.max()
@@ -280,43 +281,38 @@ class GridPosterior:
         w = np.exp(z)
         return w / w.sum()
 
+    def _member_predictive(self, full) -> np.ndarray:
+        """Each member's log-probability of an observation of log-likelihood ``full``."""
+        return logsumexp(self._members + full, axis=(1, 2, 3))
+
     def predictive(self, full) -> float:
         """Log-probability the posterior gave an observation of log-likelihood ``full``."""
-        if self._members is None:
-            return float(_logsumexp(self.log_w + full))
-        per = np.array([_logsumexp(member + full) for member in self._members])
-        return float(_logsumexp(per + np.log(self.temper_weights)))
+        return float(logsumexp(self._member_predictive(full), b=self.temper_weights))
 
     def update(self, log_likelihood, full=None) -> float:
         """Multiply in a likelihood given as logs, broadcast to (p, m, k).
 
         With tempers, ``log_likelihood`` has shape (n_tempers, p, m, k), one
         tempered likelihood per member, and ``full`` (p, m, k) is the
-        untempered one that scores them. Returns the log-probability the
-        posterior before gave the observation under ``full`` (default
-        ``log_likelihood``): its log marginal likelihood.
+        untempered one that scores them (without tempers, ``full`` defaults
+        to ``log_likelihood``). Returns the log-probability the posterior
+        before gave the observation under ``full``: its log marginal
+        likelihood.
         """
-        if self._members is None:
-            loglik = np.asarray(log_likelihood)
-            if loglik.ndim == 4:
-                loglik = loglik[0]
-            if full is None:
-                self.log_w = self.log_w + loglik
-                return self._normalise()
-            evidence = self.predictive(full)
-            self.log_w = self.log_w + loglik
-            self._normalise()
-            return evidence
+        loglik = np.asarray(log_likelihood, dtype=float)
+        if loglik.ndim < 4:
+            loglik = loglik[None]
         if full is None:
-            raise ValueError("a tempered posterior needs the untempered likelihood (full)")
-        per = np.array([_logsumexp(member + full) for member in self._members])
-        evidence = float(_logsumexp(per + np.log(self.temper_weights)))
+            if self.n_tempers > 1:
+                raise ValueError("a tempered posterior needs the untempered likelihood (full)")
+            full = loglik[0]
+        per = self._member_predictive(full)
+        evidence = float(logsumexp(per, b=self.temper_weights))
         self.temper_scores = self.temper_scores + per
-        members = self._members + log_likelihood
-        members -= members.max(axis=(1, 2, 3), keepdims=True)
-        members -= np.log(np.exp(members).sum(axis=(1, 2, 3), keepdims=True))
-        self._members = members
-        self.log_w = _logsumexp_axis0(members + np.log(self.temper_weights)[:, None, None, None])
+        members = self._members + loglik
+        self._members = members - logsumexp(members, axis=(1, 2, 3), keepdims=True)
+        weights = self.temper_weights[:, None, None, None]
+        self.log_w = logsumexp(self._members, axis=0, b=np.broadcast_to(weights, members.shape))
         self._normalise()
         return evidence
 
@@ -381,20 +377,6 @@ class GridPosterior:
         chosen = np.zeros(len(w), dtype=bool)
         chosen[order[: k + 1]] = True
         return chosen, float(k + min(max(fraction, 0.0), 1.0))
-
-
-def _logsumexp(a) -> float:
-    top = float(np.max(a))
-    if not np.isfinite(top):
-        return top
-    return top + float(np.log(np.exp(a - top).sum()))
-
-
-def _logsumexp_axis0(a) -> np.ndarray:
-    top = a.max(axis=0)
-    safe = np.where(np.isfinite(top), top, 0.0)
-    with np.errstate(divide="ignore"):  # a hypothesis every member dropped: -inf
-        return safe + np.log(np.exp(a - safe).sum(axis=0))
 
 
 def push_log_likelihood(

@@ -40,6 +40,13 @@ HERMITE_NODES = np.array([0.0, -math.sqrt(3.0), math.sqrt(3.0)])
 HERMITE_WEIGHTS = np.array([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0])
 
 
+class Evidence(NamedTuple):
+    """One push's log-likelihood over the grid: per temper (n_tempers, p, m, k), and untempered."""
+
+    tempered: np.ndarray
+    full: np.ndarray
+
+
 def push_evidence(
     post: GridPosterior,
     options: ActiveOptions,
@@ -50,8 +57,12 @@ def push_evidence(
     *,
     rotation_observed: bool = True,
     tracking=None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Log-likelihood over the grid, shape (p, m, k), of one push's object-frame motion.
+) -> tuple[Evidence, np.ndarray]:
+    """Log-likelihood over the grid of one push's object-frame motion, as :class:`Evidence`.
+
+    ``Evidence.full`` (p, m, k) is the untempered likelihood; ``Evidence.tempered``
+    (n_tempers, p, m, k) holds it with the model's term raised to each power of
+    ``options.model_weights`` (one row, untempered, without a model).
 
     Also returns each hypothesis' excess surprise at the motion (same shape):
     ``-log p(y | h) + E_{Y ~ h} log p(Y | h)`` summed over the sense and the
@@ -148,13 +159,6 @@ def push_evidence(
     weights = options.model_weights if model_term is not None else (1.0,)
     tempered = np.stack([full if w == 1.0 else loglik(w) for w in weights])
     return Evidence(tempered, full), excess
-
-
-class Evidence(NamedTuple):
-    """One push's log-likelihood over the grid: per temper (n_tempers, p, m, k), and untempered."""
-
-    tempered: np.ndarray
-    full: np.ndarray
 
 
 def _offset_marginal(options, mask, action, pixels, offset, alive):

@@ -192,3 +192,20 @@ class Estimate:
         """Euclidean distance in pixels from ``com`` to ``true_com`` ``(x, y)``."""
         t = np.asarray(true_com, dtype=float)
         return float(np.hypot(self.com[0] - t[0], self.com[1] - t[1]))
+
+    def region_holds(self, point) -> bool:
+        """Whether the pixel under ``point`` ``(x, y)`` lies in ``region``.
+
+        The pixel is the one whose centre is nearest (x = column, y = row);
+        a point outside the image is not held.
+
+        >>> import numpy as np
+        >>> region = np.zeros((4, 5), bool)
+        >>> region[1, 3] = True
+        >>> e = Estimate(com=(3.0, 1.0), com_m=(0.0, 0.0), region=region)
+        >>> e.region_holds((3.2, 0.8)), e.region_holds((1.0, 3.0)), e.region_holds((-7, 1))
+        (True, False, False)
+        """
+        col, row = (round(float(v)) for v in np.asarray(point, dtype=float).reshape(2))
+        h, w = self.region.shape
+        return bool(0 <= row < h and 0 <= col < w and self.region[row, col])

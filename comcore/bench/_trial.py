@@ -148,13 +148,6 @@ class _CountingPush:
         return self.simulator.push(action).motion
 
 
-def _covered(region: np.ndarray, point) -> bool:
-    """Whether the pixel under ``point`` (x, y) is in ``region``."""
-    col, row = (round(float(v)) for v in point)
-    h, w = region.shape
-    return bool(0 <= row < h and 0 <= col < w and region[row, col])
-
-
 def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **values) -> dict:
     sim, mask = ctx.simulator, ctx.mask
     est = values.pop("estimate")
@@ -185,7 +178,7 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
         "seed": spec.seed,
         "message": "",
         "condition": condition,
-        "covered": _covered(est.region, truth),
+        "covered": est.region_holds(truth),
         "credible_radius_cm": None if radius is None else float(radius) * resolution * 100.0,
         "push_failures": int(est.extras.get("push_failures", 0)),
     }
