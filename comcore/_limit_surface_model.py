@@ -23,6 +23,7 @@ from ._pressure import PRESSURES, pressures, support
 from ._push_lattice import (
     PushLattice,
     _table_step,
+    expect_frictions,
     pressure_table,
     remembered,
     table_pressures,
@@ -178,6 +179,16 @@ class LimitSurfaceModel:
         sup = support(mask, self.support_points)
         rel = _on_object(mask, coms) - np.asarray(mask.centroid)
         return pressures(sup, rel, self.pressure if spread is None else spread)
+
+    def expect_frictions(self, mask, mus) -> None:
+        """Say that the next pushes will be asked about each friction of ``mus`` in turn.
+
+        Optional, for estimators (``comcore.estimate_active`` calls it): the
+        first push on a mask is then integrated for every friction value in one
+        batch, as later pushes are, instead of once per value. The motions are
+        the same either way.
+        """
+        expect_frictions(check_mask(mask), np.atleast_1d(np.asarray(mus, dtype=float)))
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
         """Motions of each action for each CoM hypothesis (:class:`comcore.HypothesisPredictor`).

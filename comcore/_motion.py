@@ -235,6 +235,10 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     Hypotheses that are not alive are left NaN (the models are not asked).
     """
     out = np.full((*alive.shape, len(actions), 3), np.nan)
+    for model in models:  # optional: a model that batches friction values is told them
+        expect = getattr(model, "expect_frictions", None)
+        if callable(expect):
+            expect(mask, mus)
     for j, mu_j in enumerate(mus):
         for k, model in enumerate(models):
             idx = np.flatnonzero(alive[:, j, k])

@@ -20,7 +20,7 @@ import numpy as np
 
 from ._mask import Mask
 
-__all__ = ["PushLattice", "pressure_table", "remembered"]
+__all__ = ["PushLattice", "expect_frictions", "pressure_table", "remembered"]
 
 #: Node spacing (metres) on the push line, and its growth per unit of lever arm.
 NEAR_LINE_SPACING_M, SPACING_GROWTH = 0.0025, 0.5
@@ -135,6 +135,23 @@ def table_pressures(table: np.ndarray, points: np.ndarray, step: float) -> np.nd
     )  # fmt: skip
 
 
+def _memo(mask: Mask) -> dict:
+    return _MEMOS.setdefault(mask, {"push": None, "mus": [], "before": [], "pushes": OrderedDict()})
+
+
+def expect_frictions(mask: Mask, mus) -> None:
+    """Say which friction values the first push on ``mask`` will be asked about.
+
+    Later pushes expect the values asked about for the push before them
+    (:func:`remembered`); the first has none before it, so without this hint
+    it is integrated once per friction value instead of in one batch. A hint
+    after the first push changes nothing.
+    """
+    memo = _memo(mask)
+    if memo["push"] is None and not memo["before"]:
+        memo["before"] = [float(m) for m in mus][:MAX_REMEMBERED_MUS]
+
+
 def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     """The remembered lattice and node motions of one push (``key``), and the frictions to batch.
 
@@ -145,7 +162,7 @@ def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     those asked about for the push before (an estimator asks about the same
     ones for every push; at most ``MAX_REMEMBERED_MUS``).
     """
-    memo = _MEMOS.setdefault(mask, {"push": None, "mus": [], "before": [], "pushes": OrderedDict()})
+    memo = _memo(mask)
     pushes = memo["pushes"]
     if key not in pushes:
         if len(pushes) >= CACHED_PUSHES:

@@ -164,3 +164,28 @@ def test_does_not_mutate_its_inputs():
     MODEL.predict_hypotheses(plate(), actions, coms, 0.5)
     np.testing.assert_array_equal(coms, before[0])
     np.testing.assert_array_equal(actions, before[1])
+
+
+def _first_push_calls(monkeypatch, hint: bool):
+    """Integration batches and motions of a first push asked about three frictions in turn."""
+    import comcore._limit_surface_model as module
+
+    calls = []
+    real = module.push_motions
+    monkeypatch.setattr(module, "push_motions", lambda *a, **k: calls.append(1) or real(*a, **k))
+    mask, model = plate(), comcore.LimitSurfaceModel(pusher_radius=0.004)
+    mus, coms = (1.5, 0.6, 0.1), mask.pixels  # many CoMs: interpolated from lattice nodes
+    if hint:
+        model.expect_frictions(mask, mus)
+    action = [(0.0, 19.5, 24.0, 19.5)]
+    out = [model.predict_hypotheses(mask, action, coms, mu) for mu in mus]
+    return len(calls), np.stack(out)
+
+
+def test_told_the_frictions_the_first_push_is_one_batch_with_the_same_motions(monkeypatch):
+    batches, hinted = _first_push_calls(monkeypatch, hint=True)
+    unhinted_batches, plain = _first_push_calls(monkeypatch, hint=False)
+    assert (batches, unhinted_batches) == (1, 3)
+    # The solves run in single precision, in batches of another size: rounding only.
+    np.testing.assert_allclose(hinted, plain, rtol=0, atol=1e-6)
+    assert np.abs(hinted).max() > 0.01  # the push moves the plate
