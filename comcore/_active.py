@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ._active_setup import (
     DEFAULT_MODEL,
     DEFAULT_MODEL_SCALES,
@@ -21,7 +25,7 @@ from ._posterior import GridPosterior
 from ._session import ActiveSession
 from ._session_log import SessionLog
 from ._session_pose import is_miss
-from ._session_update import push_evidence
+from ._session_update import gyration_px, push_evidence, tracking_noise
 from ._types import Estimate
 from ._validation import check_actions, check_mask, check_motions
 
@@ -235,7 +239,9 @@ def estimate_active(
         ``model_weight``); ``"log_evidence"`` and ``"excess_nats"`` (see
         :func:`comcore.estimate_posterior`); ``"outcomes"`` (``"evidence"`` or
         ``"miss"`` per push: a push that moved the object by less than 1 mm
-        and 0.01 rad carries no evidence); ``"history"``: one dict per
+        and 0.01 rad carries no evidence); ``"rotation_observed"`` and
+        ``"residual_px"`` per push (what :func:`comcore.estimate_posterior`
+        needs to replay them); ``"history"``: one dict per
         state (prior first) with the posterior mean ``"com"``,
         ``"entropy_bits"``, ``"credible_radius_px"``, ``"expected_gain_bits"``
         of the push chosen next (``None`` if none), ``"log_evidence"`` and
@@ -317,16 +323,28 @@ def estimate_active(
 
 
 def estimate_posterior(
-    mask: Mask, actions, motions, *, model=None, prior=None, **options
+    mask: Mask,
+    actions,
+    motions,
+    *,
+    model=None,
+    prior=None,
+    rotation_observed=None,
+    residual_px=None,
+    **options,
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
 
     The offline counterpart of :func:`comcore.estimate_active` and
     :class:`comcore.ActiveSession`: the same prior, likelihood (Voting Theorem
     force lines, optional motion model, friction marginalised) and result,
-    over pushes that were all made from the pose of ``mask`` (the object reset
-    before each). A push whose motion is below the noise (it turned by less
-    than 0.01 rad and moved by less than 1 mm: it missed) carries no evidence.
+    over pushes in ``mask``'s frame: made from the pose of ``mask`` (the
+    object reset before each), or a session's pushes as its Estimate holds
+    them (``extras["actions"]``, ``["motions"]``, ``["rotation_observed"]``
+    and ``["residual_px"]``, in the first mask's frame however the object
+    moved): with the session's model and options that replays its posterior.
+    A push whose motion is below the noise (it turned by less than 0.01 rad
+    and moved by less than 1 mm: it missed) carries no evidence.
 
     Parameters
     ----------
@@ -344,6 +362,14 @@ def estimate_posterior(
         pusher_radius=...)`` for :func:`comcore.estimate_active`'s default).
     prior : array_like, shape (H, W), optional
         Prior weights of the CoM (default uniform over the object).
+    rotation_observed : sequence of bool, shape (n,), optional
+        False for a push whose rotation is unknown (a symmetric outline's
+        registration could not tell it: neither its sense nor its size is
+        scored). Default: every rotation observed.
+    residual_px : sequence of float, shape (n,), optional
+        Per push, the RMS outline residual (pixels) of the registration that
+        measured its motion, NaN where none did; it widens that motion's
+        tracking error as in :class:`comcore.ActiveSession`. Default: none.
     **options
         The likelihood's options of :func:`comcore.estimate_active` (``mu``,
         ``credible``, ``flip_prob``, ``theta_tol``, ``n_mu``, the noise
@@ -391,7 +417,10 @@ def estimate_posterior(
         raise TypeError(f"estimate_posterior chooses no pushes: option(s) {refused} do not apply")
     acts = check_actions(actions, "actions", allow_empty=False)
     moves = check_motions(motions, n=len(acts), name="motions")
+    observed = _per_push(rotation_observed, len(acts), "rotation_observed", True)
+    residuals = _per_push(residual_px, len(acts), "residual_px", math.nan)
     opts = active_options(mask, model=model, **options)
+    gyration = gyration_px(mask)
     pixels, prior_w = prior_grid(mask, prior)
     pushes = Candidates(mask, acts, opts, rng=None, name="actions")
     post = GridPosterior(
@@ -399,11 +428,21 @@ def estimate_posterior(
     )
     log = SessionLog(post, opts.credible)
     for i, motion in enumerate(moves):
-        record = {"index": i, "object_action": acts[i], "object_motion": tuple(motion)}
+        record = {
+            "index": i,
+            "object_action": acts[i],
+            "object_motion": tuple(motion),
+            "ambiguous": not observed[i],
+            "residual_px": residuals[i],
+        }
         if is_miss(motion, mask.resolution):
             log.add({**record, "outcome": "miss"}, post)
             continue
-        loglik, excess = push_evidence(post, opts, mask, acts[i], pushes.lines[i], motion)
+        loglik, excess = push_evidence(
+            post, opts, mask, acts[i], pushes.lines[i], motion,
+            rotation_observed=bool(observed[i]),
+            tracking=tracking_noise(opts.tracking, residuals[i], gyration),
+        )  # fmt: skip
         log.add({**record, "outcome": "evidence"}, post, loglik, excess)
     used = [r["index"] for r in log.records if r["outcome"] == "evidence"]
     extras = log.extras()
@@ -415,3 +454,22 @@ def estimate_posterior(
     else:
         status = "ok"
     return build_estimate(mask, post, opts.credible, used, log.history, status, extras)
+
+
+def _per_push(values, n: int, name: str, default):
+    """One value per push (bools for ``rotation_observed``, residuals otherwise), validated."""
+    if values is None:
+        return [default] * n
+    if isinstance(values, (str, bytes)) or np.ndim(values) != 1 or len(values) != n:
+        raise ValueError(f"{name} must hold one value per push ({n}), got {values!r}")
+    if isinstance(default, bool):
+        if not all(isinstance(v, (bool, np.bool_)) for v in values):
+            raise TypeError(f"{name} must hold bools, got {values!r}")
+        return [bool(v) for v in values]
+    try:
+        out = [float(v) for v in values]
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must hold numbers (NaN: not measured), got {values!r}") from e
+    if any(v < 0 or math.isinf(v) for v in out):
+        raise ValueError(f"{name} must be >= 0 and finite or NaN (pixels), got {values!r}")
+    return out

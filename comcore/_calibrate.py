@@ -21,6 +21,7 @@ import numpy as np
 
 from ._active import estimate_posterior
 from ._active_setup import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, check_model_weight, check_models
+from ._types import Estimate
 from ._validation import check_mask, check_point
 
 __all__ = ["PowerCalibration", "calibrate_model_weight"]
@@ -80,12 +81,16 @@ def calibrate_model_weight(
 
     Parameters
     ----------
-    records : iterable of (Mask, actions, motions, true_com)
+    records : iterable of (Mask, Estimate, true_com) or (Mask, actions, motions, true_com)
         One per calibration object: the first mask of its session, the
-        session's pushes and motions in that mask's frame (an Estimate's
-        ``extras["actions"]`` and ``extras["motions"]``; misses are dropped
-        as the estimator drops them) and the measured CoM ``(x, y)`` in that
-        mask's pixels.
+        session's :class:`Estimate` (from :meth:`ActiveSession.estimate` or
+        :func:`comcore.estimate_active`: its pushes and motions in that
+        mask's frame, and which rotations the camera could not tell and how
+        well each registration fitted, are replayed as the session scored
+        them; the object need not have been reset between pushes) or the
+        pushes and motions themselves (each rotation observed, no
+        registration residual), and the measured CoM ``(x, y)`` in that
+        mask's pixels. Misses are dropped as the estimator drops them.
     model, pusher_radius
         The motion model, as for :func:`comcore.estimate_active` (default
         ``LimitSurfaceModel(pusher_radius=pusher_radius)``).
@@ -140,12 +145,7 @@ def calibrate_model_weight(
     radius = np.zeros_like(hits, dtype=float)
     error = np.zeros_like(hits, dtype=float)
     for i, record in enumerate(items):
-        try:
-            mask, actions, motions, truth = record
-        except (TypeError, ValueError) as e:
-            raise TypeError(
-                f"records[{i}] must be a (mask, actions, motions, true_com) tuple"
-            ) from e
+        mask, actions, motions, truth, replay = _record(record, i)
         mask = check_mask(mask)
         truth = check_point(truth, f"records[{i}] true_com")
         for j, power in enumerate(grid):
@@ -156,6 +156,7 @@ def calibrate_model_weight(
                 model=list(models) if models else None,
                 model_weight=power,
                 credible=credible,
+                **replay,
                 **options,
             )
             hits[i, j] = est.region_holds(truth)
@@ -172,3 +173,28 @@ def calibrate_model_weight(
         level=float(credible),
         recommended=max(good) if good else grid[0],
     )
+
+
+def _record(record, i: int):
+    """``(mask, actions, motions, true_com, replay options)`` of one calibration record."""
+    what = (
+        f"records[{i}] must be a (mask, estimate, true_com) or "
+        "(mask, actions, motions, true_com) tuple"
+    )
+    try:
+        items = tuple(record)
+    except TypeError as e:
+        raise TypeError(what) from e
+    if len(items) == 3 and isinstance(items[1], Estimate):
+        mask, est, truth = items
+        extras = est.extras
+        if "actions" not in extras or "motions" not in extras:
+            raise ValueError(
+                f"records[{i}]'s estimate holds no pushes (extras 'actions' and 'motions'): "
+                "pass an ActiveSession's or estimate_active's Estimate"
+            )
+        replay = {k: extras[k] for k in ("rotation_observed", "residual_px") if k in extras}
+        return mask, extras["actions"], extras["motions"], truth, replay
+    if len(items) != 4:
+        raise TypeError(what)
+    return (*items, {})

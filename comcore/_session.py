@@ -14,7 +14,7 @@ from ._planning import Candidates
 from ._posterior import GridPosterior
 from ._session_log import SessionLog
 from ._session_pose import IDENTITY, is_miss, moved_mask, read_pose, relative, symmetric_branches
-from ._session_update import push_evidence, tracking_noise
+from ._session_update import gyration_px, push_evidence, tracking_noise
 from ._types import Action, Estimate, Motion
 from ._validation import check_mask, check_motions, check_rng
 
@@ -135,8 +135,7 @@ class ActiveSession:
             self._opts.n_scales,
             self._opts.n_tempers,
         )
-        offsets = self._first.pixels - np.asarray(self._first.centroid)
-        self._gyration_px = max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
+        self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
         self._log = SessionLog(self._post, self._opts.credible)

@@ -86,6 +86,9 @@ class SessionLog:
             "actions": self.rows("object_action", 4),
             "motions": self.rows("object_motion", 3),
             "outcomes": tuple(r["outcome"] for r in self.executed),
+            # what a replay (estimate_posterior) needs to score the pushes as they were
+            "rotation_observed": tuple(not r.get("ambiguous", False) for r in self.executed),
+            "residual_px": tuple(float(r.get("residual_px", math.nan)) for r in self.executed),
             "failed": tuple(r["index"] for r in self.records if r["outcome"] == "failed"),
             "log_evidence": self.log_evidence,
             "excess_nats": self.excess_nats,

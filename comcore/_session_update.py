@@ -234,6 +234,15 @@ def consistency_threshold(n_pushes: int) -> float:
     return 10.0 + 6.0 * float(np.sqrt(max(n_pushes, 1)))
 
 
+def gyration_px(mask: Mask) -> float:
+    """The first mask's radius of gyration about its centroid (pixels, at least 0.5).
+
+    :func:`tracking_noise` turns a registration's residual into a rotation error with it.
+    """
+    offsets = mask.pixels - np.asarray(mask.centroid)
+    return max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
+
+
 def tracking_noise(tracking, residual_px: float, gyration_px: float) -> tuple[float, float]:
     """Measurement error (rad, px) of a motion: ``motion_noise``, and the registration's.
 

@@ -732,7 +732,8 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
     ("records", "kwargs", "error", "match"),
     [
         ([], {}, ValueError, "at least one calibration object"),
-        ([(1, 2)], {}, TypeError, r"records\[0\] must be a \(mask, actions, motions, true_com\)"),
+        ([(1, 2)], {}, TypeError, r"records\[0\] must be a \(mask, estimate, true_com\) or"),
+        ("no pushes", {}, ValueError, r"records\[0\]'s estimate holds no pushes"),
         (None, {}, TypeError, "records must be an iterable"),
         ("ok", {"powers": 0.5}, TypeError, "powers must be a sequence"),
         ("ok", {"powers": (0.5, 1.5)}, ValueError, "model_weight"),
@@ -742,6 +743,10 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
 def test_calibration_names_bad_input(records, kwargs, error, match):
     if records == "ok":
         records = _calibration_objects(ToyModel(8.0))[:1]
+    if records == "no pushes":
+        mask = _plate()
+        bare = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
+        records = [(mask, bare, mask.centroid)]
     with pytest.raises(error, match=match):
         comcore.calibrate_model_weight(records, model=ToyModel(8.0), mu=0.4, **kwargs)
 

@@ -46,6 +46,9 @@ def test_a_push_that_did_not_move_the_object_carries_no_evidence():
     assert only_misses.status == "no_evidence" and only_misses.com == pytest.approx(mask.centroid)
 
 
+_ONE = ([(0, 20, 20, 20)], [(0.1, 0, 0)])
+
+
 @pytest.mark.parametrize(
     ("args", "kwargs", "error", "match"),
     [
@@ -54,6 +57,11 @@ def test_a_push_that_did_not_move_the_object_carries_no_evidence():
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"max_pushes": 3}, TypeError, "chooses no pushes"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"flip_prob": 0.7}, ValueError, "flip_prob"),
         (([], []), {}, ValueError, "actions"),
+        (_ONE, {"rotation_observed": [True, False]}, ValueError, r"rotation_observed .* \(1\)"),
+        (_ONE, {"rotation_observed": [1]}, TypeError, "rotation_observed must hold bools"),
+        (_ONE, {"residual_px": ["a"]}, TypeError, "residual_px must hold numbers"),
+        (_ONE, {"residual_px": [-1.0]}, ValueError, "residual_px must be >= 0"),
+        (_ONE, {"residual_px": 0.3}, ValueError, "residual_px must hold one value per push"),
     ],
 )
 def test_bad_arguments_are_named(args, kwargs, error, match):
@@ -122,3 +130,22 @@ def test_a_tempered_posterior_needs_the_untempered_likelihood():
     post = _toy_tempered([0.5, 1.0])
     with pytest.raises(ValueError, match="untempered"):
         post.update(np.zeros((2, 3, 1, 1)))
+
+
+def test_an_unobserved_rotation_and_a_registration_residual_tell_less():
+    """The replay options of a session's pushes: each widens the posterior, as in the session."""
+    mask = _ell()
+    actions = comcore.sample_pushes(mask, 3, rng=0)
+    motions = [_robot(mask, (30.0, 24.0), 0.4)(comcore.Action(*a)) for a in actions]
+    kwargs = {"model": ToyModel(), "model_weight": 1.0}
+    plain = comcore.estimate_posterior(mask, actions, motions, **kwargs)
+    assert plain.extras["rotation_observed"] == (True,) * 3
+    assert np.isnan(plain.extras["residual_px"]).all()
+    unseen = comcore.estimate_posterior(
+        mask, actions, motions, rotation_observed=[True, False, True], **kwargs
+    )
+    assert unseen.extras["rotation_observed"] == (True, False, True)
+    blurred = comcore.estimate_posterior(mask, actions, motions, residual_px=[3.0] * 3, **kwargs)
+    assert blurred.extras["residual_px"] == (3.0,) * 3
+    for wider in (unseen, blurred):
+        assert wider.extras["credible_radius_px"] > plain.extras["credible_radius_px"]

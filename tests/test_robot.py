@@ -219,3 +219,60 @@ def test_frames_follow_the_push_and_end_at_its_pose(sim):
     assert len({f.data.tobytes() for f in push.frames}) == 5  # the object moved between frames
     with pytest.raises(ValueError, match="frames"):
         robot.execute(action, frames=-1)
+
+
+@pytest.mark.parametrize("observe", ["motion", "mask"])
+def test_a_session_without_resets_replays_for_calibration(sim, observe):
+    """A session that never reset the object: its Estimate, replayed, gives its own posterior.
+
+    That is what :func:`comcore.calibrate_model_weight` scores, so calibration objects
+    can be pushed on the robot as it works. Obj3 is a hexagon: read from masks, a
+    rotation the registration cannot tell is not scored, and each registration's
+    residual widens its push's tracking error; the replay takes both from the extras.
+    """
+    robot = SimulatedRobot(sim, rng=3)
+    first = robot.camera_mask()
+    settings = {"model_weight": 0.6, "max_pushes": 3, "pusher_radius": sim.pusher_radius}
+    session = comcore.ActiveSession(first, rng=3, **settings)
+    while not session.done:
+        push = robot.execute(session.next_push())
+        if observe == "motion":
+            session.observe(motion=push.motion)
+        else:
+            session.observe(robot.camera_mask())
+    est = session.estimate()
+    extras = est.extras
+    assert robot.pushes == 3 and extras["outcomes"] == ("evidence",) * 3
+    # the later pushes started where the earlier ones left the object, not at its first pose
+    assert np.abs(np.asarray(extras["camera_actions"]) - extras["actions"]).max() > 5.0
+    measured = np.isfinite(extras["residual_px"])
+    assert measured.all() if observe == "mask" else not measured.any()
+    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius)
+    again = comcore.estimate_posterior(
+        first, extras["actions"], extras["motions"], model=model, model_weight=0.6,
+        rotation_observed=extras["rotation_observed"], residual_px=extras["residual_px"],
+    )  # fmt: skip
+    np.testing.assert_allclose(again.com, est.com, rtol=0, atol=1e-6)
+    assert again.extras["credible_radius_px"] == pytest.approx(extras["credible_radius_px"])
+    truth = robot.true_com_px()
+    cal = comcore.calibrate_model_weight([(first, est, truth)], model=model, powers=(0.6,))
+    assert cal.coverage.tolist() == [float(est.region_holds(truth))]
+    assert cal.error_m[0] == pytest.approx(est.error_px(truth) * first.resolution)
+
+
+def test_a_replay_without_the_sessions_readings_differs_on_a_symmetric_outline(sim):
+    """Why the extras carry them: without, the hexagon's replay is not the session's."""
+    robot = SimulatedRobot(sim, rng=3)
+    first = robot.camera_mask()
+    session = comcore.ActiveSession(
+        first, rng=3, model_weight=0.6, max_pushes=3, pusher_radius=sim.pusher_radius
+    )
+    while not session.done:
+        robot.execute(session.next_push())
+        session.observe(robot.camera_mask())
+    est = session.estimate()
+    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius)
+    bare = comcore.estimate_posterior(
+        first, est.extras["actions"], est.extras["motions"], model=model, model_weight=0.6
+    )
+    assert np.hypot(*np.subtract(bare.com, est.com)) > 0.1
