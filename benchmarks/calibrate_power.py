@@ -27,11 +27,20 @@ def _calibrate(job):
     import comcore
 
     cond, kept, powers = job
-    records = [
-        (comcore.Mask(k["mask"], resolution=k["resolution"]), k["actions"], k["motions"],
-         k["true_px"])
-        for k in kept
-    ]
+    records = []
+    for k in kept:
+        mask = comcore.Mask(k["mask"], resolution=k["resolution"])
+        n = len(k["actions"])
+        # the session's record as an Estimate holds it: pushes, motions and camera readings
+        extras = {
+            "actions": k["actions"],
+            "motions": k["motions"],
+            "rotation_observed": tuple(bool(v) for v in k.get("rotation_observed", [True] * n)),
+            "residual_px": tuple(float(v) for v in k.get("residual_px", [float("nan")] * n)),
+        }
+        est = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data,
+                               extras=extras)  # fmt: skip
+        records.append((mask, est, k["true_px"]))
     return cond, comcore.calibrate_model_weight(records, pusher_radius=0.004, powers=powers)
 
 

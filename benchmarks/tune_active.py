@@ -74,13 +74,25 @@ def _rescored(est, mask, true_px, variants: dict) -> dict:
 
 
 def _kept(est, mask, true_px) -> dict:
-    """What :func:`_rescored` needs to score a run's pushes again later (``--keep-pushes``)."""
-    ok = [i for i, o in enumerate(est.extras.get("outcomes", ())) if o == "evidence"]
+    """What :func:`_rescored` needs to score a run's pushes again later (``--keep-pushes``).
+
+    A session that never reset the object (``active-robot``) saw the object through
+    the robot's camera: its pushes live on that first camera mask, and the camera's
+    readings (rotations it could not tell, registration residuals) go with them.
+    """
+    extras = est.extras
+    mask = extras.get("first_mask", mask)
+    ok = [i for i, o in enumerate(extras.get("outcomes", ())) if o == "evidence"]
+    n = len(extras.get("outcomes", ()))
+    observed = np.asarray(extras.get("rotation_observed", (True,) * n), dtype=bool)
+    residual = np.asarray(extras.get("residual_px", (np.nan,) * n), dtype=float)
     return {
         "mask": np.asarray(mask.data, dtype=bool),
         "resolution": mask.resolution,
-        "actions": np.asarray(est.extras["actions"])[ok] if ok else np.zeros((0, 4)),
-        "motions": np.asarray(est.extras["motions"])[ok] if ok else np.zeros((0, 3)),
+        "actions": np.asarray(extras["actions"])[ok] if ok else np.zeros((0, 4)),
+        "motions": np.asarray(extras["motions"])[ok] if ok else np.zeros((0, 3)),
+        "rotation_observed": observed[ok],
+        "residual_px": residual[ok],
         "true_px": tuple(float(v) for v in true_px),
     }
 

@@ -46,6 +46,9 @@ MISS_ROTATION = 0.01
 MISS_TRANSLATION_M = 0.001
 #: The first pose.
 IDENTITY = Motion(0.0, 0.0, 0.0)
+#: A session reads a rotation measured to within this predicted std (radians, 2 deg),
+#: where :func:`comcore.measure_motion` stops at 1 deg (see :func:`_readable`).
+SESSION_MAX_THETA_STD = math.radians(2.0)
 
 
 class PoseReading(NamedTuple):
@@ -115,17 +118,40 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     symmetry the rotation consistent with the masks nearest the previous
     pose's is taken (pushes turn the object far less than a symmetry angle).
     """
-    from ._registration import measure_motion
+    from ._registration import MIN_ROTATION_VISIBILITY, _measure
 
     try:
         # near the previous pose: for a symmetric shape that has turned past pi / n the
         # smallest consistent rotation is wrong by 2 pi / n
-        m = measure_motion(first, mask, near_theta=float(previous.theta))
+        m, diagnostics = _measure(first, mask, near_theta=float(previous.theta))
     except ValueError as e:  # e.g. the object touches the border: part of it out of view
         raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
-    theta = previous.theta if m.ambiguous else float(m.motion.theta)
+    ambiguous, symmetry = bool(m.ambiguous), int(m.symmetry)
+    if ambiguous and _readable(diagnostics, MIN_ROTATION_VISIBILITY):
+        ambiguous, symmetry = False, int(diagnostics["order"])
+    theta = previous.theta if ambiguous else float(m.motion.theta)
     pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
-    return PoseReading(pose, bool(m.ambiguous), float(m.residual_px), int(m.symmetry))
+    return PoseReading(pose, ambiguous, float(m.residual_px), symmetry)
+
+
+def _readable(diagnostics: dict, min_visibility: float) -> bool:
+    """Whether a rotation :func:`comcore.measure_motion` called ambiguous is still worth reading.
+
+    ``measure_motion`` calls a rotation whose predicted standard deviation
+    exceeds 1 degree not observable. A session tracking an object cannot
+    drop it: it would keep the previous rotation, wrong by the whole turn
+    (a small hexagon turned by 35 degrees, read to 1.06 degrees, was taken as
+    not turned at all, and every later push was planned and scored in a frame
+    35 degrees off). So where the outline does show the rotation (visible,
+    evenly spaced consistent fits) and its predicted error is at most
+    :data:`SESSION_MAX_THETA_STD`, the session reads it; the registration's
+    residual already widens its error (about the same 1 degree there).
+    """
+    return (
+        diagnostics["order"] >= 1
+        and diagnostics["visibility"] >= min_visibility
+        and diagnostics["theta_std"] <= SESSION_MAX_THETA_STD
+    )
 
 
 def symmetric_branches(reading: PoseReading, previous: Motion) -> list[PoseReading]:

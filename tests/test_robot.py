@@ -226,9 +226,9 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
     """A session that never reset the object: its Estimate, replayed, gives its own posterior.
 
     That is what :func:`comcore.calibrate_model_weight` scores, so calibration objects
-    can be pushed on the robot as it works. Obj3 is a hexagon: read from masks, a
-    rotation the registration cannot tell is not scored, and each registration's
-    residual widens its push's tracking error; the replay takes both from the extras.
+    can be pushed on the robot as it works. Read from masks, each registration's
+    residual widens its push's tracking error; the replay takes it from the extras
+    (and the rotations the camera could not see: the disc's test below).
     """
     robot = SimulatedRobot(sim, rng=3)
     first = robot.camera_mask()
@@ -260,19 +260,35 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
     assert cal.error_m[0] == pytest.approx(est.error_px(truth) * first.resolution)
 
 
-def test_a_replay_without_the_sessions_readings_differs_on_a_symmetric_outline(sim):
-    """Why the extras carry them: without, the hexagon's replay is not the session's."""
-    robot = SimulatedRobot(sim, rng=3)
-    first = robot.camera_mask()
-    session = comcore.ActiveSession(
-        first, rng=3, model_weight=0.6, max_pushes=3, pusher_radius=sim.pusher_radius
+def test_a_disc_session_replays_its_unseen_rotations():
+    """A disc's turns cannot be seen: the session scores them as unknown, and so does its replay.
+
+    Without ``rotation_observed`` the replay would score the rotation the session kept
+    (the previous one, unmoved) as observed: another posterior.
+    """
+    angles = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    disc = simulators.PushSimulator.from_polygon(
+        np.column_stack([0.03 * np.cos(angles), 0.03 * np.sin(angles)]), com=(0.012, 0.004)
     )
+    robot = SimulatedRobot(disc, rng=0)
+    first = robot.camera_mask()
+    options = {"model_weight": 0.6, "max_pushes": 3, "pusher_radius": disc.pusher_radius}
+    session = comcore.ActiveSession(first, rng=0, **options)
     while not session.done:
         robot.execute(session.next_push())
         session.observe(robot.camera_mask())
     est = session.estimate()
-    model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius)
-    bare = comcore.estimate_posterior(
-        first, est.extras["actions"], est.extras["motions"], model=model, model_weight=0.6
-    )
-    assert np.hypot(*np.subtract(bare.com, est.com)) > 0.1
+    extras = est.extras
+    assert not any(extras["rotation_observed"])
+    model = comcore.LimitSurfaceModel(pusher_radius=disc.pusher_radius)
+    acts, moves = extras["actions"], extras["motions"]
+    replays = {
+        readings: comcore.estimate_posterior(
+            first, acts, moves, model=model, model_weight=0.6,
+            **({"rotation_observed": extras["rotation_observed"],
+                "residual_px": extras["residual_px"]} if readings else {}),
+        )  # fmt: skip
+        for readings in (True, False)
+    }
+    np.testing.assert_allclose(replays[True].com, est.com, rtol=0, atol=1e-6)
+    assert np.hypot(*np.subtract(replays[False].com, est.com)) > 0.1

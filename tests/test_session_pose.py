@@ -36,3 +36,39 @@ def test_branches_of_a_hexagon_are_its_rotations_within_a_quarter_turn_of_the_po
     assert all((b.pose.tx, b.pose.ty) == (3.0, 1.0) for b in branches)
     plain = reading._replace(symmetry=1)
     assert symmetric_branches(plain, comcore.Motion(0.2, 0.0, 0.0)) == [plain]
+
+
+def _hexagon(radius_px: float, theta: float, shift=(0.0, 0.0), size: int = 80) -> comcore.Mask:
+    """A regular hexagon turned by ``theta`` (counter-clockwise on screen) and moved."""
+    import numpy as np
+
+    yy, xx = np.mgrid[0:size, 0:size].astype(float)
+    x, y = xx - size / 2 - shift[0], yy - size / 2 - shift[1]
+    inside = np.ones_like(x, dtype=bool)
+    for k in range(6):  # y is down: a turn by -theta in (x, y) is +theta on screen
+        a = -theta + k * math.pi / 3
+        inside &= x * math.cos(a) + y * math.sin(a) <= radius_px * math.cos(math.pi / 6)
+    return comcore.Mask(inside, resolution=0.0025)
+
+
+@pytest.mark.parametrize("radius_px", [10, 12])
+def test_a_small_hexagons_turn_read_to_two_degrees_is_read_not_dropped(radius_px):
+    """measure_motion calls a turn it reads to 1.4-1.8 deg ambiguous; the session reads it.
+
+    Dropping it kept the previous rotation: a hexagon turned by 35 deg was taken as not
+    turned, and a robot session stopped ``ok`` 1.4 cm off (benchmark Obj3, no resets).
+    """
+    from comcore._session_pose import IDENTITY, symmetric_branches
+
+    first, turned = _hexagon(radius_px, 0.0), _hexagon(radius_px, 0.61, (3.0, 2.0))
+    assert comcore.measure_motion(first, turned).ambiguous
+    reading = measure_pose(first, turned, IDENTITY)
+    assert not reading.ambiguous and reading.symmetry == 6
+    thetas = [b.pose.theta for b in symmetric_branches(reading, IDENTITY)]
+    assert min(abs(t - 0.61) for t in thetas) < math.radians(4.0)  # the true turn is offered
+
+
+def test_a_hexagon_too_small_to_show_its_turn_stays_ambiguous():
+    first, turned = _hexagon(6, 0.0), _hexagon(6, 0.61, (3.0, 2.0))
+    reading = measure_pose(first, turned, comcore.Motion(0.2, 0.0, 0.0))
+    assert reading.ambiguous and reading.pose.theta == 0.2  # the previous rotation is kept

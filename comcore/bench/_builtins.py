@@ -154,9 +154,9 @@ def _active_robot(
     overrides["camera_margin"] = camera_margin
     robot = ctx.robot(**{k: v for k, v in overrides.items() if v is not None})
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
-    seen = robot.camera_mask()
+    seen = first = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        seen, **_model_options(ctx, model), rng=ctx.rng, **options
+        first, **_model_options(ctx, model), rng=ctx.rng, **options
     )
     failures = 0
     while not session.done:
@@ -184,7 +184,12 @@ def _active_robot(
             motion = motion + noise_rng.normal(0.0, 1.0, 3) * scale
         session.observe(motion=comcore.Motion(*motion))
     est = session.estimate()
-    extras = {**est.extras, "push_failures": failures, "robot_pose": tuple(robot.pose)}
+    extras = {
+        **est.extras,
+        "push_failures": failures,
+        "robot_pose": tuple(robot.pose),
+        "first_mask": first,  # the frame of the extras' pushes (a replay scores them on it)
+    }
     return dataclasses.replace(est, extras=extras)
 
 
