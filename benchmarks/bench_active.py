@@ -53,6 +53,9 @@ def main(argv=None):
         default="Obj1,Obj7,Obj10,Obj19,Obj20",
         help="benchmark objects to time the default model's steps on ('' for none)",
     )
+    parser.add_argument(
+        "--sessions", type=int, default=1, help="sessions (seeds) per object for the step times"
+    )
     args = parser.parse_args(argv)
 
     mask = ellipse_mask(args.pixels)
@@ -92,38 +95,45 @@ def main(argv=None):
     per_push = median_ms(run, max(3, args.repeats // 5)) / 4
     print(f"whole run without a model:      {per_push:6.1f} ms per push (median of runs / 4)")
     if args.objects:
-        default_model_steps(args.objects.split(","), args.seed)
+        default_model_steps(args.objects.split(","), args.seed, args.sessions)
 
 
-def default_model_steps(objects, seed: int) -> None:
+def default_model_steps(objects, seed: int, sessions: int = 1) -> None:
     """Time the active steps of the defaults (the motion model included) on benchmark masks.
 
     A step is ``observe`` (the posterior update, the model asked about every
     live hypothesis at the pusher-offset nodes) plus ``next_push`` (the
     choice), on the object pushed by the benchmark's simulator (reset before
-    each push). CPU time, so that a machine shared with other jobs does not
-    inflate it.
+    each push), for ``sessions`` sessions per object (seeds ``seed``,
+    ``seed + 1``, ...). CPU time, so that a machine shared with other jobs does
+    not inflate it. Reports the median step, the median first step (every
+    hypothesis alive, nothing remembered) and the slowest.
     """
     import simulators
 
     for name in objects:
-        sim = simulators.random_simulator(name, "low", rng=seed)
-        session = comcore.ActiveSession(sim.mask, pusher_radius=sim.pusher_radius, rng=seed)
-        steps = []
-        while not session.done:
-            start = time.process_time()
-            action = session.next_push()
-            steps.append(time.process_time() - start)
-            motion = sim.push(action).motion
-            start = time.process_time()
-            session.observe(motion=motion)
-            session.reset_pose()
-            _ = session.done  # plans the next push
-            steps[-1] += time.process_time() - start
-        ms = 1e3 * np.array(steps)
+        steps, firsts = [], []
+        for s in range(seed, seed + sessions):
+            sim = simulators.random_simulator(name, "low", rng=s)
+            session = comcore.ActiveSession(sim.mask, pusher_radius=sim.pusher_radius, rng=s)
+            first = True
+            while not session.done:
+                start = time.process_time()
+                action = session.next_push()
+                step = time.process_time() - start
+                motion = sim.push(action).motion
+                start = time.process_time()
+                session.observe(motion=motion)
+                session.reset_pose()
+                _ = session.done  # plans the next push
+                step += time.process_time() - start
+                (firsts if first else steps).append(step)
+                first = False
+        ms, first_ms = 1e3 * np.array(steps + firsts), 1e3 * np.array(firsts)
         print(
             f"default model, {name:6s} ({sim.mask.area_px:5d} px): {len(ms)} steps, "
-            f"median {np.median(ms):6.1f} ms, max {ms.max():6.1f} ms (CPU)"
+            f"median {np.median(ms):6.1f} ms, first push median {np.median(first_ms):6.1f} ms, "
+            f"max {ms.max():6.1f} ms (CPU)"
         )
 
 

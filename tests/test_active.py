@@ -427,9 +427,10 @@ def test_bench_script_runs():
     out = run_script(
         "benchmarks/bench_active.py",
         *("--pixels", "600", "--candidates", "20", "--repeats", "2", "--objects", "Obj1"),
+        *("--sessions", "2"),
     )
     assert "choose a push, uniform prior" in out
-    assert "default model, Obj1" in out
+    assert "default model, Obj1" in out and "first push median" in out
 
 
 def test_eval_script_runs():
@@ -781,3 +782,20 @@ def test_kept_pushes_are_rescored(tmp_path):
         "benchmarks/calibrate_power.py", *(str(kept), "--workers", "1", "--powers", "0.5,1.0")
     )
     assert out.startswith("exact") and "n=1 recommended" in out and "1: " in out
+
+
+def test_stop_frontier_scores_every_stop_radius_on_kept_pushes(tmp_path):
+    kept = tmp_path / "runs.pkl"
+    run_script(
+        "benchmarks/tune_active.py",
+        *("--objects", "Obj1", "--friction", "low", "--conditions", "exact"),
+        *("--estimators", "active-vt(target_radius=1e-6,max_pushes=3)", "--workers", "1"),
+        *("--keep-pushes", str(kept)),
+    )
+    out = run_script(
+        "benchmarks/stop_frontier.py", *(str(kept), "--workers", "1", "--radii", "1,100")
+    )
+    rows = {line.split("|")[1].strip(): line for line in out.splitlines() if line.startswith("| ")}
+    assert "1 runs" in out and set(rows) >= {"1", "100"}
+    # a 1 mm region is never reached: all 3 pushes; any region is within 100 mm: 1 push
+    assert "/ 3.00 /" in rows["1"] and "/ 1.00 /" in rows["100"]

@@ -282,13 +282,12 @@ def test_a_disc_session_replays_its_unseen_rotations():
     assert not any(extras["rotation_observed"])
     model = comcore.LimitSurfaceModel(pusher_radius=disc.pusher_radius)
     acts, moves = extras["actions"], extras["motions"]
+    readings = {k: extras[k] for k in ("rotation_observed", "residual_px")}
     replays = {
-        readings: comcore.estimate_posterior(
-            first, acts, moves, model=model, model_weight=0.6,
-            **({"rotation_observed": extras["rotation_observed"],
-                "residual_px": extras["residual_px"]} if readings else {}),
-        )  # fmt: skip
-        for readings in (True, False)
+        given: comcore.estimate_posterior(
+            first, acts, moves, model=model, model_weight=0.6, **(readings if given else {})
+        )
+        for given in (True, False)
     }
     np.testing.assert_allclose(replays[True].com, est.com, rtol=0, atol=1e-6)
     assert np.hypot(*np.subtract(replays[False].com, est.com)) > 0.1

@@ -1,0 +1,96 @@
+"""Push count against error for every stop radius, per realism condition, offline (issue 12).
+
+Records runs that never stop early with ``tune_active.py --keep-pushes`` (the
+label ``active(target_radius=1e-6,min_information=0.0)``: the defaults, all 5
+pushes), scores every prefix of each run's pushes again with
+:func:`comcore.estimate_posterior` (the defaults' model and likelihood: for a
+run that reset the object that is the session's own posterior after k pushes)
+and evaluates each rule "stop at the first k whose 90 % region's radius is at
+most r, else after the budget" on the same pushes: the choice of pushes does
+not depend on the stop rule. Prints per rule and condition the mean error
+(cm), mean pushes, the share of runs whose region held the CoM where the rule
+stopped, and the share that stopped ``ok`` (before the budget) over 1 cm off.
+
+Usage::
+
+    PYTHONPATH=. python benchmarks/tune_active.py --seed 1 --trials 2 \\
+        --conditions exact,pymunk,pusher-error \\
+        --estimators "active(target_radius=1e-6,min_information=0.0)" --keep-pushes full.pkl
+    PYTHONPATH=. python benchmarks/stop_frontier.py full.pkl --radii 5,6,7,8,9,10
+"""
+
+from __future__ import annotations
+
+import argparse
+import pickle
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+
+def _prefixes(job):
+    """(condition, errors cm, radii mm, holds) after each of a run's k = 1..n pushes."""
+    import comcore
+
+    cond, kept = job
+    mask = comcore.Mask(kept["mask"], resolution=kept["resolution"])
+    model = comcore.LimitSurfaceModel(pusher_radius=0.004)
+    n = len(kept["actions"])
+    readings = {
+        key: kept[key] for key in ("rotation_observed", "residual_px") if key in kept
+    }  # fmt: skip
+    errors, radii, holds = [], [], []
+    for k in range(1, n + 1):
+        est = comcore.estimate_posterior(
+            mask, kept["actions"][:k], kept["motions"][:k], model=model,
+            **{key: list(v[:k]) for key, v in readings.items()},
+        )  # fmt: skip
+        errors.append(100 * est.error_px(kept["true_px"]) * mask.resolution)
+        radii.append(1000 * est.extras["credible_radius_px"] * mask.resolution)
+        holds.append(est.region_holds(kept["true_px"]))
+    return cond, np.array(errors), np.array(radii), np.array(holds)
+
+
+def stop_at(radii, radius_mm: float, budget: int) -> int:
+    """Pushes after which the rule stops: the first k with a radius <= r, else the last."""
+    for k, r in enumerate(radii[:budget], start=1):
+        if r <= radius_mm:
+            return k
+    return min(budget, len(radii))
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("runs", help="pickle written by tune_active.py --keep-pushes")
+    p.add_argument("--radii", default="5,6,7,8,9,10", help="stop radii (mm)")
+    p.add_argument("--budget", type=int, default=5)
+    p.add_argument("--workers", type=int, default=2)
+    args = p.parse_args(argv)
+    with open(args.runs, "rb") as f:
+        rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
+    rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
+    start = time.time()
+    with ProcessPoolExecutor(args.workers) as pool:
+        runs = list(pool.map(_prefixes, [(r["condition"], r["pushes_kept"]) for r in rows]))
+    conds = list(dict.fromkeys(c for c, *_ in runs))
+    print(f"{len(runs)} runs, {time.time() - start:.0f} s")
+    print("error cm / pushes / 90 % region holds the CoM / ok stops over 1 cm, per condition")
+    print("| stop radius (mm) | " + " | ".join(conds) + " |")
+    print("|---" * (len(conds) + 1) + "|")
+    for radius in (float(v) for v in args.radii.split(",")):
+        cells = []
+        for cond in conds:
+            mine = [(e, r, h) for c, e, r, h in runs if c == cond]
+            ks = [stop_at(r, radius, args.budget) for _, r, _ in mine]
+            err = np.mean([e[k - 1] for (e, _, _), k in zip(mine, ks)])
+            held = np.mean([h[k - 1] for (_, _, h), k in zip(mine, ks)])
+            bad = np.mean(
+                [e[k - 1] > 1.0 and r[k - 1] <= radius for (e, r, _), k in zip(mine, ks)]
+            )  # fmt: skip
+            cells.append(f"{err:.3f} / {np.mean(ks):.2f} / {100 * held:.0f} % / {100 * bad:.1f} %")
+        print(f"| {radius:g} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
