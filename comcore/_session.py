@@ -9,18 +9,30 @@ import numpy as np
 from ._active_setup import DEFAULT_MODEL, active_options, build_estimate, prior_grid
 from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
+from ._geometry import contacts
 from ._mask import Mask
 from ._planning import Candidates
-from ._posterior import GridPosterior
+from ._posterior import GridPosterior, force_lines
 from ._session_log import SessionLog
-from ._session_pose import IDENTITY, is_miss, moved_mask, read_pose, relative, symmetric_branches
+from ._session_pose import (
+    IDENTITY,
+    actions_from_pose,
+    is_miss,
+    moved_mask,
+    read_pose,
+    relative,
+    symmetric_branches,
+)
 from ._session_update import gyration_px, push_evidence, tracking_noise
 from ._types import Action, Estimate, Motion
-from ._validation import check_mask, check_motions, check_rng
+from ._validation import check_actions, check_mask, check_motions, check_rng
 
 __all__ = ["ActiveSession"]
 
 _OPTIONS = frozenset(inspect.signature(active_options).parameters) - {"mask", "model"}
+#: How far (metres) an executed push's start is moved back along its line when it lies
+#: just inside the object as the session sees it (see ActiveSession.observe).
+EXECUTED_BACKOFF_M = 0.005
 
 
 class ActiveSession:
@@ -247,7 +259,9 @@ class ActiveSession:
         self._handed_out = True
         return Action(*self._cands.in_pose(self._pose, [self._pending])[0])
 
-    def observe(self, mask: Mask | None = None, *, motion=None, failed: bool = False) -> None:
+    def observe(
+        self, mask: Mask | None = None, *, motion=None, failed: bool = False, executed=None
+    ) -> None:
         """Report what the push from :meth:`next_push` did: exactly one of the three.
 
         Parameters
@@ -260,6 +274,13 @@ class ActiveSession:
             before the push (``measure_motion(mask_before, mask_after)``).
         failed : bool, optional
             True: the push could not be executed (no evidence, not counted).
+        executed : Action or (x0, y0, x1, y1), optional
+            The pusher's path as it really went (camera pixels, the object where
+            :meth:`next_push` found it), where the robot knows it better than
+            it commands it: the pusher tracked in the camera, or the arm's
+            measured path. The push is then scored as executed instead of as
+            planned; set ``pusher_error`` to how well you know this path, not
+            how well the arm follows a command. Default: as planned.
 
         Raises
         ------
@@ -281,10 +302,11 @@ class ActiveSession:
                 f"observe() takes exactly one of mask, motion or failed=True, got {given}"
             )
         index = self._pending
+        done_as = None if executed is None else self._executed(executed, failed)
         record = {
             "index": index,
             "camera_action": self._cands.in_pose(self._pose, [index])[0],
-            "object_action": self._cands.actions[index],
+            "object_action": self._cands.actions[index] if done_as is None else done_as[0],
             "pose_before": self._pose,
         }
         if failed:
@@ -296,6 +318,15 @@ class ActiveSession:
             self._record_reading(record, branches[0])
             self._commit(record, "miss", branches[0].pose, mask, None)
             return
+        action, lines = self._cands.actions[index], self._cands.lines[index]
+        if done_as is not None:
+            action, lines = done_as
+            if lines is None:
+                raise ValueError(
+                    f"executed {np.asarray(executed, float).ravel().tolist()} misses the "
+                    "object as the session sees it, but the object moved: pass the path the "
+                    "pusher took, in camera pixels"
+                )
         # A symmetric outline (a hexagon) turned by more than half its symmetry angle looks
         # like a smaller turn the other way: of the rotations the masks allow, keep the one
         # the posterior explains best (its marginal likelihood), not merely the nearest.
@@ -307,8 +338,8 @@ class ActiveSession:
                 self._post,
                 self._opts,
                 self._first,
-                self._cands.actions[index],
-                self._cands.lines[index],
+                action,
+                lines,
                 obj_motion,
                 rotation_observed=not branch.ambiguous,
                 tracking=tracking_noise(self._opts.tracking, branch.residual_px, self._gyration_px),
@@ -320,6 +351,34 @@ class ActiveSession:
         self._record_reading(record, branch)
         record["object_motion"] = tuple(float(v) for v in obj_motion)
         self._commit(record, "evidence", branch.pose, mask, loglik, excess)
+
+    def _executed(self, executed, failed: bool):
+        """The executed push in the object's frame and its force lines (None: it misses)."""
+        if failed:
+            raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
+        acts = check_actions(executed, "executed", allow_empty=False)
+        if acts.shape[0] != 1:
+            raise ValueError(f"executed must be a single action (4 numbers), got {acts.shape[0]}")
+        obj = actions_from_pose(acts, self._pose, self._first.centroid)
+        con = contacts(self._first, obj)
+        # A start just inside the outline as the session sees it (its pose is measured, to
+        # a pixel or so): the pusher met the outline where its line enters, so the start is
+        # moved back along the line, 1 mm at a time, at most EXECUTED_BACKOFF_M.
+        direction = (obj[:, 2:] - obj[:, :2]) / np.hypot(*(obj[0, 2:] - obj[0, :2]))
+        step_px = 0.001 / self._first.resolution
+        for _ in range(round(EXECUTED_BACKOFF_M / 0.001)):
+            if not con.starts_inside[0]:
+                break
+            obj = obj - np.tile(direction * step_px, 2) * [1, 1, 0, 0]
+            con = contacts(self._first, obj)
+        if con.starts_inside[0]:
+            raise ValueError(
+                f"executed {acts[0].tolist()} starts inside the object as the session sees it"
+            )
+        if not con.hit[0]:
+            return obj[0], None
+        lines = force_lines(con.point, con.normal, direction, np.arctan(self._opts.mus))[0]
+        return obj[0], lines
 
     def _record_reading(self, record, reading) -> None:
         record["camera_motion"] = tuple(relative(self._pose, reading.pose))

@@ -87,6 +87,19 @@ def actions_in_pose(actions, pose: Motion, centroid) -> np.ndarray:
     return moved.reshape(-1, 4)
 
 
+def actions_from_pose(actions, pose: Motion, centroid) -> np.ndarray:
+    """Camera-frame actions (n, 4) with the object at ``pose`` in the object's frame.
+
+    The inverse of :func:`actions_in_pose`: a camera point ``q`` shows the object
+    point ``R(-theta) (q - c - t) + c``.
+    """
+    acts = np.asarray(actions, dtype=float)
+    if pose == IDENTITY:
+        return acts.copy()
+    ends = acts.reshape(-1, 2) - np.array([pose.tx, pose.ty])
+    return apply_motion(ends, -pose.theta, (0.0, 0.0), centroid).reshape(-1, 4)
+
+
 def moved_mask(first: Mask, pose: Motion) -> Mask | None:
     """The first mask moved to ``pose`` (nearest pixel), or None if it left the image."""
     if pose == IDENTITY:

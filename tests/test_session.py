@@ -372,3 +372,80 @@ def test_the_registration_residual_widens_the_tracking_noise():
     assert tracking_noise((0.01, 0.2), float("nan"), 10.0) == (0.01, 0.2)
     theta, px = tracking_noise((0.01, 0.2), 0.5, 10.0)
     assert theta == pytest.approx(np.hypot(0.01, 0.05)) and px == pytest.approx(np.hypot(0.2, 0.5))
+
+
+# -- the push as executed ----------------------------------------------------------------
+
+
+def test_actions_from_pose_undo_actions_in_pose():
+    from comcore._session_pose import actions_from_pose, actions_in_pose
+
+    actions = np.array([[0.0, 50.0, 40.0, 52.0], [60.0, 0.0, 58.0, 30.0]])
+    pose, centroid = comcore.Motion(0.4, 7.0, -3.0), (59.5, 56.5)
+    camera = actions_in_pose(actions, pose, centroid)
+    assert np.abs(camera - actions).max() > 5
+    np.testing.assert_allclose(actions_from_pose(camera, pose, centroid), actions, atol=1e-12)
+
+
+def _executed_run(observe_executed, shift_px=0.0):
+    """A World session whose robot pushes ``shift_px`` beside each planned path."""
+    mask = _mask()
+    world = World(mask)
+    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
+    while not session.done:
+        planned = np.asarray(session.next_push(), float)
+        d = (planned[2:] - planned[:2]) / np.hypot(*(planned[2:] - planned[:2]))
+        real = planned + shift_px * np.tile([-d[1], d[0]], 2)
+        motion = world.execute(real)
+        session.observe(motion=motion, **({"executed": real} if observe_executed else {}))
+    return session.estimate(), world
+
+
+def test_a_push_executed_as_planned_is_scored_as_planned():
+    told, _ = _executed_run(observe_executed=True)
+    plain, _ = _executed_run(observe_executed=False)
+    np.testing.assert_allclose(told.extras["posterior"], plain.extras["posterior"], atol=1e-12)
+
+
+def test_a_push_executed_off_its_path_is_scored_where_it_went():
+    """Pushed 4 px beside every plan: told, the session finds the CoM; not told, it errs."""
+    told, _ = _executed_run(observe_executed=True, shift_px=4.0)
+    blind, _ = _executed_run(observe_executed=False, shift_px=4.0)
+    assert told.error_px(TRUE_COM) < 2.5 < blind.error_px(TRUE_COM)
+    # the pushes the posterior used are the executed ones, in the object's frame
+    first = np.asarray(told.extras["actions"][0])
+    planned = np.asarray(told.extras["camera_actions"][0])
+    d = (planned[2:] - planned[:2]) / np.hypot(*(planned[2:] - planned[:2]))
+    np.testing.assert_allclose(first, planned + 4.0 * np.tile([-d[1], d[0]], 2), atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("executed", "failed", "error", "match"),
+    [
+        ((0.0, 1.0, 2.0), False, ValueError, "executed must"),
+        ([(0, 50, 40, 52), (0, 50, 40, 52)], False, ValueError, "executed must be a single"),
+        ((24.5, 21.5, 40.0, 21.5), False, ValueError, "executed .* starts inside the object"),
+        ((0.0, 5.0, 10.0, 5.0), False, ValueError, "executed .* misses the object"),
+        ((0.0, 20.0, 40.0, 22.0), True, TypeError, r"failed=True\) takes no executed"),
+    ],
+)
+def test_a_bad_executed_push_is_named_and_changes_nothing(executed, failed, error, match):
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0, model=None)
+    first = session.next_push()
+    est = session.estimate()
+    kwargs = {"failed": True} if failed else {"motion": (0.1, 3.0, 0.0)}
+    with pytest.raises(error, match=match):
+        session.observe(executed=executed, **kwargs)
+    assert session.next_push() == first and session.status == "waiting_observation"
+    np.testing.assert_array_equal(session.estimate().extras["posterior"], est.extras["posterior"])
+
+
+def test_an_executed_start_just_inside_the_outline_is_moved_back_along_its_line():
+    """The session's pose is measured; a pusher that met the outline may seem to start in it."""
+    mask = _mask(10)  # object pixels at columns 10-39: the outline at x = 9.5
+    session = comcore.ActiveSession(mask, rng=0, model=None)
+    session.next_push()
+    session.observe(motion=(0.1, 3.0, 0.0), executed=(10.2, 21.5, 40.0, 21.5))
+    start = session.estimate().extras["actions"][0]
+    assert start[0] < 9.5 and start[1:].tolist() == [21.5, 40.0, 21.5]

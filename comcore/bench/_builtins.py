@@ -124,6 +124,7 @@ def _active_robot(
     mask_noise=None,
     camera_margin=None,
     frames=8,
+    executed=False,
     **options,
 ):
     """:class:`comcore.ActiveSession` against ``simulators.SimulatedRobot``, never reset.
@@ -140,7 +141,9 @@ def _active_robot(
     ``pusher_error`` (metres), ``mask_noise`` (flip probability) and
     ``camera_margin`` (metres) override the trial condition's.
     A push the robot refuses is reported with ``observe(failed=True)``;
-    ``extras["push_failures"]`` counts them.
+    ``extras["push_failures"]`` counts them. ``executed=True`` also tells the
+    session the pusher's real path (``observe(..., executed=push.executed)``: a
+    pusher tracked in the camera), so the pusher's error is measured, not guessed.
     """
     condition = ctx.condition
     if observe is None:
@@ -169,12 +172,13 @@ def _active_robot(
             if failures >= MAX_PUSH_FAILURES:
                 break
             continue
+        path = {"executed": push.executed} if executed else {}
         if observe == "mask":
-            session.observe(robot.camera_mask())
+            session.observe(robot.camera_mask(), **path)
             continue
         if observe in ("consecutive", "video"):
             shots = push.frames or (robot.camera_mask(),)
-            session.observe(motion=_tracked_motion(seen, shots))
+            session.observe(motion=_tracked_motion(seen, shots), **path)
             seen = shots[-1]
             continue
         motion = np.asarray(push.motion, float)
@@ -182,7 +186,7 @@ def _active_robot(
             theta, shift = motion_noise
             scale = np.array([theta, shift / robot.resolution, shift / robot.resolution])
             motion = motion + noise_rng.normal(0.0, 1.0, 3) * scale
-        session.observe(motion=comcore.Motion(*motion))
+        session.observe(motion=comcore.Motion(*motion), **path)
     est = session.estimate()
     extras = {
         **est.extras,
