@@ -63,8 +63,11 @@ def main(argv=None):
     with ProcessPoolExecutor(args.workers) as pool:
         for cond, cal in pool.map(_calibrate, jobs):
             cells = " | ".join(
-                f"{p:g}: {100 * c:.0f} % / {1000 * r:.2f} mm / {100 * e:.3f} cm"
-                for p, c, r, e in zip(cal.powers, cal.coverage, cal.radius_m, cal.error_m)
+                f"{p:g}: {100 * c:.0f} % (>= {100 * lo:.0f} %) / {1000 * r:.2f} mm / "
+                f"{100 * e:.3f} cm"
+                for p, c, lo, r, e in zip(
+                    cal.powers, cal.coverage, cal.coverage_low, cal.radius_m, cal.error_m
+                )
             )
             print(f"{cond:15s} n={cal.n_objects} recommended {cal.recommended:g} | {cells}")
     print(f"{len(rows)} runs, {time.time() - start:.0f} s")

@@ -28,6 +28,8 @@ __all__ = ["PowerCalibration", "calibrate_model_weight"]
 
 #: Powers scored by default.
 CALIBRATION_POWERS = (0.25, 0.4, 0.6, 0.8, 1.0)
+#: Confidence of :attr:`PowerCalibration.coverage_low`, the one-sided lower bound.
+COVERAGE_CONFIDENCE = 0.9
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,10 @@ class PowerCalibration:
         The powers scored, increasing.
     coverage : numpy.ndarray, shape (n_powers,)
         Share of the calibration objects whose credible region held the measured CoM.
+    coverage_low : numpy.ndarray, shape (n_powers,)
+        A one-sided 90 % lower confidence bound on each coverage (Clopper-Pearson):
+        how low the coverage of objects to come may be, given only these. Ten
+        objects all held give 0.79: they cannot certify a 90 % region.
     radius_m : numpy.ndarray, shape (n_powers,)
         Mean equivalent-circle radius of the regions (metres).
     error_m : numpy.ndarray, shape (n_powers,)
@@ -54,6 +60,7 @@ class PowerCalibration:
 
     powers: tuple
     coverage: np.ndarray
+    coverage_low: np.ndarray
     radius_m: np.ndarray
     error_m: np.ndarray
     n_objects: int
@@ -164,9 +171,14 @@ def calibrate_model_weight(
             error[i, j] = est.error_px(truth) * mask.resolution
     coverage = hits.mean(axis=0)
     good = [p for p, c in zip(grid, coverage) if c >= credible - 1e-12]
+    from scipy import stats  # here: scipy.stats costs import time that comcore need not pay
+
+    held, n = hits.sum(axis=0), len(items)
+    low = np.where(held > 0, stats.beta.ppf(1 - COVERAGE_CONFIDENCE, held, n - held + 1), 0.0)
     return PowerCalibration(
         powers=grid,
         coverage=coverage,
+        coverage_low=low,
         radius_m=radius.mean(axis=0),
         error_m=error.mean(axis=0),
         n_objects=len(items),

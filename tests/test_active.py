@@ -720,11 +720,14 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
     right = comcore.calibrate_model_weight(records, model=ToyModel(8.0), **kwargs)
     assert right.powers == (0.1, 0.25, 0.5, 1.0) and right.n_objects == 6
     assert right.coverage.tolist() == [1.0] * 4 and right.recommended == 1.0
+    # six objects all held: the coverage to come is only known to be above 0.1 ** (1 / 6)
+    np.testing.assert_allclose(right.coverage_low, 0.1 ** (1 / 6))
     assert np.all(np.diff(right.radius_m) < 0)  # a higher power, a smaller region
     # A model wrong the same way on every push (its rotations grow slower with the
     # lever arm than the robot's): the untempered region misses, a low power holds.
     wrong = comcore.calibrate_model_weight(records, model=ToyModel(20.0), **kwargs)
     assert wrong.coverage[-1] < 0.5 and wrong.coverage[0] == 1.0
+    assert np.all(wrong.coverage_low <= wrong.coverage) and np.all(wrong.coverage_low >= 0)
     held = [p for p, c in zip(wrong.powers, wrong.coverage) if c >= 0.9]
     assert wrong.recommended == max(held) < 1.0
 
