@@ -306,7 +306,11 @@ class ActiveSession:
         record = {
             "index": index,
             "camera_action": self._cands.in_pose(self._pose, [index])[0],
-            "object_action": self._cands.actions[index] if done_as is None else done_as[0],
+            # an executed path that misses the object is kept as planned: a miss carries no
+            # evidence, and a replay (estimate_posterior) needs pushes that hit the first mask
+            "object_action": self._cands.actions[index]
+            if done_as is None or done_as[1] is None
+            else done_as[0],
             "pose_before": self._pose,
         }
         if failed:

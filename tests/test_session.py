@@ -449,3 +449,14 @@ def test_an_executed_start_just_inside_the_outline_is_moved_back_along_its_line(
     session.observe(motion=(0.1, 3.0, 0.0), executed=(10.2, 21.5, 40.0, 21.5))
     start = session.estimate().extras["actions"][0]
     assert start[0] < 9.5 and start[1:].tolist() == [21.5, 40.0, 21.5]
+
+
+def test_an_executed_push_that_missed_is_a_miss_and_replays():
+    mask = _mask(10)
+    session = comcore.ActiveSession(mask, rng=0, model=None)
+    session.next_push()
+    session.observe(motion=(0.0, 0.0, 0.0), executed=(0.0, 5.0, 10.0, 5.0))  # above the object
+    est = session.estimate()
+    assert est.extras["outcomes"] == ("miss",)
+    again = comcore.estimate_posterior(mask, est.extras["actions"], est.extras["motions"])
+    assert again.status == "no_evidence"
