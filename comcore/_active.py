@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from ._active_setup import (
+    DEFAULT_MIN_PUSHES,
     DEFAULT_MODEL,
     DEFAULT_MODEL_SCALES,
     DEFAULT_MODEL_WEIGHT,
@@ -33,7 +34,16 @@ __all__ = ["estimate_active", "estimate_posterior"]
 
 #: Options of estimate_active that choose pushes or stop: estimate_posterior has none.
 PLANNING_OPTIONS = frozenset(
-    {"max_pushes", "target_radius", "selection", "min_information", "n_candidates", "cone", "rng"}
+    {
+        "max_pushes",
+        "min_pushes",
+        "target_radius",
+        "selection",
+        "min_information",
+        "n_candidates",
+        "cone",
+        "rng",
+    }
 )
 
 
@@ -45,6 +55,7 @@ def estimate_active(
     *,
     model=DEFAULT_MODEL,
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+    min_pushes: int = DEFAULT_MIN_PUSHES,
     mu=None,
     target_radius: float = DEFAULT_TARGET_RADIUS,
     credible: float = 0.9,
@@ -118,8 +129,9 @@ def estimate_active(
 
     Pushes already made are not repeated. The loop stops when the
     equivalent-circle radius ``sqrt(area / pi)`` of the ``credible``
-    highest-posterior region is at most ``target_radius`` (status ``"ok"``),
-    when ``max_pushes`` pushes are spent (``"budget"``), when no candidate is
+    highest-posterior region is at most ``target_radius`` after at least
+    ``min_pushes`` pushes with evidence (status ``"ok"``), when ``max_pushes``
+    pushes are spent (``"budget"``), when no candidate is
     left (``"exhausted"``) or when none is expected to teach more than
     ``min_information`` bits (``"uninformative"``). Whatever the reason, the
     status is ``"inconsistent"`` instead when no (CoM, friction, model)
@@ -142,6 +154,12 @@ def estimate_active(
         (a round pusher needs candidates that start clear of the object).
     max_pushes : int, optional
         Budget of real pushes (>= 0; default 5).
+    min_pushes : int, optional
+        Pushes with evidence before a small region may stop the run ``"ok"``
+        (default 2; 0 lets a tight ``prior`` stop it before any push). One
+        push cannot check the model: its motion is explained at some CoM
+        however wrong the model is. Untempered (``model_weight=1``), the robot
+        loop's runs that stopped after one push were 0.83 cm off on average.
     model : HypothesisPredictor, sequence of them, or None, optional
         Motion model for the likelihood of the whole motion. Default:
         ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``. ``None``:
@@ -282,6 +300,7 @@ def estimate_active(
         mask,
         candidates=candidates,
         max_pushes=max_pushes,
+        min_pushes=min_pushes,
         model=model,
         pusher_radius=pusher_radius,
         mu=mu,

@@ -187,7 +187,8 @@ class ActiveSession:
         self._final, self._pending = None, None
         state = self._log.history[-1]
         state["expected_gain_bits"] = None
-        if state["credible_radius_px"] <= self._opts.target_px:
+        small = state["credible_radius_px"] <= self._opts.target_px
+        if small and self._log.n_evidence >= self._opts.min_pushes:
             self._final = "ok"
         elif len(self._log.executed) >= self._opts.max_pushes:
             self._final = "budget"

@@ -55,6 +55,7 @@ _ONE = ([(0, 20, 20, 20)], [(0.1, 0, 0)])
         (([(0, 0, 0, 1)], [(0.1, 0, 0)]), {}, ValueError, "actions must hit the object"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)] * 2), {}, ValueError, "motions"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"max_pushes": 3}, TypeError, "chooses no pushes"),
+        (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"min_pushes": 1}, TypeError, "chooses no pushes"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"flip_prob": 0.7}, ValueError, "flip_prob"),
         (([], []), {}, ValueError, "actions"),
         (_ONE, {"rotation_observed": [True, False]}, ValueError, r"rotation_observed .* \(1\)"),

@@ -209,6 +209,8 @@ def test_same_seed_same_pushes():
     ("kwargs", "error", "match"),
     [
         ({"max_pushes": -1}, ValueError, "max_pushes must be >= 0"),
+        ({"min_pushes": -1}, ValueError, "min_pushes must be >= 0"),
+        ({"min_pushes": 1.5}, TypeError, "min_pushes must be an int"),
         ({"rng": -1}, ValueError, "rng must be"),
         ({"rng": "a"}, TypeError, "rng must be"),
         ({"max_push": 3}, TypeError, r"unknown option\(s\) \['max_push'\]"),
@@ -460,3 +462,17 @@ def test_an_executed_push_that_missed_is_a_miss_and_replays():
     assert est.extras["outcomes"] == ("miss",)
     again = comcore.estimate_posterior(mask, est.extras["actions"], est.extras["motions"])
     assert again.status == "no_evidence"
+
+
+@pytest.mark.parametrize("min_pushes", [0, 1, 2, 3])
+def test_a_small_region_stops_ok_only_after_min_pushes_with_evidence(min_pushes):
+    """A prior already tighter than the target: ``ok`` waits for ``min_pushes`` pushes."""
+    mask = _mask()
+    prior = np.zeros(mask.shape)
+    prior[58:62, 50:54] = 1.0  # 4 x 4 px about the true CoM: radius 2.3 px at the start
+    session = comcore.ActiveSession(
+        mask, rng=0, model=None, prior=prior, target_radius=0.05, min_pushes=min_pushes
+    )
+    assert session.history[0]["credible_radius_px"] * mask.resolution < 0.05
+    _run(session, World(mask))
+    assert session.status == "ok" and len(session.actions) == min_pushes
