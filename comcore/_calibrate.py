@@ -143,8 +143,8 @@ def calibrate_model_weight(
         items = list(records)
     except TypeError as e:
         raise TypeError(
-            "records must be an iterable of (mask, actions, motions, true_com) tuples, "
-            "one per calibration object"
+            "records must be an iterable of (mask, estimate, true_com) or "
+            "(mask, actions, motions, true_com) tuples, one per calibration object"
         ) from e
     if not items:
         raise ValueError("records must hold at least one calibration object")

@@ -24,7 +24,15 @@ from ._session_pose import IDENTITY, actions_in_pose
 from ._types import Motion
 from ._validation import check_actions
 
-__all__ = ["Candidates"]
+__all__ = ["Candidates", "push_force_lines"]
+
+
+def push_force_lines(con, actions, mus) -> np.ndarray:
+    """Force lines (n, m, 3) of pushes that hit, from their contacts, for each friction value."""
+    actions = np.asarray(actions, dtype=float)
+    direction = actions[:, 2:] - actions[:, :2]
+    direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    return force_lines(con.point, con.normal, direction, np.arctan(mus))
 
 
 class Candidates:
@@ -50,12 +58,10 @@ class Candidates:
             actions = check_actions(candidates, name, allow_empty=False)
         con = contacts(mask, actions)
         con.require_hits(name)
-        direction = actions[:, 2:] - actions[:, :2]
-        direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
         self.mask = mask
         self.actions = np.array(actions, dtype=float)
         self.actions.setflags(write=False)
-        self.lines = force_lines(con.point, con.normal, direction, np.arctan(options.mus))
+        self.lines = push_force_lines(con, actions, options.mus)
         self.available = np.ones(len(actions), dtype=bool)
         self._centroid = np.asarray(mask.centroid, dtype=float)
         self._in_view = self._inside_image(self.actions)

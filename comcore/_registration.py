@@ -415,8 +415,15 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
     return _measure(before, after, near_theta)[0]
 
 
-def _measure(before: Mask, after: Mask, near_theta=0.0) -> tuple[MotionMeasurement, dict]:
-    """:func:`measure_motion` and its diagnostics (visibility, theta information, fits)."""
+def _measure(
+    before: Mask, after: Mask, near_theta=0.0, max_theta_std: float = MAX_THETA_STD
+) -> tuple[MotionMeasurement, dict]:
+    """:func:`measure_motion` and its diagnostics (visibility, theta information, fits).
+
+    ``max_theta_std`` (radians): above this predicted std the rotation is called
+    ambiguous (:data:`MAX_THETA_STD` for :func:`measure_motion`; a session
+    tracking an object reads further, ``comcore._session_pose``).
+    """
     _check_pair(before, after)
     near = check_finite(near_theta, "near_theta")
     h, w = before.shape
@@ -450,7 +457,7 @@ def _measure(before: Mask, after: Mask, near_theta=0.0) -> tuple[MotionMeasureme
     residual = problem.outline_rms(chosen)
     noise = OUTLINE_NOISE_PX * max(1.0, residual / REFERENCE_RESIDUAL_PX)
     theta_std = noise / math.sqrt(information) if information > 0 else math.inf
-    ambiguous = order == 0 or visible < MIN_ROTATION_VISIBILITY or theta_std > MAX_THETA_STD
+    ambiguous = order == 0 or visible < MIN_ROTATION_VISIBILITY or theta_std > max_theta_std
     symmetry = 1 if ambiguous else order
     motion = Motion(near + float(_wrap(chosen[0] - near)), float(chosen[1]), float(chosen[2]))
     diagnostics = {

@@ -11,8 +11,8 @@ from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
 from ._geometry import contacts
 from ._mask import Mask
-from ._planning import Candidates
-from ._posterior import GridPosterior, force_lines
+from ._planning import Candidates, push_force_lines
+from ._posterior import GridPosterior
 from ._session_log import SessionLog
 from ._session_pose import (
     IDENTITY,
@@ -369,12 +369,11 @@ class ActiveSession:
         # A start just inside the outline as the session sees it (its pose is measured, to
         # a pixel or so): the pusher met the outline where its line enters, so the start is
         # moved back along the line, 1 mm at a time, at most EXECUTED_BACKOFF_M.
-        direction = (obj[:, 2:] - obj[:, :2]) / np.hypot(*(obj[0, 2:] - obj[0, :2]))
-        step_px = 0.001 / self._first.resolution
+        step = np.asarray(Action(*obj[0]).direction) * (0.001 / self._first.resolution)
         for _ in range(round(EXECUTED_BACKOFF_M / 0.001)):
             if not con.starts_inside[0]:
                 break
-            obj = obj - np.tile(direction * step_px, 2) * [1, 1, 0, 0]
+            obj[0, :2] -= step
             con = contacts(self._first, obj)
         if con.starts_inside[0]:
             raise ValueError(
@@ -382,8 +381,7 @@ class ActiveSession:
             )
         if not con.hit[0]:
             return obj[0], None
-        lines = force_lines(con.point, con.normal, direction, np.arctan(self._opts.mus))[0]
-        return obj[0], lines
+        return obj[0], push_force_lines(con, obj, self._opts.mus)[0]
 
     def _record_reading(self, record, reading) -> None:
         record["camera_motion"] = tuple(relative(self._pose, reading.pose))

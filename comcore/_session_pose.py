@@ -47,7 +47,11 @@ MISS_TRANSLATION_M = 0.001
 #: The first pose.
 IDENTITY = Motion(0.0, 0.0, 0.0)
 #: A session reads a rotation measured to within this predicted std (radians, 2 deg),
-#: where :func:`comcore.measure_motion` stops at 1 deg (see :func:`_readable`).
+#: where :func:`comcore.measure_motion` calls one worse than 1 deg ambiguous. Dropping
+#: it keeps the previous rotation, wrong by the whole turn: a small hexagon turned by
+#: 35 deg, read to 1.06 deg, was taken as not turned, and every later push was planned
+#: and scored in a frame 35 deg off. The registration's residual already widens the
+#: reading's error by about that much (:func:`comcore._session_update.tracking_noise`).
 SESSION_MAX_THETA_STD = math.radians(2.0)
 
 
@@ -126,45 +130,25 @@ def is_miss(motion, resolution: float) -> bool:
 def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     """The pose of the object in ``mask`` relative to ``first`` (comcore.measure_motion).
 
-    When the rotation is ambiguous (a disc) the previous pose's rotation is
-    kept: the camera cannot see it turn. For a shape with a rotational
+    When the rotation is ambiguous (a disc, or read worse than
+    :data:`SESSION_MAX_THETA_STD`) the previous pose's rotation is kept: the
+    camera cannot see it turn. For a shape with a rotational
     symmetry the rotation consistent with the masks nearest the previous
     pose's is taken (pushes turn the object far less than a symmetry angle).
     """
-    from ._registration import MIN_ROTATION_VISIBILITY, _measure
+    from ._registration import _measure
 
     try:
         # near the previous pose: for a symmetric shape that has turned past pi / n the
         # smallest consistent rotation is wrong by 2 pi / n
-        m, diagnostics = _measure(first, mask, near_theta=float(previous.theta))
+        m, _ = _measure(
+            first, mask, near_theta=float(previous.theta), max_theta_std=SESSION_MAX_THETA_STD
+        )
     except ValueError as e:  # e.g. the object touches the border: part of it out of view
         raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
-    ambiguous, symmetry = bool(m.ambiguous), int(m.symmetry)
-    if ambiguous and _readable(diagnostics, MIN_ROTATION_VISIBILITY):
-        ambiguous, symmetry = False, int(diagnostics["order"])
-    theta = previous.theta if ambiguous else float(m.motion.theta)
+    theta = previous.theta if m.ambiguous else float(m.motion.theta)
     pose = Motion(theta, float(m.motion.tx), float(m.motion.ty))
-    return PoseReading(pose, ambiguous, float(m.residual_px), symmetry)
-
-
-def _readable(diagnostics: dict, min_visibility: float) -> bool:
-    """Whether a rotation :func:`comcore.measure_motion` called ambiguous is still worth reading.
-
-    ``measure_motion`` calls a rotation whose predicted standard deviation
-    exceeds 1 degree not observable. A session tracking an object cannot
-    drop it: it would keep the previous rotation, wrong by the whole turn
-    (a small hexagon turned by 35 degrees, read to 1.06 degrees, was taken as
-    not turned at all, and every later push was planned and scored in a frame
-    35 degrees off). So where the outline does show the rotation (visible,
-    evenly spaced consistent fits) and its predicted error is at most
-    :data:`SESSION_MAX_THETA_STD`, the session reads it; the registration's
-    residual already widens its error (about the same 1 degree there).
-    """
-    return (
-        diagnostics["order"] >= 1
-        and diagnostics["visibility"] >= min_visibility
-        and diagnostics["theta_std"] <= SESSION_MAX_THETA_STD
-    )
+    return PoseReading(pose, bool(m.ambiguous), float(m.residual_px), int(m.symmetry))
 
 
 def symmetric_branches(reading: PoseReading, previous: Motion) -> list[PoseReading]:
