@@ -22,6 +22,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import json
 import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -33,7 +34,7 @@ def _prefixes(job):
     """(condition, errors cm, radii mm, holds) after each of a run's k = 1..n pushes."""
     import comcore
 
-    cond, kept = job
+    cond, kept, options = job
     mask = comcore.Mask(kept["mask"], resolution=kept["resolution"])
     model = comcore.LimitSurfaceModel(pusher_radius=0.004)
     n = len(kept["actions"])
@@ -44,7 +45,7 @@ def _prefixes(job):
     for k in range(1, n + 1):
         est = comcore.estimate_posterior(
             mask, kept["actions"][:k], kept["motions"][:k], model=model,
-            **{key: list(v[:k]) for key, v in readings.items()},
+            **{key: list(v[:k]) for key, v in readings.items()}, **options,
         )  # fmt: skip
         errors.append(100 * est.error_px(kept["true_px"]) * mask.resolution)
         radii.append(1000 * est.extras["credible_radius_px"] * mask.resolution)
@@ -66,13 +67,19 @@ def main(argv=None):
     p.add_argument("--radii", default="5,6,7,8,9,10", help="stop radii (mm)")
     p.add_argument("--budget", type=int, default=5)
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument(
+        "--options", default="{}",
+        help="JSON of estimate_posterior options to score the pushes with (default: the defaults)",
+    )  # fmt: skip
     args = p.parse_args(argv)
     with open(args.runs, "rb") as f:
         rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
     rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
     start = time.time()
     with ProcessPoolExecutor(args.workers) as pool:
-        runs = list(pool.map(_prefixes, [(r["condition"], r["pushes_kept"]) for r in rows]))
+        options = json.loads(args.options)
+        jobs = [(r["condition"], r["pushes_kept"], options) for r in rows]
+        runs = list(pool.map(_prefixes, jobs))
     conds = list(dict.fromkeys(c for c, *_ in runs))
     print(f"{len(runs)} runs, {time.time() - start:.0f} s")
     print("error cm / pushes / 90 % region holds the CoM / ok stops over 1 cm, per condition")

@@ -22,6 +22,7 @@ from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._mask import Mask
 from ._planning import Candidates
+from ._sampling import DEFAULT_TRAVEL_M
 from ._posterior import GridPosterior
 from ._session import ActiveSession
 from ._session_log import SessionLog
@@ -42,6 +43,7 @@ PLANNING_OPTIONS = frozenset(
         "min_information",
         "n_candidates",
         "cone",
+        "travel",
         "rng",
     }
 )
@@ -63,6 +65,7 @@ def estimate_active(
     rng=None,
     cone: float = 0.0,
     n_candidates: int = 200,
+    travel: float = DEFAULT_TRAVEL_M,
     n_mu: int = 6,
     theta_tol: float = ANGLE_EPS,
     theta_noise=(0.01, 0.13),
@@ -192,6 +195,11 @@ def estimate_active(
         the simulator: 0.32 cm after 4 pushes, against 0.37 cm with 0.3 rad).
     n_candidates : int, optional
         Number of default candidates.
+    travel : float, optional
+        How far (metres, default 3 cm) the default candidates push past first
+        contact: set it from your workspace. Longer pushes turn the object
+        more and tell more per push, and the model's errors grow with them
+        (docs/active.md, "Longer pushes").
     n_mu : int, optional
         Number of friction values the unknown friction is marginalised over.
     theta_tol : float, optional
@@ -310,6 +318,7 @@ def estimate_active(
         rng=rng,
         cone=cone,
         n_candidates=n_candidates,
+        travel=travel,
         n_mu=n_mu,
         theta_tol=theta_tol,
         theta_noise=theta_noise,

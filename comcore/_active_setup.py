@@ -11,6 +11,7 @@ import numpy as np
 from ._conventions import ANGLE_EPS, pixel_centres
 from ._mask import Mask
 from ._predictor import HypothesisPredictor
+from ._sampling import DEFAULT_TRAVEL_M
 from ._types import Estimate
 from ._validation import check_mu, check_positive, check_probability
 
@@ -101,6 +102,7 @@ class ActiveOptions:
     flip_prob: float
     cone: float
     n_candidates: int
+    travel_m: float
     mus: np.ndarray
     theta_tol: float
     theta_noise: tuple[float, float]
@@ -146,6 +148,7 @@ def active_options(
     flip_prob: float = 0.05,
     cone: float = 0.0,
     n_candidates: int = 200,
+    travel: float = DEFAULT_TRAVEL_M,
     n_mu: int = 6,
     theta_tol: float = ANGLE_EPS,
     theta_noise=(0.01, 0.13),
@@ -213,6 +216,7 @@ def active_options(
         flip_prob=flip_prob,
         cone=cone,
         n_candidates=int(n_candidates),
+        travel_m=check_positive(travel, "travel"),
         mus=mu_grid(mu, int(n_mu)),
         theta_tol=theta_tol,
         theta_noise=theta_noise,

@@ -53,7 +53,9 @@ class Candidates:
 
     def __init__(self, mask: Mask, candidates, options: ActiveOptions, rng, name="candidates"):
         if candidates is None:
-            actions = sample_pushes(mask, options.n_candidates, cone=options.cone, rng=rng)
+            actions = sample_pushes(
+                mask, options.n_candidates, cone=options.cone, travel=options.travel_m, rng=rng
+            )
         else:
             actions = check_actions(candidates, name, allow_empty=False)
         con = contacts(mask, actions)

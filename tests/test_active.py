@@ -385,6 +385,7 @@ def test_a_prior_off_the_object_is_allowed():
         ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
         ({"selection": "best"}, ValueError, "selection must be one of"),
         ({"pusher_error": -0.001}, ValueError, "pusher_error"),
+        ({"travel": 0.0}, ValueError, "travel must be a finite number > 0"),
         ({"motion_noise": (0.01,)}, TypeError, "motion_noise must be a pair"),
         ({"motion_noise": (-0.01, 0.0)}, ValueError, "motion_noise must be a pair with both >= 0"),
         ({"translation_error": (0.0, 0.1)}, ValueError, "translation_error must be a pair"),
@@ -572,6 +573,18 @@ def test_the_credible_radius_in_metres_does_not_depend_on_the_resolution():
         ratios.append(radii[1] / radii[0])
     # With the scales in pixels (translation_noise, the 1.2 px line) it was 0.74 (0.62-0.91).
     assert 0.85 < np.mean(ratios) < 1.18
+
+
+def test_default_candidates_push_travel_metres_past_first_contact():
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 20), resolution=0.002)
+    for travel in (0.03, 0.05):
+        session = comcore.ActiveSession(mask, model=None, travel=travel, rng=0)
+        actions = np.array([tuple(session.next_push())])
+        contact = comcore.contacts(mask, actions).point[0]
+        past = np.hypot(*(actions[0, 2:] - contact)) * mask.resolution
+        assert past == pytest.approx(travel, abs=mask.resolution)
+    with pytest.raises(TypeError, match="chooses no pushes"):
+        comcore.estimate_posterior(mask, actions, [(0.1, 1.0, 1.0)], travel=0.05)
 
 
 def test_translation_noise_in_pixels_is_deprecated_and_still_works():
