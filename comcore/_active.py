@@ -22,8 +22,8 @@ from ._conventions import ANGLE_EPS
 from ._errors import PushFailedError
 from ._mask import Mask
 from ._planning import Candidates
-from ._sampling import DEFAULT_TRAVEL_M
 from ._posterior import GridPosterior
+from ._sampling import DEFAULT_TRAVEL_M
 from ._session import ActiveSession
 from ._session_log import SessionLog
 from ._session_pose import is_miss
