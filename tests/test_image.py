@@ -6,9 +6,9 @@ import sys
 
 import numpy as np
 import pytest
-from scipy import ndimage
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy import ndimage
 
 import comcore
 from comcore._image import otsu_threshold
