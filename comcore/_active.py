@@ -28,7 +28,7 @@ from ._session import ActiveSession
 from ._session_log import SessionLog
 from ._session_pose import is_miss
 from ._session_update import gyration_px, push_evidence, tracking_noise
-from ._types import Estimate
+from ._types import Estimate, Motion
 from ._validation import check_actions, check_mask, check_motions
 
 __all__ = ["estimate_active", "estimate_posterior"]
@@ -150,7 +150,11 @@ def estimate_active(
         object, or map the action through the motions observed so far).
     push : callable
         ``push(action: Action) -> Motion`` (or three numbers ``(theta, tx, ty)``):
-        the robot or simulator.
+        the robot or simulator. A robot that sees where its pusher really went
+        returns ``(motion, executed)``, ``executed`` the path as executed
+        (an :class:`Action` or four numbers, pixels of ``mask``): the push is
+        then scored as executed (:meth:`comcore.ActiveSession.observe`'s
+        ``executed``; set ``pusher_error`` to how well you know that path).
     candidates : array_like, shape (n, 4), optional
         Pushes to choose from; each must start outside the object and hit it.
         Default: ``comcore.sample_pushes(mask, n_candidates, cone=cone, rng=rng)``
@@ -276,7 +280,8 @@ def estimate_active(
     Raises
     ------
     PushFailedError
-        If ``push`` raises or returns an invalid or non-finite motion; its
+        If ``push`` raises or returns an invalid or non-finite motion or an
+        invalid executed path; its
         ``index`` says which push, ``partial`` holds the estimate so far.
     TypeError, ValueError
         On invalid arguments (each named).
@@ -335,19 +340,37 @@ def estimate_active(
     while not session.done:
         action = session.next_push()
         try:
-            motion = check_motions(push(action), n=1, name="push result")[0]
+            motion, executed = _push_result(push(action))
         except Exception as e:
-            n_done = len(session.actions)
-            raise PushFailedError(
-                f"push {n_done} (candidates[{session._pending}] = {tuple(action)}) failed: "
-                f"{type(e).__name__}: {e}",
-                index=n_done,
-                action=action,
-                partial=session._estimate("push_failed"),
-            ) from e
-        session.observe(motion=motion)
+            raise _push_failed(session, action, e) from e
+        try:
+            session.observe(motion=motion, executed=executed)
+        except (TypeError, ValueError) as e:  # a bad executed path; the session is unchanged
+            if executed is None:
+                raise
+            raise _push_failed(session, action, e) from e
         session.reset_pose()  # push() executes every action on the object in mask's pose
     return session.estimate()
+
+
+def _push_failed(session: ActiveSession, action, error: Exception) -> PushFailedError:
+    """The error for a push that raised or returned something invalid, with the estimate so far."""
+    n_done = len(session.actions)
+    return PushFailedError(
+        f"push {n_done} (candidates[{session._pending}] = {tuple(action)}) failed: "
+        f"{type(error).__name__}: {error}",
+        index=n_done,
+        action=action,
+        partial=session._estimate("push_failed"),
+    )
+
+
+def _push_result(result):
+    """``(motion, executed or None)`` from what ``push`` returned (validated)."""
+    if not isinstance(result, Motion) and isinstance(result, (tuple, list)) and len(result) == 2:
+        motion, executed = result
+        return check_motions(motion, n=1, name="push result's motion")[0], executed
+    return check_motions(result, n=1, name="push result")[0], None
 
 
 def estimate_posterior(

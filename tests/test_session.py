@@ -443,6 +443,43 @@ def test_a_bad_executed_push_is_named_and_changes_nothing(executed, failed, erro
     np.testing.assert_array_equal(session.estimate().extras["posterior"], est.extras["posterior"])
 
 
+def _beside(action, shift_px):
+    planned = np.asarray(action, float)
+    d = (planned[2:] - planned[:2]) / np.hypot(*(planned[2:] - planned[:2]))
+    return planned + shift_px * np.tile([-d[1], d[0]], 2)
+
+
+def test_estimate_active_scores_the_path_its_push_returns():
+    """push() may return (motion, executed): scored as the session scores observe(executed=)."""
+    mask, world = _mask(), World(_mask())  # World's pose stays the identity: a reset robot
+    options = {"rng": 0, "max_pushes": 4, "target_radius": 1e-4, "model": None}
+
+    def push(action):  # 4 px beside every plan, and it says where it went
+        real = _beside(action, 4.0)
+        return comcore.Motion(*world.object_motion(real)), real
+
+    told = comcore.estimate_active(mask, push, **options)
+    blind = comcore.estimate_active(mask, lambda a: push(a)[0], **options)
+    assert told.error_px(TRUE_COM) < 2.5 < blind.error_px(TRUE_COM)
+    session = comcore.ActiveSession(mask, **options)
+    while not session.done:
+        motion, real = push(session.next_push())
+        session.observe(motion=motion, executed=real)
+        session.reset_pose()
+    np.testing.assert_array_equal(told.extras["posterior"], session.estimate().extras["posterior"])
+
+
+def test_estimate_active_names_a_bad_executed_path_as_the_push_failing():
+    mask = _mask(10)
+    with pytest.raises(comcore.PushFailedError, match="push 0 .* executed .* misses") as info:
+        comcore.estimate_active(
+            mask, lambda a: ((0.1, 3.0, 0.0), (0.0, 5.0, 10.0, 5.0)), model=None, rng=0
+        )
+    assert info.value.index == 0 and info.value.partial.extras["posterior"].sum() > 0
+    with pytest.raises(comcore.PushFailedError, match="push result's motion"):
+        comcore.estimate_active(mask, lambda a: ((0.1, 3.0), tuple(a)), model=None, rng=0)
+
+
 def test_an_executed_start_just_inside_the_outline_is_moved_back_along_its_line():
     """The session's pose is measured; a pusher that met the outline may seem to start in it."""
     mask = _mask(10)  # object pixels at columns 10-39: the outline at x = 9.5
