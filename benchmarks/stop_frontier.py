@@ -17,6 +17,10 @@ Usage::
         --conditions exact,pymunk,pusher-error \\
         --estimators "active(target_radius=1e-6,min_information=0.0)" --keep-pushes full.pkl
     PYTHONPATH=. python benchmarks/stop_frontier.py full.pkl --radii 5,6,7,8,9,10
+    PYTHONPATH=. python benchmarks/stop_frontier.py full.pkl --options '{"model_weight": 1.0}'
+
+``--options`` scores the same pushes under other likelihood options (those of
+:func:`comcore.estimate_posterior`), e.g. the model untempered.
 """
 
 from __future__ import annotations
@@ -44,8 +48,8 @@ def _prefixes(job):
     errors, radii, holds = [], [], []
     for k in range(1, n + 1):
         est = comcore.estimate_posterior(
-            mask, kept["actions"][:k], kept["motions"][:k], model=model,
-            **{key: list(v[:k]) for key, v in readings.items()}, **options,
+            mask, kept["actions"][:k], kept["motions"][:k],
+            **{key: list(v[:k]) for key, v in readings.items()}, **{"model": model, **options},
         )  # fmt: skip
         errors.append(100 * est.error_px(kept["true_px"]) * mask.resolution)
         radii.append(1000 * est.extras["credible_radius_px"] * mask.resolution)
@@ -69,7 +73,8 @@ def main(argv=None):
     p.add_argument("--workers", type=int, default=2)
     p.add_argument(
         "--options", default="{}",
-        help="JSON of estimate_posterior options to score the pushes with (default: the defaults)",
+        help='JSON of estimate_posterior options to score the pushes with (default: the defaults; '
+        '\'{"model": null}\': the Voting Theorem alone)',
     )  # fmt: skip
     args = p.parse_args(argv)
     with open(args.runs, "rb") as f:

@@ -813,5 +813,11 @@ def test_stop_frontier_scores_every_stop_radius_on_kept_pushes(tmp_path):
     )
     rows = {line.split("|")[1].strip(): line for line in out.splitlines() if line.startswith("| ")}
     assert "1 runs" in out and set(rows) >= {"1", "100"}
+    vt = run_script(
+        "benchmarks/stop_frontier.py",
+        *(str(kept), "--workers", "1", "--radii", "1,100", "--options", '{"model": null}'),
+    )
+    vt_rows = {line.split("|")[1].strip(): line for line in vt.splitlines() if line.startswith("| ")}
+    assert vt_rows["1"] != rows["1"]  # the same pushes, scored by the Voting Theorem alone
     # a 1 mm region is never reached: all 3 pushes; any region is within 100 mm: 1 push
     assert "/ 3.00 /" in rows["1"] and "/ 1.00 /" in rows["100"]
