@@ -196,6 +196,7 @@ def active_options(
         t_abs, t_rel = pair(translation_error, "translation_error")
         translation_noise = (t_abs / mask.resolution, t_rel)
     pusher_error = check_positive(pusher_error, "pusher_error", allow_zero=True)
+    travel_m = check_positive(travel, "travel")
     try:
         scales = tuple(float(v) for v in model_scales)
     except (TypeError, ValueError) as e:
@@ -216,7 +217,7 @@ def active_options(
         flip_prob=flip_prob,
         cone=cone,
         n_candidates=int(n_candidates),
-        travel_m=check_positive(travel, "travel"),
+        travel_m=travel_m,
         mus=mu_grid(mu, int(n_mu)),
         theta_tol=theta_tol,
         theta_noise=theta_noise,
