@@ -1,4 +1,4 @@
-"""Immutable value types: :class:`Action`, :class:`Motion` and :class:`Estimate`."""
+"""Immutable value types: Action, Motion, PushRecord and Estimate."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["Action", "Estimate", "Motion"]
+__all__ = ["OUTCOMES", "Action", "Estimate", "Motion", "PushRecord"]
 
 
 def _finite_float(value, name: str, owner: str) -> float:
@@ -118,6 +118,94 @@ class Motion(_MotionFields):
         return (self.theta > 0) - (self.theta < 0)
 
 
+_IDENTITY = Motion(0.0, 0.0, 0.0)
+#: What a reported push did: it moved the object (``"evidence"``), it did not
+#: (``"miss"``: below the tracking noise), or it could not be executed (``"failed"``).
+OUTCOMES = ("evidence", "miss", "failed")
+
+
+@dataclass(frozen=True)
+class PushRecord:
+    """One push an active estimator made or was told about: what was planned, done and seen.
+
+    :class:`Estimate.pushes <Estimate>` holds one per push, in order; passing
+    them back (``comcore.estimate_posterior(mask, pushes=est.pushes)``)
+    replays the posterior that scored them. Every length is in pixels of the
+    first mask; ``action`` and ``motion`` are in the object's frame (the first
+    mask's), however the object moved.
+
+    Attributes
+    ----------
+    action : Action
+        The push as scored, in the first mask's frame: the path executed where
+        the robot said where its pusher went (``executed``), else the one
+        planned (``planned``).
+    motion : Motion or None
+        The object's motion in the first mask's frame, about its centroid
+        (None for a failed push).
+    outcome : {"evidence", "miss", "failed"}
+        What the push did (:data:`OUTCOMES`).
+    index : int or None
+        The candidate it was (an index into the session's candidates), or its
+        position among recorded pushes.
+    planned : Action or None
+        The push as planned, in the first mask's frame (None: as ``action``).
+    camera_action : Action or None
+        The push as handed to the robot, in the camera frame at ``pose_before``
+        (None offline).
+    camera_motion : Motion or None
+        The motion as the camera saw it, about the object's centroid at the time.
+    pose_before : Motion
+        The object's pose before the push, relative to the first mask.
+    rotation_observed : bool
+        False where the camera could not tell the rotation (a symmetric outline
+        read ambiguously): neither its sense nor its size is scored.
+    residual_px : float or None
+        The RMS outline residual of the registration that measured the motion
+        (None: not measured from masks).
+    symmetry : int
+        Order of the outline's rotational symmetry the registration saw (1: none).
+    log_evidence : float or None
+        The log-probability the posterior before the push gave its motion (its
+        evidence, nats); None for a miss or a failed push.
+    """
+
+    action: Action
+    motion: Motion | None
+    outcome: str
+    index: int | None = None
+    planned: Action | None = None
+    camera_action: Action | None = None
+    camera_motion: Motion | None = None
+    pose_before: Motion = _IDENTITY
+    rotation_observed: bool = True
+    residual_px: float | None = None
+    symmetry: int = 1
+    log_evidence: float | None = None
+
+    def __post_init__(self):
+        if self.outcome not in OUTCOMES:
+            raise ValueError(f"PushRecord.outcome must be one of {OUTCOMES}, got {self.outcome!r}")
+        set_ = object.__setattr__
+        set_(self, "action", Action(*self.action))
+        for name, kind in (("planned", Action), ("camera_action", Action),
+                           ("motion", Motion), ("camera_motion", Motion)):  # fmt: skip
+            value = getattr(self, name)
+            if value is not None:
+                set_(self, name, kind(*value))
+        if self.motion is None and self.outcome != "failed":
+            raise ValueError(
+                f"PushRecord.motion is needed for a push with outcome {self.outcome!r}"
+            )
+        set_(self, "pose_before", Motion(*self.pose_before))
+        if self.residual_px is not None:
+            residual = _finite_float(self.residual_px, "residual_px", "PushRecord")
+            if residual < 0:
+                raise ValueError(f"PushRecord.residual_px must be >= 0 or None, got {residual}")
+            set_(self, "residual_px", residual)
+        set_(self, "rotation_observed", bool(self.rotation_observed))
+
+
 def _readonly(array: np.ndarray) -> np.ndarray:
     out = np.array(array, copy=True)
     out.setflags(write=False)
@@ -150,6 +238,9 @@ class Estimate:
         Covariance of the CoM in pixels squared, where the estimator has one.
     extras : Mapping[str, Any]
         Estimator-specific outputs (Alg. 1's ``"heatmap"``, ...), read-only.
+    pushes : tuple of PushRecord
+        The active estimators' pushes, in order (misses and failed pushes
+        included); empty for the others.
 
     Examples
     --------
@@ -166,6 +257,7 @@ class Estimate:
     status: str = "ok"
     covariance: np.ndarray | None = None
     extras: Mapping[str, Any] = field(default_factory=dict)
+    pushes: tuple = ()
 
     def __post_init__(self):
         com = tuple(float(v) for v in self.com)
@@ -182,6 +274,10 @@ class Estimate:
         for key, value in dict(self.extras).items():
             extras[key] = _readonly(value) if isinstance(value, np.ndarray) else value
         object.__setattr__(self, "extras", MappingProxyType(extras))
+        pushes = tuple(self.pushes)
+        if not all(isinstance(p, PushRecord) for p in pushes):
+            raise TypeError("Estimate.pushes must hold comcore.PushRecord values")
+        object.__setattr__(self, "pushes", pushes)
 
     @property
     def ok(self) -> bool:

@@ -58,7 +58,7 @@ COLORS = {
 def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.ndarray]:
     """The pushes an estimate rests on, in order, and the given pushes not among them.
 
-    Where the estimate lists its pushes in ``extras["actions"]`` (the active
+    Where the estimate lists its pushes in ``pushes`` (the active
     estimator's executed pushes, the offline posterior's recorded ones) those
     are they, in order: an active run's ``used`` indexes its candidates, not
     them. For the others they are ``actions[used]`` in the order ``used``
@@ -79,8 +79,9 @@ def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.nd
     ([2.0, 0.0], [1.0])
     """
     candidates = check_actions(actions) if actions is not None else np.zeros((0, 4))
-    if "actions" in estimate.extras:
-        executed = check_actions(estimate.extras["actions"], "estimate.extras['actions']")
+    if estimate.pushes:
+        done_ = [p.action for p in estimate.pushes if p.outcome != "failed"]
+        executed = np.array(done_, dtype=float).reshape(-1, 4)
         if not len(candidates) or not len(executed):
             return executed, candidates
         done = (candidates[:, None, :] == executed[None, :, :]).all(axis=2).any(axis=1)
@@ -97,16 +98,16 @@ def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.nd
 
 
 def _evidence(estimate: Estimate, n_executed: int) -> np.ndarray:
-    """Per executed push: did it carry evidence (``extras["outcomes"]``; all, without it)."""
-    outcomes = estimate.extras.get("outcomes")
-    if outcomes is None or len(outcomes) != n_executed:
+    """Per executed push: did it carry evidence (its record's outcome; all, without records)."""
+    outcomes = [p.outcome for p in estimate.pushes if p.outcome != "failed"]
+    if len(outcomes) != n_executed:
         return np.ones(n_executed, bool)
     return np.array([o == "evidence" for o in outcomes], bool)
 
 
 def _is_active(estimate: Estimate) -> bool:
     """An active run (it chose and executed its pushes), not the offline posterior."""
-    return "pose" in estimate.extras or "camera_actions" in estimate.extras
+    return "pose" in estimate.extras
 
 
 def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:

@@ -15,6 +15,8 @@ pytest.importorskip("matplotlib")
 
 import comcore.plot
 
+from .records import actions_of, outcomes_of
+
 MASK = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
 ACTIONS = np.array([(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)], float)
 MOTIONS = np.array([(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)], float)
@@ -48,7 +50,7 @@ def estimates():
         "alg1": comcore.estimate_heatmap(MASK, ACTIONS, MOTIONS),
         "alg2": comcore.estimate_progressive(MASK, ACTIONS, MOTIONS),
         "centroid": comcore.Estimate(MASK.centroid, MASK.centroid_m, MASK.data),
-        "active": comcore.estimate_active(MASK, toy_push, max_pushes=4, rng=0),
+        "active": comcore.estimate_active(MASK, toy_push, rng=0, stop=comcore.StopRule(max_pushes=4)),
         "posterior": comcore.estimate_posterior(MASK, ACTIONS, MOTIONS),
     }
 
@@ -90,15 +92,15 @@ def test_the_used_pushes_of_alg2_are_numbered_in_the_order_used():
 
 def test_an_active_estimate_shows_its_executed_pushes_not_candidates_by_index():
     # estimate_active drew its own candidates: est.used indexes them, not the caller's
-    # pushes. The executed pushes are extras["actions"], in order.
-    est = comcore.estimate_active(MASK, toy_push, max_pushes=4, rng=0)
-    executed = np.asarray(est.extras["actions"])
+    # pushes. The executed pushes are its records (Estimate.pushes), in order.
+    est = comcore.estimate_active(MASK, toy_push, rng=0, stop=comcore.StopRule(max_pushes=4))
+    executed = np.asarray(actions_of(est))
     assert len(executed) > 1
     ax = comcore.plot.plot_estimate(MASK, est, actions=ACTIONS)
     colors = comcore.plot.COLORS
     drawn = arrows(ax, colors["used"], colors["no_evidence"])
     assert drawn == [(tuple(a[:2]), tuple(a[2:])) for a in executed]
-    evidence = [o == "evidence" for o in est.extras["outcomes"]]
+    evidence = [o == "evidence" for o in outcomes_of(est)]
     red = arrows(ax, colors["used"])
     assert red == [(tuple(a[:2]), tuple(a[2:])) for a, e in zip(executed, evidence) if e]
     blue = arrows(ax, colors["other"])

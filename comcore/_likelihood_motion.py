@@ -1,36 +1,52 @@
-"""Motion-model likelihood and information for :func:`comcore.estimate_active`.
+"""The motion model's term of a push's likelihood: predicted against observed motion.
 
 A :class:`comcore.HypothesisPredictor` predicts each push's motion for CoM and
-friction hypotheses; this module scores observed motions against those
-predictions with error scales measured against the simulator, and estimates
-how much a candidate push's motion would tell the hypotheses apart.
+friction hypotheses (:func:`model_predictions`); the observed motion is scored
+against the predictions with heavy-tailed Student-t residuals in the rotation
+and in the displacement of each hypothesis' CoM (:func:`motion_log_likelihood`),
+with error scales fitted against the simulator (docs/active.md). The pusher's
+offset across its path is marginalised at three Gauss-Hermite nodes
+(:func:`offset_marginal`). :mod:`comcore._likelihood` combines this term with
+the Voting Theorem's.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
-from scipy.special import digamma, logsumexp
+from scipy.special import digamma
 
 from ._conventions import rotate_vectors
-from ._posterior import GridPosterior, line_distances
 
 __all__ = [
+    "NEAR_LINE_M",
+    "STUDENT_DOF",
     "com_shift",
-    "model_gains",
-    "model_information",
+    "model_error_log_density",
     "model_predictions",
     "motion_excess",
     "motion_log_likelihood",
+    "offset_marginal",
+    "pusher_nodes",
+    "student_t",
     "theta_scale",
 ]
 
+
 #: Degrees of freedom of the Student-t likelihoods (heavy tails; fitted: 2-3).
 STUDENT_DOF = 3.0
-#: Hypotheses (pixel, friction) drawn from the posterior to score candidates with the model.
-MODEL_PARTICLES = 64
+#: Length (metres) over which the rotation's model error falls off with the
+#: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
+NEAR_LINE_M = 0.0375
+
+#: Three-point Gauss-Hermite rule for a standard normal: nodes (standard
+#: deviations) and weights. The pusher's offset is marginalised over it.
+HERMITE_NODES = np.array([0.0, -math.sqrt(3.0), math.sqrt(3.0)])
+HERMITE_WEIGHTS = np.array([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0])
 
 
-def _student_t(residual_sq, scale, dof: float, dim: int):
+def student_t(residual_sq, scale, dof: float, dim: int):
     """Log density (up to a constant) of a ``dim``-variate Student-t, isotropic scale."""
     return -0.5 * (dof + dim) * np.log1p(residual_sq / (dof * scale**2)) - dim * np.log(scale)
 
@@ -62,7 +78,7 @@ def motion_log_likelihood(
     lever,
     offset,
     theta_noise,
-    translation_noise,
+    translation_px,
     near_line_px,
     *,
     rotation=True,
@@ -87,7 +103,7 @@ def motion_log_likelihood(
         Distance (px) of each hypothesis' CoM to its force line.
     offset : numpy.ndarray, shape (p, 1, 2)
         Each hypothesis' CoM minus the mask's centroid (px).
-    theta_noise, translation_noise : tuple of float
+    theta_noise, translation_px : tuple of float
         ``(absolute, near)`` radians and ``(absolute, relative)`` pixels.
     near_line_px : float
     rotation : bool, optional
@@ -106,12 +122,12 @@ def motion_log_likelihood(
         lever,
         offset,
         theta_noise,
-        translation_noise,
+        translation_px,
         near_line_px,
         rotation,
         tracking,
     )
-    return sum(_student_t(res_sq, scale, STUDENT_DOF, dim) for res_sq, scale, dim in terms)
+    return sum(student_t(res_sq, scale, STUDENT_DOF, dim) for res_sq, scale, dim in terms)
 
 
 def _motion_terms(
@@ -120,7 +136,7 @@ def _motion_terms(
     lever,
     offset,
     theta_noise,
-    translation_noise,
+    translation_px,
     near_line_px,
     rotation,
     tracking,
@@ -128,7 +144,7 @@ def _motion_terms(
     """The squared residuals, scales and dimensions scored by :func:`motion_log_likelihood`."""
     track_theta, track_px = tracking
     th_scale = np.hypot(theta_scale(lever, theta_noise, near_line_px), track_theta)
-    tr_abs, tr_rel = translation_noise
+    tr_abs, tr_rel = translation_px
     if not rotation:
         pred_t = predicted[..., 1:]
         scale = tr_abs + tr_rel * np.hypot(pred_t[..., 0], pred_t[..., 1])
@@ -158,7 +174,7 @@ def motion_excess(
     lever,
     offset,
     theta_noise,
-    translation_noise,
+    translation_px,
     near_line_px,
     *,
     rotation=True,
@@ -177,7 +193,7 @@ def motion_excess(
         lever,
         offset,
         theta_noise,
-        translation_noise,
+        translation_px,
         near_line_px,
         rotation,
         tracking,
@@ -187,46 +203,6 @@ def motion_excess(
         - _EXPECTED_DEFICIT[dim]
         for res_sq, scale, dim in terms
     )
-
-
-def model_information(
-    predicted, lever, offset, weights, theta_noise, translation_noise, near_line_px
-):
-    """Expected information (nats) from each push's motion about weighted hypotheses.
-
-    ``I = sum_i w_i [log p(y_i | i) - log sum_j w_j p(y_i | j)]`` with ``y_i``
-    the motion hypothesis ``i`` predicts: how well the observed motion will
-    tell the hypotheses apart, with the error model of
-    :func:`motion_log_likelihood`.
-
-    Parameters
-    ----------
-    predicted : numpy.ndarray, shape (n, a, 3)
-        Motions of ``a`` candidate pushes under ``n`` hypotheses.
-    lever : numpy.ndarray, shape (n, a)
-    offset : numpy.ndarray, shape (n, 2)
-        Each hypothesis' CoM minus the mask's centroid.
-    weights : numpy.ndarray, shape (n,)
-        Hypothesis weights, summing to 1.
-
-    Returns
-    -------
-    numpy.ndarray, shape (a,)
-    """
-    pred = np.moveaxis(predicted, 1, 0)  # (a, n, 3)
-    th_scale = theta_scale(lever.T, theta_noise, near_line_px)  # (a, n)
-    # Observation i (axis 1) seen from hypothesis j (axis 2): both moved at j's CoM.
-    theta_i, theta_j = pred[:, :, None, 0], pred[:, None, :, 0]
-    off_j = offset[None, None, :, :]
-    moved_obs = pred[:, :, None, 1:] + com_shift(theta_i, off_j)
-    moved_pred = pred[:, None, :, 1:] + com_shift(theta_j, off_j)
-    tr_abs, tr_rel = translation_noise
-    tr_scale = tr_abs + tr_rel * np.hypot(moved_pred[..., 0], moved_pred[..., 1])
-    log_p = _student_t((theta_i - theta_j) ** 2, th_scale[:, None, :], STUDENT_DOF, 1)
-    log_p += _student_t(((moved_obs - moved_pred) ** 2).sum(axis=-1), tr_scale, STUDENT_DOF, 2)
-    own = np.einsum("aii->ai", log_p)
-    log_mix = logsumexp(log_p + np.log(weights)[None, None, :], axis=2)
-    return (own - log_mix) @ weights
 
 
 def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
@@ -255,39 +231,68 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     return out
 
 
-def particles(post: GridPosterior, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Deterministic systematic draw of ``n`` CoM pixels from the posterior.
+def offset_marginal(scoring, mask, action, pixels, offset, alive):
+    """The model's motion (p, m, k, 3) marginalised over the pusher's offset, and its spread.
 
-    Returns the distinct pixel indices drawn and their weights (counts / n).
+    The executed push lies ``s ~ N(0, pusher_error)`` across the planned one.
+    To first order a push moved aside by ``s`` is the planned push on an
+    object whose CoM is moved by ``-s``, so the model is asked once about the
+    CoMs ``pixels - s`` at the three Gauss-Hermite nodes of ``s``
+    (:func:`pusher_nodes`; on a lattice model such as
+    :class:`comcore.LimitSurfaceModel` the neighbouring CoMs cost little
+    more), the displacement it predicts for the moved CoM kept as that of the
+    hypothesis' CoM. Returned: the nodes' mean motion and the standard
+    deviations ``(rad, px)`` of the rotation and of each component of the
+    CoM's displacement over the nodes (zeros without a pusher error).
+    ``scoring`` is the :class:`comcore._likelihood.Scoring` of the session.
     """
-    cum = np.cumsum(post.marginal)
-    picks = np.searchsorted(cum, (np.arange(n) + 0.5) / n * cum[-1])
-    index, counts = np.unique(np.minimum(picks, len(cum) - 1), return_counts=True)
-    return index, counts / n
+    shifts, log_w = pusher_nodes(action, scoring)
+    n, p = len(shifts), len(pixels)
+    coms = (pixels[None] - shifts[:, None]).reshape(n * p, 2)
+    act = np.asarray(action, dtype=float)[None]
+    many = np.concatenate([alive] * n)
+    pred = model_predictions(scoring.models, mask, act, coms, scoring.mus, many)[..., 0, :]
+    pred = np.where(many[..., None], pred, 0.0).reshape(n, p, *alive.shape[1:], 3)
+    if n == 1:
+        return pred[0], (0.0, 0.0)
+    asked = (coms.reshape(n, p, 2) - np.asarray(mask.centroid))[:, :, None, None, :]
+    moved = pred[..., 1:] + com_shift(pred[..., 0], asked)  # each node's CoM displacement
+    w = np.exp(log_w)
+    theta = np.tensordot(w, pred[..., 0], axes=1)
+    moved_mean = np.tensordot(w, moved, axes=1)
+    theta_sd = np.sqrt(np.tensordot(w, (pred[..., 0] - theta) ** 2, axes=1))
+    moved_sd = np.sqrt(np.tensordot(w, ((moved - moved_mean) ** 2).sum(axis=-1), axes=1) / 2)
+    mean = np.concatenate([theta[..., None], moved_mean - com_shift(theta, offset)], axis=-1)
+    return mean, (theta_sd, moved_sd)
 
 
-def model_gains(models, mask, post, actions, lines, theta_noise, translation_noise, near_px):
-    """Expected information (nats) about the CoM from each candidate's motion.
+def pusher_nodes(action, scoring):
+    """The pusher's offset across its path at Gauss-Hermite nodes: (n, 2) px and log weights.
 
-    The CoM hypotheses are 64 particles drawn from the posterior; the friction
-    and the model are held at their most probable values, so that what is
-    measured is information about the CoM, not about the friction (a push
-    that only tells the friction apart is worth nothing here).
-
-    Parameters
-    ----------
-    actions : numpy.ndarray, shape (a, 4)
-    lines : numpy.ndarray, shape (a, m, 3)
-        Force lines of the candidates for each friction value of ``post``.
+    The planned push alone (weight 1) without a pusher error; else the three
+    nodes ``s = 0, +-sqrt(3) sigma`` (weights 2/3, 1/6, 1/6) across the
+    push's direction.
     """
-    index, weights = particles(post, MODEL_PARTICLES)
-    j = int(np.argmax(post.mu_marginal))
-    k = int(np.argmax(post.model_marginal))
-    pixels = post.pixels[index]
-    alive = np.ones((len(pixels), 1, 1), dtype=bool)
-    pred = model_predictions(models[k : k + 1], mask, actions, pixels, post.mus[j : j + 1], alive)
-    lever = np.abs(line_distances(pixels, lines[:, j]))
-    offset = pixels - np.asarray(mask.centroid)
-    return model_information(
-        pred[:, 0, 0], lever, offset, weights, theta_noise, translation_noise, near_px
-    )
+    action = np.asarray(action, dtype=float)
+    if scoring.pusher_px <= 0:
+        return np.zeros((1, 2)), np.zeros(1)
+    direction = action[2:] - action[:2]
+    direction = direction / math.hypot(*direction)
+    across = np.array([-direction[1], direction[0]])
+    shifts = HERMITE_NODES[:, None] * scoring.pusher_px * across
+    return shifts, np.log(HERMITE_WEIGHTS)
+
+
+def model_error_log_density(
+    theta_noise, translation_error, theta_error, lever_m, displacement_error_m, displacement_m
+):
+    """Log-density (up to a constant) of a motion model's errors as the likelihood scores them.
+
+    See :meth:`comcore.Likelihood.model_error_log_density`; all lengths in metres.
+    """
+    th_scale = theta_scale(np.asarray(lever_m, float), theta_noise, NEAR_LINE_M)
+    tr_scale = translation_error[0] + translation_error[1] * np.asarray(displacement_m, float)
+    theta_sq = np.asarray(theta_error, float) ** 2
+    moved_sq = np.asarray(displacement_error_m, float) ** 2
+    theta_term = student_t(theta_sq, th_scale, STUDENT_DOF, 1)
+    return theta_term + student_t(moved_sq, tr_scale, STUDENT_DOF, 2)
