@@ -20,6 +20,7 @@ warning, for configuration files and command lines.
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import math
 import warnings
 from dataclasses import dataclass
@@ -389,6 +390,20 @@ def option_groups(**flat) -> dict[str, Any]:
         if mine:
             out[keyword] = cls(**mine)
     return out
+
+
+def _group_signature() -> inspect.Signature:
+    """``option_groups``'s signature: every group's fields, keyword-only, with their defaults."""
+    return inspect.Signature(
+        [
+            inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=f.default)
+            for cls in GROUPS.values()
+            for f in dataclasses.fields(cls)
+        ]
+    )
+
+
+option_groups.__signature__ = _group_signature()  # type: ignore[attr-defined]
 
 
 def resolve_groups(

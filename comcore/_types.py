@@ -24,13 +24,13 @@ def _finite_float(value, name: str, owner: str) -> float:
 
 class _ActionFields(NamedTuple):
     sx: float
-    """x (column) of the pusher's start, pixels."""
+    """x (column) of the start of the pusher's leading point, pixels."""
     sy: float
-    """y (row, down) of the pusher's start, pixels."""
+    """y (row, down) of the start of the pusher's leading point, pixels."""
     ex: float
-    """x (column) of the pusher's end, pixels."""
+    """x (column) of the end of the pusher's leading point, pixels."""
     ey: float
-    """y (row, down) of the pusher's end, pixels."""
+    """y (row, down) of the end of the pusher's leading point, pixels."""
 
 
 class _MotionFields(NamedTuple):
@@ -43,7 +43,18 @@ class _MotionFields(NamedTuple):
 
 
 class Action(_ActionFields):
-    """A push: the pusher's straight path in the image, in pixels.
+    """A push: the straight path of the pusher's leading point in the image, in pixels.
+
+    For a round pusher of radius ``r`` the leading point is the point of the
+    disc farthest along the push: it is what touches a flat edge pushed along
+    its normal. The disc's centre runs ``r`` behind it on the same line, from
+    ``start - r * direction`` to ``end - r * direction``. A robot that moves
+    the centre of its pusher must take that offset off both points, or every
+    push goes one radius deeper than planned. comcore's samplers
+    (:func:`comcore.sample_pushes`), motion model
+    (:class:`comcore.LimitSurfaceModel`) and ``simulators`` all read an action
+    so; docs/conventions.md has the conversion. For a point pusher (``r =
+    0``) the two coincide.
 
     Validated on construction: every field must be a finite real number and the
     path must have non-zero length.
@@ -55,6 +66,12 @@ class Action(_ActionFields):
     (1.0, 0.0)
     >>> a.length
     20.0
+
+    The path of the centre of a 4 mm disc at 2.5 mm per pixel (1.6 px behind):
+
+    >>> r = 0.004 / 0.0025
+    >>> [round(v, 6) for v in (a.sx - r * a.direction[0], a.ex - r * a.direction[0])]
+    [-1.6, 18.4]
     >>> Action(1, 1, 1, 1)
     Traceback (most recent call last):
     ...
@@ -212,6 +229,29 @@ def _readonly(array: np.ndarray) -> np.ndarray:
     return out
 
 
+def _check_region(region) -> np.ndarray:
+    """``region`` as a 2-D boolean array, or a named error."""
+    try:
+        arr = np.asarray(region)
+    except (TypeError, ValueError) as e:  # ragged nested sequences
+        raise ValueError(f"Estimate.region must be a 2-D image of shape (H, W): {e}") from e
+    if arr.dtype != bool and not np.issubdtype(arr.dtype, np.number):
+        raise TypeError(f"Estimate.region must be an image of booleans, got dtype {arr.dtype}")
+    if arr.ndim != 2 or 0 in arr.shape:
+        raise ValueError(
+            f"Estimate.region must be a 2-D image of shape (H, W) (the mask's), got shape "
+            f"{arr.shape}"
+        )
+    if arr.dtype != bool:
+        odd = arr[(arr != 0) & (arr != 1)]  # NaN is neither
+        if odd.size:
+            raise ValueError(
+                "Estimate.region must hold booleans (or the numbers 0 and 1), got "
+                f"{odd.size} other value(s), e.g. {odd.flat[0]}"
+            )
+    return arr.astype(bool)
+
+
 @dataclass(frozen=True)
 class Estimate:
     """The result of every estimator.
@@ -228,12 +268,18 @@ class Estimate:
     com_m : tuple of float
         The same in metres in the mask frame (``resolution * (x, y)``).
     region : numpy.ndarray of bool, shape (H, W)
-        The CoM region the estimate is the mean of (read-only).
+        The CoM region the estimate is the mean of (read-only): a 2-D image
+        of the mask's shape, booleans (or the numbers 0 and 1).
     used : tuple of int
         Indices of the actions the estimator used, in the order it used them.
     status : str
-        ``"ok"`` or a short reason (``"no_actions"``, ``"contradiction"``,
-        ``"budget"``, ...).
+        ``"ok"`` (the data were consistent and the answer is as good as it
+        says) or a short reason: ``"unchecked"`` (Alg. 1: an answer whose
+        evidence no test checked), ``"no_actions"``, ``"flat_heatmap"``,
+        ``"contradiction"`` (Alg. 2), ``"budget"``, ``"exhausted"``,
+        ``"uninformative"``, ``"inconsistent"``, ``"no_evidence"`` (the active
+        estimator and the posterior; docs/robot.md says what each means on a
+        robot) ...
     covariance : numpy.ndarray, shape (2, 2), or None
         Covariance of the CoM in pixels squared, where the estimator has one.
     extras : Mapping[str, Any]
@@ -248,6 +294,10 @@ class Estimate:
     >>> e = Estimate(com=(1.0, 2.0), com_m=(0.01, 0.02), region=np.ones((3, 3), bool))
     >>> e.ok, e.region.flags.writeable
     (True, False)
+    >>> Estimate(com=(1.0, 2.0), com_m=(0.01, 0.02), region=np.ones(4, bool))
+    Traceback (most recent call last):
+    ...
+    ValueError: Estimate.region must be a 2-D image of shape (H, W) (the mask's), got shape (4,)
     """
 
     com: tuple[float, float]
@@ -266,7 +316,7 @@ class Estimate:
             raise ValueError(f"Estimate.com must be two finite numbers, got {self.com}")
         object.__setattr__(self, "com", com)
         object.__setattr__(self, "com_m", com_m)
-        object.__setattr__(self, "region", _readonly(np.asarray(self.region, dtype=bool)))
+        object.__setattr__(self, "region", _readonly(_check_region(self.region)))
         object.__setattr__(self, "used", tuple(int(i) for i in self.used))
         if self.covariance is not None:
             object.__setattr__(self, "covariance", _readonly(np.asarray(self.covariance, float)))

@@ -37,12 +37,18 @@ from ._mask import Mask
 from ._types import Estimate
 from ._validation import check_actions, check_mask, check_point
 
-__all__ = ["belief_of", "executed_pushes", "plot_estimate"]
+__all__ = ["belief_of", "executed_pushes", "number_positions", "plot_estimate", "region_outline"]
 
-#: Up to this many executed pushes are numbered in order (more would hide the picture).
-MAX_NUMBERED = 15
 #: The posterior is drawn on a log scale down to this fraction of its maximum.
 POSTERIOR_FLOOR = 1e-4
+#: ``view="object"``: pushes widen the window at most this many object sizes past the object.
+PUSH_REACH = 0.75
+#: ``view="object"``: the margin around the object and its pushes, a share of the window.
+MARGIN = 0.08
+#: ... and at least this many pixels.
+MIN_MARGIN_PX = 3.0
+#: A push's number steps back along its line at most this many times to stay clear.
+MAX_STEPS = 4
 #: Colours of the picture's elements.
 COLORS = {
     "object": (0.78, 0.78, 0.78),
@@ -53,6 +59,9 @@ COLORS = {
     "estimate": "black",
     "truth": "tab:green",
 }
+#: Drawing order: the object and belief, then arrows, then the region's outline, the
+#: markers and, on top, the push numbers (placed where they hide neither).
+ZORDER = {"arrows": 3, "other_arrows": 2.5, "region": 3.5, "markers": 5, "numbers": 6}
 
 
 def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.ndarray]:
@@ -135,23 +144,76 @@ def _name(estimate: Estimate, belief: str) -> str:
     return "Alg. 2 region" if estimate.used else "region"
 
 
-def _arrows(ax, pushes: np.ndarray, color, numbered: bool, **style) -> None:
+def _arrows(ax, pushes: np.ndarray, color, **style) -> None:
     colors = [color] * len(pushes) if isinstance(color, str) else list(color)
-    for k, ((sx, sy, ex, ey), color) in enumerate(zip(pushes, colors)):
+    for (sx, sy, ex, ey), color in zip(pushes, colors):
         ax.annotate(
-            "", (ex, ey), (sx, sy),
+            "", (ex, ey), (sx, sy), zorder=style.get("zorder", ZORDER["arrows"]),
             arrowprops={"arrowstyle": "-|>", "color": color, "lw": style.get("lw", 1.4),
                         "alpha": style.get("alpha", 1.0), "shrinkA": 0, "shrinkB": 0},
         )  # fmt: skip
-        if numbered:
-            ax.text(sx, sy, str(k + 1), color="white", fontsize=7, ha="center", va="center",
-                    bbox={"boxstyle": "circle,pad=0.2", "fc": color, "ec": "none"})  # fmt: skip
+
+
+def number_positions(pushes, size: float, avoid=()) -> np.ndarray:
+    """Where to write each push's number: behind its start, on its own line, apart.
+
+    A push starts outside the object, so its number goes on the push's line
+    just behind the start: outside the object, clear of the estimate and the
+    truth (inside it), and read with its arrow. Pushes are placed in order; a
+    number that would touch one already placed, or a point of ``avoid``, moves
+    further back along its line (at most ``MAX_STEPS`` steps; where every
+    place touches something, the one farthest from the others).
+
+    Parameters
+    ----------
+    pushes : array_like, shape (n, 4)
+    size : float
+        A number's diameter in data units (pixels).
+    avoid : array_like, shape (m, 2), optional
+        Points the numbers keep ``size`` away from (the markers).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
+
+    Examples
+    --------
+    Two pushes from the same start: the second number steps back along its line.
+
+    >>> number_positions([(0, 0, 10, 0), (0, 0, 10, 0)], size=2.0).tolist()
+    [[-1.0, 0.0], [-3.0, 0.0]]
+    """
+    pushes = np.asarray(pushes, float).reshape(-1, 4)
+    taken = np.asarray(avoid, float).reshape(-1, 2)
+    out = np.zeros((len(pushes), 2))
+    steps = 0.5 + np.arange(MAX_STEPS + 1)
+    for k, (sx, sy, ex, ey) in enumerate(pushes):
+        back = -np.array([ex - sx, ey - sy]) / max(float(np.hypot(ex - sx, ey - sy)), 1e-12)
+        places = np.array([sx, sy]) + steps[:, None] * size * back  # (steps, 2)
+        if len(taken):
+            gap = np.hypot(*(places[:, None] - taken[None]).transpose(2, 0, 1)).min(axis=1)
+        else:
+            gap = np.full(len(places), np.inf)
+        free = np.flatnonzero(gap >= size)
+        out[k] = places[free[0] if len(free) else int(np.argmax(gap))]
+        taken = np.vstack([taken, out[k]])
+    return out
+
+
+def _numbers(ax, pushes: np.ndarray, colors, places: np.ndarray, fontsize: float) -> None:
+    """Number the pushes in order (white on the arrow's colour) at ``places``."""
+    for k, (point, push, color) in enumerate(zip(places, pushes, colors)):
+        ax.plot([point[0], push[0]], [point[1], push[1]], "-", color=color, lw=0.6,
+                alpha=0.5, zorder=ZORDER["arrows"])  # fmt: skip
+        bbox = {"boxstyle": "circle,pad=0.2", "fc": color, "ec": "white", "lw": 0.6}
+        ax.text(*point, str(k + 1), color="white", fontsize=fontsize, ha="center",
+                va="center", zorder=ZORDER["numbers"], bbox=bbox, clip_on=True)  # fmt: skip
 
 
 def _marker(ax, point, marker: str, color, label: str) -> None:
     """A cross with a white halo, readable on the grey mask and on a dark heat map."""
-    ax.plot(*point, marker, color="white", ms=14, mew=5.0)
-    ax.plot(*point, marker, color=color, ms=12, mew=2.5, label=label)
+    ax.plot(*point, marker, color="white", ms=14, mew=5.0, zorder=ZORDER["markers"])
+    ax.plot(*point, marker, color=color, ms=12, mew=2.5, label=label, zorder=ZORDER["markers"])
 
 
 def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> None:
@@ -160,15 +222,81 @@ def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> N
 
     if evidence.any():
         what = "pushes executed" if executed else "pushes used"
-        if len(evidence) <= MAX_NUMBERED:
-            what += ", numbered in order"
-        ax.add_line(Line2D([], [], color=COLORS["used"], marker=">", label=what))
+        ax.add_line(Line2D([], [], color=COLORS["used"], marker=">", label=what + ", in order"))
     if not evidence.all():
         label = "pushes without evidence (missed or failed)"
         ax.add_line(Line2D([], [], color=COLORS["no_evidence"], marker=">", label=label))
     if n_others:
         label = "candidates not executed" if executed else "pushes not used"
         ax.add_line(Line2D([], [], color=COLORS["other"], alpha=0.45, label=label))
+
+
+def _region_label(estimate: Estimate, belief: str, values) -> str:
+    """What the outlined region is: a credible region holds a share of the posterior."""
+    if belief == "posterior" and values is not None and values.shape == estimate.region.shape:
+        total = float(values.sum())
+        if total > 0:
+            share = float(values[estimate.region].sum()) / total
+            return f"credible region ({100 * share:.0f} % of the posterior)"
+    if belief == "heatmap":
+        return "calm region (Alg. 1)"
+    return "CoM region"
+
+
+def region_outline(region) -> np.ndarray:
+    """The outline of a pixel region along the pixels' edges, as line segments.
+
+    Parameters
+    ----------
+    region : array_like of bool, shape (H, W)
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2, 2)
+        Each segment's two ends ``(x, y)`` in pixels (a pixel's edges lie half a
+        pixel from its centre): a matplotlib ``LineCollection``'s segments.
+
+    Examples
+    --------
+    One pixel has four edges:
+
+    >>> region_outline([[False, True]]).tolist()
+    [[[0.5, -0.5], [0.5, 0.5]], [[1.5, -0.5], [1.5, 0.5]], [[0.5, -0.5], [1.5, -0.5]], [[0.5, 0.5], [1.5, 0.5]]]
+    """  # noqa: E501
+    padded = np.pad(np.asarray(region, bool), 1)
+    rows, cols = np.nonzero(padded[:, 1:] != padded[:, :-1])  # an edge right of (row, col)
+    x, y = cols - 0.5, rows - 1.0
+    vertical = np.stack([np.column_stack([x, y - 0.5]), np.column_stack([x, y + 0.5])], axis=1)
+    rows, cols = np.nonzero(padded[1:, :] != padded[:-1, :])  # an edge below (row, col)
+    x, y = cols - 1.0, rows - 0.5
+    horizontal = np.stack([np.column_stack([x - 0.5, y]), np.column_stack([x + 0.5, y])], axis=1)
+    return np.concatenate([vertical, horizontal]).astype(float)
+
+
+def _window(mask: Mask, pushes: np.ndarray, view: str) -> tuple[float, float, float, float]:
+    """``(x0, x1, y0, y1)`` of the axes: the object and its pushes, or the whole image."""
+    h, w = mask.shape
+    if view == "image":
+        x0, x1, y0, y1 = -0.5, w - 0.5, -0.5, h - 0.5
+        if len(pushes):  # widened to the push starts that lie near the image
+            margin = 0.25 * max(h, w)
+            xs, ys = pushes[:, [0, 2]], pushes[:, [1, 3]]
+            x0 = max(min(x0, xs.min() - 1), -0.5 - margin)
+            x1 = min(max(x1, xs.max() + 1), w - 0.5 + margin)
+            y0 = max(min(y0, ys.min() - 1), -0.5 - margin)
+            y1 = min(max(y1, ys.max() + 1), h - 0.5 + margin)
+        return x0, x1, y0, y1
+    rows, cols = np.nonzero(mask.data)
+    x0, x1 = cols.min() - 0.5, cols.max() + 0.5
+    y0, y1 = rows.min() - 0.5, rows.max() + 0.5
+    if len(pushes):
+        reach = PUSH_REACH * max(x1 - x0, y1 - y0)
+        xs = np.clip(pushes[:, [0, 2]], x0 - reach, x1 + reach)
+        ys = np.clip(pushes[:, [1, 3]], y0 - reach, y1 + reach)
+        x0, x1 = min(x0, xs.min()), max(x1, xs.max())
+        y0, y1 = min(y0, ys.min()), max(y1, ys.max())
+    pad = max(MARGIN * max(x1 - x0, y1 - y0), MIN_MARGIN_PX)
+    return x0 - pad, x1 + pad, y0 - pad, y1 + pad
 
 
 def plot_estimate(
@@ -179,8 +307,9 @@ def plot_estimate(
     truth=None,
     ax=None,
     title: str | None = None,
+    view: str = "object",
 ):
-    """Draw an estimate on its mask: belief, pushes, estimate and truth.
+    """Draw an estimate on its mask: belief, pushes in order, region, estimate and truth.
 
     Parameters
     ----------
@@ -188,17 +317,25 @@ def plot_estimate(
         The mask the estimate was computed on (for an active estimate, the first mask).
     estimate : Estimate
         Any estimator's result. The object is coloured by ``extras["posterior"]``
-        (active and offline posterior) or ``extras["heatmap"]`` (Alg. 1) where
-        present, with the CoM region outlined; otherwise the region is filled.
+        (active and offline posterior, on a log scale) or ``extras["heatmap"]``
+        (Alg. 1) where present; otherwise the region is filled. The region is
+        outlined in every case (for a posterior: its credible region).
     actions : array_like, shape (n, 4), optional
         The pushes the estimator was given (the candidates); ``estimate.used``
         indexes them. Drawn faint blue where not used.
     truth : (float, float), optional
         The true CoM in pixels, drawn as a green cross.
     ax : matplotlib.axes.Axes, optional
-        Where to draw; by default a new ``Figure``'s axes (``ax.figure.savefig``).
+        Where to draw; by default a new ``Figure``'s axes (``ax.figure.savefig``),
+        sized to the window.
     title : str, optional
-        Replaces the default title (estimator kind, CoM, pushes used).
+        Replaces the default title (estimator kind, CoM, pushes, and the
+        status when it is not ``ok``).
+    view : {"object", "image"}, optional
+        ``"object"`` (default): the object and the pushes drawn, with a margin
+        (pushes are followed at most ``PUSH_REACH`` object sizes past the
+        object), so that an object that fills a small part of a wide camera
+        frame is still drawn large. ``"image"``: the whole image.
 
     Returns
     -------
@@ -207,8 +344,17 @@ def plot_estimate(
     Raises
     ------
     ValueError
-        If the mask and the estimate's region differ in shape, or ``used``
-        indexes pushes beyond ``actions``.
+        If the mask and the estimate's region differ in shape, ``used``
+        indexes pushes beyond ``actions``, or ``view`` is unknown.
+
+    Notes
+    -----
+    Every push an estimate rests on is numbered in the order it was used
+    (executed, for the active estimator): the number sits on the push's line
+    just behind its start, outside the object, so it hides neither the
+    object nor the estimate and the truth; numbers that would touch step back
+    along their lines (:func:`number_positions`). The markers are drawn above
+    the arrows.
 
     Examples
     --------
@@ -217,7 +363,17 @@ def plot_estimate(
     >>> est = comcore.Estimate(mask.centroid, mask.centroid_m, mask.data)
     >>> ax = comcore.plot.plot_estimate(mask, est, truth=(12.0, 9.0), title="centroid")
     >>> ax.get_title(), [t.get_text() for t in ax.get_legend().get_texts()]
-    ('centroid', ['estimate (13.5, 13.5)', 'true CoM (12.0, 9.0)'])
+    ('centroid', ['CoM region', 'estimate (13.5, 13.5)', 'true CoM (12.0, 9.0)'])
+
+    A small object in a wide camera frame is framed, not lost:
+
+    >>> frame = np.zeros((400, 600), bool)
+    >>> frame[200:220, 300:330] = True
+    >>> wide = comcore.Mask(frame)
+    >>> est = comcore.Estimate(wide.centroid, wide.centroid_m, frame)
+    >>> ax = comcore.plot.plot_estimate(wide, est)
+    >>> [float(v) for v in (*ax.get_xlim(), *ax.get_ylim())]  # 3 px around the object
+    [296.5, 332.5, 222.5, 196.5]
     """
     mask = check_mask(mask)
     if not isinstance(estimate, Estimate):
@@ -227,11 +383,13 @@ def plot_estimate(
             f"estimate.region has shape {estimate.region.shape}, the mask {mask.shape}: "
             "pass the mask the estimate was computed on"
         )
+    if view not in ("object", "image"):
+        raise ValueError(f"view must be 'object' or 'image', got {view!r}")
     executed, others = executed_pushes(estimate, actions)
+    x0, x1, y0, y1 = _window(mask, np.vstack([executed, others]), view)
     if ax is None:
-        h, w = mask.shape
-        fig = Figure(figsize=(6.0, min(6.0 * h / max(w, 1), 9.0) + 0.9), dpi=110,
-                     layout="constrained")  # fmt: skip
+        height = min(max(6.0 * (y1 - y0) / max(x1 - x0, 1e-9), 3.0), 9.0)
+        fig = Figure(figsize=(6.0, height + 0.9), dpi=110, layout="constrained")
         ax = fig.add_subplot()
     belief, values = belief_of(estimate)
     image = np.ones((*mask.shape, 3))
@@ -251,19 +409,32 @@ def plot_estimate(
         picture = ax.imshow(shown, cmap="viridis", interpolation="nearest", **kwargs)
         ax.figure.colorbar(picture, ax=ax, shrink=0.8, label=label)
     if estimate.region.any() and not estimate.region.all():
-        ax.contour(estimate.region.astype(float), levels=[0.5], colors=[COLORS["region"]],
-                   linewidths=1.5)  # fmt: skip
-    _arrows(ax, others, COLORS["other"], False, lw=0.8, alpha=0.45)
+        from matplotlib.collections import LineCollection
+        from matplotlib.lines import Line2D
+
+        outline = LineCollection(
+            region_outline(estimate.region), colors=[COLORS["region"]], linewidths=2.0,
+            zorder=ZORDER["region"], capstyle="projecting",
+        )  # fmt: skip
+        ax.add_collection(outline)
+        region_label = _region_label(estimate, belief, values)
+        ax.add_line(Line2D([], [], color=COLORS["region"], lw=2.0, label=region_label))
+    _arrows(ax, others, COLORS["other"], lw=0.8, alpha=0.45, zorder=ZORDER["other_arrows"])
     evidence = _evidence(estimate, len(executed))
     colors = [COLORS["used"] if e else COLORS["no_evidence"] for e in evidence]
-    _arrows(ax, executed, colors, len(executed) <= MAX_NUMBERED)
-    _legend_pushes(ax, evidence, len(others), "actions" in estimate.extras)
+    _arrows(ax, executed, colors)
+    _legend_pushes(ax, evidence, len(others), bool(estimate.pushes))
     x, y = estimate.com
+    markers = [(x, y)]
     _marker(ax, (x, y), "x", COLORS["estimate"], f"estimate ({x:.1f}, {y:.1f})")
     if truth is not None:
         tx, ty = check_point(truth, "truth")
+        markers.append((tx, ty))
         _marker(ax, (tx, ty), "+", COLORS["truth"], f"true CoM ({tx:.1f}, {ty:.1f})")
-    _limits(ax, mask, np.vstack([executed, others]))
+    places, fontsize, (x0, x1, y0, y1) = _number_layout(ax, executed, markers, (x0, x1, y0, y1))
+    _numbers(ax, executed, colors, places, fontsize)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y1, y0)
     ax.set_xlabel("x (pixels)")
     ax.set_ylabel("y (pixels, down)")
     n_all = len(executed) + len(others)
@@ -272,21 +443,31 @@ def plot_estimate(
         used = f"{len(executed)} pushes executed"
     if title is None:
         title = f"{_name(estimate, belief)}: CoM ({x:.1f}, {y:.1f}) px, {used}"
-    ax.set_title(title, fontsize=9, wrap=True)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), fontsize=8, ncol=2)
+        if not estimate.ok:
+            title += f", status {estimate.status}"
+    ax.set_title(title, fontsize=9)
+    from matplotlib.transforms import ScaledTranslation
+
+    below = ax.transAxes + ScaledTranslation(0.0, -0.45, ax.figure.dpi_scale_trans)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below, fontsize=8,
+              ncol=2)  # under the x label, whatever the axes' height  # fmt: skip
     return ax
 
 
-def _limits(ax, mask: Mask, pushes: np.ndarray) -> None:
-    """The image, widened to the push starts that lie near it."""
-    h, w = mask.shape
-    x0, x1, y0, y1 = -0.5, w - 0.5, -0.5, h - 0.5
-    if len(pushes):
-        margin = 0.25 * max(h, w)
-        xs, ys = pushes[:, [0, 2]], pushes[:, [1, 3]]
-        x0 = max(min(x0, xs.min() - 1), -0.5 - margin)
-        x1 = min(max(x1, xs.max() + 1), w - 0.5 + margin)
-        y0 = max(min(y0, ys.min() - 1), -0.5 - margin)
-        y1 = min(max(y1, ys.max() + 1), h - 0.5 + margin)
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y1, y0)
+def _number_layout(ax, pushes: np.ndarray, markers, window):
+    """Numbers' places and font size; the window widened to hold them (sized as drawn)."""
+    fontsize = 7.0 if len(pushes) <= 20 else 5.5
+    if not len(pushes):
+        return np.zeros((0, 2)), fontsize, window
+    box = ax.get_window_extent()  # display pixels, before the final layout
+    inches = max(min(box.width, box.height) / ax.figure.dpi, 0.5)
+    circle_in = fontsize * 2.0 / 72.0  # a number's circle, inches (about)
+    x0, x1, y0, y1 = base = window
+    for _ in range(3):  # the window grows to hold the numbers; their size grows with it
+        size = circle_in * max(x1 - x0, y1 - y0) / inches
+        places = number_positions(pushes, size, markers)
+        x0 = min(base[0], places[:, 0].min() - size)
+        x1 = max(base[1], places[:, 0].max() + size)
+        y0 = min(base[2], places[:, 1].min() - size)
+        y1 = max(base[3], places[:, 1].max() + size)
+    return places, fontsize, (x0, x1, y0, y1)
