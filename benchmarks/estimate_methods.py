@@ -6,9 +6,11 @@ pose, as a recording would hold them; then ``k`` of the pushes that turned the o
 their rotation's sign flipped (a tracking error). Every method of ``comcore estimate`` runs
 on the same recording (as ``comcore.cli.estimate.estimate`` calls it); the table gives the
 CoM error (cm) and, for the posterior, how often the true CoM lies in its 90 % credible
-region.
+region. ``--model`` is the posterior's motion model (``comcore estimate --model``): the
+default ``limit-surface``, or ``none`` (the Voting Theorem alone, the default before issue 21).
 
     python benchmarks/estimate_methods.py                    # 20 objects x 3 seeds (0, 1, 2)
+    python benchmarks/estimate_methods.py --model none       # the posterior without the model
     python benchmarks/estimate_methods.py --objects Obj3 --seeds 1 --flips 0   # a quick look
 """
 
@@ -20,7 +22,7 @@ import time
 import numpy as np
 
 import comcore
-from comcore.cli.estimate import estimate, methods
+from comcore.cli.estimate import MODELS, estimate, methods
 
 
 def cases(objects, seeds, n_pushes):
@@ -42,12 +44,14 @@ def main(argv=None) -> None:
     parser.add_argument("--seeds", type=int, default=3, help="seeds 0 .. N-1 per object")
     parser.add_argument("--pushes", type=int, default=40)
     parser.add_argument("--flips", default="0,1,3", help="wrong senses per recording")
+    parser.add_argument("--model", choices=MODELS, default=MODELS[0], help="the posterior's")
     args = parser.parse_args(argv)
     objects = [o.strip() for o in args.objects.split(",") if o.strip()]
     flips = [int(k) for k in args.flips.split(",")]
     names = [m for m in methods() if m != "alg2-rotation"]
     errors = {(m, k): [] for m in names for k in flips}
     covered = {k: [] for k in flips}
+    statuses = {k: [] for k in flips}
     seconds = {m: 0.0 for m in names}
     start = time.perf_counter()
     for _, _, sim, actions, motions, rng in cases(objects, range(args.seeds), args.pushes):
@@ -59,15 +63,17 @@ def main(argv=None) -> None:
             observed[wrong, 0] *= -1
             for m in names:
                 t0 = time.perf_counter()
-                est = estimate(sim.mask, actions, observed, m)
+                est = estimate(sim.mask, actions, observed, m, model=args.model)
                 seconds[m] += time.perf_counter() - t0
                 errors[m, k].append(est.error_px(sim.com_px) * cm)
                 if m == "posterior":
                     x, y = np.round(sim.com_px).astype(int)
                     covered[k].append(bool(est.region[y, x]))
+                    statuses[k].append(est.status)
     n = len(errors[names[0], flips[0]])
     print(f"{n} recordings ({len(objects)} objects x seeds 0..{args.seeds - 1}), "
-          f"{args.pushes} pushes each; {time.perf_counter() - start:.0f} s")
+          f"{args.pushes} pushes each, posterior --model {args.model}; "
+          f"{time.perf_counter() - start:.0f} s")
     print("| method | wrong senses | mean error (cm) | median (cm) | p90 (cm) "
           "| truth in 90 % region |")
     print("| --- | --- | --- | --- | --- | --- |")
@@ -79,6 +85,8 @@ def main(argv=None) -> None:
                   f"{np.quantile(e, 0.9):.2f} | {share} |")
     print("time per estimate: " + ", ".join(
         f"{m} {1000 * seconds[m] / (n * len(flips)):.0f} ms" for m in names))
+    print("posterior status: " + ", ".join(
+        f"{k} wrong: {statuses[k].count('ok')} ok of {len(statuses[k])}" for k in flips))
 
 
 if __name__ == "__main__":

@@ -32,14 +32,14 @@ from ._pose_tracking import (
 from ._records import PushLog, SessionState
 from ._stop import choice_status, stop_reason
 from ._types import Action, Estimate, Motion, PushRecord
-from ._validation import check_mask, check_motions, check_positive, check_probability, check_rng
+from ._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 
 __all__ = ["ActiveSession", "session_setup"]
 
 
 def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tuple:
     """``(Scoring, credible)`` of an active estimator's arguments, each checked and named."""
-    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
+    pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
     return Scoring.build(likelihood, mask, models), credible
@@ -308,7 +308,12 @@ class ActiveSession:
         SessionError
             If no push is waiting for its observation.
         TypeError, ValueError
-            On invalid arguments (named); the session is then unchanged.
+            On invalid arguments (named); the session is then unchanged and
+            waits for the observation still. A ``mask`` that is not the first
+            mask's object moved is refused so (its area changed by more than
+            25 %, or its outline lies more than 1.5 px RMS from the first
+            mask's after the best rigid motion: a single pixel, another
+            object; :func:`comcore._pose_tracking.read_pose`).
         """
         if self.done or not self._handed_out:
             what = f"the session is done (status {self._final!r})" if self.done else "no push"

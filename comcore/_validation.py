@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._conventions import LENGTH_EPS
+from ._conventions import LENGTH_EPS, check_plausible
 from ._mask import Mask
 from ._types import Action, Motion
 
@@ -228,6 +228,24 @@ def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
         want = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {want}, got {v}")
     return v
+
+
+def check_physical(value, name: str, kind: str, *, allow_zero: bool = False) -> float:
+    """Validate a length (metres) or angle (radians) a user sets: positive and believable.
+
+    ``kind`` names its range in :data:`comcore.PLAUSIBLE`; outside it the
+    ValueError guesses the unit it was typed in.
+
+    Examples
+    --------
+    >>> check_physical(0.004, "pusher_radius", "pusher_radius")
+    0.004
+    >>> check_physical(4, "pusher_radius", "pusher_radius")
+    Traceback (most recent call last):
+    ...
+    ValueError: pusher_radius 4 m is implausible (expected at most 0.05 m): did you mean millimetres, 0.004?
+    """  # noqa: E501
+    return check_plausible(check_positive(value, name, allow_zero=allow_zero), name, kind)
 
 
 def check_finite(value, name: str) -> float:
