@@ -32,7 +32,7 @@ from ._records import PushLog
 from ._session import ActiveSession, session_setup
 from ._stop import offline_status, sense_check
 from ._types import Estimate, Motion, PushRecord
-from ._validation import check_actions, check_mask, check_motions, check_per_push
+from ._validation import check_actions, check_mask, check_motions, check_per_push, check_turns
 
 __all__ = ["estimate_active", "estimate_posterior"]
 
@@ -369,7 +369,7 @@ def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> 
     if actions is None or motions is None:
         raise TypeError("estimate_posterior needs actions and motions (or pushes=...)")
     acts = check_actions(actions, "actions", allow_empty=False)
-    moves = check_motions(motions, n=len(acts), name="motions")
+    moves = check_turns(check_motions(motions, n=len(acts), name="motions"))
     observed = check_per_push(rotation_observed, len(acts), "rotation_observed", True)
     residuals = check_per_push(residual_px, len(acts), "residual_px", float("nan"))
     return [

@@ -23,7 +23,7 @@ from ._force_lines import push_force_lines
 from ._geometry import contacts
 from ._mask import Mask
 from ._types import Action, Motion
-from ._validation import check_actions, check_mask, check_motions
+from ._validation import check_actions, check_mask, check_motions, check_turns
 
 __all__ = [
     "IDENTITY",
@@ -202,7 +202,7 @@ def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
     first mask's after the best rigid motion (another object).
     """
     if motion is not None:
-        m = check_motions(motion, n=1, name="motion")[0]
+        m = check_turns(check_motions(motion, n=1, name="motion"), "motion")[0]
         return PoseReading(compose(pose, m), False, float("nan"))
     mask = check_mask(mask)
     if mask.shape != first.shape:
@@ -212,6 +212,12 @@ def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
             f"mask must have the first mask's resolution {first.resolution} m/px, "
             f"got {mask.resolution}"
         )
+    from ._registration import _check_pair
+
+    try:  # an object partly out of view is said so first: it is the object, cut
+        _check_pair(first, mask)
+    except ValueError as e:
+        raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
     change = mask.area_px / first.area_px - 1.0
     if abs(change) > MAX_AREA_CHANGE:
         raise ValueError(

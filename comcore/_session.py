@@ -18,6 +18,7 @@ from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
 from ._grid import prior_grid
 from ._likelihood import Scoring, check_models, gyration_px, push_evidence, tracking_noise
+from ._limit_surface_model import check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, resolve_groups
 from ._pose_tracking import (
@@ -161,6 +162,7 @@ class ActiveSession:
         self._candidates = Candidates(
             self._first, candidates, self._choice, self._scoring.mus, check_rng(rng)
         )
+        check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY

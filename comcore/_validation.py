@@ -230,6 +230,30 @@ def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
     return v
 
 
+def check_turns(motions: np.ndarray, name: str = "motions") -> np.ndarray:
+    """``motions`` (n, 3) if no push turned the object by more than pi, else a ValueError.
+
+    One push cannot turn an object by more than half a turn: a larger theta is
+    in degrees, not radians.
+
+    Examples
+    --------
+    >>> check_turns(np.array([[0.2, 3.0, 0.0], [25.0, 1.0, 1.0]]))
+    Traceback (most recent call last):
+    ...
+    ValueError: motions[1] turns the object by 25 rad, more than pi: theta must be in radians (did you mean degrees, 0.436 rad?)
+    """  # noqa: E501
+    big = np.flatnonzero(np.abs(motions[:, 0]) > math.pi)
+    if len(big):
+        i = int(big[0])
+        theta = float(motions[i, 0])
+        raise ValueError(
+            f"{name}[{i}] turns the object by {theta:g} rad, more than pi: theta must be in "
+            f"radians (did you mean degrees, {math.radians(theta):.3g} rad?)"
+        )
+    return motions
+
+
 def check_physical(value, name: str, kind: str, *, allow_zero: bool = False) -> float:
     """Validate a length (metres) or angle (radians) a user sets: positive and believable.
 

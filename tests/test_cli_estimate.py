@@ -347,8 +347,9 @@ def test_the_methods_benchmark_script_runs():
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]
-    assert lines[-2].startswith("time per estimate: ")
-    assert lines[-1].startswith("posterior status: 0 wrong: ")
+    assert lines[-3].startswith("time per estimate (median): ")
+    assert lines[-2].startswith("posterior status: 0 wrong: ")
+    assert lines[-1].startswith("alg2 status: 0 wrong: ")
 
 
 def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys):

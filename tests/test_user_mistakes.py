@@ -186,6 +186,21 @@ def test_lengths_implausible_in_metres_are_refused_with_a_guess_at_the_unit(make
         make(mask)
 
 
+def test_theta_in_degrees_is_refused(tmp_path, capsys, recording):
+    mask, actions, motions = recording
+    degrees = motions * [180 / math.pi, 1, 1]
+    with pytest.raises(ValueError, match=r"motions\[\d\] turns the object by .* rad, more than pi"):
+        comcore.estimate_posterior(mask, actions, degrees, model=None)
+    session = comcore.ActiveSession(mask, model=None, rng=0)
+    session.next_push()
+    with pytest.raises(ValueError, match=r"motion\[0\] turns the object by 30 rad.* degrees"):
+        session.observe(motion=(30.0, 2.0, 0.0))
+    pytest.importorskip("matplotlib")
+    image, pushes = write_files(tmp_path, actions, degrees)
+    code, _, err = cli(capsys, image, pushes, "--method", "alg2")
+    assert code == 1 and "theta must be in radians (did you mean degrees" in err
+
+
 def test_the_cli_refuses_a_pusher_radius_in_millimetres(tmp_path, capsys, recording):
     pytest.importorskip("matplotlib")
     _, actions, motions = recording
@@ -200,6 +215,13 @@ def test_a_push_under_a_pixel_is_refused_with_its_numbers():
     model = comcore.LimitSurfaceModel(pusher_radius=0.004)
     with pytest.raises(ValueError, match=r"actions\[1\] is 0\.012 px long \(3e-05 m at 0\.0025"):
         model.predict_hypotheses(mask, [(0, 13, 30, 13), (3.0, 13, 3.012, 13)], [(13, 13)], 0.3)
+
+
+def test_a_session_whose_pushes_would_be_under_a_pixel_is_refused_before_any_push():
+    # 5 cm per pixel is a believable camera, but its 3 cm pushes are 0.6 px: nothing to see
+    mask = comcore.Mask(np.pad(np.ones((6, 8), bool), 3), resolution=0.05)
+    with pytest.raises(ValueError, match=r"candidates\[0\] is 0\.836 px long \(0\.0418 m at 0\.05"):
+        comcore.ActiveSession(mask, rng=0)
 
 
 def test_a_lattice_over_the_memory_bound_is_refused_with_the_push(monkeypatch):
@@ -308,3 +330,15 @@ def test_a_motion_given_rather_than_measured_shows_no_nan():
     for value in (est, offline):
         assert not any(math.isnan(v) for v in _floats(value.extras))
         assert not any(math.isnan(v) for v in _floats(value.pushes))
+
+
+def test_the_refusal_benchmark_script_runs():
+    pytest.importorskip("shapely")
+    from .scripts import run_script
+
+    out = run_script("benchmarks/observe_refusal.py", "--seed", "1", "--objects", "Obj1,Obj7",
+                     "--pushes", "1", timeout=120).splitlines()  # fmt: skip
+    assert out[0].startswith("seed 1, mask_noise 0.5, 2 objects")
+    assert "refused 0 (0.0 %)" in out[1]
+    assert out[2] == "another object: refused 2 of 2 (100.0 %)"
+    assert out[3] == "a single pixel: refused 2 of 2 (100.0 %)"
