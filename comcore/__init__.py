@@ -37,8 +37,10 @@ from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
+from ._outline_field import OutlineField, outline_field
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
+from ._raster import rasterise_polygon
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
@@ -51,7 +53,9 @@ from ._validation import (
     check_mu,
     check_point,
     check_points,
+    check_positive,
     check_priors,
+    check_probability,
     check_rng,
 )
 
@@ -72,6 +76,7 @@ __all__ = [
     "Mask",
     "Motion",
     "MotionMeasurement",
+    "OutlineField",
     "PowerCalibration",
     "Predictor",
     "PushFailedError",
@@ -86,8 +91,10 @@ __all__ = [
     "check_mu",
     "check_point",
     "check_points",
+    "check_positive",
     "check_predictor",
     "check_priors",
+    "check_probability",
     "check_rng",
     "contacts",
     "equality_score",
@@ -98,9 +105,11 @@ __all__ = [
     "largest_component",
     "mask_from_image",
     "measure_motion",
+    "outline_field",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",
+    "rasterise_polygon",
     "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",

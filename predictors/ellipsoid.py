@@ -11,8 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comcore import check_actions, check_mask, check_points, check_priors
-from comcore._outline_field import outline_field
+from comcore import check_actions, check_mask, check_points, check_priors, outline_field
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
 from ._ellipsoid_model import simulate
