@@ -16,19 +16,11 @@ import argparse
 import time
 
 import numpy as np
+from _masks import ellipse_mask  # this folder is on the path when run as a script
 
 import comcore
 from comcore._active_setup import UNKNOWN_MU_RANGE, mu_grid
 from comcore._posterior import GridPosterior, force_lines, sense_information
-
-
-def ellipse_mask(n_pixels: int) -> comcore.Mask:
-    """An ellipse (axes 5:4) of about ``n_pixels`` pixels."""
-    a = np.sqrt(n_pixels / np.pi * 5 / 4)
-    b = 0.8 * a
-    size = int(2 * a) + 12
-    yy, xx = np.mgrid[:size, :size]
-    return comcore.Mask(((xx - size / 2) / a) ** 2 + ((yy - size / 2) / b) ** 2 < 1)
 
 
 def median_ms(fn, repeats: int) -> float:
