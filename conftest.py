@@ -13,7 +13,6 @@ import importlib.util
 from pathlib import Path
 
 import pytest
-from _pytest.doctest import DoctestModule
 
 ROOT = Path(__file__).resolve().parent
 #: What each extra brings that the examples import.
@@ -61,14 +60,13 @@ class SkippedDoctests(pytest.File):
 
 @pytest.hookimpl(wrapper=True)
 def pytest_collect_file(file_path, parent):
-    """A module's doctests, or their skip where an extra they need is missing."""
+    """A module's doctests, or their skip where an extra they need is missing.
+
+    The packages' modules are collected only for their doctests (no test files
+    among them), so whatever was collected from one of them is replaced.
+    """
     collected = yield
     reason = missing_extra(file_path) if file_path.suffix == ".py" else None
-    if reason is None:
+    if reason is None or not collected:
         return collected
-    return [
-        SkippedDoctests.from_parent(parent, path=file_path, reason=reason)
-        if isinstance(c, DoctestModule)
-        else c
-        for c in collected
-    ]
+    return [SkippedDoctests.from_parent(parent, path=file_path, reason=reason)]
