@@ -32,12 +32,13 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
-from ._options import Likelihood, PushChoice, StopRule, option_groups
+from ._options import Likelihood, PushChoice, StopRule
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
 from ._records import credible_level

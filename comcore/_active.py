@@ -14,10 +14,11 @@ import math
 
 from ._choice import Candidates
 from ._errors import PushFailedError
+from ._flat_options import resolve_groups
 from ._grid import prior_grid
 from ._likelihood import gyration_px, push_evidence, tracking_noise
 from ._mask import Mask
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import is_miss
 from ._records import PushLog
 from ._session import ActiveSession, session_setup

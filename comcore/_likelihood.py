@@ -38,6 +38,7 @@ from ._likelihood_motion import (
     motion_log_likelihood,
     offset_marginal,
 )
+from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, Likelihood, mu_grid
 from ._predictor import HypothesisPredictor
@@ -137,8 +138,6 @@ def check_models(model, pusher_radius: float = DEFAULT_PUSHER_RADIUS) -> tuple:
     ``LimitSurfaceModel(pusher_radius=pusher_radius)``.
     """
     if model is DEFAULT_MODEL:
-        from ._limit_surface_model import LimitSurfaceModel
-
         return (LimitSurfaceModel(pusher_radius=pusher_radius),)
     if model is None:
         return ()

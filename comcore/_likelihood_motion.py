@@ -91,8 +91,8 @@ def motion_log_likelihood(
     :func:`theta_scale`. The displacement is compared at the CoM, not at the
     mask's centroid where the motion is reported: the centroid's displacement
     also carries the rotation times the centroid's distance to the CoM, whose
-    error the rotation term already scores (against the simulator the CoM
-    form explains the data better by 0.5 nats a push). Its scale is
+    error the rotation term already scores (the CoM form explains the
+    simulator's motions better: docs/active.md). Its scale is
     ``absolute + relative * |predicted displacement|`` (px).
 
     Parameters
