@@ -25,7 +25,6 @@ from _masks import ellipse_mask  # this folder is on the path when run as a scri
 
 import comcore
 import simulators
-from comcore._active_setup import mu_grid
 from predictors import EllipsoidPredictor
 
 
@@ -71,7 +70,7 @@ def main(argv=None):
     else:
         sim = simulators.random_simulator(args.object, rng=0, resolution=args.resolution)
         name, mask = args.object, sim.mask
-    mus = mu_grid(None, 6)
+    mus = comcore.Likelihood().mus
     radius = simulators.DEFAULT_PUSHER_RADIUS
     models = {
         "LimitSurfaceModel": [comcore.LimitSurfaceModel(pusher_radius=radius)],

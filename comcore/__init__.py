@@ -32,20 +32,29 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
+from ._options import Likelihood, PushChoice, StopRule
 from ._outline_field import OutlineField, outline_field
-from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
+from ._predictor import (
+    HypothesisPredictor,
+    Predictor,
+    check_plausible_motions,
+    check_predictor,
+    predict_motions,
+)
 from ._progressive import equality_score, estimate_progressive
 from ._raster import rasterise_polygon
+from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
 from ._session import ActiveSession
-from ._types import Action, Estimate, Motion
+from ._types import Action, Estimate, Motion, PushRecord
 from ._validation import (
     check_actions,
     check_mask,
@@ -72,6 +81,7 @@ __all__ = [
     "Estimate",
     "HypothesisPredictor",
     "ImageError",
+    "Likelihood",
     "LimitSurfaceModel",
     "Mask",
     "Motion",
@@ -79,8 +89,11 @@ __all__ = [
     "OutlineField",
     "PowerCalibration",
     "Predictor",
+    "PushChoice",
     "PushFailedError",
+    "PushRecord",
     "SessionError",
+    "StopRule",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -89,6 +102,7 @@ __all__ = [
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_plausible_motions",
     "check_point",
     "check_points",
     "check_positive",
@@ -97,6 +111,7 @@ __all__ = [
     "check_probability",
     "check_rng",
     "contacts",
+    "credible_level",
     "equality_score",
     "estimate_active",
     "estimate_heatmap",
@@ -105,6 +120,7 @@ __all__ = [
     "largest_component",
     "mask_from_image",
     "measure_motion",
+    "option_groups",
     "outline_field",
     "pixel_centres",
     "predict_motions",
