@@ -7,7 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-pytest.importorskip("simulators")
+pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
+pytest.importorskip("trimesh")
 pytest.importorskip("pymunk")
 
 import comcore

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 
 import comcore
 from tests import strategies as cst
+from tests.extras import require_simulators
 
 SIDE = 120
 CENTRE = np.array([60.0, 60.0])
@@ -192,7 +193,7 @@ def test_a_one_pixel_wide_bar_turned_a_quarter_turn():
 # -- simulator-rendered masks ---------------------------------------------------------------
 @pytest.mark.parametrize("name", ["Obj5", "Obj14"])
 def test_motions_of_simulated_pushes(name):
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     pytest.importorskip("shapely")
     sim = simulators.random_simulator(name, "low", rng=3, margin=0.12)
     actions = comcore.sample_pushes(sim.mask, 3, cone=0.3, rng=4)
