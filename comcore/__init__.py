@@ -34,14 +34,23 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
-from ._options import Likelihood, PushChoice, StopRule, option_groups
-from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
+from ._options import Likelihood, PushChoice, StopRule
+from ._outline_field import OutlineField, outline_field
+from ._predictor import (
+    HypothesisPredictor,
+    Predictor,
+    check_plausible_motions,
+    check_predictor,
+    predict_motions,
+)
 from ._progressive import equality_score, estimate_progressive
+from ._raster import rasterise_polygon
 from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
@@ -55,7 +64,9 @@ from ._validation import (
     check_mu,
     check_point,
     check_points,
+    check_positive,
     check_priors,
+    check_probability,
     check_rng,
 )
 
@@ -78,6 +89,7 @@ __all__ = [
     "Mask",
     "Motion",
     "MotionMeasurement",
+    "OutlineField",
     "PowerCalibration",
     "Predictor",
     "PushChoice",
@@ -94,10 +106,13 @@ __all__ = [
     "check_motions",
     "check_mu",
     "check_plausible",
+    "check_plausible_motions",
     "check_point",
     "check_points",
+    "check_positive",
     "check_predictor",
     "check_priors",
+    "check_probability",
     "check_rng",
     "contacts",
     "credible_level",
@@ -110,9 +125,11 @@ __all__ = [
     "mask_from_image",
     "measure_motion",
     "option_groups",
+    "outline_field",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",
+    "rasterise_polygon",
     "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",

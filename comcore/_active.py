@@ -16,6 +16,7 @@ import numpy as np
 
 from ._choice import Candidates
 from ._errors import PushFailedError
+from ._flat_options import resolve_groups
 from ._force_lines import force_line_distances
 from ._grid import prior_grid
 from ._likelihood import (
@@ -26,7 +27,7 @@ from ._likelihood import (
     tracking_noise,
 )
 from ._mask import Mask
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import is_miss
 from ._records import PushLog
 from ._session import ActiveSession, session_setup

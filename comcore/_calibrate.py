@@ -21,8 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._active import estimate_posterior
+from ._flat_options import resolve_groups
 from ._likelihood import check_models
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._types import Estimate
 from ._validation import check_mask, check_point, check_powers
 

@@ -277,7 +277,7 @@ def model_information(
     ``I = sum_i w_i [log p(y_i | i) - log sum_j w_j p(y_i | j)]`` with ``y_i``
     the motion hypothesis ``i`` predicts: how well the observed motion will
     tell the hypotheses apart, with the error model of
-    :func:`motion_log_likelihood`.
+    :func:`comcore._likelihood_motion.motion_terms`.
 
     Parameters
     ----------

@@ -31,8 +31,8 @@ __all__ = [
 #: is taken to be wrong for a CoM at distance d from the line with probability
 #: ``1 / (1 + exp(|d| / scale))`` (plus ``flip_prob``): pixel outlines, the
 #: smoothed normal, the pusher's radius and the object turning during the push
-#: blur the line. Against the simulator (docs/active.md) the sense is wrong
-#: 15 % of the time at 1-2 px, 10 % at 2-3 px, 5 % at 3-5 px, 3 % at 5-8 px.
+#: blur the line (how often the sense is wrong at each distance, measured against
+#: the simulator: docs/active.md, "The line is soft").
 LINE_SCALE_PX = 1.2
 
 

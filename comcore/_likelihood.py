@@ -36,10 +36,12 @@ from ._force_lines import LINE_SCALE_PX, force_line_distances, side_probability
 from ._grid import GridPosterior
 from ._likelihood_motion import (
     NEAR_LINE_M,
-    motion_excess,
-    motion_log_likelihood,
+    excess_surprise,
+    log_likelihood,
+    motion_terms,
     offset_marginal,
 )
+from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, Likelihood, mu_grid
 from ._predictor import HypothesisPredictor
@@ -145,8 +147,6 @@ def check_models(model, pusher_radius: float = DEFAULT_PUSHER_RADIUS) -> tuple:
     ``LimitSurfaceModel(pusher_radius=pusher_radius)``.
     """
     if model is DEFAULT_MODEL:
-        from ._limit_surface_model import LimitSurfaceModel
-
         return (LimitSurfaceModel(pusher_radius=pusher_radius),)
     if model is None:
         return ()
@@ -276,23 +276,23 @@ def _model_terms(
         return (np.abs(distances), offset, *noise, scoring.near_px)
 
     def scored(motion):
+        """The motion's log-likelihood per scale factor, and its base scales' residuals."""
+        base = motion_terms(motion, predicted, *args(1.0), **kw)
         terms = [
-            motion_log_likelihood(motion, predicted, *args(c), **kw) for c in scoring.model_scales
+            log_likelihood(base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw))
+            for c in scoring.model_scales
         ]
         full = np.stack(terms, axis=-1).reshape(alive.shape)
-        return np.where(alive, full, -np.inf)
+        return np.where(alive, full, -np.inf), base
 
-    model_term = scored(observed)
+    model_term, base = scored(observed)
     # The consistency check keeps the base scales (a wider factor must not hide a misfit).
-    model_excess = motion_excess(observed, predicted, *args(1.0), **kw)
+    model_excess = excess_surprise(base)
     if rotation_observed:
-        flipped = observed * np.array([-1.0, 1.0, 1.0])
-        flipped_term = scored(flipped)
+        flipped_term, flipped_base = scored(observed * np.array([-1.0, 1.0, 1.0]))
         # A flipped sense explains the motion at the price of the flip.
         flip_cost = np.log((1 - flip_prob) / flip_prob)
-        model_excess = np.minimum(
-            model_excess, motion_excess(flipped, predicted, *args(1.0), **kw) + flip_cost
-        )
+        model_excess = np.minimum(model_excess, excess_surprise(flipped_base) + flip_cost)
     else:
         flipped_term = model_term
     model_excess = np.repeat(model_excess, n_s, axis=-1)

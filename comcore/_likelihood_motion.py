@@ -23,10 +23,11 @@ __all__ = [
     "NEAR_LINE_M",
     "STUDENT_DOF",
     "com_shift",
+    "excess_surprise",
+    "log_likelihood",
     "model_error_log_density",
     "model_predictions",
-    "motion_excess",
-    "motion_log_likelihood",
+    "motion_terms",
     "offset_marginal",
     "pusher_nodes",
     "student_t",
@@ -72,7 +73,7 @@ def com_shift(theta, offset):
     return rotate_vectors(offset, theta) - offset
 
 
-def motion_log_likelihood(
+def motion_terms(
     observed,
     predicted,
     lever,
@@ -83,16 +84,18 @@ def motion_log_likelihood(
     *,
     rotation=True,
     tracking=(0.0, 0.0),
-):
-    """Log-likelihood of an observed motion under predicted ones, shape (p, m).
+) -> list[tuple]:
+    """The residuals an observed motion leaves against predicted ones, and their scales.
 
-    Heavy-tailed (Student-t, 3 degrees of freedom) in the rotation and in the
+    ``[(squared residual, scale, dimension), ...]``, each (p, m): scored by
+    :func:`log_likelihood` and :func:`excess_surprise`. Heavy-tailed
+    (Student-t, 3 degrees of freedom) in the rotation and in the
     displacement of each hypothesis' CoM. The rotation's scale comes from
     :func:`theta_scale`. The displacement is compared at the CoM, not at the
     mask's centroid where the motion is reported: the centroid's displacement
     also carries the rotation times the centroid's distance to the CoM, whose
-    error the rotation term already scores (against the simulator the CoM
-    form explains the data better by 0.5 nats a push). Its scale is
+    error the rotation term already scores (the CoM form explains the
+    simulator's motions better: docs/active.md). Its scale is
     ``absolute + relative * |predicted displacement|`` (px).
 
     Parameters
@@ -116,32 +119,6 @@ def motion_log_likelihood(
         (rad) and translation (px). They add to the model's scales in
         quadrature.
     """
-    terms = _motion_terms(
-        observed,
-        predicted,
-        lever,
-        offset,
-        theta_noise,
-        translation_px,
-        near_line_px,
-        rotation,
-        tracking,
-    )
-    return sum(student_t(res_sq, scale, STUDENT_DOF, dim) for res_sq, scale, dim in terms)
-
-
-def _motion_terms(
-    observed,
-    predicted,
-    lever,
-    offset,
-    theta_noise,
-    translation_px,
-    near_line_px,
-    rotation,
-    tracking,
-):
-    """The squared residuals, scales and dimensions scored by :func:`motion_log_likelihood`."""
     track_theta, track_px = tracking
     th_scale = np.hypot(theta_scale(lever, theta_noise, near_line_px), track_theta)
     tr_abs, tr_rel = translation_px
@@ -160,6 +137,11 @@ def _motion_terms(
     ]
 
 
+def log_likelihood(terms) -> np.ndarray:
+    """Log-likelihood (up to a constant) of :func:`motion_terms`' residuals, shape (p, m)."""
+    return sum(student_t(res_sq, scale, STUDENT_DOF, dim) for res_sq, scale, dim in terms)
+
+
 #: ``E[(dof + d) / 2 log(1 + |T|^2 / dof)]`` of a d-variate Student-t ``T`` (d = 1, 2):
 #: ``(dof + d) / 2 (digamma((dof + d) / 2) - digamma(dof / 2))``; 0.773 and 1.667 nats.
 _EXPECTED_DEFICIT = {
@@ -168,36 +150,14 @@ _EXPECTED_DEFICIT = {
 }
 
 
-def motion_excess(
-    observed,
-    predicted,
-    lever,
-    offset,
-    theta_noise,
-    translation_px,
-    near_line_px,
-    *,
-    rotation=True,
-    tracking=(0.0, 0.0),
-):
+def excess_surprise(terms) -> np.ndarray:
     """How much more an observed motion surprises each hypothesis than its own motions would.
 
     ``-log p(y | h) + E_{Y ~ h}[log p(Y | h)]`` for the Student-t terms of
-    :func:`motion_log_likelihood` (same arguments): 0 on average when the
-    hypothesis made the motion, large when no hypothesis explains it (each
-    term's tail falls like ``exp(-0.75 x)``, heavy as the likelihood's).
+    :func:`motion_terms`: 0 on average when the hypothesis made the motion,
+    large when no hypothesis explains it (each term's tail falls like
+    ``exp(-0.75 x)``, heavy as the likelihood's).
     """
-    terms = _motion_terms(
-        observed,
-        predicted,
-        lever,
-        offset,
-        theta_noise,
-        translation_px,
-        near_line_px,
-        rotation,
-        tracking,
-    )
     return sum(
         (STUDENT_DOF + dim) / 2 * np.log1p(res_sq / (STUDENT_DOF * scale**2))
         - _EXPECTED_DEFICIT[dim]

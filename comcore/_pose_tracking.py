@@ -22,6 +22,7 @@ from ._conventions import apply_motion
 from ._force_lines import push_force_lines
 from ._geometry import contacts
 from ._mask import Mask
+from ._registration import _measure
 from ._types import Action, Motion
 from ._validation import check_actions, check_mask, check_motions, check_turns
 
@@ -152,8 +153,6 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     symmetry the rotation consistent with the masks nearest the previous
     pose's is taken (pushes turn the object far less than a symmetry angle).
     """
-    from ._registration import _measure
-
     try:
         # near the previous pose: for a symmetric shape that has turned past pi / n the
         # smallest consistent rotation is wrong by 2 pi / n

@@ -16,11 +16,12 @@ import numpy as np
 from ._choice import Candidates
 from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
+from ._flat_options import resolve_groups
 from ._grid import prior_grid
 from ._likelihood import Scoring, check_models, gyration_px, push_evidence, tracking_noise
 from ._limit_surface_model import check_push_lengths
 from ._mask import Mask
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import (
     IDENTITY,
     executed_in_object,
