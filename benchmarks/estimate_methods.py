@@ -15,7 +15,9 @@ default ``limit-surface``, or ``none`` (the Voting Theorem alone, the default be
     python benchmarks/estimate_methods.py --flips 0,all --model none  # every sign flipped
 
 ``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the
-mistake docs/conventions.md warns about); the last lines count the ``ok`` statuses.
+mistake docs/conventions.md warns about); the last lines count the recordings whose sign
+``comcore estimate`` calls flipped (:func:`comcore.cli.estimate.sign_flip_nats`) and the
+``ok`` statuses.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import numpy as np
 from scipy import ndimage
 
 import comcore
-from comcore.cli.estimate import MODELS, estimate, methods
+from comcore.cli.estimate import MODELS, SIGN_FLIP_NATS, estimate, methods, sign_flip_nats
 
 
 def cases(objects, seeds, n_pushes):
@@ -60,6 +62,7 @@ def main(argv=None) -> None:
     covered = {k: [] for k in flips}
     near = {k: [] for k in flips}  # the truth's pixel within a pixel of the region
     statuses = {(m, k): [] for m in names for k in flips}
+    flagged = {k: 0 for k in flips}  # comcore estimate's check of theta's sign
     seconds = {m: [] for m in names}
     start = time.perf_counter()
     for _, _, sim, actions, motions, rng in cases(objects, range(args.seeds), args.pushes):
@@ -72,6 +75,7 @@ def main(argv=None) -> None:
             else:
                 wrong = rng.choice(turned, size=min(k, len(turned)), replace=False)
                 observed[wrong, 0] *= -1
+            flagged[k] += sign_flip_nats(sim.mask, actions, observed) > SIGN_FLIP_NATS
             for m in names:
                 t0 = time.perf_counter()
                 est = estimate(sim.mask, actions, observed, m, model=args.model)
@@ -98,6 +102,8 @@ def main(argv=None) -> None:
                   f"{np.quantile(e, 0.9):.2f} | {share} | {close} |")
     print("time per estimate (median): " + ", ".join(
         f"{m} {1000 * np.median(seconds[m]):.0f} ms" for m in names))
+    print("comcore estimate's sign check: " + ", ".join(
+        f"{k} wrong: flagged {flagged[k]} of {n}" for k in flips))
     for m in ("posterior", "alg2"):
         print(f"{m} status: " + ", ".join(
             f"{k} wrong: {statuses[m, k].count('ok')} ok of {len(statuses[m, k])}" for k in flips))

@@ -348,7 +348,8 @@ def test_the_methods_benchmark_script_runs():
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]
-    assert lines[-3].startswith("time per estimate (median): ")
+    assert lines[-4].startswith("time per estimate (median): ")
+    assert lines[-3].startswith("comcore estimate's sign check: 0 wrong: flagged 0 of 1")
     assert lines[-2].startswith("posterior status: 0 wrong: ")
     assert lines[-1].startswith("alg2 status: 0 wrong: ")
 

@@ -198,7 +198,7 @@ def test_theta_in_degrees_is_refused(tmp_path, capsys, recording):
     pytest.importorskip("matplotlib")
     image, pushes = write_files(tmp_path, actions, degrees)
     code, _, err = cli(capsys, image, pushes, "--method", "alg2")
-    assert code == 1 and "theta must be in radians (did you mean degrees" in err
+    assert code == 2 and "column theta: " in err and "theta must be in radians (degrees?" in err
 
 
 def test_the_cli_refuses_a_pusher_radius_in_millimetres(tmp_path, capsys, recording):
