@@ -32,7 +32,7 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
-from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
+from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
@@ -90,6 +90,7 @@ __all__ = [
     "check_priors",
     "check_rng",
     "contacts",
+    "disc_contacts",
     "equality_score",
     "estimate_active",
     "estimate_heatmap",
