@@ -37,8 +37,10 @@ from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
+from ._outline import mask_from_outline
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
+from ._recording import RecordedPush, Recording, SkippedPush, recording_from_poses
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
@@ -75,7 +77,10 @@ __all__ = [
     "PowerCalibration",
     "Predictor",
     "PushFailedError",
+    "RecordedPush",
+    "Recording",
     "SessionError",
+    "SkippedPush",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -98,10 +103,12 @@ __all__ = [
     "estimate_progressive",
     "largest_component",
     "mask_from_image",
+    "mask_from_outline",
     "measure_motion",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",
+    "recording_from_poses",
     "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",
