@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import comcore
+from comcore._conventions import object_motion_from_camera
 
 SQUARE = [(-0.05, -0.05), (0.05, -0.05), (0.05, 0.05), (-0.05, 0.05)]
 L_SHAPE = [(-0.04, -0.05), (0.05, -0.05), (0.05, -0.01), (0.0, -0.01), (0.0, 0.06), (-0.04, 0.06)]
@@ -232,3 +233,48 @@ def test_mask_from_outline_either_orientation_and_errors():
         comcore.mask_from_outline([(0, 0), (0.001, 0), (0.001, 0.001)], 0.01, 0.0)
     with pytest.raises(ValueError, match="margin must be a finite number >= 0"):
         comcore.mask_from_outline(SQUARE, margin=-1.0)
+
+
+@pytest.mark.parametrize("start_pose", [(0.0, 0.0, 0.0), (0.013, -0.021, 0.7)])
+def test_a_simulated_push_comes_back_as_the_simulators_own_motion(start_pose):
+    # The exact simulator pushes an L-shaped plate (its CoM at the origin of its frame) from a
+    # start pose; its trajectory, written as pose streams, must give back the simulator's own
+    # motion (seen from the object's frame at the start) and the same push line.
+    simulators = pytest.importorskip("simulators")
+    poly = np.array(L_SHAPE)
+    area = 0.5 * np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1])
+    cross = poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1]
+    centroid = ((poly + np.roll(poly, -1, axis=0)) * cross[:, None]).sum(axis=0) / (6 * area)
+    outline = poly - centroid
+    sim = simulators.PushSimulator.from_polygon(outline, mu_contact=0.3, pusher_radius=RADIUS)
+    assert np.allclose(sim.com_m, 0.0, atol=1e-12)
+    # up the bottom face (y = -0.05 - cy), 2 cm right of the CoM: a flat face, no vertex
+    face_y = -0.05 - centroid[1]
+    lead_world = np.array([[0.02, face_y - 0.01], [0.02, face_y + 0.03]])
+    pose = np.array(start_pose)
+    c, s = np.cos(pose[2]), np.sin(pose[2])
+    rot = np.array([[c, -s], [s, c]])
+    in_pose = lead_world @ rot.T + pose[:2]  # the same push on the plate at its start pose
+    action = sim.to_pixels(in_pose).ravel()
+    result = sim.push(action, pose=(*pose,), record=True)
+    traj = result.trajectory  # the pose before contact, then one per (uniform) step
+    d = rot @ np.array([0.0, 1.0])
+    contact_lead = pose[:2] + rot @ np.array([0.02, face_y])
+    steps = len(traj) - 1
+    travel = 0.03  # the leading point runs from the face to 3 cm past it
+    t = np.arange(len(traj)) * (travel / steps) / 0.05  # at 5 cm/s
+    centre = (contact_lead - RADIUS * d)[None] + 0.05 * t[:, None] * d[None]
+    pusher = np.column_stack([t, centre, 0 * t])
+    obj = np.column_stack([t, traj])
+    rec = comcore.recording_from_poses(
+        outline, [(obj, pusher)], RADIUS, travel=travel * (1 - 1e-12), com=(0.0, 0.0)
+    )
+    assert np.array_equal(rec.mask.data, sim.mask.data)
+    (push,) = rec.pushes
+    expected = object_motion_from_camera(result.motion, pose[2])
+    assert push.motion.theta > 0.02  # right of the CoM, pushed up: counter-clockwise
+    assert np.abs(np.array(push.motion) - expected).max() < 1e-9
+    # the recorded action is the simulator's push line, in the plate's frame
+    line = sim.to_pixels(lead_world)
+    assert np.allclose(np.array(push.action)[[0, 2]], line[0, 0], atol=1e-9)
+    assert np.allclose(push.action.direction, (0.0, -1.0), atol=1e-12)
