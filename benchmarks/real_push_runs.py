@@ -61,7 +61,7 @@ def load_object(data_dir, name, outline, *, travel, resolution, max_speed=None) 
     keep = rec.line_hits
     obj = ObjectPushes(name, rec, rec.mask, np.asarray(rec.com), rec.actions[keep])
     obj.motions["real"] = rec.motions[keep]
-    obj.speeds = np.array([p.speed for p in rec.pushes])[keep]
+    obj.speeds = np.array([mp.parse_name(p.name).speed for p in rec.pushes])[keep]  # nominal
     obj.load_seconds = time.perf_counter() - start
     return obj
 
@@ -153,10 +153,10 @@ def turn_ratio(obj: ObjectPushes, world: str = "exact") -> float:
 
 
 def turn_ratio_by_speed(obj: ObjectPushes, world: str = "exact") -> dict:
-    """The same ratio per pusher speed (mm/s): ``{speed: [median ratio, pushes]}``."""
+    """The same ratio per nominal pusher speed (mm/s): ``{speed: [median ratio, pushes]}``."""
     real, sim = obj.motions["real"][:, 0], obj.motions[world][:, 0]
     both = (np.abs(real) >= TURNING) & (np.abs(sim) >= TURNING)
-    speed = np.round(obj.speeds * 100) * 10  # mm/s, to the 10
+    speed = np.round(obj.speeds * 1000)  # mm/s
     out = {}
     for v in np.unique(speed[both]):
         sel = both & (speed == v)
