@@ -217,32 +217,33 @@ def pooled(results: dict, objects, world: str, model: str, ks) -> dict:
 
 
 def figure(results: dict, objects, worlds, models, ks, path: str) -> None:
-    """Error against k, real beside simulated, one panel per plate."""
+    """Error against k, real beside simulated: one row per model, one column per plate."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(objects), figsize=(3.2 * len(objects), 3.2), squeeze=False)
-    styles = {"real": "k", "exact": "tab:blue", "pymunk": "tab:orange"}
-    dashes = ["-", "--", ":", "-."]
-    for ax, o in zip(axes[0], objects):
-        for world in worlds:
-            for m, name in enumerate(models):
+    fig, axes = plt.subplots(
+        len(models), len(objects), figsize=(2.8 * len(objects), 2.4 * len(models)), squeeze=False
+    )
+    colours = {"real": "k", "exact": "tab:blue", "pymunk": "tab:orange"}
+    for row, name in enumerate(models):
+        for ax, o in zip(axes[row], objects):
+            n_all = results[o]["n_kept"]
+            for world in worlds:
                 r = results[o].get(world, {}).get(name, {})
-                xs = [k for k in ks if r.get(k)] + ["all"]
-                n_all = results[o]["n_kept"]
-                x = [k if k != "all" else n_all for k in xs]
-                y = [r[k]["error_cm"] if k != "all" else r["all"]["error_cm"] for k in xs]
-                ax.plot(x, y, dashes[m % 4], color=styles.get(world, "gray"), marker="o", ms=3,
-                        label=f"{world} {name}")  # fmt: skip
-        ax.set_title(o)
-        ax.set_xlabel("pushes k (last point: all)")
-        ax.set_ylim(bottom=0)
-    axes[0][0].set_ylabel("mean error, cm")
-    axes[0][-1].legend(fontsize=6)
+                xs = [k for k in ks if r.get(k)]
+                x = [*xs, n_all]
+                y = [r[k]["error_cm"] for k in xs] + [r["all"]["error_cm"]]
+                ax.plot(x, y, "-o", color=colours.get(world, "gray"), ms=3, label=world)
+            ax.set_title(f"{o}, {name}", fontsize=9)
+            ax.set_ylim(bottom=0)
+            if row == len(models) - 1:
+                ax.set_xlabel("pushes k (last: all)")
+        axes[row][0].set_ylabel("mean error, cm")
+    axes[0][0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
