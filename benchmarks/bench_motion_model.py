@@ -24,7 +24,6 @@ import numpy as np
 
 import comcore
 import simulators
-from comcore._active_setup import mu_grid
 from predictors import EllipsoidPredictor
 
 
@@ -78,7 +77,7 @@ def main(argv=None):
     else:
         sim = simulators.random_simulator(args.object, rng=0, resolution=args.resolution)
         name, mask = args.object, sim.mask
-    mus = mu_grid(None, 6)
+    mus = comcore.Likelihood().mus
     radius = simulators.DEFAULT_PUSHER_RADIUS
     models = {
         "LimitSurfaceModel": [comcore.LimitSurfaceModel(pusher_radius=radius)],

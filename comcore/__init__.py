@@ -32,18 +32,21 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
+from ._options import Likelihood, PushChoice, StopRule
 from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
 from ._progressive import equality_score, estimate_progressive
+from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
 from ._session import ActiveSession
-from ._types import Action, Estimate, Motion
+from ._types import Action, Estimate, Motion, PushRecord
 from ._validation import (
     check_actions,
     check_mask,
@@ -68,14 +71,18 @@ __all__ = [
     "Estimate",
     "HypothesisPredictor",
     "ImageError",
+    "Likelihood",
     "LimitSurfaceModel",
     "Mask",
     "Motion",
     "MotionMeasurement",
     "PowerCalibration",
     "Predictor",
+    "PushChoice",
     "PushFailedError",
+    "PushRecord",
     "SessionError",
+    "StopRule",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -90,6 +97,7 @@ __all__ = [
     "check_priors",
     "check_rng",
     "contacts",
+    "credible_level",
     "equality_score",
     "estimate_active",
     "estimate_heatmap",
@@ -98,6 +106,7 @@ __all__ = [
     "largest_component",
     "mask_from_image",
     "measure_motion",
+    "option_groups",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",

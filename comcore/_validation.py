@@ -306,3 +306,96 @@ def check_rng(rng, name: str = "rng") -> np.random.Generator:
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be {want}, got {type(rng).__name__}") from None
     return np.random.default_rng(seeds)
+
+
+def check_count(value, name: str, minimum: int = 0) -> int:
+    """Validate an int (not a bool) of at least ``minimum``.
+
+    A wrong type is a TypeError, a wrong value a ValueError, for every count.
+
+    Examples
+    --------
+    >>> check_count(3, "max_pushes")
+    3
+    >>> check_count(0, "n_mu", 1)
+    Traceback (most recent call last):
+    ...
+    ValueError: n_mu must be >= 1, got 0
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def check_pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
+    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers (both >= 0 with allow_zero).
+
+    Examples
+    --------
+    >>> check_pair((0.01, 0.13), "theta_noise")
+    (0.01, 0.13)
+    >>> check_pair((0.0, 0.1), "theta_noise")
+    Traceback (most recent call last):
+    ...
+    ValueError: theta_noise must be a pair with absolute > 0 and other >= 0, got (0.0, 0.1)
+    """
+    try:
+        a, r = (float(v) for v in value)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
+    low_ok = a >= 0 if allow_zero else a > 0
+    if not (low_ok and math.isfinite(a) and r >= 0 and math.isfinite(r)):
+        want = "both >= 0" if allow_zero else "absolute > 0 and other >= 0"
+        raise ValueError(f"{name} must be a pair with {want}, got ({a}, {r})")
+    return a, r
+
+
+def check_powers(value, name: str) -> tuple[float, ...]:
+    """Validate one power in (0, 1] or a sequence of distinct ones, as a tuple.
+
+    Examples
+    --------
+    >>> check_powers(0.6, "model_weight"), check_powers([0.5, 1], "model_weight")
+    ((0.6,), (0.5, 1.0))
+    """
+    want = f"{name} must be a number or a sequence of numbers, got {value!r}"
+    if isinstance(value, (str, bytes)):
+        raise TypeError(want)
+    if np.ndim(value) == 0:
+        return (check_probability(value, name, open_low=True),)
+    try:
+        values = tuple(value)
+    except TypeError as e:
+        raise TypeError(want) from e
+    if not values:
+        raise ValueError(f"{name} must not be an empty sequence")
+    out = tuple(check_probability(v, name, open_low=True) for v in values)
+    if len(set(out)) != len(out):
+        raise ValueError(f"{name}'s powers must be distinct, got {value!r}")
+    return out
+
+
+def check_per_push(values, n: int, name: str, default):
+    """One value per push, validated: bools when ``default`` is a bool, else numbers >= 0.
+
+    ``None`` gives ``default`` for every push; a number may be NaN (not measured).
+    """
+    if values is None:
+        return [default] * n
+    if isinstance(values, (str, bytes)) or np.ndim(values) != 1 or len(values) != n:
+        raise ValueError(f"{name} must hold one value per push ({n}), got {values!r}")
+    if isinstance(default, bool):
+        if not all(isinstance(v, (bool, np.bool_)) for v in values):
+            raise TypeError(f"{name} must hold bools, got {values!r}")
+        return [bool(v) for v in values]
+    try:
+        out = [math.nan if v is None else float(v) for v in values]
+    except (TypeError, ValueError) as e:
+        raise TypeError(
+            f"{name} must hold numbers (NaN or None: not measured), got {values!r}"
+        ) from e
+    if any(v < 0 or math.isinf(v) for v in out):
+        raise ValueError(f"{name} must be >= 0 and finite or NaN (pixels), got {values!r}")
+    return out

@@ -20,6 +20,8 @@ from comcore.bench._conditions import (
 )
 from comcore.bench._trial import _random_simulator
 
+from .records import actions_of
+
 ESTIMATORS = ("alg2", "active(max_pushes=1)", "active-robot(max_pushes=1)", "centroid")
 NAMES = (
     "exact",
@@ -162,7 +164,7 @@ def test_active_robot_counts_the_robots_pushes(observe):
     outcome = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)), keep=True)
     row, est = outcome.rows[0], outcome.estimates[label]
     assert row["status"] in ("ok", "budget"), row["message"]
-    assert row["total_pushes"] == row["pushes_used"] == len(est.extras["actions"]) == 2
+    assert row["total_pushes"] == row["pushes_used"] == len(actions_of(est)) == 2
     assert row["push_failures"] == 0 and row["credible_radius_cm"] > 0
 
 

@@ -112,3 +112,19 @@ def test_save_benchmark_writes_results_figures_and_report(tmp_path):
     meta = json.loads(paths["meta"].read_text())
     assert meta["config"]["candidates"] == 8 and meta["rows"] == 6
     assert read_rows(paths["results"]) == result.rows
+
+
+def test_the_summary_names_the_statuses_that_are_not_ok():
+    # Alg. 1 is never ok ("unchecked"): the column must say so, not count it as a failure
+    # that looks like the active estimator's stops.
+    from comcore.bench._report import summary_table
+
+    rows = [row("alg1", status="unchecked", trial=t) for t in range(3)]
+    rows += [row("active", status=s, trial=t) for t, s in enumerate(["ok", "budget", "budget",
+                                                                      "exhausted"])]  # fmt: skip
+    lines = {line.split("|")[1].strip(): line for line in summary_table(rows).splitlines()[2:]}
+    assert lines["alg1"].rstrip(" |").split("|")[-2].strip() == "3 (unchecked)"
+    assert lines["active"].rstrip(" |").split("|")[-2].strip() == "3 (budget 2, exhausted 1)"
+    assert group_stats(rows, keys=("estimator",))[("active",)]["statuses"] == {
+        "budget": 2, "exhausted": 1,
+    }  # fmt: skip
