@@ -264,7 +264,7 @@ def _fill_holes(region: np.ndarray) -> np.ndarray:
     return out
 
 
-def _check_edges(region, valid, box, shape, seen_as: str) -> None:
+def _check_edges(region, valid, box, shape, seen_as: str, one_level: bool) -> None:
     """ImageError if the object touches the image border or the edge of the region of interest."""
     h, w = shape
     rows, cols = box
@@ -275,10 +275,15 @@ def _check_edges(region, valid, box, shape, seen_as: str) -> None:
     touching = _touches(region)
     border = [side for side in touching if at_border[side]]
     if border:
+        if one_level:
+            hint = "one grey level for the whole image splits an unevenly lit table: "
+            hint += "threshold='auto' fits the light"
+        else:
+            hint = "if it is not the object but a shadow or the table's edge, give roi= to "
+            hint += "leave the border out, or background="
         raise ImageError(
             f"the object ({seen_as}) touches the image border ({', '.join(border)}): part of it "
-            "may be out of view; move the camera or the object (if it is not the object but a "
-            "shadow or the table's edge, give roi= to leave the border out, or background=)"
+            f"may be out of view; move the camera or the object ({hint})"
         )
     edge = [side for side in touching if not at_border[side]]
     if valid is not None and (region & ~ndimage.binary_erosion(valid, border_value=1)).any():
@@ -315,19 +320,21 @@ def mask_from_image(
         (default): the table's light is fitted (a robust quadratic surface
         from the image's rim, then what it leaves smoothed from the table
         around) and taken off, so a gradient, vignetting or a shadow's soft
-        edge do not matter; the object is what differs from that table by
-        more than six times its noise, cut at half its contrast, found on a
-        coarse grid and refined in its neighbourhood only. ``"otsu"``: one
-        level for the whole image, Otsu's (:func:`otsu_threshold`), the
-        method of comcore 0.1. A number: that grey level, in the image's own
-        units (pixels ``>= threshold`` are bright); with ``background``, the
-        least difference from it that makes an object pixel.
+        edge do not matter; the object is what differs from that light by
+        more than five times the table's noise, found on a coarse grid, and
+        its outline is where each pixel is half-way between the table under
+        it and the object, in the object's neighbourhood only
+        (``comcore._image_object``). ``"otsu"``: one level for the whole
+        image, Otsu's (:func:`otsu_threshold`), the method of comcore 0.1.
+        A number: that grey level, in the image's own units (pixels
+        ``>= threshold`` are bright); with ``background``, the least
+        difference from it that makes an object pixel.
     object : {"auto", "bright", "dark"}, optional
         Whether the object is brighter or darker than the table. ``"auto"``
         picks the side whose largest region does not touch the image border
         (the table surrounds the object); when both or neither do, the side
-        with the larger region (``"otsu"`` and a number: with fewer pixels,
-        the object is the minority).
+        whose region differs most from the table (``"otsu"`` and a number:
+        the side with fewer pixels, the object is the minority).
     background : array_like or str or os.PathLike, optional
         An image of the empty table from the same camera (same shape, any of
         the types of ``image``): the object is where ``image`` differs from
@@ -384,10 +391,10 @@ def mask_from_image(
 
     The same table lit from one side (a ramp of 80 grey levels), and empty:
 
-    >>> lit = (np.linspace(-40, 40, 60)[None, :] + img).astype(np.uint8)
-    >>> comcore.mask_from_image(lit).area_px
+    >>> light = np.linspace(-40, 40, 60) * np.ones((40, 1))
+    >>> comcore.mask_from_image((img + light).astype(np.uint8)).area_px
     600
-    >>> comcore.mask_from_image(np.full((40, 60), 200, np.uint8) + lit - img)
+    >>> comcore.mask_from_image((200 + light).astype(np.uint8))
     Traceback (most recent call last):
     ...
     comcore._errors.ImageError: no object: the image matches the table...
@@ -432,7 +439,7 @@ def mask_from_image(
         seen_as = f"{object} side, {int(region.sum())} pixels"
     if fill_holes:
         region = _fill_holes(region)
-    _check_edges(region, valid, box, grey.shape, seen_as)
+    _check_edges(region, valid, box, grey.shape, seen_as, one_level=mode == "otsu")
     full = np.zeros(grey.shape, bool)
     full[box] = region
     return Mask(full, resolution=resolution)

@@ -392,7 +392,7 @@ def test_a_lit_photo_needs_no_option_but_one_grey_level_fails(files, capsys):
     assert code == 0, err
     assert result["com_px"] == pytest.approx(list(np.add(clean["com_px"], OFFSET)))
     code, _, err = estimate_json(capsys, photo, shifted, "--threshold", "otsu")
-    assert code == 2 and "touches the image border" in err and "give --roi" in err
+    assert code == 2 and "touches the image border" in err and "--threshold auto fits the light" in err
 
 
 @pytest.mark.parametrize("option", ["--background", "--roi"])

@@ -99,7 +99,12 @@ def _read_image(path: Path, option: str = "--mask") -> np.ndarray:
 
 
 #: mask_from_image's keywords as its messages name them, and the options of the command.
-_OPTION_NAMES = {"threshold=": "--threshold", "background=": "--background", "roi=": "--roi"}
+_OPTION_NAMES = {
+    "threshold='auto'": "--threshold auto",
+    "threshold=": "--threshold",
+    "background=": "--background",
+    "roi=": "--roi",
+}
 
 
 def read_mask(
