@@ -91,12 +91,23 @@ def _read(path) -> np.ndarray:
     return image
 
 
-def _grey(image, name: str = "image") -> tuple[np.ndarray, float]:
-    """A float grey image (H, W) from a grey, RGB or RGBA array, and its noise floor.
+def _float_step(grey: np.ndarray) -> float:
+    """Half the step of a float image of 8 or 16 bits (k / 255), else a millionth of its range.
 
-    The floor is half a grey level for integer (and bool) images, the
-    smallest step worth believing in; for float images a millionth of their
-    range.
+    (matplotlib reads a PNG as floats k / 255.)
+    """
+    for levels in (255, 65535):
+        scaled = grey * levels
+        if np.all(np.abs(scaled - np.rint(scaled)) < 1e-3):
+            return 0.5 / levels
+    return 1e-6 * max(float(np.ptp(grey)), 1e-300)
+
+
+def _grey(image, name: str = "image") -> tuple[np.ndarray, float]:
+    """A float grey image (H, W) from a grey, RGB or RGBA array, and half its step.
+
+    Half a grey level for integer (and bool) images: the least difference
+    worth believing in (:func:`_float_step` for float images).
     """
     if isinstance(image, Mask):
         return image.data.astype(float), 0.5
@@ -122,8 +133,7 @@ def _grey(image, name: str = "image") -> tuple[np.ndarray, float]:
     arr = arr.astype(float)
     if not np.isfinite(arr).all():
         raise ValueError(f"{name} must hold finite values, got NaN or inf")
-    floor = 0.5 if integer else 1e-6 * max(float(np.ptp(arr)), 1e-300)
-    return arr, floor
+    return arr, 0.5 if integer else _float_step(arr)
 
 
 def _touches(region: np.ndarray) -> list[str]:

@@ -372,3 +372,15 @@ def test_auto_and_otsu_agree_on_an_evenly_lit_two_level_image(mask, object_value
     img = np.where(mask.data, object_value, table_value).astype(np.uint8)
     auto = comcore.mask_from_image(img, threshold="auto")
     assert np.array_equal(auto.data, comcore.mask_from_image(img, threshold="otsu").data)
+
+
+@pytest.mark.parametrize("scale", [1, 255], ids=["floats k/255 (matplotlib's PNG)", "uint8"])
+def test_a_drawn_lit_table_without_noise_is_not_an_object(scale):
+    # a ramp rounded to grey levels leaves steps of one level (two where a colour map skips
+    # one): they are not objects
+    ramp = np.rint(np.linspace(51, 204, 160) + np.arange(160) % 3 // 2) * np.ones((120, 1))
+    image = (ramp / 255 * scale).astype(np.float32 if scale == 1 else np.uint8)
+    with pytest.raises(comcore.ImageError, match="no object: the image matches the table"):
+        comcore.mask_from_image(image)
+    image[54:74, 74:94] = 13 / 255 * scale
+    assert comcore.mask_from_image(image).area_px == 400
