@@ -16,6 +16,7 @@ import argparse
 import time
 
 import numpy as np
+from _masks import ellipse_mask  # this folder is on the path when run as a script
 
 import comcore
 
@@ -23,15 +24,6 @@ import comcore
 from comcore._choice import sense_information
 from comcore._force_lines import force_lines
 from comcore._grid import GridPosterior
-
-
-def ellipse_mask(n_pixels: int) -> comcore.Mask:
-    """An ellipse (axes 5:4) of about ``n_pixels`` pixels."""
-    a = np.sqrt(n_pixels / np.pi * 5 / 4)
-    b = 0.8 * a
-    size = int(2 * a) + 12
-    yy, xx = np.mgrid[:size, :size]
-    return comcore.Mask(((xx - size / 2) / a) ** 2 + ((yy - size / 2) / b) ** 2 < 1)
 
 
 def median_ms(fn, repeats: int) -> float:

@@ -204,18 +204,6 @@ def report(
             )
 
 
-def rasterise(vertices: np.ndarray, side: int) -> np.ndarray:
-    """Pixel centres inside a polygon (even-odd rule), a (side, side) bool image."""
-    ys, xs = np.mgrid[0:side, 0:side].astype(float)
-    inside = np.zeros((side, side), bool)
-    for (a, b), (c, d) in zip(vertices, np.roll(vertices, -1, axis=0)):
-        crosses = (b > ys) != (d > ys)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x_at = a + (ys - b) * (c - a) / (d - b)
-        inside ^= crosses & (xs < x_at)
-    return inside
-
-
 def random_polygon(rng: np.random.Generator, size: float) -> np.ndarray:
     """A star-shaped, regular or rectangular polygon about the origin, ``size`` px across."""
     kind = rng.choice(["star", "regular", "rectangle"])
@@ -244,12 +232,14 @@ def calibrate(n: int, seed: int) -> None:
         centre = np.array([side / 2, side / 2])
         v0 = comcore.apply_motion(random_polygon(rng, size) + centre, rng.uniform(0, 2 * np.pi),
                                   (0.0, 0.0), centre)  # fmt: skip
-        img = rasterise(v0, side)
+        img = comcore.rasterise_polygon(v0, (side, side))
         if img.sum() < 30 or comcore.largest_component(img).sum() != img.sum():
             continue
         before = comcore.Mask(img)
         theta, shift = rng.uniform(-0.5, 0.5), rng.uniform(-5, 5, 2)
-        img = rasterise(comcore.apply_motion(v0, theta, shift, before.centroid), side)
+        img = comcore.rasterise_polygon(
+            comcore.apply_motion(v0, theta, shift, before.centroid), (side, side)
+        )
         if comcore.largest_component(img).sum() != img.sum():
             continue
         m, info = _measure(before, comcore.Mask(img))
@@ -275,9 +265,9 @@ def calibrate(n: int, seed: int) -> None:
     for label, radius, aspect, k in shapes:
         t = np.arange(k) * 2 * np.pi / k + 0.37
         v0 = np.column_stack([radius * aspect * np.cos(t), radius * np.sin(t)]) + 60.0
-        before = comcore.Mask(rasterise(v0, 120))
+        before = comcore.Mask(comcore.rasterise_polygon(v0, (120, 120)))
         moved = comcore.apply_motion(v0, 0.2, (2.0, 1.0), before.centroid)
-        _, info = _measure(before, comcore.Mask(rasterise(moved, 120)))
+        _, info = _measure(before, comcore.Mask(comcore.rasterise_polygon(moved, (120, 120))))
         print(f"  {label}: visibility {info['visibility']:.2f}")
 
 
@@ -286,9 +276,7 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=3, help="pushes per object and friction")
     parser.add_argument("--seed", type=int, default=1, help="seed (tuning used seed 0)")
-    parser.add_argument(
-        "--resolutions", default="0.0025", help="metres per pixel, comma-separated"
-    )
+    parser.add_argument("--resolutions", default="0.0025", help="metres per pixel, comma-separated")
     parser.add_argument("--objects", default="", help="comma-separated (default: all 20)")
     parser.add_argument("--margin", type=float, default=0.08, help="camera margin, metres")
     parser.add_argument(

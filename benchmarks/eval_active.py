@@ -44,18 +44,17 @@ def _model(name: str, limit_surfaces):
 
 
 def make_simulator(name, friction, seed, resolution=None):
-    """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
+    """The trial's random simulator (a draw the simulator refuses is redrawn: said so)."""
     import simulators
 
     extra = {} if resolution is None else {"resolution": resolution}
-    for attempt in range(10):
-        try:
-            return simulators.random_simulator(
-                name, friction=friction, rng=[seed, attempt], **extra
-            )
-        except ValueError as e:
-            print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
-    raise RuntimeError(f"no simulator for {name} {friction} seed {seed}")
+
+    def said(attempt, e):
+        print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
+
+    return simulators.accepted_random_simulator(
+        name, friction, rng=lambda attempt: [seed, attempt], on_refusal=said, **extra
+    )
 
 
 def run_trial(name, friction, seed, args, model):

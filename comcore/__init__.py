@@ -39,8 +39,16 @@ from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import Likelihood, PushChoice, StopRule
-from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
+from ._outline_field import OutlineField, outline_field
+from ._predictor import (
+    HypothesisPredictor,
+    Predictor,
+    check_plausible_motions,
+    check_predictor,
+    predict_motions,
+)
 from ._progressive import equality_score, estimate_progressive
+from ._raster import rasterise_polygon
 from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
@@ -54,7 +62,9 @@ from ._validation import (
     check_mu,
     check_point,
     check_points,
+    check_positive,
     check_priors,
+    check_probability,
     check_rng,
 )
 
@@ -76,6 +86,7 @@ __all__ = [
     "Mask",
     "Motion",
     "MotionMeasurement",
+    "OutlineField",
     "PowerCalibration",
     "Predictor",
     "PushChoice",
@@ -91,10 +102,13 @@ __all__ = [
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_plausible_motions",
     "check_point",
     "check_points",
+    "check_positive",
     "check_predictor",
     "check_priors",
+    "check_probability",
     "check_rng",
     "contacts",
     "credible_level",
@@ -107,9 +121,11 @@ __all__ = [
     "mask_from_image",
     "measure_motion",
     "option_groups",
+    "outline_field",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",
+    "rasterise_polygon",
     "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",

@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._checks import check_finite, check_point, check_points
+
 __all__ = [
     "ANGLE_EPS",
     "DEFAULT_RESOLUTION",
@@ -242,8 +244,6 @@ def apply_motion(points, theta, translation, center) -> np.ndarray:
     >>> apply_motion([[11.0, 5.0]], np.pi / 2, (0.0, 0.0), (10.0, 5.0)).round(12) + 0.0
     array([[10.,  4.]])
     """
-    from ._validation import check_finite, check_point, check_points  # it imports this module
-
     pts = check_points(points)
     theta = check_finite(theta, "theta")
     t = check_point(translation, "translation")

@@ -9,6 +9,7 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage
 
+from ._checks import check_points
 from ._conventions import DEFAULT_RESOLUTION, pixel_centres
 
 __all__ = ["Mask"]
@@ -205,8 +206,6 @@ class Mask:
         >>> m.contains([[1.0, 1.0], [0.4, 1.0], [-7.0, 30.0]]).tolist()
         [True, False, False]
         """
-        from ._validation import check_points  # _validation imports this module
-
         return self._contains(check_points(points))
 
     def _contains(self, p: np.ndarray) -> np.ndarray:
@@ -250,8 +249,6 @@ class Mask:
         >>> m.distance_to_object([[1.0, 1.0], [1.0, -1.0]]).tolist()
         [0.0, 2.0]
         """
-        from ._validation import check_points  # _validation imports this module
-
         p = check_points(points)
         h, w = self.shape
         col = np.clip(np.floor(p[:, 0] + 0.5), 0, w - 1)

@@ -11,9 +11,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comcore import check_actions, check_mask, check_points, check_priors
-from comcore._outline_field import outline_field
-from comcore._predictor import check_plausible_motions
+from comcore import (
+    check_actions,
+    check_mask,
+    check_plausible_motions,
+    check_points,
+    check_priors,
+    outline_field,
+)
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
 from ._ellipsoid_model import simulate
@@ -153,7 +158,7 @@ class EllipsoidPredictor:
             If an action starts inside the object, or ``mu`` is negative; or
             if a prediction is physically impossible (``|theta|`` over pi, a
             translation over ten times the push's length: a broken input such
-            as a unit mistake, see :func:`comcore._predictor.check_plausible_motions`).
+            as a unit mistake, see :func:`comcore.check_plausible_motions`).
 
         Examples
         --------

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
-from comcore._predictor import check_plausible_motions
+from comcore import check_plausible_motions
 
 __all__ = ["OraclePredictor"]
 

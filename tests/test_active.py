@@ -414,6 +414,7 @@ def test_a_model_returning_garbage_is_reported():
 
 
 def test_bench_script_runs():
+    pytest.importorskip("shapely")  # the script runs the simulator
     out = run_script(
         "benchmarks/bench_active.py",
         *("--pixels", "600", "--candidates", "20", "--repeats", "2", "--objects", "Obj1"),
@@ -787,6 +788,7 @@ def test_calibration_names_bad_input(records, kwargs, error, match):
 
 
 def test_tune_script_runs():
+    pytest.importorskip("shapely")  # the script runs the simulator
     out = run_script(
         "benchmarks/tune_active.py",
         *("--objects", "Obj1", "--friction", "low", "--conditions", "exact,no-reset"),
@@ -797,6 +799,7 @@ def test_tune_script_runs():
 
 
 def test_kept_pushes_are_rescored(tmp_path):
+    pytest.importorskip("shapely")  # the script runs the simulator
     kept = tmp_path / "runs.pkl"
     run_script(
         "benchmarks/tune_active.py",
@@ -819,6 +822,7 @@ def test_kept_pushes_are_rescored(tmp_path):
 
 
 def test_stop_frontier_scores_every_stop_radius_on_kept_pushes(tmp_path):
+    pytest.importorskip("shapely")  # the script runs the simulator
     kept = tmp_path / "runs.pkl"
     run_script(
         "benchmarks/tune_active.py",

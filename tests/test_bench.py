@@ -7,7 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-pytest.importorskip("simulators")
+pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
+pytest.importorskip("trimesh")
 pytest.importorskip("pymunk")
 
 import comcore
@@ -232,6 +233,27 @@ def test_pushes_the_simulator_refuses_are_redrawn(registry):
     assert outcome.context.motions.shape == (6, 3)
     assert "candidate push(es) redrawn" in outcome.rows[0]["message"]
     assert outcome.rows[0]["status"] == "unchecked"  # Alg. 1 ran (it is never "ok")
+
+
+def test_a_refused_simulator_draw_is_redrawn_from_the_next_stream(monkeypatch):
+    import simulators
+
+    spec = TrialSpec("Obj3", "low", 0, candidates=6, estimators=("centroid",))
+    first = spec.simulator()
+    assert first.com_m == spec.simulator().com_m  # the stream "simulator"
+    draw, calls = simulators.random_simulator, []
+
+    def refuse_once(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            raise ValueError("target is not strictly inside the support points")
+        return draw(*args, **kwargs)
+
+    monkeypatch.setattr(simulators._random, "random_simulator", refuse_once)
+    outcome = run_trial(spec, keep=True)
+    again = draw("Obj3", "low", rng=spec.rng("simulator#1"))
+    assert outcome.context.simulator.com_m == again.com_m != first.com_m
+    assert outcome.rows[0]["message"].startswith("simulator draw 0 failed (target is not")
 
 
 def test_a_failing_predictor_fails_only_the_estimators_that_need_it(registry):

@@ -9,6 +9,7 @@ import pytest
 from comcore.bench import ROW_FIELDS
 from comcore.bench._io import paper_table, read_rows, write_rows
 from comcore.bench._report import group_stats, markdown_report, table_one, table_two
+from tests.extras import require_simulators
 
 
 def row(estimator="alg1", obj="Obj1", friction="low", error=1.0, pushes=3, trial=0, **kw):
@@ -23,7 +24,7 @@ def row(estimator="alg1", obj="Obj1", friction="low", error=1.0, pushes=3, trial
 
 
 def test_paper_tables_hold_twenty_objects_with_the_benchmark_sizes():
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     for number in (1, 2):
         table = paper_table(number)
         assert list(table) == list(simulators.BENCHMARK_OBJECTS)
@@ -95,7 +96,7 @@ def test_jsonl_is_one_object_per_line(tmp_path):
 
 
 def test_save_benchmark_writes_results_figures_and_report(tmp_path):
-    pytest.importorskip("simulators")
+    require_simulators()
     pytest.importorskip("matplotlib")
     from comcore.bench import BenchConfig, run_benchmark
     from comcore.bench._outputs import save_benchmark

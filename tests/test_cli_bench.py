@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("simulators")
+pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
+pytest.importorskip("trimesh")
 
 from comcore.bench import PREDICTORS, PredictorSpec
 from comcore.cli import main

@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 import comcore
+from tests.extras import require_simulators
 
 # A drawn example: an arrow pointing right (+x) on screen.
 ARROW = np.array(
@@ -173,7 +174,7 @@ def test_an_action_is_the_path_of_the_pushers_leading_point(radius):
     # the normal of a flat edge whose action ends 1 cm past the edge carries the object
     # 1 cm, whatever the radius, in the simulator and in the default motion model alike
     # (were the action the centre's path, it would carry it 1 cm minus the radius).
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
     sim = simulators.PushSimulator.from_polygon(square, com=(0.0, 0.0), pusher_radius=radius)
     x, y = sim.to_pixels([(-0.03, 0.0)])[0]  # the middle of the left edge

@@ -14,6 +14,7 @@ import comcore
 from comcore._image import otsu_threshold
 from tests import frames
 from tests import strategies as cst
+from tests.extras import require_simulators
 
 
 def scene(object_value=30, table_value=200, dtype=np.uint8, shape=(40, 60)):
@@ -197,7 +198,7 @@ def camera_image(mask, rng, table=180.0, ink=60.0, blur=1.0, noise=8.0):
 
 
 def test_a_blurred_noisy_camera_image_of_a_simulated_object():
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     pytest.importorskip("shapely")
     sim = simulators.random_simulator("Obj12", "low", rng=0)
     image = camera_image(sim.mask, np.random.default_rng(1))
@@ -207,7 +208,7 @@ def test_a_blurred_noisy_camera_image_of_a_simulated_object():
 
 
 def test_images_to_motion():
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     pytest.importorskip("shapely")
     sim = simulators.random_simulator("Obj5", "low", rng=2, margin=0.08)
     res = sim.push(comcore.sample_pushes(sim.mask, 1, cone=0.2, rng=3)[0])

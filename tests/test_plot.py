@@ -16,6 +16,7 @@ from .scripts import run_script
 pytest.importorskip("matplotlib")
 
 import comcore.plot
+from tests.extras import require_simulators
 
 from .records import actions_of, outcomes_of
 
@@ -160,7 +161,7 @@ def test_import_comcore_does_not_import_the_plotting_module():
 @pytest.fixture(scope="module")
 def camera_session():
     """An ActiveSession on a SimulatedRobot's wide camera frame (the README's loop)."""
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     robot = simulators.SimulatedRobot(simulators.random_simulator("Obj2", "low", rng=0), rng=0)
     first = robot.camera_mask()
     session = comcore.ActiveSession(first, pusher_radius=0.004, rng=0)
@@ -252,7 +253,7 @@ def test_a_status_other_than_ok_is_in_the_title():
 
 
 def test_the_robot_figure_of_docs_is_made_by_its_script(tmp_path):
-    pytest.importorskip("simulators")
+    require_simulators()
     path = tmp_path / "robot_session.png"
     out = run_script("docs/make_robot_figure.py", str(path))
     assert out.startswith(f"saved {path}: status ")

@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 import comcore
+from tests.extras import require_simulators
 
 
 class Constant:
@@ -68,7 +69,7 @@ def test_the_plausibility_check_reads_hypotheses_too():
 
 
 def test_the_shipped_predictors_refuse_impossible_motions_themselves(square_mask, monkeypatch):
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     import predictors.ellipsoid
     from predictors import EllipsoidPredictor, OraclePredictor
 

@@ -11,8 +11,13 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from comcore import check_actions, check_mask, check_priors, check_rng
-from comcore._predictor import check_plausible_motions
+from comcore import (
+    check_actions,
+    check_mask,
+    check_plausible_motions,
+    check_priors,
+    check_rng,
+)
 
 from .features import (
     T_SCALE,
@@ -171,10 +176,9 @@ class AnpPredictor:
         Use this (e.g. freshly trained) model instead of loading ``weights``.
     threads : int or None, optional
         torch CPU threads while predicting (default 1; restored afterwards).
-        The model is small: on the 2-core development machine, 100 queries
-        from 12 priors took a median 7.9 ms on one thread
-        (``python benchmarks/bench_anp.py``). ``None`` leaves torch's setting
-        alone.
+        The model is small: one thread is enough (its time and the command
+        that measures it: docs/predictor-anp.md, "Inference time"). ``None``
+        leaves torch's setting alone.
 
     Notes
     -----
