@@ -28,7 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/frames.py
 
 import comcore
-from tests.frames import inside_polygon, star_polygon
+from tests.frames import star_polygon
 
 #: The second mask: the first turned by this (radians) about its centroid and moved (px).
 TURN, SHIFT = 0.05, (3.0, -2.0)
@@ -41,10 +41,9 @@ def masks(rng, shape, share, resolution):
     poly = comcore.apply_motion(poly, rng.uniform(0, 2 * np.pi), (0.0, 0.0), (0.0, 0.0))
     reach = np.hypot(poly[:, 0], poly[:, 1]).max() + 20
     poly = poly + rng.uniform([reach, reach], [w - reach, h - reach])
-    yy, xx = np.mgrid[0:h, 0:w].astype(float)
-    first = comcore.Mask(inside_polygon(poly, xx, yy), resolution=resolution)
+    first = comcore.Mask(comcore.rasterise_polygon(poly, shape), resolution=resolution)
     moved = comcore.apply_motion(poly, TURN, SHIFT, first.centroid)
-    return first, comcore.Mask(inside_polygon(moved, xx, yy), resolution=resolution)
+    return first, comcore.Mask(comcore.rasterise_polygon(moved, shape), resolution=resolution)
 
 
 def crop(first, second, pad):

@@ -21,7 +21,7 @@ One generator for the tests (tests/test_image.py) and the benchmark
 * ``noise``: sensor noise (Gaussian, grey levels), then clipped and rounded
   to uint8.
 
-The truth is the polygon rasterised at pixel centres. The reference image
+The truth is the polygon rasterised at pixel centres (``comcore.rasterise_polygon``). The reference image
 of the empty table has the same table and lighting but no object, no cast
 shadow and no frame shadow (taken with the arm away), fresh noise and an
 exposure differing by up to 2 %. Every draw takes a seed or Generator.
@@ -33,6 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
+
+import comcore
 
 #: Conditions of the benchmark: keyword arguments of :func:`make_frame`.
 CONDITIONS: dict[str, dict] = {
@@ -89,26 +91,13 @@ def star_polygon(rng: np.random.Generator, area: float) -> np.ndarray:
     return xy * np.sqrt(area / a)
 
 
-def inside_polygon(vertices: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
-    """Even-odd rule: which points ``(xs, ys)`` (any equal shapes) lie inside."""
-    inside = np.zeros(xs.shape, bool)
-    for (a, b), (c, d) in zip(vertices, np.roll(vertices, -1, axis=0)):
-        crosses = (b > ys) != (d > ys)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x_at = a + (ys - b) * (c - a) / (d - b)
-        inside ^= crosses & (xs < x_at)
-    return inside
-
-
 def _coverage(vertices: np.ndarray, box: tuple[slice, slice], samples: int = 4) -> np.ndarray:
     """Share of each pixel of ``box`` inside the polygon (samples x samples a pixel)."""
     rows, cols = box
-    offsets = (np.arange(samples) + 0.5) / samples - 0.5
-    ys = np.arange(rows.start, rows.stop)[:, None] + offsets[None, :]
-    xs = np.arange(cols.start, cols.stop)[:, None] + offsets[None, :]
-    yy, xx = np.meshgrid(ys.ravel(), xs.ravel(), indexing="ij")
-    inside = inside_polygon(vertices, xx, yy).astype(float)
     h, w = rows.stop - rows.start, cols.stop - cols.start
+    # sub-pixel j of pixel c is centred at c + (j % samples + 0.5) / samples - 0.5
+    fine = (vertices - [cols.start, rows.start] + 0.5) * samples - 0.5
+    inside = comcore.rasterise_polygon(fine, (h * samples, w * samples))
     return inside.reshape(h, samples, w, samples).mean(axis=(1, 3))
 
 
@@ -223,9 +212,7 @@ def make_frame(
     truth = None
     if not empty:
         coverage[box] = ndimage.gaussian_filter(_coverage(poly, box), blur)
-        yy, xx = np.mgrid[box]
-        truth = np.zeros(shape, bool)
-        truth[box] = inside_polygon(poly, xx.astype(float), yy.astype(float))
+        truth = comcore.rasterise_polygon(poly, shape)
     shade = np.ones(shape)
     if cast_shadow and not empty:
         offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])

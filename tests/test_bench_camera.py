@@ -4,6 +4,7 @@ import re
 
 import pytest
 
+from .extras import require_simulators
 from .scripts import run_script
 
 NUMBER = r"\d+\.\d+"
@@ -39,7 +40,7 @@ def test_bench_first_observe_script_runs():
 
 
 def test_bench_measure_motion_in_a_wide_frame():
-    pytest.importorskip("shapely")  # the simulator renders the masks
+    require_simulators()  # the simulator renders the masks
     args = ["--trials", "1", "--objects", "Obj5", "--resolutions", "0.005", "--frame", "400x300"]
     lines = run_script("benchmarks/bench_measure_motion.py", *args, timeout=120).splitlines()
     assert lines[0].endswith("images [300, 400] to [300, 400] px")
