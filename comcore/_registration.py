@@ -176,6 +176,12 @@ def _level_points(smooth: np.ndarray) -> np.ndarray:
     return np.vstack(out)
 
 
+def _centroid(data: np.ndarray) -> np.ndarray:
+    """Area centroid ``(x, y)`` of a bool image's true pixels (``Mask.centroid`` of a crop)."""
+    rows, cols = np.nonzero(data)
+    return np.array([cols.mean(), rows.mean()])
+
+
 def _check_pair(before, after) -> None:
     for name, mask in (("before", before), ("after", after)):
         if not isinstance(mask, Mask):
@@ -431,11 +437,12 @@ def _measure(
     cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
     r0, r1 = max(rows[0] - CROP_PAD_PX, 0), min(rows[-1] + CROP_PAD_PX + 1, h)
     c0, c1 = max(cols[0] - CROP_PAD_PX, 0), min(cols[-1] + CROP_PAD_PX + 1, w)
-    origin = np.array([c0, r0], dtype=float)
-    fields_before = _Fields(before.data[r0:r1, c0:c1], full=False)
-    fields_after = _Fields(after.data[r0:r1, c0:c1])
-    centre = np.asarray(before.centroid) - origin
-    t0 = np.asarray(after.centroid) - np.asarray(before.centroid)
+    # everything from here on in the window around the two objects, not the camera frame
+    crop_before, crop_after = before.data[r0:r1, c0:c1], after.data[r0:r1, c0:c1]
+    fields_before = _Fields(crop_before, full=False)
+    fields_after = _Fields(crop_after)
+    centre = _centroid(crop_before)  # before's area centroid, in the window
+    t0 = _centroid(crop_after) - centre
 
     problem = _Problem(fields_before, fields_after, centre)
     quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
