@@ -21,10 +21,8 @@ from collections import defaultdict
 import numpy as np
 
 import comcore
-from comcore._geometry import line_distances
-from comcore._regions import estimate_from_region, largest_component
+from comcore._regions import estimate_from_region  # no public equivalent
 from comcore.bench import TrialSpec
-from comcore.bench._trial import _random_simulator
 
 OBJECTS = ("Obj1", "Obj4", "Obj7", "Obj12", "Obj16", "Obj19")
 
@@ -50,7 +48,7 @@ def trials(args, n_max: int):
         args.objects.split(","), ("low", "high"), range(args.trials)
     ):
         spec = TrialSpec(obj, friction, trial, seed=args.seed, cone=args.cone)
-        sim, _ = _random_simulator(spec)
+        sim = spec.simulator()
         mask = sim.mask
         cands = comcore.sample_pushes(mask, n_max, cone=args.cone, rng=spec.rng("cand"))
         out.append((mask, sim.com_px, cands, sim.push_motions(cands)))
@@ -66,12 +64,12 @@ def trials(args, n_max: int):
 
 def mean_heatmap_estimate(mask, actions, motions, threshold, length_scale):
     """Alg. 1 with the heat map divided by the local line density (not the paper's)."""
-    weight = np.exp(-np.abs(line_distances(mask.pixels, actions)) / length_scale)
+    weight = np.exp(-np.abs(comcore.signed_line_distance(mask.pixels, actions)) / length_scale)
     score = weight @ np.abs(motions[:, 0]) / (weight.sum(axis=1) + 1e-3)
     lo, hi = score.min(), score.max()
     heat = np.zeros(mask.shape)
     heat[mask.data] = (score - lo) / (hi - lo) if hi > lo else 0.0
-    region = largest_component(mask.data & (heat < threshold))
+    region = comcore.largest_component(mask.data & (heat < threshold))
     return estimate_from_region(mask, region)
 
 

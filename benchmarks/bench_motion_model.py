@@ -21,10 +21,10 @@ import argparse
 import time
 
 import numpy as np
+from _masks import ellipse_mask  # this folder is on the path when run as a script
 
 import comcore
 import simulators
-from comcore._active_setup import mu_grid
 from predictors import EllipsoidPredictor
 
 
@@ -36,14 +36,6 @@ def largest_object(resolution):
         if best is None or mask.area_px > best[1].area_px:
             best = (name, mask)
     return best
-
-
-def ellipse_mask(n_pixels: int) -> comcore.Mask:
-    """An ellipse (axes 5:4) of about ``n_pixels`` pixels at 2.5 mm per pixel."""
-    a = np.sqrt(n_pixels / np.pi * 5 / 4)
-    size = int(2 * a) + 12
-    yy, xx = np.mgrid[:size, :size]
-    return comcore.Mask(((xx - size / 2) / a) ** 2 + ((yy - size / 2) / (0.8 * a)) ** 2 < 1)
 
 
 def step_times(models, mask, pushes, mus):
@@ -78,7 +70,7 @@ def main(argv=None):
     else:
         sim = simulators.random_simulator(args.object, rng=0, resolution=args.resolution)
         name, mask = args.object, sim.mask
-    mus = mu_grid(None, 6)
+    mus = comcore.Likelihood().mus
     radius = simulators.DEFAULT_PUSHER_RADIUS
     models = {
         "LimitSurfaceModel": [comcore.LimitSurfaceModel(pusher_radius=radius)],

@@ -22,6 +22,8 @@ import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 
+from replay import has_evidence  # this folder is on the path
+
 
 def _calibrate(job):
     import comcore
@@ -30,16 +32,9 @@ def _calibrate(job):
     records = []
     for k in kept:
         mask = comcore.Mask(k["mask"], resolution=k["resolution"])
-        n = len(k["actions"])
-        # the session's record as an Estimate holds it: pushes, motions and camera readings
-        extras = {
-            "actions": k["actions"],
-            "motions": k["motions"],
-            "rotation_observed": tuple(bool(v) for v in k.get("rotation_observed", [True] * n)),
-            "residual_px": tuple(float(v) for v in k.get("residual_px", [float("nan")] * n)),
-        }
+        # the session's record as an Estimate holds it: its pushes, with the camera's readings
         est = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data,
-                               extras=extras)  # fmt: skip
+                               pushes=k["pushes"])  # fmt: skip
         records.append((mask, est, k["true_px"]))
     return cond, comcore.calibrate_model_weight(records, pusher_radius=0.004, powers=powers)
 
@@ -54,7 +49,7 @@ def main(argv=None):
     powers = tuple(float(v) for v in args.powers.split(","))
     with open(args.runs, "rb") as f:
         rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
-    rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
+    rows = [r for r in rows if has_evidence(r["pushes_kept"])]
     conds = list(dict.fromkeys(r["condition"] for r in rows))
     if args.conditions:
         conds = [c for c in conds if c in args.conditions.split(",")]

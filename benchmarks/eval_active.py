@@ -44,18 +44,17 @@ def _model(name: str, limit_surfaces):
 
 
 def make_simulator(name, friction, seed, resolution=None):
-    """The trial's random simulator (a few draws fail in the simulator's mass tilting: redraw)."""
+    """The trial's random simulator (a draw the simulator refuses is redrawn: said so)."""
     import simulators
 
     extra = {} if resolution is None else {"resolution": resolution}
-    for attempt in range(10):
-        try:
-            return simulators.random_simulator(
-                name, friction=friction, rng=[seed, attempt], **extra
-            )
-        except ValueError as e:
-            print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
-    raise RuntimeError(f"no simulator for {name} {friction} seed {seed}")
+
+    def said(attempt, e):
+        print(f"  {name} {friction} seed {seed}: random_simulator failed ({e}); redrawing")
+
+    return simulators.accepted_random_simulator(
+        name, friction, rng=lambda attempt: [seed, attempt], on_refusal=said, **extra
+    )
 
 
 def run_trial(name, friction, seed, args, model):
@@ -90,9 +89,8 @@ def run_trial(name, friction, seed, args, model):
         sim.mask,
         push,
         model=model,
-        cone=args.cone,
         rng=np.random.default_rng([seed, 2]),
-        **kwargs,
+        **comcore.option_groups(**kwargs, cone=args.cone),
     )
     cm = 100 * sim.mask.resolution
     return {
@@ -109,9 +107,9 @@ def run_trial(name, friction, seed, args, model):
         "in_region": bool(est.region[round(sim.com_px[1]), round(sim.com_px[0])]),
         "seconds": time.perf_counter() - start,
         "history_error_cm": [
-            float(np.hypot(*np.subtract(h["com"], sim.com_px))) * cm for h in est.extras["history"]
+            float(np.hypot(*np.subtract(h.com, sim.com_px))) * cm for h in est.extras["history"]
         ],
-        "history_radius_cm": [h["credible_radius_px"] * cm for h in est.extras["history"]],
+        "history_radius_cm": [h.credible_radius_px * cm for h in est.extras["history"]],
     }
 
 
@@ -126,22 +124,23 @@ def plot_posterior(name, friction, seed, args, model, path):
     cands = comcore.sample_pushes(
         sim.mask, 200, cone=args.cone, rng=np.random.default_rng([seed, 2])
     )
-    kwargs = {"model": model, "selection": args.selection}
+    choice = comcore.PushChoice(selection=args.selection)
+    kwargs = {"model": model, "choice": choice}
     if args.max_pushes is not None:
-        kwargs["max_pushes"] = args.max_pushes
+        kwargs["stop"] = comcore.StopRule(max_pushes=args.max_pushes)
     final = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, **kwargs)
     steps = len(final.used)
     fig, axes = plt.subplots(1, steps + 1, figsize=(2.6 * (steps + 1), 2.9))
     ys, xs = np.nonzero(sim.mask.data)
     box = (xs.min() - 3, xs.max() + 3, ys.max() + 3, ys.min() - 3)
     for k, ax in enumerate(np.atleast_1d(axes)):
-        kwargs["max_pushes"] = k
+        kwargs["stop"] = comcore.StopRule(max_pushes=k)
         est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, **kwargs)
         post = np.ma.masked_where(~sim.mask.data, est.extras["posterior"])
         ax.imshow(sim.mask.data, cmap="Greys", alpha=0.25)
         ax.imshow(post, cmap="viridis")
         ax.contour(est.region, levels=[0.5], colors="w", linewidths=0.8)
-        for a in est.extras["actions"]:
+        for a in (p.action for p in est.pushes):
             ax.annotate("", a[2:], a[:2], arrowprops={"arrowstyle": "->", "color": "tab:red"})
         ax.plot(*sim.com_px, "r+", ms=10, mew=1.5)
         ax.plot(*est.com, "wx", ms=7, mew=1.5)

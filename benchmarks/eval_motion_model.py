@@ -54,8 +54,6 @@ from predictors import EllipsoidPredictor
 
 BIG_ROTATION_RAD = np.radians(2.0)
 LEVER_BINS_M = ((0.0, 0.01), (0.01, 0.03), (0.03, 1.0))
-NEAR_LINE_M = 0.0375
-DOF = 3.0
 DEFAULT_MODELS = ("limit-surface", "ellipsoid")
 
 
@@ -239,16 +237,17 @@ def table(rows, objects=None):
     return "\n".join(lines)
 
 
-def _t_logpdf(res_sq, scale, dim):
-    return -0.5 * (DOF + dim) * np.log1p(res_sq / (DOF * scale**2)) - dim * np.log(scale)
+def _likelihood(params) -> comcore.Likelihood:
+    """The active likelihood with error scales ``(a, b, c, d)`` (absolute values, above 0)."""
+    a, b, c, d = np.abs(params)
+    return comcore.Likelihood(theta_noise=(a + 1e-12, b), translation_error=(c + 1e-12, d))
 
 
 def scales_nll(params, r):
-    a, b, c, d = np.abs(params)
-    th_scale = a + b / (1 + (r[:, 0] / NEAR_LINE_M) ** 2)
-    tr_scale = c + d * r[:, 4]
-    ll = _t_logpdf((r[:, 2] - r[:, 1]) ** 2, th_scale, 1) + _t_logpdf(r[:, 3] ** 2, tr_scale, 2)
-    return -float(ll.mean())
+    """Mean negative log-density of the residuals under the likelihood's model term."""
+    theta_error = r[:, 2] - r[:, 1]
+    density = _likelihood(params).model_error_log_density(theta_error, r[:, 0], r[:, 3], r[:, 4])
+    return -float(density.mean())
 
 
 def fit_scales(r):
@@ -261,9 +260,9 @@ def fit_scales(r):
 
 def coverage(scales, r):
     """Share of rotation and displacement residuals within 1, 2, 3 scales."""
-    a, b, c, d = scales
-    th = np.abs(r[:, 2] - r[:, 1]) / (a + b / (1 + (r[:, 0] / NEAR_LINE_M) ** 2))
-    tr = r[:, 3] / (c + d * r[:, 4])
+    th_scale, tr_scale = _likelihood(scales).model_error_scales(r[:, 0], r[:, 4])
+    th = np.abs(r[:, 2] - r[:, 1]) / th_scale
+    tr = r[:, 3] / tr_scale
     return [float(np.mean(th <= k)) for k in (1, 2, 3)], [
         float(np.mean(tr <= k)) for k in (1, 2, 3)
     ]

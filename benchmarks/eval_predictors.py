@@ -39,7 +39,7 @@ import numpy as np
 
 import comcore
 import simulators
-from predictors import EllipsoidPredictor, OraclePredictor
+from predictors import EllipsoidPredictor
 
 ROOT = Path(__file__).resolve().parents[1]
 BIG_ROTATION_DEG = 5.0
@@ -91,22 +91,10 @@ def simulated_pushes(sim, n, cone, rng):
 
     A push the simulator rejects (its disc pusher would overlap the object at the
     start: the sampler's clearance is measured to pixel centres, the disc to the
-    true outline) is replaced by a fresh draw.
+    true outline) is replaced by a fresh draw. Each push is simulated alone.
     """
-    oracle = OraclePredictor(sim)
-    pushes, motions = np.empty((0, 4)), np.empty((0, 3))
-    for _ in range(20):
-        if len(pushes) == n:
-            break
-        for push in comcore.sample_pushes(sim.mask, n - len(pushes), cone=cone, rng=rng):
-            try:
-                motion = oracle.predict(sim.mask, push[None])
-            except ValueError:
-                continue
-            pushes, motions = np.vstack([pushes, push]), np.vstack([motions, motion])
-    if len(pushes) < n:
-        raise RuntimeError(f"the simulator rejected too many pushes on {sim.shape.name}")
-    return pushes, motions
+    found = simulators.sample_accepted_pushes(sim, n, cone=cone, rng=rng, batched=False)
+    return found.pushes, found.motions
 
 
 VARIANTS = [
@@ -242,17 +230,14 @@ def fit_figure(sim, fit, priors, path):
 
 
 def draw_simulator(obj, friction, rng, attempts=5):
-    """``random_simulator``, drawn again when the drawn mass distribution cannot be built.
+    """``random_simulator``, drawn again (from the same stream) when the draw is refused."""
 
-    (With the simulator of commit 4b37f91, ``tilt_to_com`` sometimes rejects a
-    drawn CoM as outside the support; the redraw is reported on stderr.)
-    """
-    for _ in range(attempts):
-        try:
-            return simulators.random_simulator(obj, friction=friction, rng=rng)
-        except ValueError as e:
-            print(f"{obj} {friction}: redrawn ({e})", file=sys.stderr)
-    raise RuntimeError(f"could not draw a simulator of {obj} in {attempts} attempts")
+    def said(attempt, e):
+        print(f"{obj} {friction}: redrawn ({e})", file=sys.stderr)
+
+    return simulators.accepted_random_simulator(
+        obj, friction, rng=rng, attempts=attempts, on_refusal=said
+    )
 
 
 def main(argv=None):

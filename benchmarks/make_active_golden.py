@@ -22,11 +22,9 @@ OUT = Path(__file__).resolve().parents[1] / "tests" / "data" / "active_golden.js
 #: The noise of the estimator as it was when the record was made (in physical
 #: units since: no pusher error, no tracking noise on top of the fitted scales).
 LEGACY = {
-    "pusher_error": 0.0,
-    "motion_noise": (0.0, 0.0),
+    "likelihood": comcore.Likelihood(pusher_error=0.0, motion_noise=(0.0, 0.0), model_weight=1.0),
+    "stop": comcore.StopRule(target_radius=0.0045),
     "model": None,
-    "model_weight": 1.0,
-    "target_radius": 0.0045,
 }
 
 
@@ -40,7 +38,9 @@ def toy_case(seed: int):
         s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
         return comcore.Motion(0.1 * s, 0.0, 0.0)
 
-    return mask, push, {"max_pushes": 8, "rng": seed, **LEGACY}
+    options = {**LEGACY, "rng": seed}
+    options["stop"] = comcore.StopRule(max_pushes=8, target_radius=0.0045)
+    return mask, push, options
 
 
 def sim_case(seed: int, with_model: bool):
@@ -73,8 +73,8 @@ def summary(est) -> dict:
         "used": list(est.used),
         "status": est.status,
         "credible_radius_px": est.extras["credible_radius_px"],
-        "entropies": [h["entropy_bits"] for h in est.extras["history"]],
-        "motions": est.extras["motions"].tolist(),
+        "entropies": [h.entropy_bits for h in est.extras["history"]],
+        "motions": [list(p.motion) for p in est.pushes if p.outcome != "failed"],
     }
 
 

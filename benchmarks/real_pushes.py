@@ -55,23 +55,21 @@ def _lsm(pressure="tilted", batch=()):
     return comcore.LimitSurfaceModel(mp.PUSHER_RADIUS, pressure, batch_pressures=batch)
 
 
-#: Motion models and likelihood options by name: ``name -> (model factory, options)``. The
-#: likelihood's options are set here only (issue 19 groups them into ``comcore.Likelihood``).
+#: Motion models and likelihood options by name: ``name -> (model factory, keywords)``; the
+#: keywords go to ``estimate_posterior`` and ``ActiveSession`` (a ``comcore.Likelihood``).
+SCALES = {"likelihood": comcore.Likelihood(model_scales=(1.0, 2.0, 4.0))}
 MODELS = {
     "vt": (lambda: None, {}),
     "lsm": (lambda: _lsm(), {}),
     "family": (lambda: comcore.LimitSurfaceModel.family(mp.PUSHER_RADIUS), {}),
     "family3": (lambda: tuple(_lsm(p, PRESSURES3) for p in PRESSURES3), {}),
     "peaked": (lambda: _lsm("peaked"), {}),
-    "scales": (lambda: _lsm(), {"model_scales": (1.0, 2.0, 4.0)}),
+    "scales": (lambda: _lsm(), SCALES),
     "family+scales": (
         lambda: comcore.LimitSurfaceModel.family(mp.PUSHER_RADIUS),
-        {"model_scales": (1.0, 2.0, 4.0)},
+        SCALES,
     ),
-    "family3+scales": (
-        lambda: tuple(_lsm(p, PRESSURES3) for p in PRESSURES3),
-        {"model_scales": (1.0, 2.0, 4.0)},
-    ),
+    "family3+scales": (lambda: tuple(_lsm(p, PRESSURES3) for p in PRESSURES3), SCALES),
 }
 
 

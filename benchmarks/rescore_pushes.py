@@ -31,38 +31,32 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
-from tune_active import _hpd_rank  # this folder is on the path when run as a script
+from replay import executed, has_evidence, posterior_options, replay  # this folder is on the path
+
+import comcore
 
 
 def _score(job) -> list[tuple]:
-    """(variant, k, error cm, hpd rank, radius mm) for one run and every variant / prefix."""
-    import comcore
-    from comcore._active_setup import DEFAULT_MODEL_WEIGHT as DEFAULT
-
+    """(variant, k, error cm, credible level of the truth, radius mm, scale, power) per variant."""
     kept, variants, prefixes = job
-    mask = comcore.Mask(kept["mask"], resolution=kept["resolution"])
-    acts, moves = kept["actions"], kept["motions"]
-    n = len(acts)
+    resolution = kept["resolution"]
+    n = len(executed(kept))
     ks = range(1, n + 1) if prefixes else [n]
     out = []
-    for name, options in variants.items():
-        options = dict(options)
-        if options.pop("vt", False):
-            options["model"] = None
-        else:
-            radius = options.pop("pusher_radius", 0.004)
-            options.setdefault("model", comcore.LimitSurfaceModel(pusher_radius=radius))
+    for name, flat in variants.items():
+        options = posterior_options(flat)
+        likelihood = options.get("likelihood", comcore.Likelihood())
+        factors = np.asarray(likelihood.model_scales, dtype=float)
+        powers = np.asarray(likelihood.model_weight, dtype=float)
         for k in ks:
-            est = comcore.estimate_posterior(mask, acts[:k], moves[:k], **options)
-            err = float(np.hypot(*(np.asarray(est.com) - kept["true_px"]))) * mask.resolution
-            radius_mm = est.extras["credible_radius_px"] * mask.resolution * 1000
-            factors = np.asarray(options.get("model_scales", (1.0,)), dtype=float)
+            est = replay(kept, options, k)
+            err = float(np.hypot(*(np.asarray(est.com) - kept["true_px"]))) * resolution
+            radius_mm = est.extras["credible_radius_px"] * resolution * 1000
             scale = float(np.exp(est.extras["scale_posterior"] @ np.log(factors)))
-            powers = np.atleast_1d(np.asarray(options.get("model_weight", DEFAULT), dtype=float))
             weights = est.extras["model_weight_posterior"]
-            power = float(weights @ powers) if options.get("model") else float("nan")
-            hpd = _hpd_rank(est, kept["true_px"])
-            out.append((name, k, 100 * err, hpd, radius_mm, scale, power))
+            power = float(weights @ powers) if options["model"] else float("nan")
+            level = comcore.credible_level(est, kept["true_px"])
+            out.append((name, k, 100 * err, level, radius_mm, scale, power))
     return out
 
 
@@ -74,16 +68,13 @@ def main(argv=None):
     p.add_argument("--prefixes", action="store_true", help="also score the first k pushes")
     p.add_argument("--workers", type=int, default=2)
     args = p.parse_args(argv)
-    variants = {
-        name: {k: tuple(v) if isinstance(v, list) else v for k, v in opts.items()}
-        for name, opts in json.loads(args.variants).items()
-    }
+    variants = json.loads(args.variants)
     with open(args.runs, "rb") as f:
         rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
     if args.conditions:
         wanted = set(args.conditions.split(","))
         rows = [r for r in rows if r["condition"] in wanted]
-    rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
+    rows = [r for r in rows if has_evidence(r["pushes_kept"])]
     start = time.time()
     jobs = [(r["pushes_kept"], variants, args.prefixes) for r in rows]
     with ProcessPoolExecutor(args.workers) as pool:

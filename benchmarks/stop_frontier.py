@@ -32,37 +32,28 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+from replay import executed, has_evidence, posterior_options, replay  # this folder is on the path
+
+import comcore
 
 
 def _prefixes(job):
-    """(condition, errors cm, radii mm, holds) after each of a run's k = 1..n pushes."""
-    import comcore
+    """(condition, errors cm, holds, history) of a run: after each k = 0..n pushes, and its states.
 
-    cond, kept, options = job
-    mask = comcore.Mask(kept["mask"], resolution=kept["resolution"])
-    model = comcore.LimitSurfaceModel(pusher_radius=0.004)
-    n = len(kept["actions"])
-    readings = {
-        key: kept[key] for key in ("rotation_observed", "residual_px") if key in kept
-    }  # fmt: skip
-    errors, radii, holds = [], [], []
+    The history of the posterior over all n pushes holds every prefix's state (radius,
+    counts, consistency): the stop rule reads it; the prefixes' own posteriors give the
+    error and whether the region held the truth where the rule stops.
+    """
+    cond, kept, flat = job
+    options = posterior_options(flat)
+    n = len(executed(kept))
+    full = replay(kept, options)
+    errors, holds = [np.nan], [False]  # the prior (k = 0): the rules here never stop there
     for k in range(1, n + 1):
-        est = comcore.estimate_posterior(
-            mask, kept["actions"][:k], kept["motions"][:k],
-            **{key: list(v[:k]) for key, v in readings.items()}, **{"model": model, **options},
-        )  # fmt: skip
-        errors.append(100 * est.error_px(kept["true_px"]) * mask.resolution)
-        radii.append(1000 * est.extras["credible_radius_px"] * mask.resolution)
+        est = full if k == n else replay(kept, options, k)
+        errors.append(100 * est.error_px(kept["true_px"]) * kept["resolution"])
         holds.append(est.region_holds(kept["true_px"]))
-    return cond, np.array(errors), np.array(radii), np.array(holds)
-
-
-def stop_at(radii, radius_mm: float, budget: int) -> int:
-    """Pushes after which the rule stops: the first k with a radius <= r, else the last."""
-    for k, r in enumerate(radii[:budget], start=1):
-        if r <= radius_mm:
-            return k
-    return min(budget, len(radii))
+    return cond, np.array(errors), np.array(holds), full.extras["history"], kept["resolution"]
 
 
 def main(argv=None):
@@ -79,7 +70,7 @@ def main(argv=None):
     args = p.parse_args(argv)
     with open(args.runs, "rb") as f:
         rows = [r for r in pickle.load(f) if r.get("pushes_kept") is not None]
-    rows = [r for r in rows if len(r["pushes_kept"]["actions"])]
+    rows = [r for r in rows if has_evidence(r["pushes_kept"])]
     start = time.time()
     with ProcessPoolExecutor(args.workers) as pool:
         options = json.loads(args.options)
@@ -88,17 +79,20 @@ def main(argv=None):
     conds = list(dict.fromkeys(c for c, *_ in runs))
     print(f"{len(runs)} runs, {time.time() - start:.0f} s")
     print("error cm / pushes / 90 % region holds the CoM / ok stops over 1 cm, per condition")
+    print("(comcore.StopRule with these radii and --budget, its other fields the defaults)")
     print("| stop radius (mm) | " + " | ".join(conds) + " |")
     print("|---" * (len(conds) + 1) + "|")
     for radius in (float(v) for v in args.radii.split(",")):
+        rule = comcore.StopRule(max_pushes=max(args.budget, 1), target_radius=radius / 1000)
         cells = []
         for cond in conds:
-            mine = [(e, r, h) for c, e, r, h in runs if c == cond]
-            ks = [stop_at(r, radius, args.budget) for _, r, _ in mine]
-            err = np.mean([e[k - 1] for (e, _, _), k in zip(mine, ks)])
-            held = np.mean([h[k - 1] for (_, _, h), k in zip(mine, ks)])
+            mine = [(e, h, hist, res) for c, e, h, hist, res in runs if c == cond]
+            ks = [rule.stop_index(hist, res) for _, _, hist, res in mine]
+            err = np.mean([e[k] for (e, *_), k in zip(mine, ks)])
+            held = np.mean([h[k] for (_, h, *_), k in zip(mine, ks)])
             bad = np.mean(
-                [e[k - 1] > 1.0 and r[k - 1] <= radius for (e, r, _), k in zip(mine, ks)]
+                [e[k] > 1.0 and rule.reason(hist[k], res) == "ok"
+                 for (e, _, hist, res), k in zip(mine, ks)]
             )  # fmt: skip
             cells.append(f"{err:.3f} / {np.mean(ks):.2f} / {100 * held:.0f} % / {100 * bad:.1f} %")
         print(f"| {radius:g} | " + " | ".join(cells) + " |")

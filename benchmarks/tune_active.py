@@ -36,65 +36,33 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+from replay import kept_pushes, posterior_options, replay  # this folder is on the path
 
+import comcore
 import simulators
-from comcore.bench import parse_condition, parse_estimator, split_estimators
-from comcore.bench._trial import TrialSpec, run_trial
+from comcore.bench import TrialSpec, parse_condition, parse_estimator, run_trial, split_estimators
 
 MAX_K = 6
 
 
-def _hpd_rank(est, true_px) -> float:
-    """Posterior mass of the pixels more probable than the true CoM's pixel."""
-    post = est.extras.get("posterior")
-    if post is None:
+def _level(est, true_px) -> float:
+    """The truth's credible level (HPD rank; NaN for an estimate without a posterior)."""
+    if est is None or "posterior" not in est.extras:
         return float("nan")
-    h, w = post.shape
-    c, r = round(float(true_px[0])), round(float(true_px[1]))
-    if not (0 <= r < h and 0 <= c < w):
-        return 1.0
-    return float(post[post > post[r, c]].sum())
+    return comcore.credible_level(est, true_px)
 
 
 def _rescored(est, mask, true_px, variants: dict) -> dict:
     """Error (cm) and HPD rank of the truth under each variant's likelihood, same pushes."""
-    import comcore
-
     out = {}
-    ok = [i for i, o in enumerate(est.extras.get("outcomes", ())) if o == "evidence"]
-    if not ok:
+    kept = kept_pushes(est, mask, true_px)
+    if not any(p.outcome == "evidence" for p in kept["pushes"]):
         return out
-    acts, moves = est.extras["actions"][ok], est.extras["motions"][ok]
     for name, options in variants.items():
-        options = {"model": comcore.LimitSurfaceModel(pusher_radius=0.004), **options}
-        again = comcore.estimate_posterior(mask, acts, moves, **options)
+        again = replay(kept, options)
         err = float(np.hypot(*(np.asarray(again.com) - true_px))) * mask.resolution * 100
-        out[name] = (err, _hpd_rank(again, true_px))
+        out[name] = (err, _level(again, true_px))
     return out
-
-
-def _kept(est, mask, true_px) -> dict:
-    """What :func:`_rescored` needs to score a run's pushes again later (``--keep-pushes``).
-
-    A session that never reset the object (``active-robot``) saw the object through
-    the robot's camera: its pushes live on that first camera mask, and the camera's
-    readings (rotations it could not tell, registration residuals) go with them.
-    """
-    extras = est.extras
-    mask = extras.get("first_mask", mask)
-    ok = [i for i, o in enumerate(extras.get("outcomes", ())) if o == "evidence"]
-    n = len(extras.get("outcomes", ()))
-    observed = np.asarray(extras.get("rotation_observed", (True,) * n), dtype=bool)
-    residual = np.asarray(extras.get("residual_px", (np.nan,) * n), dtype=float)
-    return {
-        "mask": np.asarray(mask.data, dtype=bool),
-        "resolution": mask.resolution,
-        "actions": np.asarray(extras["actions"])[ok] if ok else np.zeros((0, 4)),
-        "motions": np.asarray(extras["motions"])[ok] if ok else np.zeros((0, 3)),
-        "rotation_observed": observed[ok],
-        "residual_px": residual[ok],
-        "true_px": tuple(float(v) for v in true_px),
-    }
 
 
 def _one(spec: TrialSpec, variants=None, keep_pushes=False) -> list[dict]:
@@ -109,7 +77,7 @@ def _one(spec: TrialSpec, variants=None, keep_pushes=False) -> list[dict]:
         errs = []
         if est is not None:
             for h in est.extras.get("history", ()):
-                errs.append(float(np.hypot(*(np.asarray(h["com"]) - true_px))) * res)
+                errs.append(float(np.hypot(*(np.asarray(h.com) - true_px))) * res)
         rows.append(
             {
                 "condition": row["condition"],
@@ -123,14 +91,14 @@ def _one(spec: TrialSpec, variants=None, keep_pushes=False) -> list[dict]:
                 "covered": row.get("covered")
                 if row.get("credible_radius_cm") is not None
                 else None,
-                "hpd": _hpd_rank(est, true_px) if est is not None else float("nan"),
+                "hpd": _level(est, true_px),
                 "history_cm": errs,
                 "cpu_s": cpu / max(len(out.rows), 1),
                 # without resets the pushes live on the robot's camera mask: not rescored
                 "rescored": _rescored(est, out.context.mask, true_px, variants or {})
                 if est is not None and (spec.condition is None or spec.condition.resets)
                 else {},
-                "pushes_kept": _kept(est, out.context.mask, true_px)
+                "pushes_kept": kept_pushes(est, out.context.mask, true_px)
                 if keep_pushes and est is not None
                 else None,
             }
@@ -245,12 +213,9 @@ def main(argv=None):
         help="pickle every run's row with its mask and evidence pushes here (to rescore later)",
     )
     args = p.parse_args(argv)
-    variants = {}
-    for name, options in json.loads(args.rescore).items():
-        options = dict(options)
-        if "model" in options and options["model"] is not None:
-            raise ValueError("--rescore: 'model' may only be null (the Voting Theorem alone)")
-        variants[name] = {k: tuple(v) if isinstance(v, list) else v for k, v in options.items()}
+    variants = {
+        name: posterior_options(dict(options)) for name, options in json.loads(args.rescore).items()
+    }
     names = list(simulators.BENCHMARK_OBJECTS)
     if args.objects == "all":
         objects = names

@@ -26,13 +26,14 @@ from multiprocessing import Pool
 
 import numpy as np
 
+import comcore
+
 RADII_M = (0.003, 0.0035, 0.004, 0.0045, 0.005, 0.006)
 
 
 def trajectory(job):
     """Errors (cm) and credible radii (m) after 0..budget pushes of one trial."""
-    from comcore.bench._builtins import _active
-    from comcore.bench._trial import run_trial
+    from comcore.bench import ESTIMATORS, run_trial
 
     spec, budget, trial_candidates, options = job
     ctx = run_trial(dataclasses.replace(spec, estimators=("centroid",)), keep=True).context
@@ -43,24 +44,14 @@ def trajectory(job):
         ctx, rng=spec.rng("estimator:active"), push=lambda a: sim.push(a).motion
     )
     candidates = "trial" if trial_candidates else "own"
-    est = _active(
+    est = ESTIMATORS["active"].run(
         ctx, candidates=candidates, max_pushes=budget, target_radius=1e-6, min_information=0.0,
         **options,
     )  # fmt: skip
     cm = 100 * ctx.mask.resolution
     history = est.extras["history"]
-    errors = [float(np.hypot(*np.subtract(h["com"], sim.com_px))) * cm for h in history]
-    radii = [h["credible_radius_px"] * ctx.mask.resolution for h in history]
-    pad = budget + 1 - len(errors)  # a run that ran out of candidates keeps its last state
-    return spec.friction, errors + errors[-1:] * pad, radii + radii[-1:] * pad
-
-
-def stop_at(radii, max_pushes, radius):
-    """The push count at which the rule (radius, max_pushes) stops."""
-    for k in range(max_pushes + 1):
-        if radii[k] <= radius:
-            return k
-    return max_pushes
+    errors = [float(np.hypot(*np.subtract(h.com, sim.com_px))) * cm for h in history]
+    return spec.friction, errors, history, ctx.mask.resolution
 
 
 def main(argv=None):
@@ -82,13 +73,13 @@ def main(argv=None):
     objects = tuple(args.objects) if args.objects else ()
     config = BenchConfig(objects=objects, trials=args.trials, seed=args.seed)
     options = {} if args.model_weight is None else {"model_weight": args.model_weight}
+    # the rule under test is comcore.StopRule (min_pushes at its default); a run that ran
+    # out of candidates stops where it stopped
     jobs = [(spec, args.budget, args.trial_candidates, options) for spec in config.specs()]
     start = time.perf_counter()
     with Pool(args.workers) as pool:
         results = pool.map(trajectory, jobs)
-    by_class = {
-        f: [(np.array(e), np.array(r)) for fr, e, r in results if fr == f] for f in ("low", "high")
-    }
+    by_class = {f: [(e, h, res) for fr, e, h, res in results if fr == f] for f in ("low", "high")}
     print(f"{len(results)} trials, seed {args.seed}, {time.perf_counter() - start:.0f} s\n")
     print("| max pushes | radius mm | low: error cm | pushes | high: error cm | pushes | goal |")
     print("|---|---|---|---|---|---|---|")
@@ -99,8 +90,9 @@ def main(argv=None):
                 runs = by_class[friction]
                 if not runs:
                     continue
-                ks = [stop_at(r, max_pushes, radius) for _, r in runs]
-                error = float(np.mean([e[k] for (e, _), k in zip(runs, ks)]))
+                rule = comcore.StopRule(max_pushes=max_pushes, target_radius=radius)
+                ks = [rule.stop_index(h, res) for _, h, res in runs]
+                error = float(np.mean([e[k] for (e, *_), k in zip(runs, ks)]))
                 pushes = float(np.mean(ks))
                 ok &= error <= 0.3 and pushes <= 4
                 cells += [f"{error:.3f}", f"{pushes:.2f}"]

@@ -32,20 +32,31 @@ from ._conventions import (
     rotation_sign,
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
+from ._options import Likelihood, PushChoice, StopRule
 from ._outline import mask_from_outline
-from ._predictor import HypothesisPredictor, Predictor, check_predictor, predict_motions
+from ._outline_field import OutlineField, outline_field
+from ._predictor import (
+    HypothesisPredictor,
+    Predictor,
+    check_plausible_motions,
+    check_predictor,
+    predict_motions,
+)
 from ._progressive import equality_score, estimate_progressive
+from ._raster import rasterise_polygon
 from ._recording import RecordedPush, Recording, SkippedPush, recording_from_poses
+from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
 from ._sampling import sample_pushes
 from ._session import ActiveSession
-from ._types import Action, Estimate, Motion
+from ._types import Action, Estimate, Motion, PushRecord
 from ._validation import (
     check_actions,
     check_mask,
@@ -53,7 +64,9 @@ from ._validation import (
     check_mu,
     check_point,
     check_points,
+    check_positive,
     check_priors,
+    check_probability,
     check_rng,
 )
 
@@ -70,17 +83,22 @@ __all__ = [
     "Estimate",
     "HypothesisPredictor",
     "ImageError",
+    "Likelihood",
     "LimitSurfaceModel",
     "Mask",
     "Motion",
     "MotionMeasurement",
+    "OutlineField",
     "PowerCalibration",
     "Predictor",
+    "PushChoice",
     "PushFailedError",
+    "PushRecord",
     "RecordedPush",
     "Recording",
     "SessionError",
     "SkippedPush",
+    "StopRule",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -89,12 +107,16 @@ __all__ = [
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_plausible_motions",
     "check_point",
     "check_points",
+    "check_positive",
     "check_predictor",
     "check_priors",
+    "check_probability",
     "check_rng",
     "contacts",
+    "credible_level",
     "disc_contacts",
     "equality_score",
     "estimate_active",
@@ -105,9 +127,12 @@ __all__ = [
     "mask_from_image",
     "mask_from_outline",
     "measure_motion",
+    "option_groups",
+    "outline_field",
     "pixel_centres",
     "predict_motions",
     "quarter_turn_ccw",
+    "rasterise_polygon",
     "recording_from_poses",
     "rotate_vectors",
     "rotation_heatmap",

@@ -15,14 +15,17 @@ region held the measured CoM.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._active import estimate_posterior
-from ._active_setup import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, check_model_weight, check_models
+from ._flat_options import resolve_groups
+from ._likelihood import check_models
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._types import Estimate
-from ._validation import check_mask, check_point
+from ._validation import check_mask, check_point, check_powers
 
 __all__ = ["PowerCalibration", "calibrate_model_weight"]
 
@@ -74,13 +77,14 @@ def calibrate_model_weight(
     model=DEFAULT_MODEL,
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     powers=CALIBRATION_POWERS,
-    credible: float = 0.9,
-    **options,
+    credible: float = DEFAULT_CREDIBLE,
+    likelihood=None,
+    **flat,
 ) -> PowerCalibration:
     """Score pushes of objects with a measured CoM under fixed powers of the model's likelihood.
 
     For each record and power, :func:`comcore.estimate_posterior` with
-    ``model_weight=power``; the result says how often each power's
+    ``likelihood`` whose ``model_weight`` is that power; the result says how often each power's
     ``credible`` region held the measured CoM, and recommends the largest power
     that held it at least ``credible`` of the time. With ``n`` objects the
     coverage is a share of ``n`` (its standard error about
@@ -105,10 +109,12 @@ def calibrate_model_weight(
         Powers in (0, 1] to score.
     credible : float, optional
         Level of the regions, and the coverage the recommendation asks for.
-    **options
-        Other likelihood options of :func:`comcore.estimate_posterior`
-        (``pusher_error``, ``motion_noise``, ``mu``, ...): those you run the
-        sessions with.
+    likelihood : Likelihood, optional
+        The likelihood you run the sessions with (``pusher_error``,
+        ``motion_noise``, ``mu``, ...); its ``model_weight`` is replaced by
+        each power.
+    **flat
+        Deprecated: the likelihood's options by name.
 
     Returns
     -------
@@ -136,9 +142,12 @@ def calibrate_model_weight(
     (2, [1.0, 1.0], 1.0)
     """
     models = check_models(model, pusher_radius)
+    likelihood = resolve_groups(
+        "calibrate_model_weight", {"likelihood": likelihood}, flat
+    )["likelihood"]
     if isinstance(powers, str) or np.ndim(powers) != 1:
         raise TypeError(f"powers must be a sequence of numbers in (0, 1], got {powers!r}")
-    grid = tuple(sorted(check_model_weight(tuple(powers))))
+    grid = tuple(sorted(check_powers(tuple(powers), "powers")))
     try:
         items = list(records)
     except TypeError as e:
@@ -152,19 +161,16 @@ def calibrate_model_weight(
     radius = np.zeros_like(hits, dtype=float)
     error = np.zeros_like(hits, dtype=float)
     for i, record in enumerate(items):
-        mask, actions, motions, truth, replay = _record(record, i)
+        mask, pushes, truth = _record(record, i)
         mask = check_mask(mask)
         truth = check_point(truth, f"records[{i}] true_com")
         for j, power in enumerate(grid):
             est = estimate_posterior(
                 mask,
-                actions,
-                motions,
+                **pushes,
                 model=list(models) if models else None,
-                model_weight=power,
                 credible=credible,
-                **replay,
-                **options,
+                likelihood=dataclasses.replace(likelihood, model_weight=power),
             )
             hits[i, j] = est.region_holds(truth)
             radius[i, j] = est.extras["credible_radius_px"] * mask.resolution
@@ -188,7 +194,7 @@ def calibrate_model_weight(
 
 
 def _record(record, i: int):
-    """``(mask, actions, motions, true_com, replay options)`` of one calibration record."""
+    """``(mask, pushes as estimate_posterior's keywords, true_com)`` of one calibration record."""
     what = (
         f"records[{i}] must be a (mask, estimate, true_com) or "
         "(mask, actions, motions, true_com) tuple"
@@ -199,14 +205,13 @@ def _record(record, i: int):
         raise TypeError(what) from e
     if len(items) == 3 and isinstance(items[1], Estimate):
         mask, est, truth = items
-        extras = est.extras
-        if "actions" not in extras or "motions" not in extras:
+        if not any(p.outcome != "failed" for p in est.pushes):
             raise ValueError(
-                f"records[{i}]'s estimate holds no pushes (extras 'actions' and 'motions'): "
+                f"records[{i}]'s estimate holds no executed push (Estimate.pushes): "
                 "pass an ActiveSession's or estimate_active's Estimate"
             )
-        replay = {k: extras[k] for k in ("rotation_observed", "residual_px") if k in extras}
-        return mask, extras["actions"], extras["motions"], truth, replay
+        return mask, {"pushes": est.pushes}, truth
     if len(items) != 4:
         raise TypeError(what)
-    return (*items, {})
+    mask, actions, motions, truth = items
+    return mask, {"actions": actions, "motions": motions}, truth

@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._checks import check_finite, check_point, check_points
+
 __all__ = [
     "ANGLE_EPS",
     "DEFAULT_RESOLUTION",
@@ -89,8 +91,25 @@ def rotation_matrix(theta: float) -> np.ndarray:
     >>> import numpy as np
     >>> np.round(rotation_matrix(np.pi / 2) @ [1.0, 0.0], 12) + 0.0
     array([ 0., -1.])
+    >>> rotation_matrix(float("inf"))
+    Traceback (most recent call last):
+    ...
+    ValueError: theta must be a finite angle in radians, got inf
     """
-    c, s = np.cos(theta), np.sin(theta)
+    try:
+        if isinstance(theta, (str, bytes)):
+            raise TypeError("text")
+        angle = np.asarray(theta, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"theta must be an angle in radians, got {type(theta).__name__}") from e
+    if angle.ndim != 0:
+        raise ValueError(
+            f"theta must be one angle in radians, got shape {angle.shape} "
+            "(rotate_vectors turns each vector by its own angle)"
+        )
+    if not np.isfinite(angle):
+        raise ValueError(f"theta must be a finite angle in radians, got {float(angle)}")
+    c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, s], [-s, c]])
 
 
@@ -157,12 +176,31 @@ def quarter_turn_ccw(vectors) -> np.ndarray:
     Equal to ``rotate_vectors(vectors, pi / 2)`` without rounding error:
     ``(x, y) -> (y, -x)`` in the pixel frame.
 
+    Raises
+    ------
+    ValueError
+        If the vectors do not come in ``(x, y)`` pairs or hold NaN or inf.
+
     Examples
     --------
     >>> quarter_turn_ccw([[1.0, 0.0]])  # right -> up the screen
     array([[ 0., -1.]])
+    >>> quarter_turn_ccw([[1.0, 0.0], [float("nan"), 2.0]])
+    Traceback (most recent call last):
+    ...
+    ValueError: vectors must be finite pixel vectors (x, y); vector 1 is (nan, 2.0)
     """
-    v = np.asarray(vectors, dtype=float)
+    try:
+        v = np.asarray(vectors, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"vectors must be pixel vectors (x, y): {e}") from e
+    if v.ndim == 0 or v.shape[-1] != 2:
+        raise ValueError(f"vectors must be pixel vectors (x, y), shape (..., 2), got {v.shape}")
+    bad = ~np.isfinite(v).all(axis=-1)
+    if bad.any():
+        i = int(np.flatnonzero(bad.reshape(-1))[0])
+        x, y = v.reshape(-1, 2)[i]
+        raise ValueError(f"vectors must be finite pixel vectors (x, y); vector {i} is ({x}, {y})")
     return np.stack([v[..., 1], -v[..., 0]], axis=-1)
 
 
@@ -206,8 +244,6 @@ def apply_motion(points, theta, translation, center) -> np.ndarray:
     >>> apply_motion([[11.0, 5.0]], np.pi / 2, (0.0, 0.0), (10.0, 5.0)).round(12) + 0.0
     array([[10.,  4.]])
     """
-    from ._validation import check_finite, check_point, check_points  # it imports this module
-
     pts = check_points(points)
     theta = check_finite(theta, "theta")
     t = check_point(translation, "translation")

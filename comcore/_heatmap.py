@@ -12,6 +12,10 @@ from ._validation import check_actions, check_mask, check_motions, check_positiv
 
 __all__ = ["estimate_heatmap", "rotation_heatmap"]
 
+#: Alg. 1's status when it found a region: the heat map has no test of the motions
+#: (any motions give a calm region), so its answer is never ``"ok"``.
+UNCHECKED = "unchecked"
+
 #: Smallest ``length_scale`` (pixels): below it the weight ``exp(-d / length_scale)`` of a
 #: pixel half a pixel from a push line underflows float32 (is below its smallest normal
 #: number), so a line between pixel centres would weigh nothing anywhere. About 0.0057 px.
@@ -104,13 +108,24 @@ def estimate_heatmap(
         Distance decay in pixels (paper: 1 px); at least
         ``MIN_LENGTH_SCALE_PX`` (about 0.0057 px, see :func:`rotation_heatmap`).
 
+    Alg. 1 has no test of its evidence: any motions, right or wrong (a
+    theta sign flipped, x and y swapped, a predictor gone astray), give some
+    calm region, and nothing in the heat map tells them apart. Its status is
+    therefore never ``"ok"``: ``"unchecked"`` says the answer is the paper's,
+    unverified. Where you need an answer that says when the motions
+    contradict it, use :func:`comcore.estimate_progressive` (Alg. 2:
+    ``"contradiction"``) or :func:`comcore.estimate_posterior`
+    (``"inconsistent"``).
+
     Returns
     -------
     Estimate
+        ``status`` ``"unchecked"`` (:data:`UNCHECKED`): a region was found, its
+        evidence not tested (``ok`` is ``False``). With no actions, or a heat
+        map that is flat over the object, the result is the mask's centroid
+        with ``status`` ``"no_actions"`` or ``"flat_heatmap"``.
         ``extras["heatmap"]`` holds ``S`` (H, W); ``extras["segmented"]`` the
-        thresholded pixels before the connected-component step. With no
-        actions, or a heat map that is flat over the object, the result is the
-        mask's centroid with ``status`` ``"no_actions"`` or ``"flat_heatmap"``.
+        thresholded pixels before the connected-component step.
 
     Examples
     --------
@@ -123,8 +138,8 @@ def estimate_heatmap(
     >>> acts = [(0, r, 40, r) for r in range(5, 26)] + [(c, 0, c, 40) for c in range(5, 26)]
     >>> mots = [(0.02 * abs(k - 15), 3, 0) for k in range(5, 26)] * 2
     >>> e = estimate_heatmap(m, acts, mots)
-    >>> e.ok, e.com
-    (True, (15.0, 15.0))
+    >>> e.status, e.ok, e.com
+    ('unchecked', False, (15.0, 15.0))
     """
     mask = check_mask(mask)
     acts = check_actions(actions)
@@ -136,7 +151,7 @@ def estimate_heatmap(
     contacts(mask, acts).require_hits("actions")
     heat = rotation_heatmap(mask, acts, mots, length_scale)
     segmented = mask.data & (heat < threshold)
-    status = "ok"
+    status = UNCHECKED
     if not heat.any():
         status, segmented = "flat_heatmap", mask.data
     region = largest_component(segmented)

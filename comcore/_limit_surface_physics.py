@@ -26,8 +26,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._outline_field import pusher_paths
-
 __all__ = ["push_motions", "slide_twist", "stick_omega"]
 
 #: Smoothing of ``|u|`` in units of the support cell's side.
@@ -177,7 +175,7 @@ def push_motions(
     under the centroid; zeros for a miss.
     """
     n_p, n_a = len(pressure), len(actions)
-    first, unit, travel, hit, radii = pusher_paths(field, actions, radius)
+    first, unit, travel, hit, radii = field.pusher_paths(actions, radius)
     step = travel / n_steps
     rows = np.arange(n_p * n_a)
     act = rows % n_a

@@ -9,6 +9,7 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage
 
+from ._checks import check_points
 from ._conventions import DEFAULT_RESOLUTION, pixel_centres
 
 __all__ = ["Mask"]
@@ -140,9 +141,46 @@ class Mask:
     def to_metres(self, points_px):
         """Pixel coordinates to metres in the mask frame (same axes, scaled).
 
-        Returns a tuple for a single point and an array otherwise.
+        Parameters
+        ----------
+        points_px : array_like, shape (2,) or (..., 2)
+            Finite pixel coordinates ``(x, y)``.
+
+        Returns
+        -------
+        tuple of float or numpy.ndarray
+            A tuple for a single point and an array otherwise.
+
+        Raises
+        ------
+        ValueError
+            If the coordinates do not come in ``(x, y)`` pairs, or hold NaN or
+            inf (an estimate gone wrong upstream: refused here, not scaled).
+
+        Examples
+        --------
+        >>> m = Mask(np.ones((3, 3), bool), resolution=0.002)
+        >>> m.to_metres((10.0, 5.0))
+        (0.02, 0.01)
+        >>> m.to_metres((float("nan"), 5.0))
+        Traceback (most recent call last):
+        ...
+        ValueError: points_px must be finite pixel coordinates (x, y), got (nan, 5.0)
         """
-        p = np.asarray(points_px, dtype=float) * self.resolution
+        try:
+            p = np.asarray(points_px, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"points_px must be pixel coordinates (x, y): {e}") from e
+        if p.ndim == 0 or p.shape[-1] != 2:
+            raise ValueError(
+                f"points_px must be pixel coordinates (x, y), shape (2,) or (n, 2), got shape "
+                f"{p.shape}"
+            )
+        bad = ~np.isfinite(p).all(axis=-1)
+        if bad.any():
+            x, y = p.reshape(-1, 2)[int(np.flatnonzero(bad.reshape(-1))[0])]
+            raise ValueError(f"points_px must be finite pixel coordinates (x, y), got ({x}, {y})")
+        p = p * self.resolution
         return (float(p[0]), float(p[1])) if p.shape == (2,) else p
 
     def contains(self, points) -> np.ndarray:
@@ -168,8 +206,6 @@ class Mask:
         >>> m.contains([[1.0, 1.0], [0.4, 1.0], [-7.0, 30.0]]).tolist()
         [True, False, False]
         """
-        from ._validation import check_points  # _validation imports this module
-
         return self._contains(check_points(points))
 
     def _contains(self, p: np.ndarray) -> np.ndarray:
@@ -213,8 +249,6 @@ class Mask:
         >>> m.distance_to_object([[1.0, 1.0], [1.0, -1.0]]).tolist()
         [0.0, 2.0]
         """
-        from ._validation import check_points  # _validation imports this module
-
         p = check_points(points)
         h, w = self.shape
         col = np.clip(np.floor(p[:, 0] + 0.5), 0, w - 1)

@@ -17,6 +17,7 @@ import numpy as np
 
 from ._conventions import DEFAULT_RESOLUTION
 from ._mask import Mask
+from ._raster import rasterise_polygon
 from ._validation import _as_float_rows, check_positive
 
 __all__ = [
@@ -92,24 +93,6 @@ class OutlineFrame:
         return np.column_stack([p[:, 0] + self.origin[0], self.origin[1] - p[:, 1]])
 
 
-def _inside_rows(outline: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
-    """Even-odd test of the grid ``xs`` x ``ys`` against the polygon, one scanline per row."""
-    a, b = outline, np.roll(outline, -1, axis=0)
-    out = np.zeros((len(ys), len(xs)), dtype=bool)
-    for r, y in enumerate(ys):
-        crosses = (a[:, 1] > y) != (b[:, 1] > y)
-        if not crosses.any():
-            continue
-        a_c, b_c = a[crosses], b[crosses]
-        x_at = np.sort(
-            a_c[:, 0] + (y - a_c[:, 1]) * (b_c[:, 0] - a_c[:, 0]) / (b_c[:, 1] - a_c[:, 1])
-        )
-        # a pixel centre is inside when an odd number of crossings lie to its right
-        right = len(x_at) - np.searchsorted(x_at, xs, side="right")
-        out[r] = right % 2 == 1
-    return out
-
-
 def mask_from_outline(
     outline, resolution: float = DEFAULT_RESOLUTION, margin: float = DEFAULT_MARGIN_M
 ) -> Mask:
@@ -153,10 +136,7 @@ def mask_from_outline(
     resolution = check_positive(resolution, "resolution")
     margin = check_positive(margin, "margin", allow_zero=True)
     frame = OutlineFrame(poly, resolution, margin)
-    h, w = frame.shape
-    xs = frame.origin[0] + resolution * np.arange(w)
-    ys = frame.origin[1] - resolution * np.arange(h)
-    inside = _inside_rows(poly, xs, ys)
+    inside = rasterise_polygon(frame.pixels_from_object(poly), frame.shape)
     if not inside.any():
         raise ValueError(
             f"resolution {resolution:g} m per pixel is too coarse for this outline: no pixel "

@@ -16,8 +16,9 @@ import numpy as np
 from scipy import ndimage
 
 from ._mask import Mask
+from ._validation import check_actions, check_mask, check_positive
 
-__all__ = ["OutlineField", "outline_field", "pusher_paths"]
+__all__ = ["OutlineField", "outline_field"]
 
 #: Gaussian sigma (pixels) smoothing the pixel outline's signed distance.
 SDF_SMOOTHING_PX = 1.0
@@ -28,7 +29,19 @@ CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
 
 
 class OutlineField:
-    """Smoothed signed distance (px, > 0 outside) to a mask's pixel outline, and its gradient."""
+    """Smoothed signed distance (px, > 0 outside) to a mask's pixel outline, and its gradient.
+
+    What a model of a round pusher on a mask needs (:class:`comcore.LimitSurfaceModel`,
+    ``predictors.EllipsoidPredictor``): the distance and outward normal anywhere
+    (:meth:`sample`) and where each pusher first touches the outline
+    (:meth:`pusher_paths`). Get one with :func:`outline_field` (cached per mask).
+
+    Parameters
+    ----------
+    mask : Mask
+    pad : int, optional
+        Pixels of distance field kept around the mask's image.
+    """
 
     def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
         img = np.pad(mask.data, pad)
@@ -51,13 +64,71 @@ class OutlineField:
         norm = np.maximum(np.hypot(gx, gy), 1e-12)
         return d.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
 
+    def pusher_paths(self, actions, radius):
+        """Where each push's disc first touches the outline, and how far it goes on.
+
+        An action is the path of the disc's leading point; its centre runs
+        ``radius`` behind. Where that disc would overlap the outline at the start
+        (a notch), the largest disc that surely fits (0.45 of the leading point's
+        distance to the outline) is used instead. Raises ValueError for an action
+        whose leading point starts inside the object.
+
+        Parameters
+        ----------
+        actions : array_like, shape (n, 4)
+            Paths of the pusher's leading point, pixels.
+        radius : float
+            The pusher's radius in pixels (>= 0).
+
+        Returns
+        -------
+        centres : numpy.ndarray, shape (n, 2)
+            The disc's centre at first contact (at the path's start for a miss).
+        units : numpy.ndarray, shape (n, 2)
+            Unit push directions.
+        travel : numpy.ndarray, shape (n,)
+            Travel after first contact, pixels (0 for a miss).
+        hit : numpy.ndarray of bool, shape (n,)
+        radii : numpy.ndarray, shape (n,)
+            The disc's radius used for each action.
+        """
+        actions = check_actions(actions)
+        radius = check_positive(radius, "radius", allow_zero=True)
+        delta = actions[:, 2:] - actions[:, :2]
+        length = np.hypot(delta[:, 0], delta[:, 1])
+        unit = delta / length[:, None]
+        lead = self.sample(actions[:, 0], actions[:, 1])[0]
+        if (lead <= 0).any():
+            bad = np.flatnonzero(lead <= 0)[:5].tolist()
+            raise ValueError(
+                f"actions must start outside the object; action(s) {bad} start inside it"
+            )
+        radii = np.full(len(actions), float(radius))
+        if radius > 0:
+            back = actions[:, :2] - radius * unit
+            overlap = self.sample(back[:, 0], back[:, 1])[0] <= radius
+            radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
+        start = actions[:, :2] - radii[:, None] * unit
+        travel, hit = _first_contact(self, start, unit, length, radii)
+        return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii
+
 
 _FIELDS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def outline_field(mask: Mask) -> OutlineField:
-    """The (cached) :class:`OutlineField` of an immutable mask."""
-    field = _FIELDS.get(mask)
+    """The :class:`OutlineField` of a mask, computed once per mask (masks are immutable).
+
+    Examples
+    --------
+    >>> import numpy as np, comcore
+    >>> field = comcore.outline_field(comcore.Mask(np.pad(np.ones((20, 20), bool), 10)))
+    >>> x, y = np.array([4.0]), np.array([19.5])  # left of the square, whose outline is at x = 9.5
+    >>> distance, gx, gy = field.sample(x, y)
+    >>> round(float(distance[0]), 1), round(float(gx[0]), 3), round(float(gy[0]), 3)
+    (5.5, -1.0, 0.0)
+    """
+    field = _FIELDS.get(check_mask(mask))
     if field is None:
         field = _FIELDS[mask] = OutlineField(mask)
     return field
@@ -80,29 +151,3 @@ def _first_contact(field, start, unit, length, radius):
         inside = inside <= radius
         hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
     return np.where(hit, hi, 0.0), hit
-
-
-def pusher_paths(field, actions, radius):
-    """Centre start, unit direction, travel after first contact, contact flag and radius per action.
-
-    An action is the path of the disc's leading point; its centre runs
-    ``radius`` behind. Where that disc would overlap the outline at the start
-    (a notch), the largest disc that surely fits (0.45 of the leading point's
-    distance to the outline) is used instead. Raises ValueError for an action
-    whose leading point starts inside the object.
-    """
-    delta = actions[:, 2:] - actions[:, :2]
-    length = np.hypot(delta[:, 0], delta[:, 1])
-    unit = delta / length[:, None]
-    lead = field.sample(actions[:, 0], actions[:, 1])[0]
-    if (lead <= 0).any():
-        bad = np.flatnonzero(lead <= 0)[:5].tolist()
-        raise ValueError(f"actions must start outside the object; action(s) {bad} start inside it")
-    radii = np.full(len(actions), float(radius))
-    if radius > 0:
-        back = actions[:, :2] - radius * unit
-        overlap = field.sample(back[:, 0], back[:, 1])[0] <= radius
-        radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
-    start = actions[:, :2] - radii[:, None] * unit
-    travel, hit = _first_contact(field, start, unit, length, radii)
-    return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii

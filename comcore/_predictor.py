@@ -9,7 +9,89 @@ import numpy as np
 from ._mask import Mask
 from ._validation import check_actions, check_motions
 
-__all__ = ["HypothesisPredictor", "Predictor", "check_predictor", "predict_motions"]
+__all__ = [
+    "HypothesisPredictor",
+    "Predictor",
+    "check_plausible_motions",
+    "check_predictor",
+    "predict_motions",
+]
+
+#: The largest rotation (radians) a predicted push may cause: half a turn. A push turns
+#: an object far less; beyond it the predictor is broken, not the object.
+MAX_PUSH_THETA = np.pi
+#: The largest displacement of the object's centroid a predicted push may cause, as a
+#: multiple of the push's length (the pusher's whole path, approach included).
+MAX_TRANSLATION_PER_PUSH_LENGTH = 10.0
+
+
+def check_plausible_motions(motions, actions, who: str) -> np.ndarray:
+    """Refuse predicted motions that no push can cause; return them as an array.
+
+    A push cannot turn an object by more than half a turn (``|theta| <= pi``)
+    or carry its centroid more than ten times the push's length. A predictor
+    that says otherwise is broken (a corrupt weights file, a unit mistake), and
+    its numbers (``4e34``) would otherwise flow into an estimator as evidence.
+    comcore's own predictors and :func:`predict_motions` call this.
+
+    Parameters
+    ----------
+    motions : array_like, shape (..., n, 3)
+        Predicted ``(theta, tx, ty)`` (radians, pixels) of each action, for
+        any number of leading axes (CoM hypotheses, say).
+    actions : array_like, shape (n, 4)
+        The pushes they were predicted for (pixels).
+    who : str
+        The predictor, for the message (``"AnpPredictor"``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., n, 3)
+
+    Raises
+    ------
+    ValueError
+        Naming ``who``, the push, the impossible number and the bound.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_plausible_motions([[0.1, 5.0, 0.0]], [(0, 0, 20, 0)], "Mine").tolist()
+    [[0.1, 5.0, 0.0]]
+    >>> check_plausible_motions([[4e34, 5.0, 0.0]], [(0, 0, 20, 0)], "Mine")
+    Traceback (most recent call last):
+    ...
+    ValueError: Mine predicted a motion no push can cause: push 0 (20 px long) turns the object by 4e+34 rad, more than half a turn (pi); the predictor is broken (corrupt weights, a unit mistake?), not the object
+    """  # noqa: E501
+    out = np.asarray(motions, dtype=float)
+    acts = np.asarray(actions, dtype=float).reshape(-1, 4)
+    if out.ndim < 2 or out.shape[-1] != 3 or out.shape[-2] != len(acts):
+        raise ValueError(
+            f"{who} predicted motions of shape {out.shape}, expected (..., {len(acts)}, 3)"
+        )
+    length = np.hypot(acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1])
+    theta = np.abs(out[..., 0])
+    shift = np.hypot(out[..., 1], out[..., 2])
+    turned = ~(theta <= MAX_PUSH_THETA)  # NaN is refused too
+    carried = ~(shift <= MAX_TRANSLATION_PER_PUSH_LENGTH * length)
+    if not (turned.any() or carried.any()):
+        return out
+    broken = " the predictor is broken (corrupt weights, a unit mistake?), not the object"
+    if turned.any():
+        where = np.argwhere(turned)[0]
+        i = int(where[-1])
+        raise ValueError(
+            f"{who} predicted a motion no push can cause: push {i} ({length[i]:.3g} px long) "
+            f"turns the object by {out[tuple(where)][0]:.3g} rad, more than half a turn (pi);"
+            + broken
+        )
+    where = np.argwhere(carried)[0]
+    i = int(where[-1])
+    raise ValueError(
+        f"{who} predicted a motion no push can cause: push {i} ({length[i]:.3g} px long) "
+        f"moves the object by {shift[tuple(where)]:.3g} px, more than "
+        f"{MAX_TRANSLATION_PER_PUSH_LENGTH:g} times the push's length;" + broken
+    )
 
 
 @runtime_checkable
@@ -86,13 +168,36 @@ def check_predictor(predictor, name: str = "predictor") -> Predictor:
 
 
 def predict_motions(predictor, mask: Mask, actions, priors=()) -> np.ndarray:
-    """Call a predictor and validate what it returns: shape (n, 3), finite."""
+    """Call a predictor and validate what it returns.
+
+    Parameters
+    ----------
+    predictor : Predictor
+    mask : Mask
+    actions : array_like, shape (n, 4)
+    priors : sequence of (Action, Motion), optional
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        The predicted motions, read-only.
+
+    Raises
+    ------
+    TypeError
+        If ``predictor`` does not implement :class:`Predictor`.
+    ValueError
+        If it returns other than one finite motion per action, or a motion
+        no push can cause (:func:`check_plausible_motions`: ``|theta|`` over
+        pi, a translation over ten times the push's length), naming it.
+    """
     predictor = check_predictor(predictor)
     acts = check_actions(actions)
     out = predictor.predict(mask, acts, priors)
+    who = type(predictor).__name__
     try:
-        return check_motions(
-            out, n=acts.shape[0], name=f"{type(predictor).__name__}.predict output"
-        )
+        motions = check_motions(out, n=acts.shape[0], name=f"{who}.predict output")
     except (TypeError, ValueError) as e:
         raise ValueError(f"predictor returned invalid motions: {e}") from e
+    check_plausible_motions(motions, acts, who)
+    return motions

@@ -1,38 +1,49 @@
-"""`comcore.ActiveSession`: the active estimator as an ask/tell loop on an object that moves."""
+"""`comcore.ActiveSession`: the active estimator as an ask/tell loop on an object that moves.
+
+The session holds the state and the order of calls; what it does at each step
+lives in a file of its own: the likelihood of a push (:mod:`comcore._likelihood`),
+the push choice (:mod:`comcore._choice`), the stop rule (:mod:`comcore._stop`),
+the pose tracking (:mod:`comcore._pose_tracking`) and the records
+(:mod:`comcore._records`).
+"""
 
 from __future__ import annotations
 
-import inspect
+import math
 
 import numpy as np
 
-from ._active_setup import DEFAULT_MODEL, active_options, build_estimate, prior_grid
+from ._choice import Candidates
 from ._conventions import apply_motion, object_motion_from_camera
 from ._errors import SessionError
-from ._geometry import contacts
+from ._flat_options import resolve_groups
+from ._grid import prior_grid
+from ._likelihood import Scoring, check_models, gyration_px, push_evidence, tracking_noise
 from ._mask import Mask
-from ._planning import Candidates, push_force_lines
-from ._posterior import GridPosterior
-from ._session_log import SessionLog
-from ._session_pose import (
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._pose_tracking import (
     IDENTITY,
-    actions_from_pose,
+    executed_in_object,
     is_miss,
     moved_mask,
     read_pose,
     relative,
     symmetric_branches,
 )
-from ._session_update import gyration_px, push_evidence, tracking_noise
-from ._types import Action, Estimate, Motion
-from ._validation import check_actions, check_mask, check_motions, check_rng
+from ._records import PushLog, SessionState
+from ._stop import choice_status, stop_reason
+from ._types import Action, Estimate, Motion, PushRecord
+from ._validation import check_mask, check_motions, check_positive, check_probability, check_rng
 
-__all__ = ["ActiveSession"]
+__all__ = ["ActiveSession", "session_setup"]
 
-_OPTIONS = frozenset(inspect.signature(active_options).parameters) - {"mask", "model"}
-#: How far (metres) an executed push's start is moved back along its line when it lies
-#: just inside the object as the session sees it (see ActiveSession.observe).
-EXECUTED_BACKOFF_M = 0.005
+
+def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tuple:
+    """``(Scoring, credible)`` of an active estimator's arguments, each checked and named."""
+    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
+    models = check_models(model, pusher_radius)
+    credible = check_probability(credible, "credible", open_low=True, open_high=True)
+    return Scoring.build(likelihood, mask, models), credible
 
 
 class ActiveSession:
@@ -62,36 +73,29 @@ class ActiveSession:
 
     **Pushes without evidence.** A push after which the object turned by
     less than 0.01 rad and moved by less than 1 mm
-    (:data:`comcore._session_pose.MISS_ROTATION`, ``MISS_TRANSLATION_M``) is a
+    (:data:`comcore._pose_tracking.MISS_ROTATION`, ``MISS_TRANSLATION_M``) is a
     miss: recorded, counted in the budget, no evidence. ``observe(failed=True)``
     (the robot could not execute it): not counted, no evidence. A mask whose
     registration is ``ambiguous`` (a disc: the rotation cannot be seen) gives
     the translation only.
 
-    **Noise.** The likelihood's scales are in metres and radians
-    (``pusher_error``, ``motion_noise``, ``theta_noise``,
-    ``translation_error``: see :func:`comcore.estimate_active`); where the
-    session registers masks itself, the registration's residual widens the
-    tracking noise of that push.
+    **State.** After every call that changes it (construction, :meth:`observe`,
+    :meth:`reset_pose`) the session applies the stop rule and, if it goes on,
+    chooses the next push; reading :attr:`done`, :attr:`status` or
+    :attr:`history` computes nothing.
 
     Parameters
     ----------
     mask : Mask
         The object as the camera sees it before the first push.
-    model : HypothesisPredictor, sequence of them, or None, optional
-        Motion model (see :func:`comcore.estimate_active`): by default
-        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)`` (the
-        option ``pusher_radius``, metres, default 4 mm); ``None``: the Voting
-        Theorem alone.
     candidates : array_like, shape (n, 4), optional
-        Pushes in the first mask's frame; default ``comcore.sample_pushes``.
-    rng : None, int or numpy.random.Generator, optional
-        Seeds the default candidates (the only random choice).
-    prior : array_like, shape (H, W), optional
-        Prior weights of the CoM (see :func:`comcore.estimate_active`).
-    **options
-        The other options of :func:`comcore.estimate_active` (``max_pushes``,
-        ``target_radius``, ``credible``, ``mu``, ``flip_prob``, ...).
+        Pushes in the first mask's frame; default ``comcore.sample_pushes``
+        with ``choice``'s ``n_candidates``, ``cone`` and ``travel``.
+    model, pusher_radius, prior, credible, rng, likelihood, stop, choice
+        As for :func:`comcore.estimate_active`.
+    **flat
+        Deprecated: the options of the groups by name (``max_pushes=3``);
+        they warn and say which group to pass.
 
     Attributes
     ----------
@@ -118,43 +122,53 @@ class ActiveSession:
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
     >>> true_com = np.array([17.0, 20.0])
-    >>> session = comcore.ActiveSession(mask, max_pushes=3, model=None, rng=0)
+    >>> stop = comcore.StopRule(max_pushes=3)
+    >>> session = comcore.ActiveSession(mask, model=None, stop=stop, rng=0)
     >>> while not session.done:
     ...     action = session.next_push()
     ...     c = comcore.contacts(mask, action)
     ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
-    ...     session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0))
-    ...     session.reset_pose()  # the caller put the object back
+    ...     session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0), reset=True)
     >>> session.status, len(session.actions)
     ('budget', 3)
     """
 
     def __init__(
-        self, mask: Mask, *, model=DEFAULT_MODEL, candidates=None, rng=None, prior=None, **options
+        self,
+        mask: Mask,
+        *,
+        candidates=None,
+        model=DEFAULT_MODEL,
+        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+        prior=None,
+        credible: float = DEFAULT_CREDIBLE,
+        rng=None,
+        likelihood=None,
+        stop=None,
+        choice=None,
+        **flat,
     ):
         self._first = check_mask(mask)
-        unknown = sorted(set(options) - _OPTIONS)
-        if unknown:
-            raise TypeError(f"unknown option(s) {unknown}; ActiveSession takes {sorted(_OPTIONS)}")
-        self._opts = active_options(self._first, model=model, **options)
-        pixels, prior_w = prior_grid(self._first, prior)
-        self._cands = Candidates(self._first, candidates, self._opts, check_rng(rng))
-        self._post = GridPosterior(
-            pixels,
-            prior_w,
-            self._opts.mus,
-            max(len(self._opts.models), 1),
-            self._opts.n_scales,
-            self._opts.n_tempers,
+        groups = resolve_groups(
+            "ActiveSession", {"likelihood": likelihood, "stop": stop, "choice": choice}, flat
         )
+        self._stop_rule, self._choice = groups["stop"], groups["choice"]
+        self._scoring, credible = session_setup(
+            self._first, model, pusher_radius, credible, groups["likelihood"]
+        )
+        if self._choice.selection == "model" and not self._scoring.models:
+            raise ValueError("selection='model' needs a model")
+        pixels, prior_weights = prior_grid(self._first, prior)
+        self._candidates = Candidates(
+            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng)
+        )
+        self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
-        self._log = SessionLog(self._post, self._opts.credible)
-        self._final: str | None = None
-        self._pending: int | None = None
+        self._log = PushLog(self._posterior, credible)
         self._handed_out = False
-        self._planned = False
+        self._plan()
 
     # -- state ---------------------------------------------------------------------------
 
@@ -177,31 +191,24 @@ class ActiveSession:
         ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
         quantile of its distribution under the likelihood).
         """
-        return self._log.consistent
+        return self._log.state.consistent
 
-    def _plan(self):
-        """Decide whether to stop, else choose the next push (lazily, once per state)."""
-        if self._planned:
+    def _plan(self) -> None:
+        """Apply the stop rule to the latest state; if it goes on, choose the next push."""
+        self._pending = None
+        self._log.set_gain(None)
+        state = self._log.state
+        self._final = stop_reason(self._stop_rule, state, self._first.resolution)
+        if self._final is not None:
             return
-        self._planned = True
-        self._final, self._pending = None, None
-        state = self._log.history[-1]
-        state["expected_gain_bits"] = None
-        small = state["credible_radius_px"] <= self._opts.target_px
-        if small and self._log.n_evidence >= self._opts.min_pushes:
-            self._final = "ok"
-        elif len(self._log.executed) >= self._opts.max_pushes:
-            self._final = "budget"
-        else:
-            offered = self._cands.offerable(self._pose, self._current_mask())
-            index, gain = self._cands.choose(self._post, offered, self._opts)
-            if index is None:
-                self._final = "exhausted" if gain is None else "uninformative"
-            else:
-                self._pending = index
-                state["expected_gain_bits"] = gain
-        if self._final is not None and not self._log.consistent:
-            self._final = "inconsistent"
+        offered = self._candidates.offerable(self._pose, self._current_mask())
+        index, gain = self._candidates.choose(
+            self._posterior, offered, self._scoring, self._choice.selection
+        )
+        self._final = choice_status(self._stop_rule, state, gain)
+        if self._final is None:
+            self._pending = index
+            self._log.set_gain(gain)
 
     def _current_mask(self) -> Mask | None:
         if self._mask_now is not None:
@@ -211,13 +218,11 @@ class ActiveSession:
     @property
     def done(self) -> bool:
         """True once the session has stopped (see :attr:`status`)."""
-        self._plan()
         return self._final is not None
 
     @property
     def status(self) -> str:
         """What the session waits for, or why it stopped."""
-        self._plan()
         if self._final is not None:
             return self._final
         return "waiting_observation" if self._handed_out else "waiting_push"
@@ -228,20 +233,24 @@ class ActiveSession:
         return self._pose
 
     @property
+    def pushes(self) -> tuple[PushRecord, ...]:
+        """Every push reported so far (misses and failed pushes included), in order."""
+        return tuple(self._log.records)
+
+    @property
     def actions(self) -> np.ndarray:
         """Pushes executed (misses included), camera frame as handed out, shape (k, 4)."""
-        return self._log.rows("camera_action", 4)
+        return np.array([r.camera_action for r in self._log.executed], float).reshape(-1, 4)
 
     @property
     def motions(self) -> np.ndarray:
         """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
-        return self._log.rows("camera_motion", 3)
+        return np.array([r.camera_motion for r in self._log.executed], float).reshape(-1, 3)
 
     @property
-    def history(self) -> tuple[dict, ...]:
-        """One dict per state (prior first): ``com``, ``entropy_bits``, ``credible_radius_px``..."""
-        self._plan()
-        return tuple(dict(h) for h in self._log.history)
+    def history(self) -> tuple[SessionState, ...]:
+        """One :class:`SessionState` per posterior (the prior first)."""
+        return tuple(self._log.history)
 
     # -- ask / tell ---------------------------------------------------------------------
 
@@ -258,10 +267,16 @@ class ActiveSession:
         if self.done:
             raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
         self._handed_out = True
-        return Action(*self._cands.in_pose(self._pose, [self._pending])[0])
+        return Action(*self._candidates.in_pose(self._pose, [self._pending])[0])
 
     def observe(
-        self, mask: Mask | None = None, *, motion=None, failed: bool = False, executed=None
+        self,
+        mask: Mask | None = None,
+        *,
+        motion=None,
+        failed: bool = False,
+        executed=None,
+        reset: bool = False,
     ) -> None:
         """Report what the push from :meth:`next_push` did: exactly one of the three.
 
@@ -280,8 +295,14 @@ class ActiveSession:
             :meth:`next_push` found it), where the robot knows it better than
             it commands it: the pusher tracked in the camera, or the arm's
             measured path. The push is then scored as executed instead of as
-            planned; set ``pusher_error`` to how well you know this path, not
-            how well the arm follows a command. Default: as planned.
+            planned; set ``Likelihood(pusher_error=...)`` to how well you know
+            this path, not how well the arm follows a command. Default: as
+            planned.
+        reset : bool, optional
+            True: the object was put back in the first pose after the push (a
+            robot that resets it, as :func:`comcore.estimate_active`'s ``push``
+            does); the next push is planned there. The same as calling
+            :meth:`reset_pose` next, without planning twice.
 
         Raises
         ------
@@ -293,8 +314,9 @@ class ActiveSession:
         if self.done or not self._handed_out:
             what = f"the session is done (status {self._final!r})" if self.done else "no push"
             raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
-        if not isinstance(failed, (bool, np.bool_)):
-            raise TypeError(f"failed must be a bool, got {type(failed).__name__}")
+        for name, value in (("failed", failed), ("reset", reset)):
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
         given = [name for name, v in (("mask", mask), ("motion", motion)) if v is not None]
         if failed:
             given.append("failed")
@@ -302,28 +324,43 @@ class ActiveSession:
             raise TypeError(
                 f"observe() takes exactly one of mask, motion or failed=True, got {given}"
             )
+        if failed and executed is not None:
+            raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
+        record, evidence, pose = self._reading(mask, motion, failed, executed)
+        self._log.add(record, self._posterior, *evidence)
+        self._candidates.made(self._pending)
+        if record.outcome != "failed":
+            self._mask_now = mask  # None after a motion: the first mask moved to the new pose
+            self._pose = pose
+        self._handed_out = False
+        if reset:
+            self._pose, self._mask_now = IDENTITY, self._first
+        self._plan()
+
+    def _reading(self, mask, motion, failed: bool, executed):
+        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
+
+        Validates everything; changes nothing.
+        """
         index = self._pending
-        done_as = None if executed is None else self._executed(executed, failed)
-        record = {
+        planned = self._candidates.actions[index]
+        done_as = None if executed is None else self._executed(executed)
+        # an executed path that misses the object is kept as planned: a miss carries no
+        # evidence, and a replay (estimate_posterior) needs pushes that hit the first mask
+        scored = planned if done_as is None or done_as[1] is None else done_as[0]
+        base = {
             "index": index,
-            "camera_action": self._cands.in_pose(self._pose, [index])[0],
-            # an executed path that misses the object is kept as planned: a miss carries no
-            # evidence, and a replay (estimate_posterior) needs pushes that hit the first mask
-            "object_action": self._cands.actions[index]
-            if done_as is None or done_as[1] is None
-            else done_as[0],
+            "planned": planned,
+            "camera_action": self._candidates.in_pose(self._pose, [index])[0],
             "pose_before": self._pose,
         }
         if failed:
-            self._commit(record, "failed", self._pose, None, None)
-            return
+            return PushRecord(action=planned, motion=None, outcome="failed", **base), (), None
         reading = read_pose(self._first, self._pose, mask, motion)
         branches = symmetric_branches(reading, self._pose)
         if is_miss(relative(self._pose, branches[0].pose), self._first.resolution):
-            self._record_reading(record, branches[0])
-            self._commit(record, "miss", branches[0].pose, mask, None)
-            return
-        action, lines = self._cands.actions[index], self._cands.lines[index]
+            return self._record(base, scored, branches[0], "miss"), (), branches[0].pose
+        action, lines = planned, self._candidates.lines[index]
         if done_as is not None:
             action, lines = done_as
             if lines is None:
@@ -332,77 +369,56 @@ class ActiveSession:
                     "object as the session sees it, but the object moved: pass the path the "
                     "pusher took, in camera pixels"
                 )
-        # A symmetric outline (a hexagon) turned by more than half its symmetry angle looks
-        # like a smaller turn the other way: of the rotations the masks allow, keep the one
-        # the posterior explains best (its marginal likelihood), not merely the nearest.
+        branch, loglik, excess = self._best_branch(branches, action, lines)
+        return self._record(base, scored, branch, "evidence"), (loglik, excess), branch.pose
+
+    def _best_branch(self, branches, action, lines):
+        """Of the rotations the masks allow, the one the posterior explains best.
+
+        A symmetric outline (a hexagon) turned by more than half its symmetry
+        angle looks like a smaller turn the other way: the reading kept is the
+        one of highest marginal likelihood, not merely the nearest.
+        """
         best = None
         for branch in branches:
-            camera_motion = relative(self._pose, branch.pose)
-            obj_motion = object_motion_from_camera(camera_motion, self._pose.theta)
+            obj_motion = self._object_motion(branch)
             loglik, excess = push_evidence(
-                self._post,
-                self._opts,
+                self._posterior,
+                self._scoring,
                 self._first,
                 action,
                 lines,
                 obj_motion,
                 rotation_observed=not branch.ambiguous,
-                tracking=tracking_noise(self._opts.tracking, branch.residual_px, self._gyration_px),
+                tracking=tracking_noise(
+                    self._scoring.tracking, branch.residual_px, self._gyration_px
+                ),
             )
-            evidence = self._post.predictive(loglik.full)
+            evidence = self._posterior.predictive(loglik.full)
             if best is None or evidence > best[0]:
-                best = (evidence, branch, obj_motion, loglik, excess)
-        _, branch, obj_motion, loglik, excess = best
-        self._record_reading(record, branch)
-        record["object_motion"] = tuple(float(v) for v in obj_motion)
-        self._commit(record, "evidence", branch.pose, mask, loglik, excess)
+                best = (evidence, branch, loglik, excess)
+        return best[1:]
 
-    def _executed(self, executed, failed: bool):
+    def _object_motion(self, reading) -> np.ndarray:
+        camera_motion = relative(self._pose, reading.pose)
+        return object_motion_from_camera(camera_motion, self._pose.theta)
+
+    def _record(self, base: dict, action, reading, outcome: str) -> PushRecord:
+        residual = reading.residual_px
+        return PushRecord(
+            action=action,
+            motion=tuple(float(v) for v in self._object_motion(reading)),
+            outcome=outcome,
+            camera_motion=relative(self._pose, reading.pose),
+            rotation_observed=not reading.ambiguous,
+            residual_px=residual if math.isfinite(residual) else None,
+            symmetry=reading.symmetry,
+            **base,
+        )
+
+    def _executed(self, executed):
         """The executed push in the object's frame and its force lines (None: it misses)."""
-        if failed:
-            raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
-        acts = check_actions(executed, "executed", allow_empty=False)
-        if acts.shape[0] != 1:
-            raise ValueError(f"executed must be a single action (4 numbers), got {acts.shape[0]}")
-        obj = actions_from_pose(acts, self._pose, self._first.centroid)
-        con = contacts(self._first, obj)
-        # A start just inside the outline as the session sees it (its pose is measured, to
-        # a pixel or so): the pusher met the outline where its line enters, so the start is
-        # moved back along the line, 1 mm at a time, at most EXECUTED_BACKOFF_M.
-        step = np.asarray(Action(*obj[0]).direction) * (0.001 / self._first.resolution)
-        for _ in range(round(EXECUTED_BACKOFF_M / 0.001)):
-            if not con.starts_inside[0]:
-                break
-            obj[0, :2] -= step
-            con = contacts(self._first, obj)
-        if con.starts_inside[0]:
-            raise ValueError(
-                f"executed {acts[0].tolist()} starts inside the object as the session sees it"
-            )
-        if not con.hit[0]:
-            return obj[0], None
-        return obj[0], push_force_lines(con, obj, self._opts.mus)[0]
-
-    def _record_reading(self, record, reading) -> None:
-        record["camera_motion"] = tuple(relative(self._pose, reading.pose))
-        record["residual_px"] = reading.residual_px
-        record["ambiguous"] = reading.ambiguous
-        record["symmetry"] = reading.symmetry
-
-    def _commit(self, record, outcome, pose, mask, loglik, excess=None):
-        record["outcome"] = outcome
-        if outcome != "failed" and "object_motion" not in record:
-            record["object_motion"] = tuple(
-                float(v)
-                for v in object_motion_from_camera(record["camera_motion"], self._pose.theta)
-            )
-        self._log.add(record, self._post, loglik, excess)
-        self._cands.made(record["index"])
-        if outcome != "failed":
-            self._mask_now = mask  # None after a motion: the first mask moved to the new pose
-            self._pose = pose
-        self._handed_out = False
-        self._planned = False
+        return executed_in_object(self._first, self._pose, executed, self._scoring.mus)
 
     def reset_pose(self, pose=None) -> None:
         """Tell the session the object was put back in the first pose (or moved to ``pose``).
@@ -417,7 +433,7 @@ class ActiveSession:
         new = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
         self._pose = new
         self._mask_now = self._first if new == IDENTITY else None
-        self._planned = False
+        self._plan()  # a session that found nothing to push in the old pose may go on
 
     # -- results ------------------------------------------------------------------------
 
@@ -425,43 +441,18 @@ class ActiveSession:
         """The estimate so far; ``com`` in the first mask's frame.
 
         ``used`` indexes the candidates of the executed pushes (misses
-        included), in order. ``extras`` as :func:`comcore.estimate_active`'s
-        (``"actions"`` and ``"motions"`` in the first mask's frame, as the
-        posterior used them), plus ``"camera_actions"``, ``"camera_motions"``,
-        ``"outcomes"`` (``"evidence"`` / ``"miss"`` per executed push),
-        ``"failed"`` (candidates reported as failed) and ``"pose"``.
+        included), in order; ``pushes`` holds every reported push's
+        :class:`comcore.PushRecord` (failed ones included). ``extras`` as
+        :func:`comcore.estimate_active`'s, plus ``"pose"``.
         """
-        return self._estimate(self.status)
-
-    def _estimate(self, status: str) -> Estimate:
-        extras = {
-            **self._log.extras(),
-            "camera_actions": self.actions,
-            "camera_motions": self.motions,
-            "pose": self._pose,
-        }
-        used = [r["index"] for r in self._log.executed]
-        return build_estimate(
-            self._first, self._post, self._opts.credible, used, self._log.history, status, extras
+        used = [r.index for r in self._log.executed]
+        return self._log.estimate(
+            self._first, self._posterior, used, self.status, {"pose": self._pose}
         )
 
     def com_in_camera(self) -> tuple[float, float]:
         """The CoM estimate where it is now, in the camera frame (pixels)."""
-        com = self._post.mean()
+        com = self._posterior.mean()
         p = self._pose
         moved = apply_motion(com, p.theta, (p.tx, p.ty), self._first.centroid)
         return float(moved[0]), float(moved[1])
-
-
-def _signature() -> inspect.Signature:
-    """ActiveSession's signature with every option named (for introspection and typo checks)."""
-    own = list(inspect.signature(ActiveSession.__init__).parameters.values())
-    options = [
-        p.replace(kind=inspect.Parameter.KEYWORD_ONLY)
-        for name, p in inspect.signature(active_options).parameters.items()
-        if name in _OPTIONS
-    ]
-    return inspect.Signature([*own[:-1], *options])
-
-
-ActiveSession.__init__.__signature__ = _signature()  # type: ignore[attr-defined]

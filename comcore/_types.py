@@ -1,4 +1,4 @@
-"""Immutable value types: :class:`Action`, :class:`Motion` and :class:`Estimate`."""
+"""Immutable value types: Action, Motion, PushRecord and Estimate."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["Action", "Estimate", "Motion"]
+__all__ = ["OUTCOMES", "Action", "Estimate", "Motion", "PushRecord"]
 
 
 def _finite_float(value, name: str, owner: str) -> float:
@@ -24,13 +24,13 @@ def _finite_float(value, name: str, owner: str) -> float:
 
 class _ActionFields(NamedTuple):
     sx: float
-    """x (column) of the pusher's start, pixels."""
+    """x (column) of the start of the pusher's leading point, pixels."""
     sy: float
-    """y (row, down) of the pusher's start, pixels."""
+    """y (row, down) of the start of the pusher's leading point, pixels."""
     ex: float
-    """x (column) of the pusher's end, pixels."""
+    """x (column) of the end of the pusher's leading point, pixels."""
     ey: float
-    """y (row, down) of the pusher's end, pixels."""
+    """y (row, down) of the end of the pusher's leading point, pixels."""
 
 
 class _MotionFields(NamedTuple):
@@ -43,7 +43,18 @@ class _MotionFields(NamedTuple):
 
 
 class Action(_ActionFields):
-    """A push: the pusher's straight path in the image, in pixels.
+    """A push: the straight path of the pusher's leading point in the image, in pixels.
+
+    For a round pusher of radius ``r`` the leading point is the point of the
+    disc farthest along the push: it is what touches a flat edge pushed along
+    its normal. The disc's centre runs ``r`` behind it on the same line, from
+    ``start - r * direction`` to ``end - r * direction``. A robot that moves
+    the centre of its pusher must take that offset off both points, or every
+    push goes one radius deeper than planned. comcore's samplers
+    (:func:`comcore.sample_pushes`), motion model
+    (:class:`comcore.LimitSurfaceModel`) and ``simulators`` all read an action
+    so; docs/conventions.md has the conversion. For a point pusher (``r =
+    0``) the two coincide.
 
     Validated on construction: every field must be a finite real number and the
     path must have non-zero length.
@@ -55,6 +66,12 @@ class Action(_ActionFields):
     (1.0, 0.0)
     >>> a.length
     20.0
+
+    The path of the centre of a 4 mm disc at 2.5 mm per pixel (1.6 px behind):
+
+    >>> r = 0.004 / 0.0025
+    >>> [round(v, 6) for v in (a.sx - r * a.direction[0], a.ex - r * a.direction[0])]
+    [-1.6, 18.4]
     >>> Action(1, 1, 1, 1)
     Traceback (most recent call last):
     ...
@@ -118,10 +135,121 @@ class Motion(_MotionFields):
         return (self.theta > 0) - (self.theta < 0)
 
 
+_IDENTITY = Motion(0.0, 0.0, 0.0)
+#: What a reported push did: it moved the object (``"evidence"``), it did not
+#: (``"miss"``: below the tracking noise), or it could not be executed (``"failed"``).
+OUTCOMES = ("evidence", "miss", "failed")
+
+
+@dataclass(frozen=True)
+class PushRecord:
+    """One push an active estimator made or was told about: what was planned, done and seen.
+
+    :class:`Estimate.pushes <Estimate>` holds one per push, in order; passing
+    them back (``comcore.estimate_posterior(mask, pushes=est.pushes)``)
+    replays the posterior that scored them. Every length is in pixels of the
+    first mask; ``action`` and ``motion`` are in the object's frame (the first
+    mask's), however the object moved.
+
+    Attributes
+    ----------
+    action : Action
+        The push as scored, in the first mask's frame: the path executed where
+        the robot said where its pusher went (``executed``), else the one
+        planned (``planned``).
+    motion : Motion or None
+        The object's motion in the first mask's frame, about its centroid
+        (None for a failed push).
+    outcome : {"evidence", "miss", "failed"}
+        What the push did (:data:`OUTCOMES`).
+    index : int or None
+        The candidate it was (an index into the session's candidates), or its
+        position among recorded pushes.
+    planned : Action or None
+        The push as planned, in the first mask's frame (None: as ``action``).
+    camera_action : Action or None
+        The push as handed to the robot, in the camera frame at ``pose_before``
+        (None offline).
+    camera_motion : Motion or None
+        The motion as the camera saw it, about the object's centroid at the time.
+    pose_before : Motion
+        The object's pose before the push, relative to the first mask.
+    rotation_observed : bool
+        False where the camera could not tell the rotation (a symmetric outline
+        read ambiguously): neither its sense nor its size is scored.
+    residual_px : float or None
+        The RMS outline residual of the registration that measured the motion
+        (None: not measured from masks).
+    symmetry : int
+        Order of the outline's rotational symmetry the registration saw (1: none).
+    log_evidence : float or None
+        The log-probability the posterior before the push gave its motion (its
+        evidence, nats); None for a miss or a failed push.
+    """
+
+    action: Action
+    motion: Motion | None
+    outcome: str
+    index: int | None = None
+    planned: Action | None = None
+    camera_action: Action | None = None
+    camera_motion: Motion | None = None
+    pose_before: Motion = _IDENTITY
+    rotation_observed: bool = True
+    residual_px: float | None = None
+    symmetry: int = 1
+    log_evidence: float | None = None
+
+    def __post_init__(self):
+        if self.outcome not in OUTCOMES:
+            raise ValueError(f"PushRecord.outcome must be one of {OUTCOMES}, got {self.outcome!r}")
+        set_ = object.__setattr__
+        set_(self, "action", Action(*self.action))
+        for name, kind in (("planned", Action), ("camera_action", Action),
+                           ("motion", Motion), ("camera_motion", Motion)):  # fmt: skip
+            value = getattr(self, name)
+            if value is not None:
+                set_(self, name, kind(*value))
+        if self.motion is None and self.outcome != "failed":
+            raise ValueError(
+                f"PushRecord.motion is needed for a push with outcome {self.outcome!r}"
+            )
+        set_(self, "pose_before", Motion(*self.pose_before))
+        if self.residual_px is not None:
+            residual = _finite_float(self.residual_px, "residual_px", "PushRecord")
+            if residual < 0:
+                raise ValueError(f"PushRecord.residual_px must be >= 0 or None, got {residual}")
+            set_(self, "residual_px", residual)
+        set_(self, "rotation_observed", bool(self.rotation_observed))
+
+
 def _readonly(array: np.ndarray) -> np.ndarray:
     out = np.array(array, copy=True)
     out.setflags(write=False)
     return out
+
+
+def _check_region(region) -> np.ndarray:
+    """``region`` as a 2-D boolean array, or a named error."""
+    try:
+        arr = np.asarray(region)
+    except (TypeError, ValueError) as e:  # ragged nested sequences
+        raise ValueError(f"Estimate.region must be a 2-D image of shape (H, W): {e}") from e
+    if arr.dtype != bool and not np.issubdtype(arr.dtype, np.number):
+        raise TypeError(f"Estimate.region must be an image of booleans, got dtype {arr.dtype}")
+    if arr.ndim != 2 or 0 in arr.shape:
+        raise ValueError(
+            f"Estimate.region must be a 2-D image of shape (H, W) (the mask's), got shape "
+            f"{arr.shape}"
+        )
+    if arr.dtype != bool:
+        odd = arr[(arr != 0) & (arr != 1)]  # NaN is neither
+        if odd.size:
+            raise ValueError(
+                "Estimate.region must hold booleans (or the numbers 0 and 1), got "
+                f"{odd.size} other value(s), e.g. {odd.flat[0]}"
+            )
+    return arr.astype(bool)
 
 
 @dataclass(frozen=True)
@@ -140,16 +268,25 @@ class Estimate:
     com_m : tuple of float
         The same in metres in the mask frame (``resolution * (x, y)``).
     region : numpy.ndarray of bool, shape (H, W)
-        The CoM region the estimate is the mean of (read-only).
+        The CoM region the estimate is the mean of (read-only): a 2-D image
+        of the mask's shape, booleans (or the numbers 0 and 1).
     used : tuple of int
         Indices of the actions the estimator used, in the order it used them.
     status : str
-        ``"ok"`` or a short reason (``"no_actions"``, ``"contradiction"``,
-        ``"budget"``, ...).
+        ``"ok"`` (the data were consistent and the answer is as good as it
+        says) or a short reason: ``"unchecked"`` (Alg. 1: an answer whose
+        evidence no test checked), ``"no_actions"``, ``"flat_heatmap"``,
+        ``"contradiction"`` (Alg. 2), ``"budget"``, ``"exhausted"``,
+        ``"uninformative"``, ``"inconsistent"``, ``"no_evidence"`` (the active
+        estimator and the posterior; docs/robot.md says what each means on a
+        robot) ...
     covariance : numpy.ndarray, shape (2, 2), or None
         Covariance of the CoM in pixels squared, where the estimator has one.
     extras : Mapping[str, Any]
         Estimator-specific outputs (Alg. 1's ``"heatmap"``, ...), read-only.
+    pushes : tuple of PushRecord
+        The active estimators' pushes, in order (misses and failed pushes
+        included); empty for the others.
 
     Examples
     --------
@@ -157,6 +294,10 @@ class Estimate:
     >>> e = Estimate(com=(1.0, 2.0), com_m=(0.01, 0.02), region=np.ones((3, 3), bool))
     >>> e.ok, e.region.flags.writeable
     (True, False)
+    >>> Estimate(com=(1.0, 2.0), com_m=(0.01, 0.02), region=np.ones(4, bool))
+    Traceback (most recent call last):
+    ...
+    ValueError: Estimate.region must be a 2-D image of shape (H, W) (the mask's), got shape (4,)
     """
 
     com: tuple[float, float]
@@ -166,6 +307,7 @@ class Estimate:
     status: str = "ok"
     covariance: np.ndarray | None = None
     extras: Mapping[str, Any] = field(default_factory=dict)
+    pushes: tuple = ()
 
     def __post_init__(self):
         com = tuple(float(v) for v in self.com)
@@ -174,7 +316,7 @@ class Estimate:
             raise ValueError(f"Estimate.com must be two finite numbers, got {self.com}")
         object.__setattr__(self, "com", com)
         object.__setattr__(self, "com_m", com_m)
-        object.__setattr__(self, "region", _readonly(np.asarray(self.region, dtype=bool)))
+        object.__setattr__(self, "region", _readonly(_check_region(self.region)))
         object.__setattr__(self, "used", tuple(int(i) for i in self.used))
         if self.covariance is not None:
             object.__setattr__(self, "covariance", _readonly(np.asarray(self.covariance, float)))
@@ -182,6 +324,10 @@ class Estimate:
         for key, value in dict(self.extras).items():
             extras[key] = _readonly(value) if isinstance(value, np.ndarray) else value
         object.__setattr__(self, "extras", MappingProxyType(extras))
+        pushes = tuple(self.pushes)
+        if not all(isinstance(p, PushRecord) for p in pushes):
+            raise TypeError("Estimate.pushes must hold comcore.PushRecord values")
+        object.__setattr__(self, "pushes", pushes)
 
     @property
     def ok(self) -> bool:

@@ -12,15 +12,18 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ._checks import _as_float_rows, _real_number, check_finite, check_point, check_points
 from ._conventions import LENGTH_EPS
 from ._mask import Mask
 from ._types import Action, Motion
 
 __all__ = [
     "check_actions",
+    "check_finite",
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_point",
     "check_points",
     "check_priors",
     "check_probability",
@@ -38,34 +41,6 @@ def check_mask(mask, name: str = "mask") -> Mask:
         )
         raise TypeError(f"{name} must be a comcore.Mask, got {type(mask).__name__}{hint}")
     return mask
-
-
-def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
-    if isinstance(value, row_type):
-        arr = np.asarray([tuple(value)], dtype=float)
-    else:
-        if isinstance(value, (str, bytes)) or value is None:
-            raise TypeError(
-                f"{name} must be array_like of shape (n, {width}), got {type(value).__name__}"
-            )
-        try:
-            arr = np.asarray(value, dtype=float)
-        except (TypeError, ValueError) as e:
-            raise TypeError(
-                f"{name} must be array_like of real numbers with shape (n, {width}); {e}"
-            ) from e
-        if arr.ndim == 1 and arr.shape[0] == width:
-            arr = arr[None, :]
-        if arr.ndim == 1 and arr.shape[0] == 0:
-            arr = arr.reshape(0, width)
-    if arr.ndim != 2 or arr.shape[1] != width:
-        raise ValueError(f"{name} must have shape (n, {width}), got {arr.shape}")
-    if not np.isfinite(arr).all():
-        bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
-        raise ValueError(f"{name} must be finite, got NaN or inf in row(s) {bad[:5].tolist()}")
-    arr = arr.copy()
-    arr.setflags(write=False)
-    return arr
 
 
 def check_actions(actions, name: str = "actions", allow_empty: bool = True) -> np.ndarray:
@@ -113,11 +88,6 @@ def check_motions(motions, n: int | None = None, name: str = "motions") -> np.nd
     if n is not None and arr.shape[0] != n:
         raise ValueError(f"{name} must have one row per action: expected {n}, got {arr.shape[0]}")
     return arr
-
-
-def check_points(points, name: str = "points") -> np.ndarray:
-    """Validate pixel points into a read-only float array of shape (n, 2)."""
-    return _as_float_rows(points, 2, name, tuple())  # type: ignore[arg-type]
 
 
 def check_priors(priors, name: str = "priors") -> tuple[np.ndarray, np.ndarray]:
@@ -200,17 +170,20 @@ def check_mu(mu, name: str = "mu") -> tuple[float, float]:
     return (lo, hi)
 
 
-def _real_number(value, name: str, expected: str = "a number") -> float:
-    """``value`` as a float if it is a real number (not a bool), else a TypeError."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be {expected}, got {type(value).__name__}")
-    return float(value)
-
-
 def check_probability(
     value, name: str, *, open_low: bool = False, open_high: bool = False
 ) -> float:
-    """Validate a number in [0, 1] (ends optionally open)."""
+    """Validate a number in [0, 1] (ends optionally open).
+
+    Examples
+    --------
+    >>> check_probability(0.25, "flip")
+    0.25
+    >>> check_probability(1.0, "flip", open_high=True)
+    Traceback (most recent call last):
+    ...
+    ValueError: flip must be in [0, 1), got 1.0
+    """
     v = _real_number(value, name, "a number in [0, 1]")
     low_ok = v > 0 if open_low else v >= 0
     high_ok = v < 1 if open_high else v <= 1
@@ -222,50 +195,22 @@ def check_probability(
 
 
 def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
-    """Validate a finite positive (or non-negative) number."""
+    """Validate a finite positive (or non-negative) number.
+
+    Examples
+    --------
+    >>> check_positive(0.004, "pusher_radius")
+    0.004
+    >>> check_positive(0, "pusher_radius")
+    Traceback (most recent call last):
+    ...
+    ValueError: pusher_radius must be a finite number > 0, got 0.0
+    """
     v = _real_number(value, name)
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
         want = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {want}, got {v}")
     return v
-
-
-def check_finite(value, name: str) -> float:
-    """Validate a finite real number of any sign (an angle, an offset).
-
-    Examples
-    --------
-    >>> check_finite(-0.5, "theta")
-    -0.5
-    >>> check_finite(float("nan"), "theta")
-    Traceback (most recent call last):
-    ...
-    ValueError: theta must be a finite number, got nan
-    """
-    v = _real_number(value, name)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number, got {v}")
-    return v
-
-
-def check_point(value, name: str = "point") -> np.ndarray:
-    """Validate one finite pixel point or 2-vector into a read-only array of shape (2,).
-
-    Examples
-    --------
-    >>> check_point((3, 4), "center").tolist()
-    [3.0, 4.0]
-    >>> check_point([[3, 4], [5, 6]], "center")
-    Traceback (most recent call last):
-    ...
-    ValueError: center must be a single point of shape (2,), got shape (2, 2)
-    """
-    arr = _as_float_rows(value, 2, name, tuple())  # type: ignore[arg-type]
-    if np.ndim(value) != 1 or arr.shape[0] != 1:
-        raise ValueError(
-            f"{name} must be a single point of shape (2,), got shape {np.shape(value)}"
-        )
-    return arr[0]
 
 
 def check_rng(rng, name: str = "rng") -> np.random.Generator:
@@ -306,3 +251,96 @@ def check_rng(rng, name: str = "rng") -> np.random.Generator:
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be {want}, got {type(rng).__name__}") from None
     return np.random.default_rng(seeds)
+
+
+def check_count(value, name: str, minimum: int = 0) -> int:
+    """Validate an int (not a bool) of at least ``minimum``.
+
+    A wrong type is a TypeError, a wrong value a ValueError, for every count.
+
+    Examples
+    --------
+    >>> check_count(3, "max_pushes")
+    3
+    >>> check_count(0, "n_mu", 1)
+    Traceback (most recent call last):
+    ...
+    ValueError: n_mu must be >= 1, got 0
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def check_pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
+    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers (both >= 0 with allow_zero).
+
+    Examples
+    --------
+    >>> check_pair((0.01, 0.13), "theta_noise")
+    (0.01, 0.13)
+    >>> check_pair((0.0, 0.1), "theta_noise")
+    Traceback (most recent call last):
+    ...
+    ValueError: theta_noise must be a pair with absolute > 0 and other >= 0, got (0.0, 0.1)
+    """
+    try:
+        a, r = (float(v) for v in value)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
+    low_ok = a >= 0 if allow_zero else a > 0
+    if not (low_ok and math.isfinite(a) and r >= 0 and math.isfinite(r)):
+        want = "both >= 0" if allow_zero else "absolute > 0 and other >= 0"
+        raise ValueError(f"{name} must be a pair with {want}, got ({a}, {r})")
+    return a, r
+
+
+def check_powers(value, name: str) -> tuple[float, ...]:
+    """Validate one power in (0, 1] or a sequence of distinct ones, as a tuple.
+
+    Examples
+    --------
+    >>> check_powers(0.6, "model_weight"), check_powers([0.5, 1], "model_weight")
+    ((0.6,), (0.5, 1.0))
+    """
+    want = f"{name} must be a number or a sequence of numbers, got {value!r}"
+    if isinstance(value, (str, bytes)):
+        raise TypeError(want)
+    if np.ndim(value) == 0:
+        return (check_probability(value, name, open_low=True),)
+    try:
+        values = tuple(value)
+    except TypeError as e:
+        raise TypeError(want) from e
+    if not values:
+        raise ValueError(f"{name} must not be an empty sequence")
+    out = tuple(check_probability(v, name, open_low=True) for v in values)
+    if len(set(out)) != len(out):
+        raise ValueError(f"{name}'s powers must be distinct, got {value!r}")
+    return out
+
+
+def check_per_push(values, n: int, name: str, default):
+    """One value per push, validated: bools when ``default`` is a bool, else numbers >= 0.
+
+    ``None`` gives ``default`` for every push; a number may be NaN (not measured).
+    """
+    if values is None:
+        return [default] * n
+    if isinstance(values, (str, bytes)) or np.ndim(values) != 1 or len(values) != n:
+        raise ValueError(f"{name} must hold one value per push ({n}), got {values!r}")
+    if isinstance(default, bool):
+        if not all(isinstance(v, (bool, np.bool_)) for v in values):
+            raise TypeError(f"{name} must hold bools, got {values!r}")
+        return [bool(v) for v in values]
+    try:
+        out = [math.nan if v is None else float(v) for v in values]
+    except (TypeError, ValueError) as e:
+        raise TypeError(
+            f"{name} must hold numbers (NaN or None: not measured), got {values!r}"
+        ) from e
+    if any(v < 0 or math.isinf(v) for v in out):
+        raise ValueError(f"{name} must be >= 0 and finite or NaN (pixels), got {values!r}")
+    return out

@@ -34,13 +34,14 @@ except ImportError as e:  # pragma: no cover - exercised by tests through sys.mo
     raise ImportError("comcore.plot needs matplotlib: pip install comcore[plot]") from e
 
 from ._mask import Mask
+from ._plot_layout import belief_of, executed_pushes, is_active, number_positions, region_outline
+from ._plot_layout import evidence_of as _evidence
+from ._plot_layout import window as _window
 from ._types import Estimate
-from ._validation import check_actions, check_mask, check_point
+from ._validation import check_mask, check_point
 
-__all__ = ["belief_of", "executed_pushes", "plot_estimate"]
+__all__ = ["belief_of", "executed_pushes", "number_positions", "plot_estimate", "region_outline"]
 
-#: Up to this many executed pushes are numbered in order (more would hide the picture).
-MAX_NUMBERED = 15
 #: The posterior is drawn on a log scale down to this fraction of its maximum.
 POSTERIOR_FLOOR = 1e-4
 #: Colours of the picture's elements.
@@ -53,79 +54,13 @@ COLORS = {
     "estimate": "black",
     "truth": "tab:green",
 }
-
-
-def executed_pushes(estimate: Estimate, actions=None) -> tuple[np.ndarray, np.ndarray]:
-    """The pushes an estimate rests on, in order, and the given pushes not among them.
-
-    Where the estimate lists its pushes in ``extras["actions"]`` (the active
-    estimator's executed pushes, the offline posterior's recorded ones) those
-    are they, in order: an active run's ``used`` indexes its candidates, not
-    them. For the others they are ``actions[used]`` in the order ``used``
-    lists them.
-
-    Returns
-    -------
-    executed : numpy.ndarray, shape (k, 4)
-    others : numpy.ndarray, shape (m, 4)
-        The rows of ``actions`` not among them (empty without ``actions``).
-
-    Examples
-    --------
-    >>> import numpy as np, comcore
-    >>> est = comcore.Estimate((1.0, 1.0), (0.0, 0.0), np.ones((3, 3), bool), used=(2, 0))
-    >>> done, rest = executed_pushes(est, [(0, 0, 1, 0), (0, 1, 1, 1), (0, 2, 1, 2)])
-    >>> done[:, 1].tolist(), rest[:, 1].tolist()
-    ([2.0, 0.0], [1.0])
-    """
-    candidates = check_actions(actions) if actions is not None else np.zeros((0, 4))
-    if "actions" in estimate.extras:
-        executed = check_actions(estimate.extras["actions"], "estimate.extras['actions']")
-        if not len(candidates) or not len(executed):
-            return executed, candidates
-        done = (candidates[:, None, :] == executed[None, :, :]).all(axis=2).any(axis=1)
-        return executed, candidates[~done]
-    if actions is None:
-        return np.zeros((0, 4)), candidates
-    bad = [i for i in estimate.used if not 0 <= i < len(candidates)]
-    if bad:
-        raise ValueError(
-            f"estimate.used indexes pushes {bad[:5]} beyond the {len(candidates)} actions given"
-        )
-    chosen = list(estimate.used)
-    return candidates[chosen], np.delete(candidates, chosen, axis=0)
-
-
-def _evidence(estimate: Estimate, n_executed: int) -> np.ndarray:
-    """Per executed push: did it carry evidence (``extras["outcomes"]``; all, without it)."""
-    outcomes = estimate.extras.get("outcomes")
-    if outcomes is None or len(outcomes) != n_executed:
-        return np.ones(n_executed, bool)
-    return np.array([o == "evidence" for o in outcomes], bool)
-
-
-def _is_active(estimate: Estimate) -> bool:
-    """An active run (it chose and executed its pushes), not the offline posterior."""
-    return "pose" in estimate.extras or "camera_actions" in estimate.extras
-
-
-def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:
-    """What to colour the object with: ``("posterior" | "heatmap", array)`` or ``("region", None)``.
-
-    Examples
-    --------
-    >>> import numpy as np, comcore
-    >>> belief_of(comcore.Estimate((1.0, 1.0), (0.0, 0.0), np.ones((3, 3), bool)))
-    ('region', None)
-    """
-    for key in ("posterior", "heatmap"):
-        if key in estimate.extras:
-            return key, np.asarray(estimate.extras[key], float)
-    return "region", None
+#: Drawing order: the object and belief, then arrows, then the region's outline, the
+#: markers and, on top, the push numbers (placed where they hide neither).
+ZORDER = {"arrows": 3, "other_arrows": 2.5, "region": 3.5, "markers": 5, "numbers": 6}
 
 
 def _name(estimate: Estimate, belief: str) -> str:
-    if _is_active(estimate):
+    if is_active(estimate):
         return "active posterior"
     if belief == "posterior":
         return "posterior"
@@ -134,23 +69,30 @@ def _name(estimate: Estimate, belief: str) -> str:
     return "Alg. 2 region" if estimate.used else "region"
 
 
-def _arrows(ax, pushes: np.ndarray, color, numbered: bool, **style) -> None:
+def _arrows(ax, pushes: np.ndarray, color, **style) -> None:
     colors = [color] * len(pushes) if isinstance(color, str) else list(color)
-    for k, ((sx, sy, ex, ey), color) in enumerate(zip(pushes, colors)):
+    for (sx, sy, ex, ey), color in zip(pushes, colors):
         ax.annotate(
-            "", (ex, ey), (sx, sy),
+            "", (ex, ey), (sx, sy), zorder=style.get("zorder", ZORDER["arrows"]),
             arrowprops={"arrowstyle": "-|>", "color": color, "lw": style.get("lw", 1.4),
                         "alpha": style.get("alpha", 1.0), "shrinkA": 0, "shrinkB": 0},
         )  # fmt: skip
-        if numbered:
-            ax.text(sx, sy, str(k + 1), color="white", fontsize=7, ha="center", va="center",
-                    bbox={"boxstyle": "circle,pad=0.2", "fc": color, "ec": "none"})  # fmt: skip
+
+
+def _numbers(ax, pushes: np.ndarray, colors, places: np.ndarray, fontsize: float) -> None:
+    """Number the pushes in order (white on the arrow's colour) at ``places``."""
+    for k, (point, push, color) in enumerate(zip(places, pushes, colors)):
+        ax.plot([point[0], push[0]], [point[1], push[1]], "-", color=color, lw=0.6,
+                alpha=0.5, zorder=ZORDER["arrows"])  # fmt: skip
+        bbox = {"boxstyle": "circle,pad=0.2", "fc": color, "ec": "white", "lw": 0.6}
+        ax.text(*point, str(k + 1), color="white", fontsize=fontsize, ha="center",
+                va="center", zorder=ZORDER["numbers"], bbox=bbox, clip_on=True)  # fmt: skip
 
 
 def _marker(ax, point, marker: str, color, label: str) -> None:
     """A cross with a white halo, readable on the grey mask and on a dark heat map."""
-    ax.plot(*point, marker, color="white", ms=14, mew=5.0)
-    ax.plot(*point, marker, color=color, ms=12, mew=2.5, label=label)
+    ax.plot(*point, marker, color="white", ms=14, mew=5.0, zorder=ZORDER["markers"])
+    ax.plot(*point, marker, color=color, ms=12, mew=2.5, label=label, zorder=ZORDER["markers"])
 
 
 def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> None:
@@ -159,15 +101,25 @@ def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> N
 
     if evidence.any():
         what = "pushes executed" if executed else "pushes used"
-        if len(evidence) <= MAX_NUMBERED:
-            what += ", numbered in order"
-        ax.add_line(Line2D([], [], color=COLORS["used"], marker=">", label=what))
+        ax.add_line(Line2D([], [], color=COLORS["used"], marker=">", label=what + ", in order"))
     if not evidence.all():
         label = "pushes without evidence (missed or failed)"
         ax.add_line(Line2D([], [], color=COLORS["no_evidence"], marker=">", label=label))
     if n_others:
         label = "candidates not executed" if executed else "pushes not used"
         ax.add_line(Line2D([], [], color=COLORS["other"], alpha=0.45, label=label))
+
+
+def _region_label(estimate: Estimate, belief: str, values) -> str:
+    """What the outlined region is: a credible region holds a share of the posterior."""
+    if belief == "posterior" and values is not None and values.shape == estimate.region.shape:
+        total = float(values.sum())
+        if total > 0:
+            share = float(values[estimate.region].sum()) / total
+            return f"credible region ({100 * share:.0f} % of the posterior)"
+    if belief == "heatmap":
+        return "calm region (Alg. 1)"
+    return "CoM region"
 
 
 def plot_estimate(
@@ -178,8 +130,9 @@ def plot_estimate(
     truth=None,
     ax=None,
     title: str | None = None,
+    view: str = "object",
 ):
-    """Draw an estimate on its mask: belief, pushes, estimate and truth.
+    """Draw an estimate on its mask: belief, pushes in order, region, estimate and truth.
 
     Parameters
     ----------
@@ -187,17 +140,25 @@ def plot_estimate(
         The mask the estimate was computed on (for an active estimate, the first mask).
     estimate : Estimate
         Any estimator's result. The object is coloured by ``extras["posterior"]``
-        (active and offline posterior) or ``extras["heatmap"]`` (Alg. 1) where
-        present, with the CoM region outlined; otherwise the region is filled.
+        (active and offline posterior, on a log scale) or ``extras["heatmap"]``
+        (Alg. 1) where present; otherwise the region is filled. The region is
+        outlined in every case (for a posterior: its credible region).
     actions : array_like, shape (n, 4), optional
         The pushes the estimator was given (the candidates); ``estimate.used``
         indexes them. Drawn faint blue where not used.
     truth : (float, float), optional
         The true CoM in pixels, drawn as a green cross.
     ax : matplotlib.axes.Axes, optional
-        Where to draw; by default a new ``Figure``'s axes (``ax.figure.savefig``).
+        Where to draw; by default a new ``Figure``'s axes (``ax.figure.savefig``),
+        sized to the window.
     title : str, optional
-        Replaces the default title (estimator kind, CoM, pushes used).
+        Replaces the default title (estimator kind, CoM, pushes, and the
+        status when it is not ``ok``).
+    view : {"object", "image"}, optional
+        ``"object"`` (default): the object and the pushes drawn, with a margin
+        (pushes are followed at most ``PUSH_REACH`` object sizes past the
+        object), so that an object that fills a small part of a wide camera
+        frame is still drawn large. ``"image"``: the whole image.
 
     Returns
     -------
@@ -206,8 +167,17 @@ def plot_estimate(
     Raises
     ------
     ValueError
-        If the mask and the estimate's region differ in shape, or ``used``
-        indexes pushes beyond ``actions``.
+        If the mask and the estimate's region differ in shape, ``used``
+        indexes pushes beyond ``actions``, or ``view`` is unknown.
+
+    Notes
+    -----
+    Every push an estimate rests on is numbered in the order it was used
+    (executed, for the active estimator): the number sits on the push's line
+    just behind its start, outside the object, so it hides neither the
+    object nor the estimate and the truth; numbers that would touch step back
+    along their lines (:func:`number_positions`). The markers are drawn above
+    the arrows.
 
     Examples
     --------
@@ -216,7 +186,17 @@ def plot_estimate(
     >>> est = comcore.Estimate(mask.centroid, mask.centroid_m, mask.data)
     >>> ax = comcore.plot.plot_estimate(mask, est, truth=(12.0, 9.0), title="centroid")
     >>> ax.get_title(), [t.get_text() for t in ax.get_legend().get_texts()]
-    ('centroid', ['estimate (13.5, 13.5)', 'true CoM (12.0, 9.0)'])
+    ('centroid', ['CoM region', 'estimate (13.5, 13.5)', 'true CoM (12.0, 9.0)'])
+
+    A small object in a wide camera frame is framed, not lost:
+
+    >>> frame = np.zeros((400, 600), bool)
+    >>> frame[200:220, 300:330] = True
+    >>> wide = comcore.Mask(frame)
+    >>> est = comcore.Estimate(wide.centroid, wide.centroid_m, frame)
+    >>> ax = comcore.plot.plot_estimate(wide, est)
+    >>> [float(v) for v in (*ax.get_xlim(), *ax.get_ylim())]  # 3 px around the object
+    [296.5, 332.5, 222.5, 196.5]
     """
     mask = check_mask(mask)
     if not isinstance(estimate, Estimate):
@@ -226,11 +206,13 @@ def plot_estimate(
             f"estimate.region has shape {estimate.region.shape}, the mask {mask.shape}: "
             "pass the mask the estimate was computed on"
         )
+    if view not in ("object", "image"):
+        raise ValueError(f"view must be 'object' or 'image', got {view!r}")
     executed, others = executed_pushes(estimate, actions)
+    x0, x1, y0, y1 = _window(mask, np.vstack([executed, others]), view)
     if ax is None:
-        h, w = mask.shape
-        fig = Figure(figsize=(6.0, min(6.0 * h / max(w, 1), 9.0) + 0.9), dpi=110,
-                     layout="constrained")  # fmt: skip
+        height = min(max(6.0 * (y1 - y0) / max(x1 - x0, 1e-9), 3.0), 9.0)
+        fig = Figure(figsize=(6.0, height + 0.9), dpi=110, layout="constrained")
         ax = fig.add_subplot()
     belief, values = belief_of(estimate)
     image = np.ones((*mask.shape, 3))
@@ -250,42 +232,65 @@ def plot_estimate(
         picture = ax.imshow(shown, cmap="viridis", interpolation="nearest", **kwargs)
         ax.figure.colorbar(picture, ax=ax, shrink=0.8, label=label)
     if estimate.region.any() and not estimate.region.all():
-        ax.contour(estimate.region.astype(float), levels=[0.5], colors=[COLORS["region"]],
-                   linewidths=1.5)  # fmt: skip
-    _arrows(ax, others, COLORS["other"], False, lw=0.8, alpha=0.45)
+        from matplotlib.collections import LineCollection
+        from matplotlib.lines import Line2D
+
+        outline = LineCollection(
+            region_outline(estimate.region), colors=[COLORS["region"]], linewidths=2.0,
+            zorder=ZORDER["region"], capstyle="projecting",
+        )  # fmt: skip
+        ax.add_collection(outline)
+        region_label = _region_label(estimate, belief, values)
+        ax.add_line(Line2D([], [], color=COLORS["region"], lw=2.0, label=region_label))
+    _arrows(ax, others, COLORS["other"], lw=0.8, alpha=0.45, zorder=ZORDER["other_arrows"])
     evidence = _evidence(estimate, len(executed))
     colors = [COLORS["used"] if e else COLORS["no_evidence"] for e in evidence]
-    _arrows(ax, executed, colors, len(executed) <= MAX_NUMBERED)
-    _legend_pushes(ax, evidence, len(others), "actions" in estimate.extras)
+    _arrows(ax, executed, colors)
+    _legend_pushes(ax, evidence, len(others), bool(estimate.pushes))
     x, y = estimate.com
+    markers = [(x, y)]
     _marker(ax, (x, y), "x", COLORS["estimate"], f"estimate ({x:.1f}, {y:.1f})")
     if truth is not None:
         tx, ty = check_point(truth, "truth")
+        markers.append((tx, ty))
         _marker(ax, (tx, ty), "+", COLORS["truth"], f"true CoM ({tx:.1f}, {ty:.1f})")
-    _limits(ax, mask, np.vstack([executed, others]))
+    places, fontsize, (x0, x1, y0, y1) = _number_layout(ax, executed, markers, (x0, x1, y0, y1))
+    _numbers(ax, executed, colors, places, fontsize)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y1, y0)
     ax.set_xlabel("x (pixels)")
     ax.set_ylabel("y (pixels, down)")
     n_all = len(executed) + len(others)
     used = f"{len(executed)} of {n_all} pushes used" if n_all else "no push"
-    if _is_active(estimate):
+    if is_active(estimate):
         used = f"{len(executed)} pushes executed"
     if title is None:
         title = f"{_name(estimate, belief)}: CoM ({x:.1f}, {y:.1f}) px, {used}"
-    ax.set_title(title, fontsize=9, wrap=True)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), fontsize=8, ncol=2)
+        if not estimate.ok:
+            title += f", status {estimate.status}"
+    ax.set_title(title, fontsize=9)
+    from matplotlib.transforms import ScaledTranslation
+
+    below = ax.transAxes + ScaledTranslation(0.0, -0.45, ax.figure.dpi_scale_trans)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below, fontsize=8,
+              ncol=2)  # under the x label, whatever the axes' height  # fmt: skip
     return ax
 
 
-def _limits(ax, mask: Mask, pushes: np.ndarray) -> None:
-    """The image, widened to the push starts that lie near it."""
-    h, w = mask.shape
-    x0, x1, y0, y1 = -0.5, w - 0.5, -0.5, h - 0.5
-    if len(pushes):
-        margin = 0.25 * max(h, w)
-        xs, ys = pushes[:, [0, 2]], pushes[:, [1, 3]]
-        x0 = max(min(x0, xs.min() - 1), -0.5 - margin)
-        x1 = min(max(x1, xs.max() + 1), w - 0.5 + margin)
-        y0 = max(min(y0, ys.min() - 1), -0.5 - margin)
-        y1 = min(max(y1, ys.max() + 1), h - 0.5 + margin)
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y1, y0)
+def _number_layout(ax, pushes: np.ndarray, markers, window):
+    """Numbers' places and font size; the window widened to hold them (sized as drawn)."""
+    fontsize = 7.0 if len(pushes) <= 20 else 5.5
+    if not len(pushes):
+        return np.zeros((0, 2)), fontsize, window
+    box = ax.get_window_extent()  # display pixels, before the final layout
+    inches = max(min(box.width, box.height) / ax.figure.dpi, 0.5)
+    circle_in = fontsize * 2.0 / 72.0  # a number's circle, inches (about)
+    x0, x1, y0, y1 = base = window
+    for _ in range(3):  # the window grows to hold the numbers; their size grows with it
+        size = circle_in * max(x1 - x0, y1 - y0) / inches
+        places = number_positions(pushes, size, markers)
+        x0 = min(base[0], places[:, 0].min() - size)
+        x1 = max(base[1], places[:, 0].max() + size)
+        y0 = min(base[2], places[:, 1].min() - size)
+        y1 = max(base[3], places[:, 1].max() + size)
+    return places, fontsize, (x0, x1, y0, y1)

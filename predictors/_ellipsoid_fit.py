@@ -8,8 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import logsumexp
 
-from comcore import Estimate, Mask
-from comcore._outline_field import outline_field
+from comcore import Estimate, Mask, outline_field
 
 from ._ellipsoid_model import simulate
 from ._ellipsoid_support import characteristic_length_sq

@@ -33,8 +33,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from comcore._outline_field import pusher_paths
-
 __all__ = ["body_twist", "simulate"]
 
 
@@ -96,8 +94,8 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     Parameters
     ----------
     mask : Mask
-    field : comcore._outline_field.OutlineField
-        ``outline_field(mask)``: the smoothed signed distance to the outline
+    field : comcore.OutlineField
+        ``comcore.outline_field(mask)``: the smoothed signed distance to the outline
         (shared with :class:`comcore.LimitSurfaceModel`).
     actions : numpy.ndarray, shape (n_actions, 4)
     coms : numpy.ndarray, shape (n_hyp, 2)
@@ -127,7 +125,7 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
     ValueError
         If a push starts inside the object.
     """
-    first, unit, after, hit, radius = pusher_paths(field, actions, radius)
+    first, unit, after, hit, radius = field.pusher_paths(actions, radius)
     step = after / n_steps  # 0 for a push that misses
     ux, uy = unit[:, 0], unit[:, 1]
     sx, sy = first[:, 0], first[:, 1]  # the disc's centre at first contact

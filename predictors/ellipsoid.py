@@ -11,8 +11,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comcore import check_actions, check_mask, check_points, check_priors
-from comcore._outline_field import outline_field
+from comcore import (
+    check_actions,
+    check_mask,
+    check_plausible_motions,
+    check_points,
+    check_priors,
+    outline_field,
+)
 
 from ._ellipsoid_fit import MU_GRID, EllipsoidFit, fit_priors
 from ._ellipsoid_model import simulate
@@ -149,7 +155,10 @@ class EllipsoidPredictor:
         Raises
         ------
         ValueError
-            If an action starts inside the object, or ``mu`` is negative.
+            If an action starts inside the object, or ``mu`` is negative; or
+            if a prediction is physically impossible (``|theta|`` over pi, a
+            translation over ten times the push's length: a broken input such
+            as a unit mistake, see :func:`comcore.check_plausible_motions`).
 
         Examples
         --------
@@ -173,10 +182,11 @@ class EllipsoidPredictor:
         if len(acts) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(acts), 3))
         c2 = characteristic_length_sq(mask, pts, self.pressure, self.limit_surface)
-        return simulate(
+        out = simulate(
             mask, outline_field(mask), acts, pts, c2, np.full(len(pts), mu),
             self._radius_px(mask), self.n_steps,
         )  # fmt: skip
+        return check_plausible_motions(out, acts, "EllipsoidPredictor")
 
     def fit(self, mask, priors) -> EllipsoidFit:
         """Fit the CoM (unless given) and the contact friction (unless given) to priors.

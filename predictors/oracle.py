@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
+from comcore import check_plausible_motions
 
 __all__ = ["OraclePredictor"]
 
@@ -74,7 +75,8 @@ class OraclePredictor:
         """Motions ``(theta, tx, ty)`` of the actions on the true object, shape (n, 3)."""
         self._check_mask(mask)
         comcore.check_priors(priors)
-        return self.simulator.push_motions(comcore.check_actions(actions))
+        acts = comcore.check_actions(actions)
+        return check_plausible_motions(self.simulator.push_motions(acts), acts, repr(self))
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
         """Motions if the CoM were at each of ``coms`` (pixels) and friction ``mu``.
@@ -93,7 +95,7 @@ class OraclePredictor:
         out = np.zeros((len(points), len(acts), 3))
         for i, com_m in enumerate(self._reachable(sim.to_world(points))):
             out[i] = sim.with_com(com_m, mu_contact=lo).push_motions(acts)
-        return out
+        return check_plausible_motions(out, acts, repr(self))
 
     def _reachable(self, coms_m: np.ndarray) -> np.ndarray:
         """Hypotheses (world metres) moved inside the support's hull where they lie outside it.

@@ -27,6 +27,12 @@ from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
 
+# isort: split
+# Draws the simulator accepts, and a robot's errors (noisy masks, pusher paths, the camera).
+from ._pushes import AcceptedPushes, sample_accepted_pushes
+from ._random import accepted_random_simulator
+from ._robot import camera_frame_margin, noisy_mask, perturb_actions, retreat_starts
+
 __all__ = [
     "BENCHMARK_AREAS_CM2",
     "BENCHMARK_OBJECTS",
@@ -50,4 +56,13 @@ __all__ = [
     "random_com",
     "random_simulator",
     "tilt_to_com",
+]
+__all__ += [
+    "AcceptedPushes",
+    "accepted_random_simulator",
+    "camera_frame_margin",
+    "noisy_mask",
+    "perturb_actions",
+    "retreat_starts",
+    "sample_accepted_pushes",
 ]

@@ -12,7 +12,13 @@ from ._objects import load_object
 from ._shapes import ObjectShape
 from ._simulator import PushSimulator
 
-__all__ = ["FRICTION_CLASSES", "MASS_STYLES", "random_com", "random_simulator"]
+__all__ = [
+    "FRICTION_CLASSES",
+    "MASS_STYLES",
+    "accepted_random_simulator",
+    "random_com",
+    "random_simulator",
+]
 
 #: Contact friction classes (pusher-object): ``mu_contact`` is drawn uniformly in them.
 FRICTION_CLASSES = {"low": (0.1, 0.3), "high": (0.5, 0.9)}
@@ -20,6 +26,8 @@ FRICTION_CLASSES = {"low": (0.1, 0.3), "high": (0.5, 0.9)}
 MASS_STYLES = ("uniform", "gradient", "point_masses")
 #: A CoM is "well inside" when its depth is at least this fraction of the inradius.
 COM_DEPTH_FRACTION = 0.25
+#: Draws :func:`accepted_random_simulator` makes before it gives up.
+SIMULATOR_ATTEMPTS = 10
 
 
 def _as_shape(shape_or_name) -> ObjectShape:
@@ -132,3 +140,81 @@ def random_simulator(
         n_support=options.pop("n_support", 96),
     )
     return PushSimulator(shape, mass, mu_contact=mu, resolution=resolution, **options)
+
+
+def accepted_random_simulator(
+    shape_or_name,
+    friction="low",
+    rng=None,
+    *,
+    attempts: int = SIMULATOR_ATTEMPTS,
+    on_refusal=None,
+    **options,
+) -> PushSimulator:
+    """:func:`random_simulator`, drawn again while the simulator refuses the draw.
+
+    A draw is refused with a ValueError when the drawn mass distribution
+    cannot be built (the tilt cannot put the CoM on the drawn point) or,
+    for a footprint drawn afresh each attempt, when the footprint is not a
+    valid polygon. The first draw that is accepted is returned, so whatever
+    is accepted at the first attempt is exactly ``random_simulator``'s draw.
+
+    Parameters
+    ----------
+    shape_or_name : ObjectShape, str or callable
+        As for :func:`random_simulator`, or ``shape_or_name(attempt)`` returning
+        one: a footprint drawn afresh at each attempt (``attempt`` counts from 0).
+    friction : {"low", "high"} or (lo, hi), optional
+    rng : None, int, numpy.random.Generator or callable, optional
+        One stream for every attempt (a redraw continues it), or
+        ``rng(attempt)`` returning each attempt's own seed or Generator (so that
+        a redraw does not depend on how much the refused draw took).
+    attempts : int, optional
+        Draws before giving up (>= 1).
+    on_refusal : callable, optional
+        ``on_refusal(attempt, error)`` after each refused draw (to report it).
+    **options
+        Passed to :func:`random_simulator`.
+
+    Returns
+    -------
+    PushSimulator
+
+    Raises
+    ------
+    RuntimeError
+        If every attempt is refused (chained from the last refusal, whose
+        message it repeats: a bad argument is refused at every attempt).
+
+    Examples
+    --------
+    >>> sim = accepted_random_simulator("Obj3", "high", rng=lambda attempt: [1, attempt])
+    >>> 0.5 <= sim.mu_contact <= 0.9
+    True
+    >>> refusals = []
+    >>> accepted_random_simulator("Obj3", rng=1, resolution=-1.0, attempts=2,
+    ...                           on_refusal=lambda k, e: refusals.append(k))
+    Traceback (most recent call last):
+    ...
+    RuntimeError: no random simulator accepted in 2 attempt(s); the last refusal: ...
+    >>> refusals
+    [0, 1]
+    """
+    if isinstance(attempts, bool) or not isinstance(attempts, (int, np.integer)):
+        raise TypeError(f"attempts must be an integer, got {type(attempts).__name__}")
+    if attempts < 1:
+        raise ValueError(f"attempts must be >= 1, got {attempts}")
+    stream = None if callable(rng) else comcore.check_rng(rng)
+    error: ValueError | None = None
+    for attempt in range(int(attempts)):
+        try:
+            shape = shape_or_name(attempt) if callable(shape_or_name) else shape_or_name
+            own = stream if stream is not None else rng(attempt)
+            return random_simulator(shape, friction, rng=own, **options)
+        except ValueError as e:
+            error = e
+            if on_refusal is not None:
+                on_refusal(attempt, e)
+    raise RuntimeError(
+        f"no random simulator accepted in {attempts} attempt(s); the last refusal: {error}"
+    ) from error

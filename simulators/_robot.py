@@ -19,8 +19,7 @@ import numpy as np
 from scipy import ndimage
 
 import comcore
-from comcore import Action, Mask, Motion
-from comcore._validation import check_positive, check_probability
+from comcore import Action, Mask, Motion, check_positive, check_probability
 
 from ._deps import require_shapely
 from ._settings import EngineSettings
@@ -38,9 +37,8 @@ __all__ = [
 
 #: Table (metres) the robot's camera sees around the disc that holds the object in any
 #: orientation (its circumradius about the area centroid): room for the pushes of a
-#: session to carry it that far and turn it any way. 8 cm was too little: in 40 runs of
-#: ``active-robot`` (seed 0, one trial per object and class) two objects left the view,
-#: one after moving 9.5 cm in three pushes (docs/robot.md).
+#: session to carry it that far and turn it any way (why not less: docs/robot.md, where a
+#: pushed object leaves the camera's view).
 DEFAULT_CAMERA_MARGIN = 0.15
 #: A perturbed start that lands inside the object is moved back by this much (metres)
 #: at a time, along the push, until it is outside.
@@ -115,6 +113,18 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
     Outline pixels are the object's pixels with a 4-neighbour outside it and the
     outside pixels with a 4-neighbour inside. After the flips, holes are filled
     and the largest component is kept (as :func:`comcore.mask_from_image` does).
+
+    Parameters
+    ----------
+    mask : comcore.Mask
+    flip : float
+        Flip probability of each outline pixel, in [0, 1).
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    comcore.Mask
+        A new mask at the same resolution (``mask`` itself when ``flip`` is 0).
     """
     data = mask.data
     if flip == 0:
@@ -166,6 +176,20 @@ def retreat_starts(simulator, pose, starts, directions) -> np.ndarray:
 
     1 mm steps, at most 5 cm; a start still inside after that is returned as it is
     (the simulator then refuses the push).
+
+    Parameters
+    ----------
+    simulator : PushSimulator
+    pose : (x, y, angle)
+        The object's pose (CoM in world metres, angle in radians).
+    starts : array_like, shape (n, 2)
+        Start points in pixels of ``simulator.mask``.
+    directions : array_like, shape (n, 2)
+        Unit push directions in pixels.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
     """
     shapely = require_shapely()
     outline = shapely.Polygon(simulator.outline_at(pose))

@@ -56,15 +56,6 @@ class PushResult(NamedTuple):
     """Poses along the push, shape (k, 3), when asked for with ``record=True``."""
 
 
-def _positive(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {v}")
-    return v
-
-
 class PushSimulator:
     """A flat object on a table, pushed by a round pusher and seen from above.
 
@@ -113,10 +104,10 @@ class PushSimulator:
         self.shape = shape
         self.mass = mass
         self.mu_contact = lo
-        self.resolution = _positive(resolution, "resolution")
-        self.margin = _positive(margin, "margin")
-        self.pusher_radius = _positive(pusher_radius, "pusher_radius")
-        self.mu_floor = _positive(mu_floor, "mu_floor")
+        self.resolution = comcore.check_positive(resolution, "resolution")
+        self.margin = comcore.check_positive(margin, "margin")
+        self.pusher_radius = comcore.check_positive(pusher_radius, "pusher_radius")
+        self.mu_floor = comcore.check_positive(mu_floor, "mu_floor")
         self.settings = EngineSettings() if settings is None else settings
         if not isinstance(self.settings, EngineSettings):
             raise TypeError(f"settings must be an EngineSettings, got {type(settings).__name__}")
@@ -246,6 +237,33 @@ class PushSimulator:
         x, y, a = self.initial_pose if pose is None else pose
         c, s = math.cos(a), math.sin(a)
         return self._outline_body @ np.array([[c, s], [-s, c]]) + (x, y)
+
+    def contains(self, points_px, pose=None) -> np.ndarray:
+        """Whether pixel points lie inside the object's outline at ``pose``.
+
+        The exact outline, not the mask's pixels: a push that starts inside it
+        is refused (:meth:`push`).
+
+        Parameters
+        ----------
+        points_px : array_like, shape (n, 2) or (2,)
+            Points ``(x, y)`` in pixels of :attr:`mask`.
+        pose : (x, y, angle), optional
+            The object's pose (default: the initial pose).
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (n,)
+
+        Examples
+        --------
+        >>> sim = PushSimulator.from_polygon([(0, 0), (0.04, 0), (0.04, 0.02), (0, 0.02)])
+        >>> sim.contains([sim.com_px, (0.0, 0.0)]).tolist()
+        [True, False]
+        """
+        shapely = require_shapely()
+        w = self.to_world(points_px)
+        return shapely.contains_xy(shapely.Polygon(self.outline_at(pose)), w[:, 0], w[:, 1])
 
     def mask_at(self, pose=None) -> Mask:
         """The camera's mask of the footprint at ``pose`` (pixel centres inside)."""

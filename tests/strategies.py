@@ -6,22 +6,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 import comcore
-
-
-def rasterise_polygon(vertices: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    """Even-odd rule rasterisation of a polygon (pixel centres), numpy only."""
-    h, w = shape
-    ys, xs = np.mgrid[0:h, 0:w]
-    px, py = xs.ravel().astype(float), ys.ravel().astype(float)
-    inside = np.zeros(px.shape, bool)
-    x0, y0 = vertices[:, 0], vertices[:, 1]
-    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
-    for a, b, c, d in zip(x0, y0, x1, y1):
-        crosses = (b > py) != (d > py)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x_at = a + (py - b) * (c - a) / (d - b)
-        inside ^= crosses & (px < x_at)
-    return inside.reshape(h, w)
+from comcore import rasterise_polygon
 
 
 @st.composite

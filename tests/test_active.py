@@ -1,4 +1,4 @@
-"""Tests of comcore.estimate_active and its grid posterior (comcore/_active.py, _posterior.py)."""
+"""Tests of comcore.estimate_active and its parts (comcore/_active.py, _grid.py, _choice.py)."""
 
 from __future__ import annotations
 
@@ -8,15 +8,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
-from comcore._posterior import (
-    GridPosterior,
-    binary_entropy,
-    force_lines,
-    line_distances,
-    sense_information,
-    side_probability,
-)
+from comcore._choice import binary_entropy, sense_information
+from comcore._force_lines import force_line_distances as line_distances
+from comcore._force_lines import force_lines, side_probability
+from comcore._grid import GridPosterior
 
+from .records import actions_of, motions_of
 from .scripts import run_script
 
 
@@ -119,7 +116,7 @@ def test_sense_information_equals_brute_force():
 
 def test_scoring_on_blocks_picks_what_the_full_grid_picks(monkeypatch):
     """Large masks are scored on 2x2 blocks: the choice and the gains barely change."""
-    import comcore._posterior as posterior
+    import comcore._choice as posterior
 
     yy, xx = np.mgrid[:90, :110]
     mask = comcore.Mask(((xx - 55) / 50) ** 2 + ((yy - 45) / 40) ** 2 < 1)
@@ -162,8 +159,8 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     mask = _plate()
     com = (float(col), float(row))
     push = _robot(mask, com, mu)
-    est = comcore.estimate_active(mask, push, max_pushes=5, cone=0.0, rng=seed, mu=mu, model=None)
-    acts = est.extras["actions"]
+    est = comcore.estimate_active(mask, push, rng=seed, model=None, stop=comcore.StopRule(max_pushes=5), choice=comcore.PushChoice(cone=0.0), likelihood=comcore.Likelihood(mu=mu))
+    acts = actions_of(est)
     con = comcore.contacts(mask, acts)
     direction = (acts[:, 2:] - acts[:, :2]) / np.hypot(*(acts[:, 2:] - acts[:, :2]).T)[:, None]
     lines = force_lines(con.point, con.normal, direction, np.array([np.arctan(mu)]))
@@ -185,11 +182,7 @@ def test_with_the_true_model_the_credible_region_holds_the_com(seed, selection):
         mask,
         push,
         model=ToyModel(),
-        rng=seed,
-        target_radius=0.002,
-        selection=selection,
-        n_candidates=60,
-    )
+        rng=seed, stop=comcore.StopRule(target_radius=0.002), choice=comcore.PushChoice(selection=selection, n_candidates=60))
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 1.5
     assert est.status in ("ok", "budget")
@@ -205,8 +198,9 @@ def test_several_models_are_weighed_by_the_data():
         _robot(mask, com, 0.4, model=truth),
         model=models,
         rng=0,
-        selection="sense",
-        model_weight=1.0,  # the likelihood untempered: what the data say of each model
+        choice=comcore.PushChoice(selection="sense"),
+        # the likelihood untempered: what the data say of each model
+        likelihood=comcore.Likelihood(model_weight=1.0),
     )
     assert est.extras["model_posterior"].shape == (2,)
     assert est.extras["model_posterior"][1] > 0.99
@@ -217,13 +211,13 @@ def test_same_seed_same_result():
     mask = _ell()
     com = (30.0, 25.0)
     runs = [
-        comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=11, model=None)
+        comcore.estimate_active(mask, _robot(mask, com, 0.3), rng=11, model=None, stop=comcore.StopRule(max_pushes=4))
         for _ in range(2)
     ]
     assert runs[0].used == runs[1].used
     assert runs[0].com == runs[1].com
     np.testing.assert_array_equal(runs[0].extras["posterior"], runs[1].extras["posterior"])
-    other = comcore.estimate_active(mask, _robot(mask, com, 0.3), max_pushes=4, rng=12, model=None)
+    other = comcore.estimate_active(mask, _robot(mask, com, 0.3), rng=12, model=None, stop=comcore.StopRule(max_pushes=4))
     assert other.used != runs[0].used
 
 
@@ -231,9 +225,9 @@ def test_result_fields_and_history():
     mask = _plate()
     com = (20.0, 15.0)
     push = _robot(mask, com, 0.3)
-    est = comcore.estimate_active(mask, push, max_pushes=3, rng=0, target_radius=1e-4, model=None)
+    est = comcore.estimate_active(mask, push, rng=0, model=None, stop=comcore.StopRule(max_pushes=3, target_radius=1e-4))
     assert est.status == "budget" and len(est.used) == 3 == len(set(est.used))
-    motions, actions = est.extras["motions"], est.extras["actions"]
+    motions, actions = motions_of(est), actions_of(est)
     assert motions.shape == (3, 3) and actions.shape == (3, 4)
     np.testing.assert_array_equal(actions, np.array([tuple(a) for a in push.calls]))
     assert est.extras["posterior"].sum() == pytest.approx(1.0)
@@ -241,11 +235,11 @@ def test_result_fields_and_history():
     assert est.covariance.shape == (2, 2)
     assert np.all(np.linalg.eigvalsh(est.covariance) > 0)
     history = est.extras["history"]
-    assert len(history) == 4 and history[-1]["expected_gain_bits"] is None
-    entropies = [h["entropy_bits"] for h in history]
+    assert len(history) == 4 and history[-1].expected_gain_bits is None
+    entropies = [h.entropy_bits for h in history]
     assert entropies[0] == pytest.approx(np.log2(mask.area_px))
     assert entropies[-1] < entropies[0] - 1.0  # about 0.5 bit per noisy, blurred sense
-    assert history[-1]["credible_radius_px"] == pytest.approx(est.extras["credible_radius_px"])
+    assert history[-1].credible_radius_px == pytest.approx(est.extras["credible_radius_px"])
     assert est.extras["mu_posterior"].sum() == pytest.approx(1.0)
 
 
@@ -255,23 +249,19 @@ def test_stops_when_the_credible_region_is_small_enough():
     est = comcore.estimate_active(
         mask,
         _robot(mask, com, 0.3),
-        max_pushes=30,
         model=ToyModel(),
-        target_radius=0.004,
-        rng=1,
-        selection="sense",
-    )
+        rng=1, stop=comcore.StopRule(max_pushes=30, target_radius=0.004), choice=comcore.PushChoice(selection="sense"))
     assert est.status == "ok"
     assert est.extras["credible_radius_px"] * mask.resolution <= 0.004
     assert len(est.used) < 30
-    radii = [h["credible_radius_px"] for h in est.extras["history"]]
+    radii = [h.credible_radius_px for h in est.extras["history"]]
     assert radii[-2] * mask.resolution > 0.004  # it did not push once more than needed
 
 
 def test_zero_budget_returns_the_prior_with_a_flag():
     mask = _ell()
     push = _robot(mask, (30.0, 25.0), 0.3)
-    est = comcore.estimate_active(mask, push, max_pushes=0, model=None)
+    est = comcore.estimate_active(mask, push, model=None, stop=comcore.StopRule(max_pushes=0))
     assert est.status == "budget" and not est.ok
     assert est.com == pytest.approx(mask.centroid)
     assert est.used == () and push.calls == []
@@ -281,11 +271,10 @@ def test_zero_budget_returns_the_prior_with_a_flag():
 def test_a_flipped_sense_is_survived():
     mask = _ell()
     com = (34.0, 24.0)
-    kwargs = {"model": ToyModel(), "rng": 5, "selection": "sense"}
+    kwargs = {"model": ToyModel(), "rng": 5, "choice": comcore.PushChoice(selection="sense")}
     clean = comcore.estimate_active(mask, _robot(mask, com, 0.4), **kwargs)
     flipped = comcore.estimate_active(
-        mask, _robot(mask, com, 0.4, flips=(0,)), max_pushes=8, **kwargs
-    )
+        mask, _robot(mask, com, 0.4, flips=(0,)), **kwargs, stop=comcore.StopRule(max_pushes=8))
     assert clean.error_px(com) < 1.5
     assert flipped.error_px(com) < 2.0
 
@@ -310,14 +299,13 @@ def test_a_failing_push_names_the_push_and_keeps_what_was_learned(failure, match
         return good(action)
 
     with pytest.raises(comcore.PushFailedError, match=f"push 2 .*{match}") as info:
-        comcore.estimate_active(mask, push, max_pushes=5, rng=0, model=None)
+        comcore.estimate_active(mask, push, rng=0, model=None, stop=comcore.StopRule(max_pushes=5))
     err = info.value
     assert err.index == 2 and isinstance(err.action, comcore.Action)
     assert isinstance(err.partial, comcore.Estimate)
     assert err.partial.status == "push_failed" and len(err.partial.used) == 2
     expected = comcore.estimate_active(
-        mask, _robot(mask, (30.0, 25.0), 0.3), max_pushes=2, rng=0, model=None
-    )
+        mask, _robot(mask, (30.0, 25.0), 0.3), rng=0, model=None, stop=comcore.StopRule(max_pushes=2))
     assert err.partial.com == pytest.approx(expected.com)
 
 
@@ -325,8 +313,7 @@ def test_candidates_are_used_as_given_and_exhausted():
     mask = _plate()
     cands = [(0, 20, 20, 20), (20, 0, 20, 20)]
     est = comcore.estimate_active(
-        mask, _robot(mask, (21.0, 19.0), 0.3), cands, max_pushes=5, model=None
-    )
+        mask, _robot(mask, (21.0, 19.0), 0.3), cands, model=None, stop=comcore.StopRule(max_pushes=5))
     assert sorted(est.used) == [0, 1] and est.status == "exhausted"
 
 
@@ -337,7 +324,8 @@ def test_caller_input_is_not_mutated():
     prior = mask.data.astype(float)
     before = prior.copy()
     comcore.estimate_active(
-        mask, _robot(mask, (21.0, 19.0), 0.3), cands, 2, prior=prior, model=None
+        mask, _robot(mask, (21.0, 19.0), 0.3), cands, prior=prior, model=None,
+        stop=comcore.StopRule(max_pushes=2),
     )
     np.testing.assert_array_equal(prior, before)
 
@@ -355,10 +343,7 @@ def test_a_prior_off_the_object_is_allowed():
         _robot(mask, com, 0.3),
         prior=hull,
         model=ToyModel(),
-        rng=0,
-        max_pushes=8,
-        selection="sense",
-    )
+        rng=0, stop=comcore.StopRule(max_pushes=8), choice=comcore.PushChoice(selection="sense"))
     assert est.error_px(com) < 2.0
     assert not mask.data[20, 18] and est.extras["posterior"][20, 18] > 0
 
@@ -374,7 +359,8 @@ def test_a_prior_off_the_object_is_allowed():
         ({"credible": 1.0}, ValueError, "credible"),
         ({"target_radius": 0.0}, ValueError, "target_radius"),
         ({"mu": -0.2}, ValueError, "mu must be >= 0"),
-        ({"n_mu": 0}, ValueError, "n_mu must be a positive int"),
+        ({"n_mu": 0}, ValueError, "n_mu must be >= 1"),
+        ({"n_mu": 2.0}, TypeError, "n_mu must be an int"),
         ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
         ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.HypothesisPredictor"),
         ({"model": []}, ValueError, "model must not be an empty sequence"),
@@ -382,7 +368,8 @@ def test_a_prior_off_the_object_is_allowed():
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
         ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
-        ({"translation_noise": "ab"}, TypeError, "translation_noise must be a pair"),
+        ({"translation_noise": "ab"}, TypeError, r"translation_noise \(pixels\) was removed"),
+        ({"cone": 1.6}, ValueError, r"cone must be a half-angle in \[0, pi/2\)"),
         ({"selection": "best"}, ValueError, "selection must be one of"),
         ({"pusher_error": -0.001}, ValueError, "pusher_error"),
         ({"travel": 0.0}, ValueError, "travel must be a finite number > 0"),
@@ -400,8 +387,10 @@ def test_a_prior_off_the_object_is_allowed():
 )
 def test_bad_arguments_are_named(kwargs, error, match):
     mask = _plate()
+    own = {k: v for k, v in kwargs.items() if k in ("model", "candidates", "prior", "credible")}
     with pytest.raises(error, match=match):
-        comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **kwargs)
+        grouped = comcore.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **own, **grouped)
 
 
 def test_bad_mask_and_push():
@@ -425,6 +414,7 @@ def test_a_model_returning_garbage_is_reported():
 
 
 def test_bench_script_runs():
+    pytest.importorskip("shapely")  # the script runs the simulator
     out = run_script(
         "benchmarks/bench_active.py",
         *("--pixels", "600", "--candidates", "20", "--repeats", "2", "--objects", "Obj1"),
@@ -516,10 +506,10 @@ def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
     brute = (entr(total) + entr(1 - total)) / np.log(2) - weights[:, 0] @ h
     np.testing.assert_allclose(gains, brute, atol=1e-4)
     est = comcore.estimate_active(
-        mask, _robot(mask, (20.0, 15.0), 0.3), cands, 3, flip_prob=flip_prob, model=None
-    )
+        mask, _robot(mask, (20.0, 15.0), 0.3), cands, model=None,
+        likelihood=comcore.Likelihood(flip_prob=flip_prob), stop=comcore.StopRule(max_pushes=3))
     assert est.used != (0, 1, 2)
-    assert all(np.isfinite(h["expected_gain_bits"]) for h in est.extras["history"][:-1])
+    assert all(np.isfinite(h.expected_gain_bits) for h in est.extras["history"][:-1])
 
 
 # -- noise in physical units -------------------------------------------------------------
@@ -567,8 +557,8 @@ def test_the_credible_radius_in_metres_does_not_depend_on_the_resolution():
                 return comcore.Motion(*model.predict_hypotheses(mask, [action], [com], 0.4)[0, 0])
 
             est = comcore.estimate_active(
-                mask, push, pushes_m / resolution, 4, model=model, target_radius=1e-5
-            )
+                mask, push, pushes_m / resolution, model=model,
+                stop=comcore.StopRule(max_pushes=4, target_radius=1e-5))
             radii.append(est.extras["credible_radius_px"] * resolution)
         ratios.append(radii[1] / radii[0])
     # With the scales in pixels (translation_noise, the 1.2 px line) it was 0.74 (0.62-0.91).
@@ -578,7 +568,7 @@ def test_the_credible_radius_in_metres_does_not_depend_on_the_resolution():
 def test_default_candidates_push_travel_metres_past_first_contact():
     mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 20), resolution=0.002)
     for travel in (0.03, 0.05):
-        session = comcore.ActiveSession(mask, model=None, travel=travel, rng=0)
+        session = comcore.ActiveSession(mask, model=None, rng=0, choice=comcore.PushChoice(travel=travel))
         actions = np.array([tuple(session.next_push())])
         contact = comcore.contacts(mask, actions).point[0]
         past = np.hypot(*(actions[0, 2:] - contact)) * mask.resolution
@@ -587,15 +577,38 @@ def test_default_candidates_push_travel_metres_past_first_contact():
         comcore.estimate_posterior(mask, actions, [(0.1, 1.0, 1.0)], travel=0.05)
 
 
-def test_translation_noise_in_pixels_is_deprecated_and_still_works():
+def test_flat_options_still_work_for_a_release_and_say_which_group_to_pass():
     mask = _plate()
     push = _robot(mask, (20.0, 15.0), 0.3)
-    new = comcore.estimate_active(mask, push, max_pushes=2, rng=0, model=ToyModel())
-    with pytest.warns(DeprecationWarning, match="translation_error"):
-        old = comcore.estimate_active(
-            mask, push, max_pushes=2, rng=0, model=ToyModel(), translation_noise=(0.4, 0.056)
-        )
-    np.testing.assert_allclose(old.extras["posterior"], new.extras["posterior"], atol=1e-12)
+    grouped = comcore.estimate_active(
+        mask, push, rng=0, model=ToyModel(), stop=comcore.StopRule(max_pushes=2),
+        likelihood=comcore.Likelihood(pusher_error=0.002),
+    )  # fmt: skip
+    with pytest.warns(DeprecationWarning, match=r"stop=comcore\.StopRule\(max_pushes=2\)"):
+        flat = comcore.estimate_active(
+            mask, push, rng=0, model=ToyModel(), max_pushes=2,
+            likelihood=comcore.Likelihood(pusher_error=0.002),
+        )  # fmt: skip
+    assert flat.com == grouped.com and flat.used == grouped.used
+    np.testing.assert_array_equal(flat.extras["posterior"], grouped.extras["posterior"])
+    # a flat option replaces its field in the group passed, keeping the group's other fields
+    with pytest.warns(DeprecationWarning, match="pusher_error"):
+        both = comcore.estimate_active(
+            mask, push, rng=0, model=ToyModel(), stop=comcore.StopRule(max_pushes=2),
+            likelihood=comcore.Likelihood(flip_prob=0.2), pusher_error=0.002,
+        )  # fmt: skip
+    assert both.com != grouped.com  # flip_prob=0.2 kept: a different posterior
+
+
+def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
+    mask = _plate()
+    push = _robot(mask, (20.0, 15.0), 0.3)
+    with pytest.raises(TypeError, match=r"stop must be a comcore\.StopRule or None, got dict"):
+        comcore.estimate_active(mask, push, stop={"max_pushes": 2})
+    with pytest.raises(TypeError, match=r"unknown option\(s\) \['max_push'\]"):
+        comcore.estimate_active(mask, push, max_push=2)
+    with pytest.raises(TypeError, match="chooses no pushes"):
+        comcore.estimate_posterior(mask, [(0, 13, 60, 13)], [(0.1, 1, 0)], stop=comcore.StopRule())
 
 
 def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
@@ -605,10 +618,9 @@ def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
     drops = {}
     for noise in (0.0, 0.05):
         est = comcore.estimate_posterior(
-            mask, action, [(0.01, 0.0, 0.0)], motion_noise=(noise, 0.0)
-        )
+            mask, action, [(0.01, 0.0, 0.0)], likelihood=comcore.Likelihood(motion_noise=(noise, 0.0)))
         history = est.extras["history"]
-        drops[noise] = history[0]["entropy_bits"] - history[1]["entropy_bits"]
+        drops[noise] = history[0].entropy_bits - history[1].entropy_bits
     assert 0 < drops[0.05] < 0.5 * drops[0.0]
 
 
@@ -618,11 +630,10 @@ def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
 def test_the_default_model_is_the_limit_surface_with_the_pusher_radius():
     mask = _plate(12, 16, 6)
     push = _robot(mask, (14.0, 12.0), 0.4, model=comcore.LimitSurfaceModel(pusher_radius=0.002))
-    default = comcore.estimate_active(mask, push, max_pushes=1, rng=0, pusher_radius=0.002)
+    default = comcore.estimate_active(mask, push, rng=0, pusher_radius=0.002, stop=comcore.StopRule(max_pushes=1))
     explicit = comcore.estimate_active(
-        mask, push, max_pushes=1, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002)
-    )
-    other = comcore.estimate_active(mask, push, max_pushes=1, rng=0, pusher_radius=0.006)
+        mask, push, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002), stop=comcore.StopRule(max_pushes=1))
+    other = comcore.estimate_active(mask, push, rng=0, pusher_radius=0.006, stop=comcore.StopRule(max_pushes=1))
     np.testing.assert_allclose(default.extras["posterior"], explicit.extras["posterior"])
     assert np.abs(default.extras["posterior"] - other.extras["posterior"]).max() > 1e-6
 
@@ -630,19 +641,21 @@ def test_the_default_model_is_the_limit_surface_with_the_pusher_radius():
 def test_model_none_is_the_voting_theorem_alone():
     mask = _plate(12, 16, 6)
     push = _robot(mask, (14.0, 12.0), 0.4)
-    vt = comcore.estimate_active(mask, push, max_pushes=2, rng=0, model=None)
-    default = comcore.estimate_active(mask, push, max_pushes=2, rng=0)
+    vt = comcore.estimate_active(mask, push, rng=0, model=None, stop=comcore.StopRule(max_pushes=2))
+    default = comcore.estimate_active(mask, push, rng=0, stop=comcore.StopRule(max_pushes=2))
     assert vt.extras["model_posterior"].shape == (1,)
     assert np.abs(vt.extras["posterior"] - default.extras["posterior"]).max() > 1e-3
 
 
 def test_the_pusher_offset_nodes_straddle_the_planned_push():
-    from comcore._active_setup import active_options
-    from comcore._session_update import pusher_nodes
+    from comcore._likelihood import Scoring
+    from comcore._likelihood_motion import pusher_nodes
 
     mask = _plate()
     action = np.array([0.0, 20.0, 30.0, 20.0])
-    opts = active_options(mask, pusher_error=2 * mask.resolution, model=ToyModel())
+    opts = Scoring.build(
+        comcore.Likelihood(pusher_error=2 * mask.resolution), mask, (ToyModel(),)
+    )
     offsets, log_w = pusher_nodes(action, opts)
     np.testing.assert_allclose(sorted(offsets[:, 1]), [-2 * np.sqrt(3), 0.0, 2 * np.sqrt(3)])
     np.testing.assert_allclose(offsets[:, 0], 0.0, atol=1e-12)  # across the push, not along
@@ -669,10 +682,11 @@ def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
     sharp.update(motion_noise=(0.0, 0.0), model_scales=(1.0,), model_weight=1.0)
     evidence = {
         err: comcore.estimate_posterior(
-            mask, actions, motions, model=model, pusher_error=err * mask.resolution, **sharp
+            mask, actions, motions, model=model,
+            likelihood=comcore.Likelihood(pusher_error=err * mask.resolution, **sharp),
         ).extras["log_evidence"]
         for err in (0.0, sigma)
-    }
+    }  # fmt: skip
     assert evidence[sigma] > evidence[0.0] + 5
 
 
@@ -682,7 +696,7 @@ def test_a_model_erring_more_than_its_scales_say_is_recognised():
     actions = comcore.sample_pushes(mask, 10, cone=0.0, rng=3)
     noise = np.random.default_rng(1).normal(0.0, 1.0, (len(actions), 3)) * (0.27, 5.0, 5.0)
     clean = [model.predict_hypotheses(mask, [a], [com], 0.4)[0, 0] for a in actions]
-    kwargs = {"model": model, "mu": 0.4, "model_scales": (1.0, 2.0)}
+    kwargs = {"model": model, "likelihood": comcore.Likelihood(mu=0.4, model_scales=(1.0, 2.0))}
     honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
     erring = comcore.estimate_posterior(mask, actions, np.add(clean, noise), **kwargs)
     assert honest.extras["scale_posterior"][0] > 0.9
@@ -693,8 +707,8 @@ def test_one_power_as_a_sequence_is_the_fixed_power():
     mask, model = _ell(), ToyModel()
     actions = comcore.sample_pushes(mask, 4, cone=0.0, rng=3)
     motions = [model.predict_hypotheses(mask, [a], [(30.0, 24.0)], 0.4)[0, 0] for a in actions]
-    fixed = comcore.estimate_posterior(mask, actions, motions, model=model, model_weight=0.6)
-    one = comcore.estimate_posterior(mask, actions, motions, model=model, model_weight=[0.6])
+    fixed = comcore.estimate_posterior(mask, actions, motions, model=model, likelihood=comcore.Likelihood(model_weight=0.6))
+    one = comcore.estimate_posterior(mask, actions, motions, model=model, likelihood=comcore.Likelihood(model_weight=[0.6]))
     np.testing.assert_array_equal(fixed.extras["posterior"], one.extras["posterior"])
     assert one.extras["model_weight_posterior"].tolist() == [1.0]
 
@@ -708,7 +722,7 @@ def test_learned_tempering_lowers_the_power_for_a_model_that_errs():
     # than its scales
     biased = np.add(clean, np.array([0.2, 3.0, -3.0]))
     powers = (0.25, 0.5, 1.0)
-    kwargs = {"model": model, "mu": 0.4, "model_weight": powers}
+    kwargs = {"model": model, "likelihood": comcore.Likelihood(mu=0.4, model_weight=powers)}
     honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
     erring = comcore.estimate_posterior(mask, actions, biased, **kwargs)
     mean = {k: e.extras["model_weight_posterior"] @ powers for k, e in (("h", honest), ("e", erring))}
@@ -729,7 +743,10 @@ def _calibration_objects(robot):
 
 def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms():
     records = _calibration_objects(ToyModel(8.0))
-    kwargs = {"mu": 0.4, "powers": (1.0, 0.1, 0.5, 0.25), "motion_noise": (0.0, 0.0)}
+    kwargs = {
+        "powers": (1.0, 0.1, 0.5, 0.25),
+        "likelihood": comcore.Likelihood(mu=0.4, motion_noise=(0.0, 0.0)),
+    }
     right = comcore.calibrate_model_weight(records, model=ToyModel(8.0), **kwargs)
     assert right.powers == (0.1, 0.25, 0.5, 1.0) and right.n_objects == 6
     assert right.coverage.tolist() == [1.0] * 4 and right.recommended == 1.0
@@ -750,10 +767,10 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
     [
         ([], {}, ValueError, "at least one calibration object"),
         ([(1, 2)], {}, TypeError, r"records\[0\] must be a \(mask, estimate, true_com\) or"),
-        ("no pushes", {}, ValueError, r"records\[0\]'s estimate holds no pushes"),
+        ("no pushes", {}, ValueError, r"records\[0\]'s estimate holds no executed push"),
         (None, {}, TypeError, "records must be an iterable"),
         ("ok", {"powers": 0.5}, TypeError, "powers must be a sequence"),
-        ("ok", {"powers": (0.5, 1.5)}, ValueError, "model_weight"),
+        ("ok", {"powers": (0.5, 1.5)}, ValueError, r"powers must be in \(0, 1\]"),
         ("ok", {"target_radius": 0.01}, TypeError, "chooses no pushes"),
     ],
 )
@@ -765,10 +782,13 @@ def test_calibration_names_bad_input(records, kwargs, error, match):
         bare = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
         records = [(mask, bare, mask.centroid)]
     with pytest.raises(error, match=match):
-        comcore.calibrate_model_weight(records, model=ToyModel(8.0), mu=0.4, **kwargs)
+        comcore.calibrate_model_weight(
+            records, model=ToyModel(8.0), likelihood=comcore.Likelihood(mu=0.4), **kwargs
+        )
 
 
 def test_tune_script_runs():
+    pytest.importorskip("shapely")  # the script runs the simulator
     out = run_script(
         "benchmarks/tune_active.py",
         *("--objects", "Obj1", "--friction", "low", "--conditions", "exact,no-reset"),
@@ -779,6 +799,7 @@ def test_tune_script_runs():
 
 
 def test_kept_pushes_are_rescored(tmp_path):
+    pytest.importorskip("shapely")  # the script runs the simulator
     kept = tmp_path / "runs.pkl"
     run_script(
         "benchmarks/tune_active.py",
@@ -801,6 +822,7 @@ def test_kept_pushes_are_rescored(tmp_path):
 
 
 def test_stop_frontier_scores_every_stop_radius_on_kept_pushes(tmp_path):
+    pytest.importorskip("shapely")  # the script runs the simulator
     kept = tmp_path / "runs.pkl"
     run_script(
         "benchmarks/tune_active.py",
@@ -819,5 +841,6 @@ def test_stop_frontier_scores_every_stop_radius_on_kept_pushes(tmp_path):
     )
     vt_rows = {line.split("|")[1].strip(): line for line in vt.splitlines() if line.startswith("| ")}
     assert vt_rows["1"] != rows["1"]  # the same pushes, scored by the Voting Theorem alone
-    # a 1 mm region is never reached: all 3 pushes; any region is within 100 mm: 1 push
-    assert "/ 3.00 /" in rows["1"] and "/ 1.00 /" in rows["100"]
+    # a 1 mm region is never reached: all 3 pushes; any region is within 100 mm, and the
+    # library's stop rule (comcore.StopRule, min_pushes 2) stops there after 2 pushes
+    assert "/ 3.00 /" in rows["1"] and "/ 2.00 /" in rows["100"]

@@ -259,6 +259,49 @@ def test_a_flipped_bit_in_the_weights_is_refused(tmp_path):
         load_weights(DEFAULT_WEIGHTS, sha256="0" * 64)
 
 
+def exponent_bit_flipped(tmp_path, name: str, index: int = 0):
+    """A copy of the shipped weights, WITHOUT their training record, with one bit flipped.
+
+    The bit is the top exponent bit of element ``index`` of the parameter ``name``, found
+    in the file's raw bytes (torch stores tensors uncompressed): a value below 1 in
+    magnitude becomes about 2**128 times larger, still finite.
+    """
+    state = load_weights(DEFAULT_WEIGHTS)[0].state_dict()
+    raw = state[name].numpy().tobytes()
+    data = bytearray(DEFAULT_WEIGHTS.read_bytes())
+    assert data.count(raw) == 1
+    assert abs(float(state[name].view(-1)[index])) < 1.0
+    data[data.find(raw) + 4 * index + 3] ^= 0x40  # float32, little-endian: bit 30
+    path = tmp_path / "anp.pt"
+    path.write_bytes(bytes(data))
+    assert not path.with_suffix(".json").exists()  # nothing to check the file against
+    return path
+
+
+def test_weights_with_one_exponent_bit_flipped_predict_no_impossible_motion(tmp_path, scene):
+    # The user's case: a corrupt weights file without a training record beside it loads
+    # (its values stay finite) and its theta for every push was about 1e36 rad, which
+    # flowed into the estimators. The output layer's first bias (theta's mean) here.
+    mask, pushes, priors = scene
+    path = exponent_bit_flipped(tmp_path, "decoder.4.bias")
+    anp = AnpPredictor(weights=path)  # loads: there is no record to check it against
+    message = r"AnpPredictor \(weights '.*anp.pt'\) predicted a motion no push can cause: .* rad, more than half a turn"
+    with pytest.raises(ValueError, match=message):
+        anp.predict(mask, pushes, priors)
+    with pytest.raises(ValueError, match=message):  # where predictions enter the core
+        comcore.predict_motions(anp, mask, pushes, priors)
+    assert np.abs(AnpPredictor().predict(mask, pushes, priors)[:, 0]).max() < np.pi
+
+
+def test_weights_that_overflow_inside_the_network_are_named(tmp_path, scene):
+    # A flipped bit early in the network overflows inside it; torch then refuses a
+    # distribution's parameters deep inside. The error names the predictor and weights.
+    mask, pushes, priors = scene
+    anp = AnpPredictor(weights=exponent_bit_flipped(tmp_path, "push.0.bias"))
+    with pytest.raises(ValueError, match=r"AnpPredictor \(weights '.*anp.pt'\) failed inside the network .*the weights are broken"):
+        anp.predict(mask, pushes, priors)
+
+
 def test_a_malformed_record_is_refused(tmp_path):
     pt, record = shipped_copy(tmp_path)
     record.write_text(json.dumps({"sha256": "abc"}))

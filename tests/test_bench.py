@@ -7,7 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-pytest.importorskip("simulators")
+pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
+pytest.importorskip("trimesh")
 pytest.importorskip("pymunk")
 
 import comcore
@@ -23,6 +24,8 @@ from comcore.bench import (
     run_benchmark,
     run_trial,
 )
+
+from .records import actions_of
 
 TINY = {"objects": ("Obj3",), "trials": 2, "frictions": ("low",), "candidates": 8}
 
@@ -201,7 +204,7 @@ def test_active_estimator_counts_the_pushes_it_executes():
 )
 def test_active_estimator_draws_its_own_pushes_unless_told_the_trials(label, from_trial):
     outcome = run_trial(TrialSpec("Obj3", "low", 0, candidates=10, estimators=(label,)), keep=True)
-    executed = outcome.estimates[label].extras["actions"]
+    executed = actions_of(outcome.estimates[label])
     trial = outcome.context.candidates
     assert len(executed) == 2
     in_trial = [any(np.allclose(a, c) for c in trial) for a in executed]
@@ -229,7 +232,28 @@ def test_pushes_the_simulator_refuses_are_redrawn(registry):
     assert not refused(outcome.context.candidates).any()
     assert outcome.context.motions.shape == (6, 3)
     assert "candidate push(es) redrawn" in outcome.rows[0]["message"]
-    assert outcome.rows[0]["status"] == "ok"
+    assert outcome.rows[0]["status"] == "unchecked"  # Alg. 1 ran (it is never "ok")
+
+
+def test_a_refused_simulator_draw_is_redrawn_from_the_next_stream(monkeypatch):
+    import simulators
+
+    spec = TrialSpec("Obj3", "low", 0, candidates=6, estimators=("centroid",))
+    first = spec.simulator()
+    assert first.com_m == spec.simulator().com_m  # the stream "simulator"
+    draw, calls = simulators.random_simulator, []
+
+    def refuse_once(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            raise ValueError("target is not strictly inside the support points")
+        return draw(*args, **kwargs)
+
+    monkeypatch.setattr(simulators._random, "random_simulator", refuse_once)
+    outcome = run_trial(spec, keep=True)
+    again = draw("Obj3", "low", rng=spec.rng("simulator#1"))
+    assert outcome.context.simulator.com_m == again.com_m != first.com_m
+    assert outcome.rows[0]["message"].startswith("simulator draw 0 failed (target is not")
 
 
 def test_a_failing_predictor_fails_only_the_estimators_that_need_it(registry):

@@ -10,15 +10,18 @@ pytest.importorskip("trimesh")
 pytest.importorskip("pymunk")
 
 import comcore
-from comcore.bench import BenchConfig, TrialSpec, run_trial
-from comcore.bench._conditions import (
+from comcore.bench import (
     CONDITIONS,
-    ConditionWorld,
-    conditions_table,
+    BenchConfig,
+    TrialSpec,
     parse_condition,
     run_conditions,
+    run_trial,
 )
-from comcore.bench._trial import _random_simulator
+from comcore.bench._conditions import conditions_table
+from comcore.bench._realism import ConditionWorld
+
+from .records import actions_of
 
 ESTIMATORS = ("alg2", "active(max_pushes=1)", "active-robot(max_pushes=1)", "centroid")
 NAMES = (
@@ -103,7 +106,7 @@ def test_conditions_table_has_one_table_per_condition(runs):
 
 @pytest.fixture(scope="module")
 def sim():
-    return _random_simulator(TrialSpec("Obj3", "low", 0))[0]
+    return TrialSpec("Obj3", "low", 0).simulator()
 
 
 def _motions(name, sim, seed=0):
@@ -127,7 +130,7 @@ def test_motion_noise_is_small_and_seeded(sim):
 
 
 def test_mask_noise_measures_motions_from_noisy_masks():
-    sim = _random_simulator(TrialSpec("Obj2", "low", 0))[0]  # no rotational symmetry
+    sim = TrialSpec("Obj2", "low", 0).simulator()  # no rotational symmetry
     world, observed, exact = _motions("mask-noise", sim)
     assert not np.array_equal(world.mask.data, world.base.mask.data)
     assert world.mask.shape != sim.mask.shape  # the camera frame keeps the pushed object in view
@@ -162,7 +165,7 @@ def test_active_robot_counts_the_robots_pushes(observe):
     outcome = run_trial(TrialSpec("Obj2", "low", 0, candidates=4, estimators=(label,)), keep=True)
     row, est = outcome.rows[0], outcome.estimates[label]
     assert row["status"] in ("ok", "budget"), row["message"]
-    assert row["total_pushes"] == row["pushes_used"] == len(est.extras["actions"]) == 2
+    assert row["total_pushes"] == row["pushes_used"] == len(actions_of(est)) == 2
     assert row["push_failures"] == 0 and row["credible_radius_cm"] > 0
 
 
@@ -209,7 +212,7 @@ def test_video_tracking_sees_past_a_rotational_symmetry():
 def test_friction_table_ratios_to_the_baseline(runs, tmp_path):
     import json
 
-    from comcore.bench._conditions import friction_table
+    from comcore.bench import friction_table
 
     rows = runs[0]["exact"].rows
     path = tmp_path / "rows.jsonl"

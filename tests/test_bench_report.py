@@ -9,6 +9,7 @@ import pytest
 from comcore.bench import ROW_FIELDS
 from comcore.bench._io import paper_table, read_rows, write_rows
 from comcore.bench._report import group_stats, markdown_report, table_one, table_two
+from tests.extras import require_simulators
 
 
 def row(estimator="alg1", obj="Obj1", friction="low", error=1.0, pushes=3, trial=0, **kw):
@@ -23,7 +24,7 @@ def row(estimator="alg1", obj="Obj1", friction="low", error=1.0, pushes=3, trial
 
 
 def test_paper_tables_hold_twenty_objects_with_the_benchmark_sizes():
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     for number in (1, 2):
         table = paper_table(number)
         assert list(table) == list(simulators.BENCHMARK_OBJECTS)
@@ -95,7 +96,7 @@ def test_jsonl_is_one_object_per_line(tmp_path):
 
 
 def test_save_benchmark_writes_results_figures_and_report(tmp_path):
-    pytest.importorskip("simulators")
+    require_simulators()
     pytest.importorskip("matplotlib")
     from comcore.bench import BenchConfig, run_benchmark
     from comcore.bench._outputs import save_benchmark
@@ -112,3 +113,19 @@ def test_save_benchmark_writes_results_figures_and_report(tmp_path):
     meta = json.loads(paths["meta"].read_text())
     assert meta["config"]["candidates"] == 8 and meta["rows"] == 6
     assert read_rows(paths["results"]) == result.rows
+
+
+def test_the_summary_names_the_statuses_that_are_not_ok():
+    # Alg. 1 is never ok ("unchecked"): the column must say so, not count it as a failure
+    # that looks like the active estimator's stops.
+    from comcore.bench._report import summary_table
+
+    rows = [row("alg1", status="unchecked", trial=t) for t in range(3)]
+    rows += [row("active", status=s, trial=t) for t, s in enumerate(["ok", "budget", "budget",
+                                                                      "exhausted"])]  # fmt: skip
+    lines = {line.split("|")[1].strip(): line for line in summary_table(rows).splitlines()[2:]}
+    assert lines["alg1"].rstrip(" |").split("|")[-2].strip() == "3 (unchecked)"
+    assert lines["active"].rstrip(" |").split("|")[-2].strip() == "3 (budget 2, exhausted 1)"
+    assert group_stats(rows, keys=("estimator",))[("active",)]["statuses"] == {
+        "budget": 2, "exhausted": 1,
+    }  # fmt: skip

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("simulators")
+pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
+pytest.importorskip("trimesh")
 
 from comcore.bench import PREDICTORS, PredictorSpec
 from comcore.cli import main
@@ -242,3 +243,57 @@ def test_ctrl_c_stops_local_workers_at_once_and_keeps_the_finished_rows(tmp_path
     rows = [json.loads(x) for x in partial.read_text().splitlines()]
     assert rows and len(rows) % 2 == 0  # whole trials only: a row per estimator
     assert len(rows) < 120  # it stopped: the queued trials were not all run
+
+
+def test_version_is_printed(capsys):
+    import comcore
+
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0
+    assert capsys.readouterr().out.strip() == f"comcore {comcore.__version__}"
+
+
+def test_demo_shows_the_active_estimator_beside_the_papers_and_alg1_is_not_ok(capsys):
+    assert main(["demo", "--pushes", "20", "--seed", "1"]) == 0
+    out = capsys.readouterr().out
+    table = [line for line in out.splitlines() if line.startswith("  ") and " CoM (" in line]
+    lines = {line.split(" CoM (")[0].strip(): line for line in table}
+    assert list(lines) == ["centroid (baseline)", "Alg. 1 heat map", "Alg. 2 progressive",
+                           "active (its own pushes)"]  # fmt: skip
+    assert lines["Alg. 1 heat map"].endswith("status unchecked")
+    assert "status unchecked: Alg. 1 has no test of its evidence" in out
+    assert lines["centroid (baseline)"].endswith("status baseline")
+    active_pushes = int(lines["active (its own pushes)"].split(" pushes ")[1].split()[0])
+    assert 1 <= active_pushes <= 5  # the active estimator's default budget
+
+
+def test_bench_help_lists_every_estimator_with_its_options(capsys):
+    from comcore.bench import ESTIMATORS
+
+    with pytest.raises(SystemExit) as e:
+        main(["bench", "--help"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out
+    listing = out[out.index("estimators (--estimators") :]
+    for name in ESTIMATORS:
+        assert f"\n  {name}: " in listing, name
+    alg1 = listing[listing.index("\n  alg1: ") :].split("\n  alg2: ")[0]
+    assert "options: length_scale, threshold" in alg1
+    active = " ".join(listing[listing.index("\n  active: ") :].split("\n  active-robot:")[0].split())
+    assert "max_pushes" in active and "target_radius" in active
+    assert "rng" not in active.split("options:")[1].replace(",", " ").split()  # the bench sets it
+    assert "predictors (--predictor" in listing and "oracle, ellipsoid, anp" in listing
+
+
+def test_quick_runs_the_active_estimator_beside_the_papers_unless_told_otherwise():
+    from comcore.bench._trial import DEFAULT_ESTIMATORS
+    from comcore.bench.command import _config
+    from comcore.cli import build_parser
+
+    parse = build_parser().parse_args
+    quick = _config(parse(["bench", "--quick"]))
+    assert quick.estimators == (*DEFAULT_ESTIMATORS, "active") and quick.trials == 20
+    assert _config(parse(["bench"])).estimators == DEFAULT_ESTIMATORS
+    chosen = _config(parse(["bench", "--quick", "--estimators", "alg2,centroid"]))
+    assert chosen.estimators == ("alg2", "centroid")

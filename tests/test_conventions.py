@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 import comcore
+from tests.extras import require_simulators
 
 # A drawn example: an arrow pointing right (+x) on screen.
 ARROW = np.array(
@@ -142,3 +143,45 @@ def test_convention_helpers_still_broadcast():
     assert comcore.ccw_cross([[1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).tolist() == [-1.0, -0.0]
     assert comcore.rotate_vectors(np.zeros((2, 3, 2)), np.zeros(3)).shape == (2, 3, 2)
     assert comcore.rotation_sign(0.5).shape == ()
+
+
+@pytest.mark.parametrize("theta", [np.nan, np.inf, -np.inf])
+def test_rotation_matrix_refuses_an_angle_that_is_not_finite(theta):
+    # It used to return a matrix of NaN that spread through every point it turned.
+    with pytest.raises(ValueError, match="theta must be a finite angle in radians, got"):
+        comcore.rotation_matrix(theta)
+
+
+def test_rotation_matrix_takes_one_angle():
+    with pytest.raises(ValueError, match=r"one angle in radians, got shape \(2,\)"):
+        comcore.rotation_matrix([0.1, 0.2])
+    with pytest.raises(TypeError, match="theta must be an angle in radians, got str"):
+        comcore.rotation_matrix("0.1")
+    assert np.allclose(comcore.rotation_matrix(np.float32(0.0)), np.eye(2))
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_quarter_turn_ccw_refuses_vectors_that_are_not_finite(bad):
+    with pytest.raises(ValueError, match=r"finite pixel vectors \(x, y\); vector 2 is"):
+        comcore.quarter_turn_ccw([[1.0, 0.0], [0.0, 1.0], [bad, 3.0]])
+    with pytest.raises(ValueError, match=r"shape \(\.\.\., 2\), got \(3,\)"):
+        comcore.quarter_turn_ccw([1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize("radius", [0.001, 0.004, 0.01])
+def test_an_action_is_the_path_of_the_pushers_leading_point(radius):
+    # docs/conventions.md: the disc's centre runs one radius behind the action. A push along
+    # the normal of a flat edge whose action ends 1 cm past the edge carries the object
+    # 1 cm, whatever the radius, in the simulator and in the default motion model alike
+    # (were the action the centre's path, it would carry it 1 cm minus the radius).
+    simulators = require_simulators()
+    square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
+    sim = simulators.PushSimulator.from_polygon(square, com=(0.0, 0.0), pusher_radius=radius)
+    x, y = sim.to_pixels([(-0.03, 0.0)])[0]  # the middle of the left edge
+    for past in (0.0, 0.01):
+        action = comcore.Action(x - 8.0, y, x + past / sim.resolution, y)
+        moved = sim.push(action).motion.tx * sim.resolution
+        model = comcore.LimitSurfaceModel(pusher_radius=radius)
+        predicted = model.predict_hypotheses(sim.mask, [action], [sim.mask.centroid], 0.5)
+        assert moved == pytest.approx(past, abs=1e-6)
+        assert predicted[0, 0, 1] * sim.resolution == pytest.approx(past, abs=1e-6)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore._outline_field import outline_field
+from comcore import outline_field
 from predictors import EllipsoidFit, EllipsoidPredictor
 from predictors._ellipsoid_model import body_twist
 from predictors._ellipsoid_support import (

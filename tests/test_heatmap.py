@@ -43,7 +43,7 @@ def test_estimate_finds_the_calm_region_of_synthetic_pushes(square_mask, com):
     acts = grid_pushes(step=1)
     mots = synthetic_motions(square_mask, acts, com)
     est = comcore.estimate_heatmap(square_mask, acts, mots, length_scale=1.0, threshold=0.1)
-    assert est.ok
+    assert est.status == "unchecked" and not est.ok
     assert est.error_px(com) < 2.0
     assert est.used == tuple(range(len(acts)))
     assert est.com_m == pytest.approx(tuple(0.0025 * v for v in est.com))
@@ -98,4 +98,17 @@ def test_the_smallest_length_scale_still_sees_lines_between_pixel_centres(square
     heat = comcore.rotation_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
     assert heat[square_mask.data].max() == 1.0  # not flat
     est = comcore.estimate_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
-    assert est.ok and est.com[1] == pytest.approx(30, abs=1)
+    assert est.status == "unchecked" and est.com[1] == pytest.approx(30, abs=1)
+
+
+def test_alg1_is_never_ok_because_it_cannot_tell_wrong_motions_from_right_ones(square_mask):
+    # The user's mistake: theta with the y-up sign (every sense flipped). The heat map
+    # weighs |theta|, so it gives the very same answer; an "ok" would vouch for it.
+    acts = grid_pushes(step=1)
+    mots = synthetic_motions(square_mask, acts, (31, 14))
+    flipped = mots * np.array([-1.0, 1.0, 1.0])
+    right = comcore.estimate_heatmap(square_mask, acts, mots)
+    wrong = comcore.estimate_heatmap(square_mask, acts, flipped)
+    assert right.com == wrong.com
+    assert right.status == wrong.status == "unchecked"
+    assert not right.ok and not wrong.ok

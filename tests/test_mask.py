@@ -96,3 +96,15 @@ def test_point_queries_accept_one_point_or_none(square_mask):
     assert square_mask.contains((10.0, 10.0)).tolist() == [True]
     assert square_mask.distance_to_object((7.0, 10.0)).tolist() == [3.0]
     assert square_mask.contains(np.zeros((0, 2))).shape == (0,)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_to_metres_refuses_coordinates_that_are_not_finite(square_mask, bad):
+    # NaN used to come back as NaN metres, and inf as inf.
+    with pytest.raises(ValueError, match=r"points_px must be finite pixel coordinates \(x, y\)"):
+        square_mask.to_metres((bad, 3.0))
+    with pytest.raises(ValueError, match=r"got \(1.0, " + ("nan" if np.isnan(bad) else "-?inf")):
+        square_mask.to_metres([[0.0, 0.0], [1.0, bad]])
+    with pytest.raises(ValueError, match=r"shape \(2,\) or \(n, 2\), got shape \(3,\)"):
+        square_mask.to_metres([1.0, 2.0, 3.0])
+    assert square_mask.to_metres((4.0, 2.0)) == (0.01, 0.005)

@@ -1,6 +1,11 @@
 """benchmarks/eval_motion_model.py and bench_motion_model.py run (subprocesses, tiny arguments)."""
 
+import pytest
+
 from .scripts import run_script
+
+pytest.importorskip("shapely")  # both scripts run the simulator
+pytest.importorskip("trimesh")
 
 
 def test_eval_motion_model_runs():

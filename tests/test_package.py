@@ -11,6 +11,10 @@ HEAVY = (
     "matplotlib",
     "shapely",
     "dask",
+    "h5py",
+    "mujoco",
+    "pyarrow",
+    "tqdm",
     "predictors",
     "simulators",
 )

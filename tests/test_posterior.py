@@ -8,13 +8,15 @@ import pytest
 import comcore
 from tests.test_active import ToyModel, _ell, _plate, _robot
 
+from .records import actions_of, motions_of, outcomes_of
+
 
 @pytest.mark.parametrize("model", [None, ToyModel()])
 def test_it_is_the_active_posterior_of_the_same_pushes(model):
     mask = _ell()
     active = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=model, rng=3)
     offline = comcore.estimate_posterior(
-        mask, active.extras["actions"], active.extras["motions"], model=model
+        mask, actions_of(active), motions_of(active), model=model
     )
     assert offline.status == "ok" and offline.used == tuple(range(len(active.used)))
     np.testing.assert_allclose(offline.extras["posterior"], active.extras["posterior"], atol=1e-12)
@@ -39,7 +41,7 @@ def test_a_push_that_did_not_move_the_object_carries_no_evidence():
     motions = [tuple(push(comcore.Action(*a))) for a in actions]
     with_miss = comcore.estimate_posterior(mask, actions, [motions[0], (0.0, 0.0, 0.0), motions[2]])
     without = comcore.estimate_posterior(mask, actions[[0, 2]], [motions[0], motions[2]])
-    assert with_miss.extras["outcomes"] == ("evidence", "miss", "evidence")
+    assert outcomes_of(with_miss) == ("evidence", "miss", "evidence")
     assert with_miss.used == (0, 2)
     np.testing.assert_allclose(with_miss.extras["posterior"], without.extras["posterior"])
     only_misses = comcore.estimate_posterior(mask, actions[:1], [(0.0, 0.0, 0.0)])
@@ -85,7 +87,7 @@ def test_pushes_no_com_explains_are_inconsistent():
 
 
 def _toy_tempered(powers):
-    from comcore._posterior import GridPosterior
+    from comcore._grid import GridPosterior
 
     pixels = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
     return GridPosterior(pixels, [1 / 3] * 3, [0.3], n_tempers=len(powers))
@@ -138,15 +140,18 @@ def test_an_unobserved_rotation_and_a_registration_residual_tell_less():
     mask = _ell()
     actions = comcore.sample_pushes(mask, 3, rng=0)
     motions = [_robot(mask, (30.0, 24.0), 0.4)(comcore.Action(*a)) for a in actions]
-    kwargs = {"model": ToyModel(), "model_weight": 1.0}
+    kwargs = {"model": ToyModel(), "likelihood": comcore.Likelihood(model_weight=1.0)}
     plain = comcore.estimate_posterior(mask, actions, motions, **kwargs)
-    assert plain.extras["rotation_observed"] == (True,) * 3
-    assert np.isnan(plain.extras["residual_px"]).all()
+    assert [p.rotation_observed for p in plain.pushes] == [True] * 3
+    assert [p.residual_px for p in plain.pushes] == [None] * 3  # not measured: no NaN
     unseen = comcore.estimate_posterior(
         mask, actions, motions, rotation_observed=[True, False, True], **kwargs
     )
-    assert unseen.extras["rotation_observed"] == (True, False, True)
+    assert [p.rotation_observed for p in unseen.pushes] == [True, False, True]
     blurred = comcore.estimate_posterior(mask, actions, motions, residual_px=[3.0] * 3, **kwargs)
-    assert blurred.extras["residual_px"] == (3.0,) * 3
+    assert [p.residual_px for p in blurred.pushes] == [3.0] * 3
     for wider in (unseen, blurred):
         assert wider.extras["credible_radius_px"] > plain.extras["credible_radius_px"]
+        # the records carry the readings: a replay of them is the same posterior
+        again = comcore.estimate_posterior(mask, pushes=wider.pushes, **kwargs)
+        np.testing.assert_array_equal(again.extras["posterior"], wider.extras["posterior"])

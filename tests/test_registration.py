@@ -10,7 +10,7 @@ from hypothesis import given, settings
 
 import comcore
 from tests import strategies as cst
-from tests.strategies import rasterise_polygon
+from tests.extras import require_simulators
 
 SIDE = 120
 CENTRE = np.array([60.0, 60.0])
@@ -31,9 +31,9 @@ L_SHAPE = CENTRE + np.array([[-25, -8], [25, -8], [25, 6], [-11, 6], [-11, 30], 
 def pair(vertices, theta, shift=(0.0, 0.0), start=0.37):
     """Masks of ``vertices`` turned by ``start`` (off the pixel grid), then moved by (theta, shift)."""
     v0 = comcore.apply_motion(vertices, start, (0.0, 0.0), CENTRE)
-    before = comcore.Mask(rasterise_polygon(v0, (SIDE, SIDE)))
+    before = comcore.Mask(comcore.rasterise_polygon(v0, (SIDE, SIDE)))
     v1 = comcore.apply_motion(v0, theta, shift, before.centroid)
-    after = comcore.Mask(rasterise_polygon(v1, (SIDE, SIDE)))
+    after = comcore.Mask(comcore.rasterise_polygon(v1, (SIDE, SIDE)))
     return before, after
 
 
@@ -102,8 +102,8 @@ def test_counter_clockwise_on_screen_is_positive():
     bar = rectangle(30, 4) - CENTRE
     c, s = math.cos(0.2), math.sin(0.2)
     turned = np.column_stack([c * bar[:, 0] + s * bar[:, 1], -s * bar[:, 0] + c * bar[:, 1]])
-    before = comcore.Mask(rasterise_polygon(bar + CENTRE, (SIDE, SIDE)))
-    after = comcore.Mask(rasterise_polygon(turned + CENTRE, (SIDE, SIDE)))
+    before = comcore.Mask(comcore.rasterise_polygon(bar + CENTRE, (SIDE, SIDE)))
+    after = comcore.Mask(comcore.rasterise_polygon(turned + CENTRE, (SIDE, SIDE)))
     right_end = after.pixels[after.pixels[:, 0] > CENTRE[0] + 25]
     assert right_end[:, 1].mean() < CENTRE[1] - 3  # the right end is above the centre now
     assert comcore.measure_motion(before, after).motion.theta == pytest.approx(0.2, abs=0.01)
@@ -193,7 +193,7 @@ def test_a_one_pixel_wide_bar_turned_a_quarter_turn():
 # -- simulator-rendered masks ---------------------------------------------------------------
 @pytest.mark.parametrize("name", ["Obj5", "Obj14"])
 def test_motions_of_simulated_pushes(name):
-    simulators = pytest.importorskip("simulators")
+    simulators = require_simulators()
     pytest.importorskip("shapely")
     sim = simulators.random_simulator(name, "low", rng=3, margin=0.12)
     actions = comcore.sample_pushes(sim.mask, 3, cone=0.3, rng=4)
@@ -209,7 +209,9 @@ def test_motions_of_simulated_pushes(name):
 def test_masks_of_different_shapes_are_refused():
     a = comcore.Mask(np.pad(np.ones((10, 10), bool), 5))
     b = comcore.Mask(np.pad(np.ones((10, 10), bool), 6))
-    with pytest.raises(ValueError, match=r"after must have the shape of before.*\(20, 20\).*\(22, 22\)"):
+    with pytest.raises(
+        ValueError, match=r"after must have the shape of before.*\(20, 20\).*\(22, 22\)"
+    ):
         comcore.measure_motion(a, b)
 
 
@@ -232,3 +234,20 @@ def test_a_mask_touching_the_border_is_refused():
         comcore.measure_motion(inside, cut)
     with pytest.raises(ValueError, match="before touches the image border"):
         comcore.measure_motion(cut, inside)
+
+
+@pytest.mark.parametrize("offset", [(0, 0), (517, 301), (1150, 590)])
+def test_a_wide_camera_frame_gives_the_motion_of_the_masks_alone(offset):
+    # the fit runs on a window around the two objects: where they lie in a 1280 x 720
+    # frame changes nothing, bit for bit
+    before, after = pair(L_SHAPE, 0.2, (4.0, -3.0))
+    alone = comcore.measure_motion(before, after)
+
+    def in_frame(mask):
+        data = np.zeros((720, 1280), bool)
+        data[offset[1] : offset[1] + SIDE, offset[0] : offset[0] + SIDE] = mask.data
+        return comcore.Mask(data)
+
+    wide = comcore.measure_motion(in_frame(before), in_frame(after))
+    assert wide.motion == alone.motion and wide.residual_px == alone.residual_px
+    assert (wide.ambiguous, wide.symmetry) == (alone.ambiguous, alone.symmetry)

@@ -232,8 +232,9 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
     """
     robot = SimulatedRobot(sim, rng=3)
     first = robot.camera_mask()
-    settings = {"model_weight": 0.6, "max_pushes": 3, "pusher_radius": sim.pusher_radius}
-    session = comcore.ActiveSession(first, rng=3, **settings)
+    likelihood = comcore.Likelihood(model_weight=0.6)
+    settings = {"pusher_radius": sim.pusher_radius, "stop": comcore.StopRule(max_pushes=3)}
+    session = comcore.ActiveSession(first, rng=3, likelihood=likelihood, **settings)
     while not session.done:
         push = robot.execute(session.next_push())
         if observe == "motion":
@@ -241,19 +242,16 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
         else:
             session.observe(robot.camera_mask())
     est = session.estimate()
-    extras = est.extras
-    assert robot.pushes == 3 and extras["outcomes"] == ("evidence",) * 3
+    assert robot.pushes == 3 and [p.outcome for p in est.pushes] == ["evidence"] * 3
     # the later pushes started where the earlier ones left the object, not at its first pose
-    assert np.abs(np.asarray(extras["camera_actions"]) - extras["actions"]).max() > 5.0
-    measured = np.isfinite(extras["residual_px"])
+    camera = np.array([p.camera_action for p in est.pushes])
+    assert np.abs(camera - np.array([p.action for p in est.pushes])).max() > 5.0
+    measured = np.array([p.residual_px is not None for p in est.pushes])
     assert measured.all() if observe == "mask" else not measured.any()
     model = comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius)
-    again = comcore.estimate_posterior(
-        first, extras["actions"], extras["motions"], model=model, model_weight=0.6,
-        rotation_observed=extras["rotation_observed"], residual_px=extras["residual_px"],
-    )  # fmt: skip
+    again = comcore.estimate_posterior(first, pushes=est.pushes, model=model, likelihood=likelihood)
     np.testing.assert_allclose(again.com, est.com, rtol=0, atol=1e-6)
-    assert again.extras["credible_radius_px"] == pytest.approx(extras["credible_radius_px"])
+    assert again.extras["credible_radius_px"] == pytest.approx(est.extras["credible_radius_px"])
     truth = robot.true_com_px()
     cal = comcore.calibrate_model_weight([(first, est, truth)], model=model, powers=(0.6,))
     assert cal.coverage.tolist() == [float(est.region_holds(truth))]
@@ -272,22 +270,20 @@ def test_a_disc_session_replays_its_unseen_rotations():
     )
     robot = SimulatedRobot(disc, rng=0)
     first = robot.camera_mask()
-    options = {"model_weight": 0.6, "max_pushes": 3, "pusher_radius": disc.pusher_radius}
-    session = comcore.ActiveSession(first, rng=0, **options)
+    likelihood = comcore.Likelihood(model_weight=0.6)
+    options = {"pusher_radius": disc.pusher_radius, "stop": comcore.StopRule(max_pushes=3)}
+    session = comcore.ActiveSession(first, rng=0, likelihood=likelihood, **options)
     while not session.done:
         robot.execute(session.next_push())
         session.observe(robot.camera_mask())
     est = session.estimate()
-    extras = est.extras
-    assert not any(extras["rotation_observed"])
+    assert not any(p.rotation_observed for p in est.pushes)
     model = comcore.LimitSurfaceModel(pusher_radius=disc.pusher_radius)
-    acts, moves = extras["actions"], extras["motions"]
-    readings = {k: extras[k] for k in ("rotation_observed", "residual_px")}
+    acts, moves = [p.action for p in est.pushes], [p.motion for p in est.pushes]
     replays = {
-        given: comcore.estimate_posterior(
-            first, acts, moves, model=model, model_weight=0.6, **(readings if given else {})
-        )
-        for given in (True, False)
-    }
+        True: comcore.estimate_posterior(first, pushes=est.pushes, model=model,
+                                         likelihood=likelihood),
+        False: comcore.estimate_posterior(first, acts, moves, model=model, likelihood=likelihood),
+    }  # fmt: skip
     np.testing.assert_allclose(replays[True].com, est.com, rtol=0, atol=1e-6)
     assert np.hypot(*np.subtract(replays[False].com, est.com)) > 0.1

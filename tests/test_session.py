@@ -1,4 +1,4 @@
-"""Tests of comcore.ActiveSession (comcore/_session.py, _planning.py, _session_pose.py)."""
+"""Tests of comcore.ActiveSession (comcore/_session.py, _choice.py, _pose_tracking.py)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 import comcore
-import comcore._session_pose as pose_module
-from comcore._session_pose import IDENTITY, compose, moved_mask
+import comcore._pose_tracking as pose_module
+from comcore._pose_tracking import IDENTITY, compose, moved_mask
+
+from .records import actions_of, motions_of, outcomes_of
 
 TRUE_COM = (52.0, 60.0)  # object frame (first mask), off the centroid (59.5, 56.5)
 
@@ -79,7 +81,7 @@ def test_estimate_active_is_the_session_with_resets():
 def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=8, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=8, target_radius=1e-4))
     _run(session, world)
     assert session.status == "budget" and len(session.actions) == 8
     np.testing.assert_allclose(session.pose, world.pose, atol=1e-12)
@@ -93,11 +95,11 @@ def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
 def test_offered_pushes_hit_the_object_where_it_is_now():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=1, max_pushes=8, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=1, model=None, stop=comcore.StopRule(max_pushes=8, target_radius=1e-4))
     for action, seen in _run(session, world):
         c = comcore.contacts(seen, action)
         assert c.hit[0] and not c.starts_inside[0]
-    made = session.estimate().extras["actions"]
+    made = actions_of(session.estimate())
     assert len(np.unique(made, axis=0)) == 8  # never repeated (object frame)
 
 
@@ -105,12 +107,11 @@ def test_motions_are_scored_in_the_object_frame():
     """The posterior of a no-reset run equals the one of the same pushes with resets."""
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=2, max_pushes=5, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=2, model=None, stop=comcore.StopRule(max_pushes=5, target_radius=1e-4))
     _run(session, world)
     est = session.estimate()
     reset = comcore.ActiveSession(
-        mask, candidates=est.extras["actions"], max_pushes=5, min_information=0.0, model=None
-    )
+        mask, candidates=actions_of(est), model=None, stop=comcore.StopRule(max_pushes=5, min_information=0.0))
     while not reset.done:
         reset.observe(motion=World(mask).object_motion(np.asarray(reset.next_push())))
         reset.reset_pose()
@@ -123,24 +124,26 @@ def test_motions_are_scored_in_the_object_frame():
 def test_a_push_that_does_not_move_the_object_is_a_miss():
     """No reset, a push misses the moved object: zero motion is no evidence."""
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=3, model=None)
-    before = session.history[-1]["entropy_bits"]
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=3))
+    before = session.history[-1].entropy_bits
     first = session.next_push()
     session.observe(motion=(0.0, 0.0, 0.0))
-    assert session.history[-1]["entropy_bits"] == pytest.approx(before, abs=1e-12)
-    assert session.estimate().extras["outcomes"] == ("miss",)
+    assert session.history[-1].entropy_bits == pytest.approx(before, abs=1e-12)
+    assert outcomes_of(session.estimate()) == ("miss",)
     assert session.next_push() != first  # not repeated
 
 
 def test_a_failed_push_is_no_evidence_and_not_counted():
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=1, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=1))
     first = session.next_push()
     session.observe(failed=True)
     assert session.status == "waiting_push" and session.next_push() != first
     session.observe(motion=(0.1, 1.0, 0.0))
     est = session.estimate()
-    assert est.status == "budget" and len(est.used) == 1 and len(est.extras["failed"]) == 1
+    failed = [p for p in est.pushes if p.outcome == "failed"]
+    assert est.status == "budget" and len(est.used) == 1 and len(failed) == 1
+    assert failed[0].motion is None and failed[0].log_evidence is None
 
 
 @pytest.mark.parametrize(
@@ -183,7 +186,7 @@ def test_bad_observations_are_named_and_change_nothing(call, error, match):
 
 def test_observe_before_the_first_push_and_after_the_end():
     mask = _mask(10)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=1, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=1))
     with pytest.raises(comcore.SessionError, match="call next_push"):
         session.observe(motion=(0.1, 0, 0))
     session.next_push()
@@ -199,7 +202,7 @@ def test_same_seed_same_pushes():
     mask = _mask()
     runs = []
     for _ in range(2):
-        session = comcore.ActiveSession(mask, rng=7, max_pushes=4, target_radius=1e-4, model=None)
+        session = comcore.ActiveSession(mask, rng=7, model=None, stop=comcore.StopRule(max_pushes=4, target_radius=1e-4))
         _run(session, World(mask))
         runs.append(session.actions)
     np.testing.assert_array_equal(runs[0], runs[1])
@@ -217,15 +220,17 @@ def test_same_seed_same_pushes():
     ],
 )
 def test_bad_arguments_are_named(kwargs, error, match):
+    own = {k: v for k, v in kwargs.items() if k == "rng"}
     with pytest.raises(error, match=match):
-        comcore.ActiveSession(_mask(10), **kwargs)
+        grouped = comcore.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        comcore.ActiveSession(_mask(10), **own, **grouped)
 
 
 def test_candidates_outside_the_image_are_not_offered():
     mask = _mask(10)
     inside = (0.0, 20.0, 25.0, 20.0)
     outside = (-30.0, 25.0, 25.0, 25.0)  # hits the object but starts off the image
-    session = comcore.ActiveSession(mask, candidates=[outside, inside], max_pushes=5, model=None)
+    session = comcore.ActiveSession(mask, candidates=[outside, inside], model=None, stop=comcore.StopRule(max_pushes=5))
     assert tuple(session.next_push()) == inside
     session.observe(motion=(0.1, 1.0, 0.0))
     assert session.status == "exhausted"
@@ -267,7 +272,7 @@ class StandIn:
         return m
 
     def __call__(self, first, mask, previous):
-        from comcore._session_pose import PoseReading
+        from comcore._pose_tracking import PoseReading
 
         self.calls.append((first, mask))
         pose = self.poses[id(mask)]
@@ -281,7 +286,7 @@ def test_observed_masks_are_measured_against_the_first_mask(monkeypatch):
     world = World(mask)
     stand_in = StandIn(world)
     monkeypatch.setattr(pose_module, "measure_pose", stand_in)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=4, target_radius=1e-4))
     while not session.done:
         world.execute(session.next_push())
         session.observe(stand_in.mask())
@@ -294,11 +299,11 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
     world = World(mask)
     stand_in = StandIn(world, ambiguous=True)
     monkeypatch.setattr(pose_module, "measure_pose", stand_in)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=2, model=None)
-    before = session.history[-1]["entropy_bits"]
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=2))
+    before = session.history[-1].entropy_bits
     world.execute(session.next_push())
     session.observe(stand_in.mask())
-    assert session.history[-1]["entropy_bits"] == pytest.approx(before, abs=1e-12)  # no model
+    assert session.history[-1].entropy_bits == pytest.approx(before, abs=1e-12)  # no model
     assert session.pose.theta == 0.0
 
 
@@ -321,8 +326,8 @@ def test_the_evidence_falls_with_surprising_pushes():
     from tests.test_active import ToyModel, _ell, _robot
 
     mask = _ell()
-    kwargs = {"model": ToyModel(), "rng": 1, "max_pushes": 4, "target_radius": 1e-4}
-    kwargs["model_weight"] = 1.0  # the untempered likelihood's evidence
+    kwargs = {"model": ToyModel(), "rng": 1, "stop": comcore.StopRule(max_pushes=4, target_radius=1e-4)}
+    kwargs["likelihood"] = comcore.Likelihood(model_weight=1.0)  # the untempered evidence
     honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), **kwargs)
     liar = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), **kwargs)
     assert liar.extras["log_evidence"] < honest.extras["log_evidence"] - 20
@@ -332,14 +337,14 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
     """The session believes the object is 30 px off where it is: its pushes miss."""
     mask = _mask(45)
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=4, target_radius=1e-4))
     session.reset_pose(comcore.Motion(0.0, 30.0, 0.0))
     while not session.done:
         session.observe(motion=world.execute(session.next_push()))
     est = session.estimate()
-    assert "miss" in est.extras["outcomes"]
-    entropies = [h["entropy_bits"] for h in est.extras["history"]]
-    for k, outcome in enumerate(est.extras["outcomes"]):
+    assert "miss" in outcomes_of(est)
+    entropies = [h.entropy_bits for h in est.extras["history"]]
+    for k, outcome in enumerate(outcomes_of(est)):
         if outcome == "miss":
             assert entropies[k + 1] == pytest.approx(entropies[k], abs=1e-12)
     assert est.status == "budget"
@@ -348,7 +353,7 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
 def test_observed_masks_are_registered_with_measure_motion():
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=6, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=6, target_radius=1e-4))
     while not session.done:
         world.execute(session.next_push())
         session.observe(world.camera_mask())
@@ -369,7 +374,7 @@ def test_a_mask_of_an_object_leaving_the_view_is_refused_and_changes_nothing():
 
 
 def test_the_registration_residual_widens_the_tracking_noise():
-    from comcore._session_update import tracking_noise
+    from comcore._likelihood import tracking_noise
 
     assert tracking_noise((0.01, 0.2), float("nan"), 10.0) == (0.01, 0.2)
     theta, px = tracking_noise((0.01, 0.2), 0.5, 10.0)
@@ -379,21 +384,21 @@ def test_the_registration_residual_widens_the_tracking_noise():
 # -- the push as executed ----------------------------------------------------------------
 
 
-def test_actions_from_pose_undo_actions_in_pose():
-    from comcore._session_pose import actions_from_pose, actions_in_pose
+def test_object_from_camera_undo_camera_from_object():
+    from comcore._pose_tracking import camera_from_object, object_from_camera
 
     actions = np.array([[0.0, 50.0, 40.0, 52.0], [60.0, 0.0, 58.0, 30.0]])
     pose, centroid = comcore.Motion(0.4, 7.0, -3.0), (59.5, 56.5)
-    camera = actions_in_pose(actions, pose, centroid)
+    camera = camera_from_object(actions, pose, centroid)
     assert np.abs(camera - actions).max() > 5
-    np.testing.assert_allclose(actions_from_pose(camera, pose, centroid), actions, atol=1e-12)
+    np.testing.assert_allclose(object_from_camera(camera, pose, centroid), actions, atol=1e-12)
 
 
 def _executed_run(observe_executed, shift_px=0.0):
     """A World session whose robot pushes ``shift_px`` beside each planned path."""
     mask = _mask()
     world = World(mask)
-    session = comcore.ActiveSession(mask, rng=0, max_pushes=4, target_radius=1e-4, model=None)
+    session = comcore.ActiveSession(mask, rng=0, model=None, stop=comcore.StopRule(max_pushes=4, target_radius=1e-4))
     while not session.done:
         planned = np.asarray(session.next_push(), float)
         d = (planned[2:] - planned[:2]) / np.hypot(*(planned[2:] - planned[:2]))
@@ -415,8 +420,9 @@ def test_a_push_executed_off_its_path_is_scored_where_it_went():
     blind, _ = _executed_run(observe_executed=False, shift_px=4.0)
     assert told.error_px(TRUE_COM) < 2.5 < blind.error_px(TRUE_COM)
     # the pushes the posterior used are the executed ones, in the object's frame
-    first = np.asarray(told.extras["actions"][0])
-    planned = np.asarray(told.extras["camera_actions"][0])
+    first = np.asarray(actions_of(told)[0])
+    planned = np.asarray(told.pushes[0].camera_action)
+    assert told.pushes[0].planned == tuple(planned)  # the first push: camera and object frames agree
     d = (planned[2:] - planned[:2]) / np.hypot(*(planned[2:] - planned[:2]))
     np.testing.assert_allclose(first, planned + 4.0 * np.tile([-d[1], d[0]], 2), atol=1e-9)
 
@@ -452,7 +458,7 @@ def _beside(action, shift_px):
 def test_estimate_active_scores_the_path_its_push_returns():
     """push() may return (motion, executed): scored as the session scores observe(executed=)."""
     mask, world = _mask(), World(_mask())  # World's pose stays the identity: a reset robot
-    options = {"rng": 0, "max_pushes": 4, "target_radius": 1e-4, "model": None}
+    options = {"rng": 0, "stop": comcore.StopRule(max_pushes=4, target_radius=1e-4), "model": None}
 
     def push(action):  # 4 px beside every plan, and it says where it went
         real = _beside(action, 4.0)
@@ -465,8 +471,9 @@ def test_estimate_active_scores_the_path_its_push_returns():
     while not session.done:
         motion, real = push(session.next_push())
         session.observe(motion=motion, executed=real)
-        session.reset_pose()
+        session.reset_pose()  # the same as observe(..., reset=True)
     np.testing.assert_array_equal(told.extras["posterior"], session.estimate().extras["posterior"])
+    assert [p.action for p in told.pushes] == [p.action for p in session.estimate().pushes]
 
 
 def test_estimate_active_names_a_bad_executed_path_as_the_push_failing():
@@ -486,7 +493,7 @@ def test_an_executed_start_just_inside_the_outline_is_moved_back_along_its_line(
     session = comcore.ActiveSession(mask, rng=0, model=None)
     session.next_push()
     session.observe(motion=(0.1, 3.0, 0.0), executed=(10.2, 21.5, 40.0, 21.5))
-    start = session.estimate().extras["actions"][0]
+    start = actions_of(session.estimate())[0]
     assert start[0] < 9.5 and start[1:].tolist() == [21.5, 40.0, 21.5]
 
 
@@ -496,8 +503,8 @@ def test_an_executed_push_that_missed_is_a_miss_and_replays():
     session.next_push()
     session.observe(motion=(0.0, 0.0, 0.0), executed=(0.0, 5.0, 10.0, 5.0))  # above the object
     est = session.estimate()
-    assert est.extras["outcomes"] == ("miss",)
-    again = comcore.estimate_posterior(mask, est.extras["actions"], est.extras["motions"])
+    assert outcomes_of(est) == ("miss",)
+    again = comcore.estimate_posterior(mask, actions_of(est), motions_of(est))
     assert again.status == "no_evidence"
 
 
@@ -508,8 +515,7 @@ def test_a_small_region_stops_ok_only_after_min_pushes_with_evidence(min_pushes)
     prior = np.zeros(mask.shape)
     prior[58:62, 50:54] = 1.0  # 4 x 4 px about the true CoM: radius 2.3 px at the start
     session = comcore.ActiveSession(
-        mask, rng=0, model=None, prior=prior, target_radius=0.05, min_pushes=min_pushes
-    )
-    assert session.history[0]["credible_radius_px"] * mask.resolution < 0.05
+        mask, rng=0, model=None, prior=prior, stop=comcore.StopRule(target_radius=0.05, min_pushes=min_pushes))
+    assert session.history[0].credible_radius_px * mask.resolution < 0.05
     _run(session, World(mask))
     assert session.status == "ok" and len(session.actions) == min_pushes

@@ -76,3 +76,27 @@ def test_batches_accept_namedtuples_and_arrays_alike():
     assert a.shape == (2, 4) and not a.flags.writeable
     m = comcore.check_motions(Motion(0.1, 1, 2))
     assert m.tolist() == [[0.1, 1.0, 2.0]]
+
+
+@pytest.mark.parametrize(
+    ("region", "error", "match"),
+    [
+        (np.array(True), ValueError, r"2-D image of shape \(H, W\).*got shape \(\)"),
+        (np.ones(4, bool), ValueError, r"got shape \(4,\)"),
+        (np.ones((2, 2, 2), bool), ValueError, r"got shape \(2, 2, 2\)"),
+        (np.zeros((0, 3), bool), ValueError, r"got shape \(0, 3\)"),
+        (np.full((2, 2), 0.5), ValueError, r"booleans \(or the numbers 0 and 1\), got 4 other"),
+        (np.array([[1.0, np.nan]]), ValueError, r"1 other value\(s\), e.g. nan"),
+        (np.array([["a", "b"]]), TypeError, "image of booleans, got dtype <U1"),
+        ([[1, 0], [1]], ValueError, "2-D image of shape"),
+    ],
+)
+def test_estimate_refuses_a_region_that_is_not_an_image(region, error, match):
+    # A 0-d array and a length-4 vector used to be accepted as regions.
+    with pytest.raises(error, match=match):
+        Estimate(com=(1.0, 1.0), com_m=(0.0, 0.0), region=region)
+
+
+def test_estimate_takes_a_region_of_numbers_zero_and_one():
+    e = Estimate(com=(0, 0), com_m=(0, 0), region=np.array([[1, 0], [0, 1]], np.uint8))
+    assert e.region.dtype == bool and e.region.tolist() == [[True, False], [False, True]]

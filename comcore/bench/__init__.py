@@ -14,7 +14,8 @@ Examples
 [('alg2', 'ok'), ('centroid', 'ok')]
 """
 
-from ._conditions import CONDITIONS, Condition, parse_condition, run_conditions
+from ._conditions import friction_table, run_conditions
+from ._realism import CONDITIONS, Condition, parse_condition
 from ._registry import (
     ESTIMATORS,
     PREDICTORS,
@@ -54,6 +55,7 @@ __all__ = [
     "TrialOutcome",
     "TrialSpec",
     "check_available",
+    "friction_table",
     "parse_condition",
     "parse_estimator",
     "register_estimator",

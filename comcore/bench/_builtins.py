@@ -87,7 +87,7 @@ def _active(ctx: TrialContext, model="default", candidates="own", **options):
         ctx.candidates if candidates == "trial" else None,
         **_model_options(ctx, model),
         rng=ctx.rng,
-        **options,
+        **comcore.option_groups(**options),
     )
 
 
@@ -159,7 +159,7 @@ def _active_robot(
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
     seen = first = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        first, **_model_options(ctx, model), rng=ctx.rng, **options
+        first, **_model_options(ctx, model), rng=ctx.rng, **comcore.option_groups(**options)
     )
     failures = 0
     while not session.done:
@@ -216,14 +216,18 @@ register_estimator(
 register_estimator(
     "active",
     _active,
-    description="comcore.estimate_active pushing the object, its defaults (limit-surface model)",
+    description="the active estimator (comcore.estimate_active): chooses and executes its own "
+    "pushes on the object, reset before each, and stops when its 90 % region is small; its "
+    "defaults (limit-surface model, at most 5 pushes). model='default'|'limit-surface'|"
+    "'ellipsoid'|None, candidates='own'|'trial'",
     uses_motions=False,
     requires=requirements(_ACTIVE, _ELLIPSOID),
 )
 register_estimator(
     "active-robot",
     _active_robot,
-    description="comcore.ActiveSession on a simulated robot: never reset, motions from masks",
+    description="comcore.ActiveSession on simulators.SimulatedRobot: never reset, poses "
+    "measured from the camera's masks. observe='mask'|'consecutive'|'video'|'motion'",
     uses_motions=False,
     requires=requirements(_SESSION, _ELLIPSOID),
     resets=False,
@@ -231,7 +235,7 @@ register_estimator(
 register_estimator(
     "active-vt",
     _active_vt,
-    description="comcore.estimate_active pushing the object, Voting Theorem only",
+    description="comcore.estimate_active with the Voting Theorem alone (model=None)",
     uses_motions=False,
     requires=_ACTIVE,
 )

@@ -27,13 +27,14 @@ def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | None]:
     if getattr(spec.run, "__module__", None) != _builtins.__name__:
         return ()
     active = getattr(comcore, "estimate_active", None)
+    groups = comcore.option_groups  # the active estimators' options by name, grouped
     chains: dict[str, Sequence[Callable | None]] = {
         "_alg1": (comcore.estimate_heatmap,),
         "_alg2": (comcore.estimate_progressive,),
         "_alg2_rotation": (comcore.estimate_progressive,),
-        "_active": (active,),
-        "_active_vt": (getattr(_builtins, "_active", None), active),
-        "_active_robot": (getattr(comcore, "ActiveSession", None),),
+        "_active": (active, groups),
+        "_active_vt": (getattr(_builtins, "_active", None), active, groups),
+        "_active_robot": (getattr(comcore, "ActiveSession", None), groups),
     }
     return chains.get(getattr(spec.run, "__name__", ""), ())
 

@@ -273,8 +273,3 @@ def requirements(*checks: Callable[[], str | None]) -> Callable[[], str | None]:
         return next((reason for reason in (c() for c in checks) if reason), None)
 
     return check
-
-
-def options_of(mapping: Mapping[str, Any]) -> str:
-    """A stable text form of estimator options (for labels and messages)."""
-    return ", ".join(f"{k}={v!r}" for k, v in sorted(mapping.items()))

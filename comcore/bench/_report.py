@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
-from collections import defaultdict
+from collections import Counter, defaultdict
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
 from ._io import paper_table
 
-__all__ = ["group_stats", "markdown_report", "summary_table", "table_one", "table_two"]
+__all__ = [
+    "group_stats", "markdown_report", "not_ok_cell", "summary_table", "table_one", "table_two",
+]  # fmt: skip
 
 FRICTIONS = ("low", "high")
 
@@ -23,7 +25,9 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
         ``{key tuple: stats}`` with ``n``, ``error`` (mean, std, min, max,
         median of ``error_cm``), ``pushes`` (mean, std, min, max of
         ``pushes_used``), ``total_pushes`` (their sum), ``not_ok`` (rows whose
-        status is not ``"ok"``) and ``errors`` (rows with status ``"error"``).
+        status is not ``"ok"``), ``statuses`` (``{status: rows}`` of those, most
+        frequent first: Alg. 1's ``"unchecked"``, the active estimator's
+        ``"budget"`` ...) and ``errors`` (rows with status ``"error"``).
 
     Examples
     --------
@@ -40,12 +44,14 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     for key, members in groups.items():
         err = np.array([r["error_cm"] for r in members], float)
         pushes = np.array([r["pushes_used"] for r in members], float)
+        not_ok = Counter(r["status"] for r in members if r["status"] != "ok")
         out[key] = {
             "n": len(members),
             "error": _describe(err),
             "pushes": _describe(pushes),
             "total_pushes": int(sum(r["total_pushes"] for r in members)),
             "not_ok": sum(r["status"] != "ok" for r in members),
+            "statuses": dict(not_ok.most_common()),
             "errors": sum(r["status"] == "error" for r in members),
         }
     return out
@@ -134,8 +140,33 @@ def table_two(rows: Sequence[Mapping], estimator: str = "alg2") -> str:
     return _markdown(header, body)
 
 
+def not_ok_cell(stats: Mapping) -> str:
+    """The "Status not ok" cell: the count, and which statuses (``"3 (budget 2, exhausted 1)"``).
+
+    Examples
+    --------
+    >>> not_ok_cell({"not_ok": 0, "statuses": {}})
+    '0'
+    >>> not_ok_cell({"not_ok": 20, "statuses": {"unchecked": 20}})
+    '20 (unchecked)'
+    >>> not_ok_cell({"not_ok": 3, "statuses": {"budget": 2, "exhausted": 1}})
+    '3 (budget 2, exhausted 1)'
+    """
+    statuses = stats.get("statuses", {})
+    if not stats["not_ok"] or not statuses:
+        return str(stats["not_ok"])
+    if len(statuses) == 1:
+        return f"{stats['not_ok']} ({next(iter(statuses))})"
+    return f"{stats['not_ok']} ({', '.join(f'{k} {v}' for k, v in statuses.items())})"
+
+
 def summary_table(rows: Sequence[Mapping]) -> str:
-    """One line per estimator and friction: error, pushes, real pushes in total, failures."""
+    """One line per estimator and friction: error, pushes, real pushes in total, failures.
+
+    "Status not ok" counts the trials whose status is not ``"ok"`` and names
+    their statuses: every ``alg1`` trial is ``"unchecked"`` (Alg. 1 has no test
+    of its evidence), an active estimator's may be ``"budget"``, ...
+    """
     stats = group_stats(rows, keys=("estimator", "friction"))
     header = [
         "Estimator", "Friction", "Trials", "Error mean cm", "median", "std", "max",
@@ -147,7 +178,7 @@ def summary_table(rows: Sequence[Mapping]) -> str:
         body.append(
             [name, friction, str(s["n"]), f"{e['mean']:.3f}", f"{e['median']:.3f}",
              f"{e['std']:.3f}", f"{e['max']:.3f}", f"{p['mean']:.2f}", str(s["total_pushes"]),
-             str(s["not_ok"]), str(s["errors"])]
+             not_ok_cell(s), str(s["errors"])]
         )  # fmt: skip
     return _markdown(header, body)
 
@@ -189,7 +220,10 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         "## Summary",
         "Real pushes count the pushes run on the object: a learned predictor's prior pushes "
         "plus the pushes an estimator used (Alg. 1 uses every candidate), or, for an estimator "
-        "that pushes the object itself, the pushes it executed.",
+        'that pushes the object itself, the pushes it executed. "Status not ok" counts the '
+        "trials that did not end `ok`, with their statuses: `unchecked` is Alg. 1, which has "
+        "no test of its evidence and is never `ok`; `budget`, `exhausted`, `uninformative`, "
+        "`inconsistent` are the active estimator's stops (docs/robot.md).",
         summary_table(rows),
     ]
     if "alg1" in estimators:

@@ -11,6 +11,7 @@ import numpy as np
 import comcore
 
 from . import _builtins  # noqa: F401  (registers the built-in estimators and predictors)
+from ._realism import CONDITIONS, ConditionWorld
 from ._registry import PREDICTORS, TrialContext, parse_estimator
 
 __all__ = [
@@ -32,8 +33,6 @@ DEFAULT_CONE = 0.3
 DEFAULT_ESTIMATORS = ("alg1", "alg2", "alg2-rotation", "centroid")
 #: Draws of a random simulator before a trial gives up.
 SIMULATOR_ATTEMPTS = 4
-#: Batches of fresh pushes drawn to replace pushes the simulator refuses.
-PUSH_DRAWS = 20
 #: Columns of a result row, in order.
 ROW_FIELDS = (
     "object", "friction", "trial", "estimator", "predictor", "status", "error_cm", "error_px",
@@ -106,6 +105,24 @@ class TrialSpec:
         """The generator of one of this trial's random streams."""
         return trial_rng(self.seed, self.object, self.friction, self.trial, stream)
 
+    def simulator(self, on_refusal=None):
+        """The trial's random object: ``simulators.accepted_random_simulator``'s draw.
+
+        Drawn from the stream ``"simulator"``; a draw the simulator refuses is
+        redrawn from ``"simulator#1"``, ``"simulator#2"``, ... (at most
+        :data:`SIMULATOR_ATTEMPTS` draws), and ``on_refusal(attempt, error)`` is
+        told of each refusal.
+        """
+        import simulators
+
+        return simulators.accepted_random_simulator(
+            self.object,
+            self.friction,
+            rng=lambda attempt: self.rng("simulator" if attempt == 0 else f"simulator#{attempt}"),
+            attempts=SIMULATOR_ATTEMPTS,
+            on_refusal=on_refusal,
+        )
+
 
 @dataclass(frozen=True)
 class TrialOutcome:
@@ -124,8 +141,6 @@ class _RobotFactory:
         self.robots: list = []
 
     def __call__(self, **options):
-        from ._conditions import CONDITIONS
-
         condition = self.condition if self.condition is not None else CONDITIONS["exact"]
         robot = condition.robot(self.simulator, self.rng, **options)
         self.robots.append(robot)
@@ -187,72 +202,34 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
     return {key: row[key] for key in ROW_FIELDS}
 
 
-def _random_simulator(spec: TrialSpec):
-    """The trial's simulator; a failed draw is redrawn from a new stream, and said so."""
-    import simulators
-
-    note = ""
-    for attempt in range(SIMULATOR_ATTEMPTS):
-        stream = "simulator" if attempt == 0 else f"simulator#{attempt}"
-        try:
-            sim = simulators.random_simulator(spec.object, spec.friction, rng=spec.rng(stream))
-            return sim, note
-        except ValueError as e:
-            note += f"simulator draw {attempt} failed ({e}); "
-            if attempt == SIMULATOR_ATTEMPTS - 1:
-                raise
-
-
-def _accepted_pushes(respond, mask, n: int, cone: float, rng):
-    """``n`` sampled pushes that ``respond(pushes (k, 4)) -> motions (k, 3)`` accepts.
-
-    The pushes go to ``respond`` as one batch (the simulator is batched). If it
-    refuses the batch with a ``ValueError`` (the simulator refuses a pusher that
-    would start overlapping the object), the pushes are tried one by one and
-    each refused push is replaced by a fresh draw.
-    Returns ``(pushes (n, 4), motions (n, 3), number refused)``.
-    """
-    pushes, motions = np.empty((0, 4)), np.empty((0, 3))
-    refused = 0
-    for _ in range(PUSH_DRAWS):
-        if len(pushes) >= n:
-            break
-        batch = comcore.sample_pushes(mask, n - len(pushes), cone=cone, rng=rng)
-        try:
-            answers, ok = np.asarray(respond(batch), float), np.ones(len(batch), bool)
-        except ValueError:
-            answers, ok = np.zeros((len(batch), 3)), np.zeros(len(batch), bool)
-            for i, push in enumerate(batch):
-                try:
-                    answers[i], ok[i] = np.asarray(respond(push[None]), float)[0], True
-                except ValueError:
-                    refused += 1
-        pushes, motions = np.vstack([pushes, batch[ok]]), np.vstack([motions, answers[ok]])
-    if len(pushes) < n:
-        raise RuntimeError(f"the simulator refused {refused} pushes; {len(pushes)} of {n} drawn")
-    return pushes, motions, refused
-
-
 def _predictions(spec: TrialSpec, ctx: TrialContext):
     """The context with candidates, priors and motions, and a note on redrawn pushes."""
+    import simulators
+
     predictor, sim, mask = PREDICTORS[spec.predictor], ctx.simulator, ctx.mask
     note, priors = "", ()
+    accepted = simulators.sample_accepted_pushes
     if predictor.prior_pushes:
-        acts, mots, rejected = _accepted_pushes(
-            sim.push_motions, mask, predictor.prior_pushes, spec.cone, spec.rng("prior")
+        acts, mots, rejected = accepted(
+            sim, predictor.prior_pushes, cone=spec.cone, rng=spec.rng("prior")
         )
         priors = tuple((comcore.Action(*a), comcore.Motion(*m)) for a, m in zip(acts, mots))
         note += f"{rejected} prior push(es) redrawn; " if rejected else ""
     rng = spec.rng("cand")
     if predictor.pushes_object and spec.condition is not None and not spec.condition.plain:
-        predict = sim.push_motions  # the oracle under a condition: the condition's observations
-        cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
+        # the oracle under a condition: the condition's observations
+        cands, motions, rejected = accepted(sim, spec.candidates, cone=spec.cone, rng=rng)
         note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
         return replace(ctx, candidates=cands, motions=motions, priors=priors), note
     model = predictor.make(replace(ctx, priors=priors))
     if predictor.pushes_object:  # predicting is pushing: redraw what the simulator refuses
-        predict = lambda a: comcore.predict_motions(model, mask, a, priors)  # noqa: E731
-        cands, motions, rejected = _accepted_pushes(predict, mask, spec.candidates, spec.cone, rng)
+        cands, motions, rejected = accepted(
+            sim,
+            spec.candidates,
+            cone=spec.cone,
+            rng=rng,
+            respond=lambda a: comcore.predict_motions(model, mask, a, priors),
+        )
         note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
     else:
         cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=rng)
@@ -287,11 +264,13 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
         One row per estimator, with the keys :data:`ROW_FIELDS`.
     """
     parsed = [(label, *parse_estimator(label)) for label in spec.estimators]
-    sim, note = _random_simulator(spec)
+    refused: list[str] = []
+    sim = spec.simulator(
+        lambda attempt, e: refused.append(f"simulator draw {attempt} failed ({e}); ")
+    )
+    note = "".join(refused)
     condition, world = spec.condition, None
     if condition is not None and not condition.plain:
-        from ._conditions import ConditionWorld
-
         world = ConditionWorld(condition, sim, spec.rng("condition"))
         sim = world
     robot_sim = world.base if world is not None else sim

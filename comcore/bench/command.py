@@ -14,8 +14,18 @@ HELP = (
     "figures and a report (needs comcore[sim,bench,plot])"
 )
 
-#: What ``--quick`` runs unless told otherwise: well under a minute on two free cores.
-QUICK = {"objects": "Obj1,Obj4,Obj7,Obj12,Obj19", "trials": 20}
+#: What ``--quick`` runs unless told otherwise: about a minute on two free cores. Beside
+#: the paper's estimators (the default ``--estimators``) it runs ``extra_estimators``:
+#: the active estimator the README recommends, with its defaults.
+QUICK = {
+    "objects": "Obj1,Obj4,Obj7,Obj12,Obj19",
+    "trials": 20,
+    "extra_estimators": ("active",),
+}
+#: Options every built-in estimator gets from the benchmark itself (not for the user to set).
+#: The bench sets the stream itself; the option groups are objects a label cannot spell (their
+#: fields are options of their own: ``active(max_pushes=3)``).
+SET_BY_THE_BENCHMARK = frozenset({"rng", "likelihood", "stop", "choice"})
 
 
 def _positive_int(text: str) -> int:
@@ -32,10 +42,58 @@ def _count(text: str) -> int:
     return value
 
 
+def estimators_help(width: int = 79) -> str:
+    """The registered estimators, what each is and its options; the predictors (``--help``).
+
+    Examples
+    --------
+    >>> text = estimators_help()
+    >>> "alg1" in text and "length_scale, threshold" in text and "oracle" in text
+    True
+    """
+    import textwrap
+
+    from . import _builtins  # noqa: F401  (registers the built-in estimators)
+    from ._options import accepted_options
+    from ._registry import ESTIMATORS, PREDICTORS
+
+    lines = [
+        "estimators (--estimators 'name,name(key=value, ...)'; 'all' runs every one):",
+    ]
+    indent = " " * 4
+    for name, spec in ESTIMATORS.items():
+        lines += textwrap.wrap(
+            f"{name}: {spec.description}", width, initial_indent="  ", subsequent_indent=indent
+        )
+        accepted = accepted_options(spec)
+        if accepted is None:
+            options = "any keyword its function takes"
+        else:
+            options = ", ".join(sorted(accepted - SET_BY_THE_BENCHMARK)) or "none"
+        lines += textwrap.wrap(
+            f"options: {options}", width, initial_indent=indent, subsequent_indent=indent + "  "
+        )
+    lines.append("")
+    lines += textwrap.wrap(
+        "predictors (--predictor: the motions of the candidates that alg1 and alg2 work "
+        "on; the active estimators push the object instead): " + ", ".join(PREDICTORS),
+        width,
+    )
+    quick = ",".join(QUICK["extra_estimators"])
+    lines += textwrap.wrap(
+        f"--quick runs {QUICK['objects']} x {QUICK['trials']} trials per friction class, the "
+        f"default estimators plus {quick} (unless --estimators is given).",
+        width,
+    )
+    return "\n".join(lines)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of ``comcore bench``."""
+    """Options of ``comcore bench``; ``--help`` lists the estimators and their options."""
     from ._trial import DEFAULT_CANDIDATES, DEFAULT_CONE, DEFAULT_ESTIMATORS
 
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.epilog = estimators_help()
     add = parser.add_argument
     add("--objects", help="comma-separated object names, or 'all' (default: all 20)")
     add("--trials", type=_count, help="trials per object and friction class (default 300)")
@@ -43,9 +101,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add("--predictor", default="oracle", help="oracle, ellipsoid or anp (default oracle)")
     add(
         "--estimators",
-        default=",".join(DEFAULT_ESTIMATORS),
         help="comma-separated estimator labels, e.g. 'alg1(threshold=0.2),alg2', or 'all' "
-        f"(default {','.join(DEFAULT_ESTIMATORS)})",
+        f"(default {','.join(DEFAULT_ESTIMATORS)}; with --quick also "
+        f"{','.join(QUICK['extra_estimators'])}); the list is below",
     )
     add("--candidates", type=_count, default=DEFAULT_CANDIDATES, help="candidate pushes per trial")
     add(
@@ -55,7 +113,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add("--workers", type=_positive_int, default=os.cpu_count() or 1, help="local processes")
     add("--out", default="bench-out", help="output folder (default bench-out)")
     add("--format", choices=("jsonl", "parquet"), default="jsonl", help="results file format")
-    add("--quick", action="store_true", help="5 objects x 20 trials: a run of a minute or so")
+    add(
+        "--quick",
+        action="store_true",
+        help="5 objects x 20 trials, the active estimator beside the paper's: a run of a "
+        "minute or so",
+    )
     add("--dask", metavar="ADDRESS", help="run the trials on this Dask scheduler")
     add("--no-figures", action="store_true", help="skip the PNG figures")
     add("--no-progress", action="store_true", help="no progress bar")
@@ -79,6 +142,7 @@ def _config(args):
 
     from ._registry import ESTIMATORS, split_estimators
     from ._runner import BenchConfig
+    from ._trial import DEFAULT_ESTIMATORS
 
     objects = args.objects or (QUICK["objects"] if args.quick else "all")
     names = (
@@ -90,9 +154,13 @@ def _config(args):
     if unknown or not names:
         raise ValueError(f"--objects: unknown object(s) {unknown}; expected Obj1..Obj20 or 'all'")
     trials = args.trials if args.trials is not None else (QUICK["trials"] if args.quick else 300)
-    estimators = (
-        tuple(ESTIMATORS) if args.estimators == "all" else tuple(split_estimators(args.estimators))
-    )
+    if args.estimators is None:
+        extra = QUICK["extra_estimators"] if args.quick else ()
+        estimators = (*DEFAULT_ESTIMATORS, *extra)
+    elif args.estimators == "all":
+        estimators = tuple(ESTIMATORS)
+    else:
+        estimators = tuple(split_estimators(args.estimators))
     frictions = ("low", "high") if args.friction == "both" else (args.friction,)
     return BenchConfig(
         objects=names, trials=trials, frictions=frictions, predictor=args.predictor,

@@ -1,4 +1,4 @@
-"""The ``comcore`` command line: ``comcore estimate | demo | bench``.
+"""The ``comcore`` command line: ``comcore estimate | demo | bench`` (and ``--version``).
 
 The user's tools live here: :mod:`comcore.cli.estimate` (the CoM of your own
 object from a mask image and a CSV of pushes) and :mod:`comcore.cli.demo` (a
@@ -27,9 +27,12 @@ SUBCOMMANDS = {
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand whose module is present."""
+    from .. import __version__
+
     parser = argparse.ArgumentParser(
         prog="comcore", description="Estimate an object's centre of mass by pushing it."
     )
+    parser.add_argument("--version", action="version", version=f"comcore {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     for name, module_name in SUBCOMMANDS.items():
         try:

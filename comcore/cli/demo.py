@@ -1,4 +1,9 @@
-"""``comcore demo``: push a simulated object, run both estimators, print the CoM and its error."""
+"""``comcore demo``: push a simulated object, run the estimators, print each CoM and its error.
+
+The paper's two (Alg. 1 and Alg. 2, given the simulator's motion of every candidate push)
+beside the active estimator the README recommends (:func:`comcore.estimate_active`, which
+chooses and makes its own pushes) and the centroid baseline.
+"""
 
 from __future__ import annotations
 
@@ -13,8 +18,22 @@ import comcore
 from ._options import non_negative_int, positive_int
 
 HELP = (
-    "push a simulated benchmark object and compare the paper's two estimators (needs comcore[sim])"
+    "push a simulated benchmark object and compare the paper's two estimators with the "
+    "active one (needs comcore[sim])"
 )
+
+#: What a status other than ``ok`` means here (printed under the table).
+STATUS_NOTES = {
+    "baseline": "the mask's area centroid: no push, no evidence",
+    "unchecked": "Alg. 1 has no test of its evidence: its answer is never checked, never ok",
+    "contradiction": "some pushes contradict the others; the estimate rests on the rest",
+    "budget": "the active estimator spent its pushes (max_pushes) before its region was small",
+    "exhausted": "no candidate push was left to make",
+    "uninformative": "no push left was expected to teach anything",
+    "inconsistent": "no CoM explains the observed motions well",
+    "no_actions": "no push turned the object enough to use",
+    "flat_heatmap": "the pushes did not single out a region",
+}
 
 
 def _object_name(text: str) -> str:
@@ -70,19 +89,34 @@ def _run(args) -> int:
     cm_per_px = 100 * mask.resolution
     print(
         f"{args.object}: {mask.area_m2 * 1e4:.1f} cm^2, mu_contact {sim.mu_contact:.2f}, "
-        f"true CoM ({sim.com_px[0]:.1f}, {sim.com_px[1]:.1f}) px; {args.pushes} simulated pushes"
+        f"true CoM ({sim.com_px[0]:.1f}, {sim.com_px[1]:.1f}) px;\n  {args.pushes} candidate "
+        "pushes, each one's simulated motion given to the paper's estimators"
     )
-    results = {
-        "centroid (baseline)": comcore.Estimate(
-            com=mask.centroid, com_m=mask.centroid_m, region=mask.data
-        ),
-        "Alg. 1 heat map": comcore.estimate_heatmap(mask, actions, motions),
-        "Alg. 2 progressive": comcore.estimate_progressive(mask, actions, motions),
-    }
-    for name, est in results.items():
+    active = comcore.estimate_active(  # the object put back before each of its pushes
+        mask, lambda action: sim.push(action).motion, pusher_radius=sim.pusher_radius, rng=rng
+    )
+    baseline = comcore.Estimate(
+        com=mask.centroid, com_m=mask.centroid_m, region=mask.data, status="baseline"
+    )
+    heatmap = comcore.estimate_heatmap(mask, actions, motions)
+    progressive = comcore.estimate_progressive(mask, actions, motions)
+    rows = [  # (name, estimate, the pushes it rests on)
+        ("centroid (baseline)", baseline, 0),
+        ("Alg. 1 heat map", heatmap, len(heatmap.used)),
+        ("Alg. 2 progressive", progressive, len(progressive.used)),
+        ("active (its own pushes)", active, sum(p.outcome != "failed" for p in active.pushes)),
+    ]
+    for name, est, pushes in rows:
         print(
-            f"  {name:22s} CoM ({est.com[0]:6.1f}, {est.com[1]:6.1f}) px  "
+            f"  {name:23s} CoM ({est.com[0]:6.1f}, {est.com[1]:6.1f}) px  "
             f"error {est.error_px(sim.com_px) * cm_per_px:5.2f} cm  "
-            f"pushes used {len(est.used):3d}  status {est.status}"
+            f"pushes {pushes:3d}  status {est.status}"
         )
+    for status in dict.fromkeys(est.status for _, est, _ in rows):
+        if status in STATUS_NOTES:
+            print(f"  status {status}: {STATUS_NOTES[status]}")
+    print(
+        "  pushes: those an estimate rests on (Alg. 1 every candidate, Alg. 2 the ones it\n"
+        "  chose); the active estimator's are the pushes it made itself"
+    )
     return 0

@@ -135,28 +135,6 @@ def toy_motions(mask: Mask, actions, com, mu: float) -> np.ndarray:
     return np.column_stack([theta, t])
 
 
-def _simulate(sim, n_pushes: int, cone: float, rng):
-    """Sample and simulate pushes; redraw those the simulator refuses.
-
-    On concave outlines a sampled start point can lie within the pusher's
-    radius of another part of the object; the simulator rejects such a push
-    (ValueError) and it is replaced by a new draw.
-    """
-    actions, motions = [], []
-    for _ in range(50):
-        if len(actions) == n_pushes:
-            break
-        for a in sample_pushes(sim.mask, n_pushes - len(actions), cone=cone, rng=rng):
-            try:
-                motions.append(tuple(sim.push(a).motion))
-            except ValueError:
-                continue
-            actions.append(a)
-    if len(actions) < n_pushes:  # pragma: no cover - needs a pathological outline
-        raise RuntimeError("could not simulate enough pushes on this object")
-    return np.array(actions), np.array(motions)
-
-
 def _crop(mask: Mask, actions, com):
     rows, cols = np.nonzero(mask.data)
     r0 = max(rows.min() - _STORE_MARGIN, 0)
@@ -191,17 +169,20 @@ def make_episode(seed, index: int, n_pushes: int, source: str = "sim"):
             import simulators
         except ImportError as e:  # pragma: no cover
             raise ImportError("simulated training data need pip install comcore[anp,sim]") from e
-        for _ in range(20):
-            try:
-                shape = simulators.ObjectShape.from_vertices(vertices)
-                sim = simulators.random_simulator(shape, friction=friction, rng=rng)
-                break
-            except ValueError:  # the simulator refuses this draw: take another object
-                vertices = random_polygon(rng)
-        else:  # pragma: no cover
-            raise RuntimeError("the simulator refused 20 random objects in a row")
+        first = vertices
+
+        def footprint(attempt):  # a refused draw takes another object
+            return simulators.ObjectShape.from_vertices(
+                first if attempt == 0 else random_polygon(rng)
+            )
+
+        sim = simulators.accepted_random_simulator(footprint, friction, rng=rng, attempts=20)
         mask, com, mu, resolution = sim.mask, sim.com_px, sim.mu_contact, sim.mask.resolution
-        actions, motions = _simulate(sim, n_pushes, cone, rng)
+        # each push simulated alone (the training data were made so); refused ones redrawn
+        found = simulators.sample_accepted_pushes(
+            sim, n_pushes, cone=cone, rng=rng, batched=False, draws=50
+        )
+        actions, motions = found.pushes, found.motions
     else:
         raise ValueError(f"source must be 'sim' or 'toy', got {source!r}")
     data, actions, com = _crop(mask, actions, com)

@@ -17,7 +17,6 @@ import numpy as np
 
 import comcore
 
-from .data import _simulate
 from .predictor import AnpPredictor
 
 __all__ = ["evaluate_on_benchmark", "main"]
@@ -35,7 +34,10 @@ def evaluate_on_benchmark(anp: AnpPredictor, objects=None, n_priors: int = 12,
             trial_seed = seed + 2 * simulators.BENCHMARK_OBJECTS.index(name) + j
             sim = simulators.random_simulator(name, friction=friction, rng=trial_seed)
             rng = np.random.default_rng(trial_seed)
-            pushes, true = _simulate(sim, n_priors + n_queries, 0.3, rng)
+            found = simulators.sample_accepted_pushes(  # as the training data: one by one
+                sim, n_priors + n_queries, cone=0.3, rng=rng, batched=False, draws=50
+            )
+            pushes, true = found.pushes, found.motions
             priors = [(comcore.Action(*a), comcore.Motion(*m))
                       for a, m in zip(pushes[:n_priors], true[:n_priors])]  # fmt: skip
             pred = anp.predict(sim.mask, pushes[n_priors:], priors)

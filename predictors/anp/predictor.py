@@ -11,7 +11,13 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from comcore import check_actions, check_mask, check_priors, check_rng
+from comcore import (
+    check_actions,
+    check_mask,
+    check_plausible_motions,
+    check_priors,
+    check_rng,
+)
 
 from .features import (
     T_SCALE,
@@ -170,10 +176,9 @@ class AnpPredictor:
         Use this (e.g. freshly trained) model instead of loading ``weights``.
     threads : int or None, optional
         torch CPU threads while predicting (default 1; restored afterwards).
-        The model is small: on the 2-core development machine, 100 queries
-        from 12 priors took a median 7.9 ms on one thread
-        (``python benchmarks/bench_anp.py``). ``None`` leaves torch's setting
-        alone.
+        The model is small: one thread is enough (its time and the command
+        that measures it: docs/predictor-anp.md, "Inference time"). ``None``
+        leaves torch's setting alone.
 
     Notes
     -----
@@ -206,8 +211,11 @@ class AnpPredictor:
                 raise TypeError(f"model must be an AnpModel, got {type(model).__name__}")
             _check_finite(model, "model")
             self.model, self.meta = model.eval(), {}
+            self.source = "a model given in code"
         else:
-            self.model, self.meta = load_weights(DEFAULT_WEIGHTS if weights is None else weights)
+            path = DEFAULT_WEIGHTS if weights is None else weights
+            self.model, self.meta = load_weights(path)
+            self.source = f"weights {str(os.fspath(path))!r}"
 
     @property
     def config(self) -> AnpConfig:
@@ -242,6 +250,15 @@ class AnpPredictor:
         mean, var : numpy.ndarray, shape (n, 3)
             ``(theta, tx, ty)`` in radians and pixels, and their variances
             (radians^2, pixels^2).
+
+        Raises
+        ------
+        ValueError
+            If a predicted mean is physically impossible (``|theta|`` over pi,
+            a translation over ten times the push's length): the weights are
+            broken (a weights file that is not checked against a training
+            record can be corrupt and still finite). The message names the
+            weights.
         """
         mask = check_mask(mask)
         acts = check_actions(actions)
@@ -258,7 +275,7 @@ class AnpPredictor:
         query = push_features(mask, frame, acts)
         prior = push_features(mask, frame, prior_actions)
         targets = targets_from_motions(prior_motions, frame.length_px)
-        with torch.no_grad(), self._threads():
+        with self._network():
             args = (
                 torch.from_numpy(frame.image)[None],
                 torch.tensor([frame.size_feature], dtype=torch.float32),
@@ -288,6 +305,7 @@ class AnpPredictor:
         touches = query[:, 10] > 0.5
         mean[~touches] = 0.0
         var[~touches] = (MIN_SIGMA * scale) ** 2
+        check_plausible_motions(mean, acts, f"AnpPredictor ({self.source})")
         return mean, var
 
     def estimate_com(self, mask, priors=()) -> tuple[float, float]:
@@ -302,7 +320,7 @@ class AnpPredictor:
         frame = object_frame(mask, self.config.image_size)
         prior = push_features(mask, frame, prior_actions)
         targets = targets_from_motions(prior_motions, frame.length_px)
-        with torch.no_grad(), self._threads():
+        with self._network():
             _, _, q_z = self.model.context(
                 torch.from_numpy(frame.image)[None],
                 torch.tensor([frame.size_feature], dtype=torch.float32),
@@ -313,6 +331,25 @@ class AnpPredictor:
             u = self.model.com(q_z.mean)[0].double().numpy()
         x, y = np.asarray(frame.center) + frame.length_px * u
         return (float(x), float(y))
+
+    @contextlib.contextmanager
+    def _network(self):
+        """Run torch without gradients, on ``threads``; a failure inside names these weights.
+
+        Broken weights that are still finite (an exponent bit flipped) can make
+        the network's internals overflow; torch then refuses a distribution's
+        parameters deep inside. That is said here, once, with the weights.
+        """
+        with torch.no_grad(), self._threads():
+            try:
+                yield
+            except (ValueError, RuntimeError) as e:
+                first = str(e).splitlines()[0] if str(e) else type(e).__name__
+                raise ValueError(
+                    f"AnpPredictor ({self.source}) failed inside the network ({first}): the "
+                    "weights are broken (corrupt or not trained for this model); restore or "
+                    "retrain them (`python -m predictors.anp.train --out PATH`)"
+                ) from e
 
     @contextlib.contextmanager
     def _threads(self):

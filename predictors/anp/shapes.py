@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from comcore import check_rng
+from comcore import check_rng, rasterise_polygon
 
 __all__ = ["AREA_RANGE_M2", "polygon_area", "random_polygon", "rasterise"]
 
@@ -106,19 +106,12 @@ def random_polygon(rng=None, area_range=AREA_RANGE_M2) -> np.ndarray:
 def rasterise(vertices_m, resolution: float, margin_px: int = 8) -> np.ndarray:
     """Bool image of a polygon (pixel centres inside, even-odd rule), y flipped to rows.
 
-    The polygon's bounding box is placed ``margin_px`` pixels from each border.
-    Used by the toy data source; the simulator has its own rasteriser.
+    The polygon's bounding box is placed ``margin_px`` pixels from each border;
+    :func:`comcore.rasterise_polygon` fills it. Used by the toy data source; the
+    simulator has its own rasteriser.
     """
     v = np.asarray(vertices_m, dtype=float) / resolution
     v = np.column_stack([v[:, 0], -v[:, 1]])  # world y up -> pixel y down
     v = v - v.min(axis=0) + margin_px
     w, h = (np.ceil(v.max(axis=0)).astype(int) + margin_px + 1).tolist()
-    ys, xs = np.mgrid[0:h, 0:w]
-    px, py = xs.ravel()[:, None].astype(float), ys.ravel()[:, None].astype(float)
-    x0, y0 = v[:, 0][None], v[:, 1][None]
-    x1, y1 = np.roll(v[:, 0], -1)[None], np.roll(v[:, 1], -1)[None]
-    crosses = (y0 > py) != (y1 > py)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x_at = x0 + (py - y0) * (x1 - x0) / (y1 - y0)
-    inside = (crosses & (px < x_at)).sum(axis=1) % 2 == 1
-    return inside.reshape(h, w)
+    return rasterise_polygon(v, (h, w))

@@ -1,4 +1,4 @@
-"""Pose bookkeeping of :class:`comcore.ActiveSession`: where the object is now.
+"""The session's pose tracking: where the object is now, read from the camera.
 
 A pose ``(theta, tx, ty)`` is a :class:`comcore.Motion` from the first mask:
 the object turned by ``theta`` about the first mask's area centroid ``c0``,
@@ -19,20 +19,25 @@ import numpy as np
 from scipy import ndimage
 
 from ._conventions import apply_motion
+from ._force_lines import push_force_lines
+from ._geometry import contacts
 from ._mask import Mask
-from ._types import Motion
-from ._validation import check_mask, check_motions
+from ._registration import _measure
+from ._types import Action, Motion
+from ._validation import check_actions, check_mask, check_motions
 
 __all__ = [
     "IDENTITY",
     "MISS_ROTATION",
     "MISS_TRANSLATION_M",
     "PoseReading",
-    "actions_in_pose",
+    "camera_from_object",
     "compose",
+    "executed_in_object",
     "is_miss",
     "measure_pose",
     "moved_mask",
+    "object_from_camera",
     "read_pose",
     "relative",
     "symmetric_branches",
@@ -51,7 +56,7 @@ IDENTITY = Motion(0.0, 0.0, 0.0)
 #: it keeps the previous rotation, wrong by the whole turn: a small hexagon turned by
 #: 35 deg, read to 1.06 deg, was taken as not turned, and every later push was planned
 #: and scored in a frame 35 deg off. The registration's residual already widens the
-#: reading's error by about that much (:func:`comcore._session_update.tracking_noise`).
+#: reading's error by about that much (:func:`comcore._likelihood.tracking_noise`).
 SESSION_MAX_THETA_STD = math.radians(2.0)
 
 
@@ -81,7 +86,7 @@ def relative(before: Motion, after: Motion) -> Motion:
     return Motion(after.theta - before.theta, after.tx - before.tx, after.ty - before.ty)
 
 
-def actions_in_pose(actions, pose: Motion, centroid) -> np.ndarray:
+def camera_from_object(actions, pose: Motion, centroid) -> np.ndarray:
     """Object-frame actions (n, 4) as the camera sees them with the object at ``pose``."""
     acts = np.asarray(actions, dtype=float)
     if pose == IDENTITY:
@@ -91,10 +96,10 @@ def actions_in_pose(actions, pose: Motion, centroid) -> np.ndarray:
     return moved.reshape(-1, 4)
 
 
-def actions_from_pose(actions, pose: Motion, centroid) -> np.ndarray:
+def object_from_camera(actions, pose: Motion, centroid) -> np.ndarray:
     """Camera-frame actions (n, 4) with the object at ``pose`` in the object's frame.
 
-    The inverse of :func:`actions_in_pose`: a camera point ``q`` shows the object
+    The inverse of :func:`camera_from_object`: a camera point ``q`` shows the object
     point ``R(-theta) (q - c - t) + c``.
     """
     acts = np.asarray(actions, dtype=float)
@@ -136,8 +141,6 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     symmetry the rotation consistent with the masks nearest the previous
     pose's is taken (pushes turn the object far less than a symmetry angle).
     """
-    from ._registration import _measure
-
     try:
         # near the previous pose: for a symmetric shape that has turned past pi / n the
         # smallest consistent rotation is wrong by 2 pi / n
@@ -193,3 +196,38 @@ def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
             f"got {mask.resolution}"
         )
     return measure_pose(first, mask, pose)
+
+
+#: How far (metres) an executed push's start is moved back along its line when it lies
+#: just inside the object as the session sees it (see executed_in_object).
+EXECUTED_BACKOFF_M = 0.005
+
+
+def executed_in_object(first: Mask, pose: Motion, executed, mus):
+    """An executed push (camera frame at ``pose``) in the object's frame, and its force lines.
+
+    Returns ``(action (4,), lines (m, 3))``, or ``(action, None)`` when the
+    path misses the object. A start just inside the outline as the session
+    sees it (its pose is measured, to a pixel or so) means the pusher met the
+    outline where its line enters: the start is moved back along the line, 1 mm
+    at a time, at most :data:`EXECUTED_BACKOFF_M`; further inside it is a
+    ValueError naming ``executed``.
+    """
+    acts = check_actions(executed, "executed", allow_empty=False)
+    if acts.shape[0] != 1:
+        raise ValueError(f"executed must be a single action (4 numbers), got {acts.shape[0]}")
+    obj = object_from_camera(acts, pose, first.centroid)
+    con = contacts(first, obj)
+    step = np.asarray(Action(*obj[0]).direction) * (0.001 / first.resolution)
+    for _ in range(round(EXECUTED_BACKOFF_M / 0.001)):
+        if not con.starts_inside[0]:
+            break
+        obj[0, :2] -= step
+        con = contacts(first, obj)
+    if con.starts_inside[0]:
+        raise ValueError(
+            f"executed {acts[0].tolist()} starts inside the object as the session sees it"
+        )
+    if not con.hit[0]:
+        return obj[0], None
+    return obj[0], push_force_lines(con, obj, mus)[0]
