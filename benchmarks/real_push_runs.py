@@ -49,8 +49,39 @@ def outlines(data_dir: str) -> dict:
     return {name: np.asarray(s["polygon_m"], dtype=float) for name, s in shapes.items()}
 
 
-def load_object(data_dir, name, outline, *, travel, resolution, max_speed=None) -> ObjectPushes:
-    """The recorded pushes of one plate (every file of it under ``data_dir/abs``)."""
+#: The contacts the Voting Theorem's agreement is checked at (see use_disc_contacts).
+_contacts = comcore.contacts
+
+
+def use_disc_contacts(radius: float) -> None:
+    """Emulate estimators that score each push at its disc's contact (issue 20, part 1).
+
+    The estimators take a push's contact from :func:`comcore.contacts` (the leading
+    point's line) and refuse a batch with a push whose line misses. Until they take
+    :func:`comcore.disc_contacts`, this replaces the ``contacts`` that the push choice's
+    candidates (``estimate_posterior``, ``ActiveSession``) and Alg. 2 call by the disc's,
+    for this process: every push whose disc touches is scored, at the disc's contact.
+    """
+    import comcore._choice as choice
+    import comcore._progressive as progressive
+
+    def disc(mask, actions):
+        return comcore.disc_contacts(mask, actions, radius)
+
+    choice.contacts = disc
+    progressive.contacts = disc
+    global _contacts
+    _contacts = disc
+
+
+def load_object(
+    data_dir, name, outline, *, travel, resolution, max_speed=None, grazing=False
+) -> ObjectPushes:
+    """The recorded pushes of one plate (every file of it under ``data_dir/abs``).
+
+    Only the pushes whose leading line enters the mask are scored, unless ``grazing``
+    (with :func:`use_disc_contacts`): then every push the recording kept.
+    """
     start = time.perf_counter()
     files = sorted(glob.glob(os.path.join(data_dir, "abs", "*", f"*_shape={name}_*.h5")))
     if max_speed is not None:
@@ -58,7 +89,7 @@ def load_object(data_dir, name, outline, *, travel, resolution, max_speed=None) 
     if not files:
         raise FileNotFoundError(f"no h5 files of {name!r} under {data_dir}/abs/*/")
     rec = mp.load_pushes(files, outline, travel=travel, resolution=resolution)
-    keep = rec.line_hits
+    keep = np.ones(len(rec.pushes), bool) if grazing else rec.line_hits
     obj = ObjectPushes(name, rec, rec.mask, np.asarray(rec.com), rec.actions[keep])
     obj.motions["real"] = rec.motions[keep]
     obj.speeds = np.array([mp.parse_name(p.name).speed for p in rec.pushes])[keep]  # nominal
@@ -105,7 +136,7 @@ def score(est: comcore.Estimate, mask: comcore.Mask, com) -> dict:
 def vt_agreement(obj: ObjectPushes, world: str) -> tuple[int, int]:
     """Turning pushes whose sense the true CoM allows for some friction (unknown friction)."""
     motions = obj.motions[world]
-    con = comcore.contacts(obj.mask, obj.actions)
+    con = _contacts(obj.mask, obj.actions)
     agree = turning = 0
     for i, (a, m) in enumerate(zip(obj.actions, motions)):
         if abs(m[0]) < TURNING:

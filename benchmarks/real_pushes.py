@@ -262,6 +262,13 @@ def main(argv=None) -> int:
         "--mu-contact", type=float, default=0.23, help="the simulators' contact friction"
     )
     p.add_argument("--max-speed", type=float, default=None, help="only files this slow (m/s)")
+    p.add_argument(
+        "--contacts",
+        default="line",
+        choices=("line", "disc"),
+        help="score pushes at the leading line's contact (as the estimators do today) or "
+        "emulate the disc's (every push the disc touches, grazing ones too)",
+    )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--no-figure", action="store_true")
     args = p.parse_args(argv)
@@ -274,6 +281,8 @@ def main(argv=None) -> int:
     args.ks = [int(k) for k in args.ks.split(",")]
     os.makedirs(args.out, exist_ok=True)
     shapes = runs.outlines(args.data)
+    if args.contacts == "disc":
+        runs.use_disc_contacts(mp.PUSHER_RADIUS)
     results, times = {}, {}
     wall = time.perf_counter()
     for salt, name in enumerate(OBJECTS):
@@ -282,7 +291,7 @@ def main(argv=None) -> int:
         start = time.perf_counter()
         obj = runs.load_object(
             args.data, name, shapes[name], travel=args.travel, resolution=args.resolution,
-            max_speed=args.max_speed,
+            max_speed=args.max_speed, grazing=args.contacts == "disc",
         )  # fmt: skip
         for world in worlds:
             if world != "real":
