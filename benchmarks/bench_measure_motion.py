@@ -1,7 +1,8 @@
 """Accuracy and speed of comcore.measure_motion on simulated 3 cm pushes.
 
 Run: ``python benchmarks/bench_measure_motion.py [--trials 3] [--seed 1]
-[--resolutions 0.0025,0.001,0.005] [--objects Obj1,Obj7] [--mask-flip 0.2] [--per-object]``.
+[--resolutions 0.0025,0.001,0.005] [--objects Obj1,Obj7] [--mask-flip 0.2] [--per-object]
+[--frame 1280x720]``.
 
 For every benchmark object, friction class and trial, a random simulator
 (``simulators.random_simulator``, camera margin ``--margin`` metres so that the
@@ -17,8 +18,11 @@ counted. The figures are on the shapes not flagged ``ambiguous``; the flagged
 ones are counted. ``--mask-flip p`` adds mask noise: each outline pixel of both
 masks (inside or outside) flipped with probability ``p``, holes filled, the
 largest component kept. Time: wall time of one call (``time.perf_counter``) and its
-CPU time (``time.process_time``: what it costs on a machine others share). Needs
-the ``sim`` extra.
+CPU time (``time.process_time``: what it costs on a machine others share).
+``--frame WxH`` places both masks in the middle of a camera frame of that size
+(the fit works on a window around the two objects, so only the time of
+finding that window should grow; the largest difference from the motion
+measured on the masks alone is printed). Needs the ``sim`` extra.
 """
 
 from __future__ import annotations
@@ -51,10 +55,30 @@ def noisy(mask: comcore.Mask, flip: float, rng: np.random.Generator) -> comcore.
     return comcore.Mask(comcore.largest_component(out), resolution=mask.resolution)
 
 
+def in_frame(mask: comcore.Mask, frame: tuple[int, int] | None) -> comcore.Mask:
+    """The mask placed in the middle of a wider camera frame (rows, columns), if one is given."""
+    if frame is None:
+        return mask
+    h, w = mask.shape
+    if h > frame[0] or w > frame[1]:
+        raise ValueError(f"a {w} x {h} mask does not fit in a {frame[1]} x {frame[0]} frame")
+    top, left = (frame[0] - h) // 2, (frame[1] - w) // 2
+    data = np.zeros(frame, bool)
+    data[top : top + h, left : left + w] = mask.data
+    return comcore.Mask(data, resolution=mask.resolution)
+
+
 def run(
-    resolution: float, objects, trials: int, seed: int, margin: float, flip: float = 0.0
+    resolution: float, objects, trials: int, seed: int, margin: float, flip: float = 0.0,
+    frame: tuple[int, int] | None = None,
 ) -> list[dict]:
-    """One row per push: the errors, the flags and the time of measure_motion."""
+    """One row per push: the errors, the flags and the time of measure_motion.
+
+    With ``frame`` (rows, columns) both masks are placed in a camera frame of
+    that size first (the same offset: the motion does not change), and the
+    row records how far the motion is from the one measured on the masks
+    themselves (``frame_difference``: rounding only).
+    """
     import simulators
     from comcore._registration import _measure  # the same fit, with its diagnostics
 
@@ -77,6 +101,8 @@ def run(
                         break
                 before = noisy(sim.mask, flip, rng)
                 after = noisy(after, flip, rng)
+                alone = comcore.measure_motion(before, after) if frame else None
+                before, after = in_frame(before, frame), in_frame(after, frame)
                 start, start_cpu = time.perf_counter(), time.process_time()
                 m = comcore.measure_motion(before, after)
                 seconds = time.perf_counter() - start
@@ -99,7 +125,11 @@ def run(
                         "seconds": seconds,
                         "cpu_seconds": cpu_seconds,
                         "visibility": visibility,
-                        "shape": sim.mask.shape,
+                        "shape": before.shape,
+                        "frame_difference": (
+                            0.0 if alone is None
+                            else float(np.max(np.abs(np.subtract(m.motion, alone.motion))))
+                        ),
                         "redrawn": redrawn,
                     }
                 )
@@ -107,7 +137,8 @@ def run(
 
 
 def report(
-    rows: list[dict], resolution: float, trials: int, seed: int, per_object: bool, flip: float
+    rows: list[dict], resolution: float, trials: int, seed: int, per_object: bool, flip: float,
+    framed: bool = False,
 ) -> None:
     """Print the summary of one resolution (and a line per object if asked)."""
     objects = sorted({r["object"] for r in rows}, key=lambda n: int(n[3:]))
@@ -141,6 +172,12 @@ def report(
     )
     redrawn = sum(r["redrawn"] for r in rows)
     print(f"  pushes redrawn because the object left the camera image: {redrawn}")
+    if framed:
+        worst = max(r["frame_difference"] for r in rows)
+        print(
+            "  in the camera frame against the masks alone: largest difference of a motion "
+            f"component {worst:.2g}"
+        )
     symmetry = Counter(r["symmetry"] for r in rows)
     beyond = sum(r["beyond_symmetry"] for r in rows)
     print(
@@ -247,6 +284,10 @@ def main(argv=None) -> None:
     )
     parser.add_argument("--per-object", action="store_true", help="one line per object too")
     parser.add_argument(
+        "--frame", default="", metavar="WxH",
+        help="place both masks in a camera frame of W x H pixels (e.g. 1280x720) first",
+    )  # fmt: skip
+    parser.add_argument(
         "--calibrate", type=int, default=0, metavar="N",
         help="instead: the calibration on N random polygons (seed --seed; it used 0)",
     )  # fmt: skip
@@ -255,6 +296,13 @@ def main(argv=None) -> None:
         parser.error(f"--trials must be at least 1, got {args.trials}")
     if not 0 <= args.mask_flip <= 1:
         parser.error(f"--mask-flip must be in [0, 1], got {args.mask_flip}")
+    frame = None
+    if args.frame:
+        try:
+            width, height = (int(v) for v in args.frame.lower().split("x"))
+        except ValueError:
+            parser.error(f"--frame must be W x H in pixels, like 1280x720, got {args.frame!r}")
+        frame = (height, width)
     if args.calibrate:
         calibrate(args.calibrate, args.seed)
         return
@@ -262,8 +310,11 @@ def main(argv=None) -> None:
 
     objects = _parse_list(args.objects) or list(simulators.BENCHMARK_OBJECTS)
     for resolution in _parse_list(args.resolutions, float):
-        rows = run(resolution, objects, args.trials, args.seed, args.margin, args.mask_flip)
-        report(rows, resolution, args.trials, args.seed, args.per_object, args.mask_flip)
+        rows = run(resolution, objects, args.trials, args.seed, args.margin, args.mask_flip, frame)
+        report(
+            rows, resolution, args.trials, args.seed, args.per_object, args.mask_flip,
+            framed=frame is not None,
+        )  # fmt: skip
 
 
 if __name__ == "__main__":

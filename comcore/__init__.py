@@ -35,12 +35,13 @@ from ._conventions import (
 )
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._flat_options import option_groups
-from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
+from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import Likelihood, PushChoice, StopRule
+from ._outline import mask_from_outline
 from ._outline_field import OutlineField, outline_field
 from ._predictor import (
     HypothesisPredictor,
@@ -51,6 +52,7 @@ from ._predictor import (
 )
 from ._progressive import equality_score, estimate_progressive
 from ._raster import rasterise_polygon
+from ._recording import RecordedPush, Recording, SkippedPush, recording_from_poses
 from ._records import credible_level
 from ._regions import largest_component
 from ._registration import MotionMeasurement, measure_motion
@@ -95,7 +97,10 @@ __all__ = [
     "PushChoice",
     "PushFailedError",
     "PushRecord",
+    "RecordedPush",
+    "Recording",
     "SessionError",
+    "SkippedPush",
     "StopRule",
     "__version__",
     "apply_motion",
@@ -116,6 +121,7 @@ __all__ = [
     "check_rng",
     "contacts",
     "credible_level",
+    "disc_contacts",
     "equality_score",
     "estimate_active",
     "estimate_heatmap",
@@ -123,6 +129,7 @@ __all__ = [
     "estimate_progressive",
     "largest_component",
     "mask_from_image",
+    "mask_from_outline",
     "measure_motion",
     "option_groups",
     "outline_field",
@@ -130,6 +137,7 @@ __all__ = [
     "predict_motions",
     "quarter_turn_ccw",
     "rasterise_polygon",
+    "recording_from_poses",
     "rotate_vectors",
     "rotation_heatmap",
     "rotation_matrix",

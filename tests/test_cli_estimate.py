@@ -365,3 +365,85 @@ def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys)
     pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES))
     code, result, err = estimate_json(capsys, mask, pushes)
     assert code == 0 and result["status"] == "ok" and err == ""
+
+
+# -- camera frames: --threshold, --background, --roi ------------------------------------------
+# The square of PUSHES, moved to (70, 50) in a 160 x 120 photo of a table lit from the left:
+# the table runs from 0.2 to 0.8 (153 grey levels across), the object is dark, 2 % of the frame.
+OFFSET = np.array([70, 50])
+
+
+def lit_photo(tmp, with_object=True, name="lit.png"):
+    table = np.tile(np.linspace(0.2, 0.8, 160), (120, 1))
+    image = table.copy()
+    if with_object:
+        image[54:74, 74:94] = 0.05
+    write_png(tmp / name, image)
+    return tmp / name
+
+
+def shifted_pushes(tmp):
+    path = tmp / "shifted.csv"
+    rows = [(*(np.array(p[:2]) + OFFSET), *(np.array(p[2:4]) + OFFSET), *p[4:]) for p in PUSHES]
+    path.write_text(HEADER + "".join(",".join(map(str, r)) + "\n" for r in rows))
+    return path
+
+
+def test_a_lit_photo_needs_no_option_but_one_grey_level_fails(files, capsys):
+    tmp, mask, pushes = files
+    photo, shifted = lit_photo(tmp), shifted_pushes(tmp)
+    _, clean, _ = estimate_json(capsys, mask, pushes)
+    code, result, err = estimate_json(capsys, photo, shifted)
+    assert code == 0, err
+    assert result["com_px"] == pytest.approx(list(np.add(clean["com_px"], OFFSET)))
+    code, _, err = estimate_json(capsys, photo, shifted, "--threshold", "otsu")
+    assert code == 2 and "touches the image border" in err and "--threshold auto fits the light" in err
+
+
+@pytest.mark.parametrize("option", ["--background", "--roi"])
+def test_background_and_roi_are_passed_through(files, capsys, option):
+    tmp, mask, pushes = files
+    photo, shifted = lit_photo(tmp), shifted_pushes(tmp)
+    value = str(lit_photo(tmp, False, "empty.png")) if option == "--background" else "60,40,110,90"
+    _, clean, _ = estimate_json(capsys, mask, pushes)
+    for threshold in ("auto", "otsu", "0.25" if option == "--background" else "100"):
+        code, result, err = estimate_json(capsys, photo, shifted, option, value, "--threshold", threshold)
+        assert code == 0, (threshold, err)
+        assert result["com_px"] == pytest.approx(list(np.add(clean["com_px"], OFFSET)))
+
+
+def test_an_empty_table_says_no_object(files, capsys):
+    tmp, _, _ = files
+    empty, shifted = lit_photo(tmp, False, "empty.png"), shifted_pushes(tmp)
+    code, _, err = estimate_json(capsys, empty, shifted)
+    assert code == 2 and "no object: the image matches the table" in err
+    code, _, err = estimate_json(capsys, empty, shifted, "--background", str(empty))
+    assert code == 2 and "no object: the image matches the background image" in err
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--threshold", "high"], "argument --threshold: expected auto, otsu or a grey level"),
+        (["--roi", "1,2,3"], "argument --roi: expected x0,y0,x1,y1 (four integers, pixels)"),
+    ],
+)
+def test_bad_camera_option_values_are_argparse_errors(files, capsys, extra, message):
+    _, mask, pushes = files
+    with pytest.raises(SystemExit) as e:
+        estimate_json(capsys, mask, pushes, *extra)
+    assert e.value.code == 2 and message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--roi", "0,0,2,2"], "roi (0, 0, 2, 2) leaves less than 3 x 3 pixels of the 28 x 28"),
+        (["--background", "nowhere.png"], "--background: no such file: nowhere.png"),
+        (["--roi", "0,0,15,28"], "touches the edge of roi (right): part of it may be outside"),
+    ],
+)
+def test_bad_camera_options_exit_2_with_one_line(files, capsys, extra, message):
+    _, mask, pushes = files
+    code, _, err = estimate_json(capsys, mask, pushes, *extra)
+    assert code == 2 and message in err and err.count("\n") == 1

@@ -33,6 +33,7 @@ OPTIONAL_MODULES = frozenset(
         "distributed",
         "tqdm",
         "pyarrow",
+        "h5py",  # [real]
     }
 )
 

@@ -144,3 +144,112 @@ def test_clipped_march_finds_the_same_contacts_as_the_full_march(fixture, reques
     np.testing.assert_array_equal(c.hit, hit)
     np.testing.assert_array_equal(c.starts_inside, starts_inside)
     np.testing.assert_array_equal(c.travel, travel)  # to the bit
+
+
+# -- disc_contacts: the contact of a round pusher ---------------------------------------------
+
+
+def test_disc_contact_head_on_agrees_with_the_leading_line(square_mask, disk_mask):
+    # Head on (along the normal), the disc's leading point is the contact: both agree to a pixel.
+    pushes = [(0, 20, 30, 20), (25, 60, 25, 30), (45, 33, 20, 33)]
+    for mask, acts in ((square_mask, pushes), (disk_mask, [(26, 60, 26, 20), (-10, 26, 20, 26)])):
+        line = comcore.contacts(mask, acts)
+        disc = comcore.disc_contacts(mask, acts, 0.00475)
+        assert disc.hit.all() and line.hit.all()
+        assert np.abs(disc.point - line.point).max() < 1.0
+        assert np.abs(disc.travel - line.travel).max() < 1.0
+        assert (np.einsum("ij,ij->i", disc.normal, line.normal) > np.cos(np.deg2rad(5))).all()
+
+
+def test_disc_contact_of_a_grazing_push_the_leading_line_misses(square_mask):
+    # Square pixels 10..39 (outline at 9.5 and 39.5); a push onto the top edge, down-right at
+    # 70 deg to its normal, whose leading point passes 1.2 px beyond the top-right corner: the
+    # line misses; the 4.75 mm (1.9 px) disc's underside lands on the top edge just before the
+    # corner, where its centre is 1.9 px above the edge.
+    r_px = 0.00475 / square_mask.resolution
+    direction = np.array([np.sin(np.deg2rad(70)), np.cos(np.deg2rad(70))])  # right, down
+    across = np.array([direction[1], -direction[0]])  # perpendicular, away from the square
+    corner = np.array([39.5, 9.5])
+    through = corner + 1.2 * across  # the line passes 1.2 px from the corner, outside
+    start, end = through - 20 * direction, through + 12 * direction
+    push = [(*start, *end)]
+    assert comcore.contacts(square_mask, push).status.tolist() == ["miss"]
+    disc = comcore.disc_contacts(square_mask, push, 0.00475)
+    assert disc.status.tolist() == ["hit"]
+    centre_y = 9.5 - r_px  # the disc's centre when it lands; its x on the line:
+    centre_x = through[0] + (centre_y - through[1]) * direction[0] / direction[1]
+    assert 37.0 < centre_x < 39.0
+    assert np.hypot(*(disc.point[0] - (centre_x, 9.5))) < 0.5
+    assert float(disc.normal[0] @ (0.0, 1.0)) > np.cos(np.deg2rad(5))  # the edge's, into it
+    centre = start - r_px * direction + disc.travel[0] * direction
+    assert np.hypot(*(centre - (centre_x, centre_y))) < 0.5
+    # Straight down 1 px beside the right edge: the disc meets the corner itself, and the normal
+    # is the direction from its centre to the corner, not the edge's.
+    down = [(40.5, 0.0, 40.5, 20.0)]
+    assert not comcore.contacts(square_mask, down).hit[0]
+    corner_hit = comcore.disc_contacts(square_mask, down, 0.00475)
+    centre = np.array([40.5, 9.5 - np.sqrt(r_px**2 - 1.0)])
+    expected = (corner - centre) / r_px
+    assert corner_hit.hit[0] and np.hypot(*(corner_hit.point[0] - corner)) < 1.0
+    assert float(corner_hit.normal[0] @ expected) > np.cos(np.deg2rad(15))
+    # A point pusher on the same path misses too, and a smaller disc misses.
+    assert not comcore.disc_contacts(square_mask, push, 0.0).hit[0]
+    assert not comcore.disc_contacts(square_mask, push, 0.001).hit[0]
+
+
+def test_disc_contacts_match_the_exact_polygon_contact_to_a_pixel():
+    # The simulator's contact is exact on the polygon; on its mask the disc's agrees to a pixel,
+    # for pushes head on and up to 80 deg off the normal, including ones the line misses.
+    simulators = pytest.importorskip("simulators")
+    sim = simulators.PushSimulator.from_polygon(
+        [(0, 0), (0.09, 0), (0.09, 0.06), (0.03, 0.075), (0, 0.05)], pusher_radius=0.00475
+    )
+    acts = comcore.sample_pushes(sim.mask, 60, cone=np.deg2rad(80), rng=3)
+    line_hits = comcore.contacts(sim.mask, acts).hit
+    # Shift every push sideways by up to 3 px: some leading lines now miss the mask.
+    rng = np.random.default_rng(0)
+    d = acts[:, 2:] - acts[:, :2]
+    side = np.column_stack([d[:, 1], -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+    shift = rng.uniform(-3, 3, len(acts))[:, None] * side
+    acts = acts + np.hstack([shift, shift])
+    disc = comcore.disc_contacts(sim.mask, acts, sim.pusher_radius)
+    exact = sim.push_many(acts)
+    hit = np.array([r.contact_px is not None for r in exact])
+    assert line_hits.all() and not comcore.contacts(sim.mask, acts).hit.all()
+    assert hit.sum() > 50 and (~hit).any()
+    # Hit or miss agree wherever the exact disc clears or overlaps the outline by a pixel.
+    def hits(radius):
+        other = simulators.PushSimulator(sim.shape, sim.mass, pusher_radius=radius)
+        return np.array([r.contact_px is not None for r in other.push_many(acts)])
+
+    sure = hits(sim.pusher_radius + sim.resolution) == hits(sim.pusher_radius - sim.resolution)
+    assert sure.sum() >= 55 and np.array_equal(disc.hit[sure], hit[sure])
+    both = disc.hit & hit
+    points = np.array([r.contact_px for r, b in zip(exact, both) if b])
+    assert np.hypot(*(disc.point[both] - points).T).max() < 1.0
+
+
+def test_disc_contacts_report_misses_and_starts_inside_in_one_batch(square_mask):
+    acts = [(0, 0, 5, 0), (20, 20, 60, 20), (0, 20, 40, 20), (0, 7.5, 50, 7.5)]
+    disc = comcore.disc_contacts(square_mask, acts, 0.00475)
+    # The last runs 2 px above the top edge (row 9.5): the 1.9 px disc grazes it... not quite.
+    assert disc.status.tolist() == ["miss", "starts_inside", "hit", "miss"]
+    assert np.allclose(disc.normal[[0, 1, 3]], 0) and np.allclose(disc.point[0], (0, 0))
+    each = [comcore.disc_contacts(square_mask, [a], 0.00475) for a in acts]
+    assert np.allclose(disc.point, np.vstack([c.point for c in each]))
+    assert np.allclose(disc.travel, [c.travel[0] for c in each])
+    wide = comcore.disc_contacts(square_mask, acts[3:], 0.006)  # 2.4 px: it touches
+    assert wide.hit.tolist() == [True]
+
+
+def test_disc_contacts_cost_does_not_grow_with_the_path(square_mask):
+    far = comcore.disc_contacts(square_mask, [(-1e7, 20, 1e7, 20)], 0.00475)
+    near = comcore.disc_contacts(square_mask, [(0, 20, 40, 20)], 0.00475)
+    assert far.hit[0] and np.allclose(far.point, near.point, atol=1e-3)
+
+
+def test_disc_contacts_validate_the_radius(square_mask):
+    with pytest.raises(TypeError, match="pusher_radius"):
+        comcore.disc_contacts(square_mask, [(0, 20, 40, 20)], "4 mm")
+    with pytest.raises(ValueError, match="pusher_radius must be a finite number >= 0"):
+        comcore.disc_contacts(square_mask, [(0, 20, 40, 20)], float("nan"))

@@ -234,3 +234,20 @@ def test_a_mask_touching_the_border_is_refused():
         comcore.measure_motion(inside, cut)
     with pytest.raises(ValueError, match="before touches the image border"):
         comcore.measure_motion(cut, inside)
+
+
+@pytest.mark.parametrize("offset", [(0, 0), (517, 301), (1150, 590)])
+def test_a_wide_camera_frame_gives_the_motion_of_the_masks_alone(offset):
+    # the fit runs on a window around the two objects: where they lie in a 1280 x 720
+    # frame changes nothing, bit for bit
+    before, after = pair(L_SHAPE, 0.2, (4.0, -3.0))
+    alone = comcore.measure_motion(before, after)
+
+    def in_frame(mask):
+        data = np.zeros((720, 1280), bool)
+        data[offset[1] : offset[1] + SIDE, offset[0] : offset[0] + SIDE] = mask.data
+        return comcore.Mask(data)
+
+    wide = comcore.measure_motion(in_frame(before), in_frame(after))
+    assert wide.motion == alone.motion and wide.residual_px == alone.residual_px
+    assert (wide.ambiguous, wide.symmetry) == (alone.ambiguous, alone.symmetry)

@@ -74,7 +74,7 @@ def check_resolution(value: float) -> float:
         raise InputError(str(e)) from None
 
 
-def _read_image(path: Path) -> np.ndarray:
+def _read_image(path: Path, option: str = "--mask") -> np.ndarray:
     """The image file as an array: grey (H, W) or RGB(A) (H, W, 3|4), in its own units."""
     try:
         import cv2
@@ -83,36 +83,61 @@ def _read_image(path: Path) -> np.ndarray:
     if cv2 is not None:
         image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
         if image is None:
-            raise InputError(f"--mask: cannot read {path} as an image")
+            raise InputError(f"{option}: cannot read {path} as an image")
         if image.ndim == 3:  # OpenCV's BGR(A) to RGB(A)
             image = image[..., [2, 1, 0, *range(3, image.shape[2])]]
         return image
     try:
         from matplotlib import image as mpimg
     except ImportError as e:
-        raise InputError("--mask: reading images needs pip install comcore[sim]") from e
+        raise InputError(f"{option}: reading images needs pip install comcore[sim]") from e
     try:
         return np.asarray(mpimg.imread(path))
     except Exception as e:  # matplotlib/Pillow raise several types on a bad file
-        raise InputError(f"--mask: cannot read {path} as an image") from e
+        raise InputError(f"{option}: cannot read {path} as an image") from e
 
 
-def read_mask(path, resolution: float, side: str = "auto") -> comcore.Mask:
+#: mask_from_image's keywords as its messages name them, and the options of the command.
+_OPTION_NAMES = {
+    "threshold='auto'": "--threshold auto",
+    "threshold=": "--threshold",
+    "background=": "--background",
+    "roi=": "--roi",
+}
+
+
+def read_mask(
+    path, resolution: float, side: str = "auto", *, threshold=None, background=None, roi=None
+) -> comcore.Mask:
     """The object mask of an image file, through :func:`comcore.mask_from_image`.
 
     ``side``: whether the object is ``"bright"`` or ``"dark"`` on its table, or
-    ``"auto"``. What is wrong with an image (constant, several objects, touching
-    the border, ...) is said about the image, as :class:`comcore.ImageError`
-    words it.
+    ``"auto"``; ``threshold``, ``background`` (the path of an image of the
+    empty table) and ``roi`` are passed on. What is wrong with an image
+    (constant, no object, several objects, touching the border, ...) is said
+    about the image, as :class:`comcore.ImageError` words it, with the
+    command's option names.
     """
     path = Path(path)
     if not path.is_file():
         raise InputError(f"--mask: no such file: {path}")
     image = _read_image(path)
+    reference = None
+    if background is not None:
+        background = Path(background)
+        if not background.is_file():
+            raise InputError(f"--background: no such file: {background}")
+        reference = _read_image(background, "--background")
     try:
-        return comcore.mask_from_image(image, object=side, resolution=resolution)
+        return comcore.mask_from_image(
+            image, object=side, threshold=threshold, background=reference, roi=roi,
+            resolution=resolution,
+        )  # fmt: skip
     except (TypeError, ValueError) as e:  # comcore.ImageError is a ValueError
-        raise InputError(f"--mask: {path}: {e}") from e
+        message = str(e)
+        for keyword, option in _OPTION_NAMES.items():
+            message = message.replace(keyword, option)
+        raise InputError(f"--mask: {path}: {message}") from e
 
 
 def read_pushes(path) -> Pushes:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-__all__ = ["non_negative_int", "positive_int"]
+__all__ = ["box", "non_negative_int", "positive_int", "threshold"]
 
 
 def _int(text: str) -> int:
@@ -44,3 +44,51 @@ def non_negative_int(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text}")
     return value
+
+
+def threshold(text: str) -> str | float:
+    """``auto``, ``otsu`` or a grey level (argparse type of ``--threshold``).
+
+    Examples
+    --------
+    >>> threshold("otsu"), threshold("120")
+    ('otsu', 120.0)
+    >>> threshold("high")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected auto, otsu or a grey level (a number), got 'high'
+    """
+    if text in ("auto", "otsu"):
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if value != value or value in (float("inf"), float("-inf")):
+        raise argparse.ArgumentTypeError(
+            f"expected auto, otsu or a grey level (a number), got {text!r}"
+        )
+    return value
+
+
+def box(text: str) -> tuple[int, int, int, int]:
+    """``x0,y0,x1,y1`` in pixels: a box (argparse type of ``--roi``).
+
+    Examples
+    --------
+    >>> box("100,50,400,300")
+    (100, 50, 400, 300)
+    >>> box("100,50,400")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected x0,y0,x1,y1 (four integers, pixels), got '100,50,400'
+    """
+    try:
+        values = tuple(int(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 4:
+        raise argparse.ArgumentTypeError(
+            f"expected x0,y0,x1,y1 (four integers, pixels), got {text!r}"
+        )
+    return values

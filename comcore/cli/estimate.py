@@ -36,6 +36,7 @@ import comcore
 from comcore._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from comcore._validation import check_physical
 
+from . import _options
 from ._inputs import (
     COLUMNS,
     RESOLUTION_RANGE,
@@ -98,6 +99,27 @@ def add_arguments(parser) -> None:
         default="auto",
         help="the object is brighter or darker than its table in the image (default auto: "
         "the side that does not touch the image border)",
+    )
+    add(
+        "--threshold",
+        type=_options.threshold,
+        default="auto",
+        help="how the object is told from its table: auto (default: the table's light fitted "
+        "and taken off, for uneven lighting), otsu (one grey level for the whole image), or a "
+        "grey level (with --background: the least difference from it)",
+    )
+    add(
+        "--background",
+        metavar="IMAGE",
+        help="an image of the empty table from the same camera: the object is what differs "
+        "from it (a textured table, fixed clutter and shadows then do not matter)",
+    )
+    add(
+        "--roi",
+        type=_options.box,
+        metavar="X0,Y0,X1,Y1",
+        help="look only inside this box of the image, in pixels (columns X0..X1-1, rows "
+        "Y0..Y1-1); pixel coordinates do not change",
     )
     lo, hi = RESOLUTION_RANGE
     add(
@@ -446,7 +468,10 @@ def run(args) -> int:
         mask_path, pushes_path = _inputs(args)
         resolution = check_resolution(args.resolution)
         pusher_radius = _pusher_radius(args)
-        mask = read_mask(mask_path, resolution, args.object)
+        mask = read_mask(
+            mask_path, resolution, args.object, threshold=args.threshold,
+            background=args.background, roi=args.roi,
+        )  # fmt: skip
         recorded = read_pushes(pushes_path)
         pushes, dropped = screen_pushes(mask, recorded, strict=args.strict)
         _recording_mistakes(mask, recorded, dropped)
