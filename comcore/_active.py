@@ -239,7 +239,7 @@ def estimate_posterior(
         Motion model of the likelihood. Default: the session's,
         ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
         tells a recording with the wrong sign of theta from a right one;
-        ``None``: the Voting Theorem alone (about 30 times faster, and its
+        ``None``: the Voting Theorem alone (about 20 times faster, and its
         senses checked only as below).
     pusher_radius : float, optional
         Radius (metres) of the round pusher, for the default model (default

@@ -167,7 +167,7 @@ def _add_model_arguments(parser) -> None:
         help="the posterior's motion model (default limit-surface: comcore.LimitSurfaceModel, "
         "the active session's; it tells a recording with theta's sign flipped from a right "
         "one, and takes a few seconds for 40 pushes). none: the Voting Theorem alone, about "
-        "30 times faster",
+        "20 times faster (docs/bench.md)",
     )
     parser.add_argument(
         "--pusher-radius",
