@@ -6,10 +6,18 @@ pose, as a recording would hold them; then ``k`` of the pushes that turned the o
 their rotation's sign flipped (a tracking error). Every method of ``comcore estimate`` runs
 on the same recording (as ``comcore.cli.estimate.estimate`` calls it); the table gives the
 CoM error (cm) and, for the posterior, how often the true CoM lies in its 90 % credible
-region.
+region. ``--model`` is the posterior's motion model (``comcore estimate --model``): the
+default ``limit-surface``, or ``none`` (the Voting Theorem alone, the default before issue 21).
 
     python benchmarks/estimate_methods.py                    # 20 objects x 3 seeds (0, 1, 2)
+    python benchmarks/estimate_methods.py --model none       # the posterior without the model
     python benchmarks/estimate_methods.py --objects Obj3 --seeds 1 --flips 0   # a quick look
+    python benchmarks/estimate_methods.py --flips 0,all --model none  # every sign flipped
+
+``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the
+mistake docs/conventions.md warns about); the last lines count the recordings whose sign
+``comcore estimate`` calls flipped (:func:`comcore.cli.estimate.sign_flip_nats`) and the
+``ok`` statuses.
 """
 
 from __future__ import annotations
@@ -18,9 +26,10 @@ import argparse
 import time
 
 import numpy as np
+from scipy import ndimage
 
 import comcore
-from comcore.cli.estimate import estimate, methods
+from comcore.cli.estimate import MODELS, SIGN_FLIP_NATS, estimate, methods, sign_flip_nats
 
 
 def cases(objects, seeds, n_pushes):
@@ -41,44 +50,63 @@ def main(argv=None) -> None:
     parser.add_argument("--objects", default=",".join(simulators.BENCHMARK_OBJECTS))
     parser.add_argument("--seeds", type=int, default=3, help="seeds 0 .. N-1 per object")
     parser.add_argument("--pushes", type=int, default=40)
-    parser.add_argument("--flips", default="0,1,3", help="wrong senses per recording")
+    parser.add_argument(
+        "--flips", default="0,1,3", help="wrong senses per recording ('all': every sign flipped)"
+    )
+    parser.add_argument("--model", choices=MODELS, default=MODELS[0], help="the posterior's")
     args = parser.parse_args(argv)
     objects = [o.strip() for o in args.objects.split(",") if o.strip()]
-    flips = [int(k) for k in args.flips.split(",")]
+    flips = [k.strip() if k.strip() == "all" else int(k) for k in args.flips.split(",")]
     names = [m for m in methods() if m != "alg2-rotation"]
     errors = {(m, k): [] for m in names for k in flips}
     covered = {k: [] for k in flips}
-    seconds = {m: 0.0 for m in names}
+    near = {k: [] for k in flips}  # the truth's pixel within a pixel of the region
+    statuses = {(m, k): [] for m in names for k in flips}
+    flagged = {k: 0 for k in flips}  # comcore estimate's check of theta's sign
+    seconds = {m: [] for m in names}
     start = time.perf_counter()
     for _, _, sim, actions, motions, rng in cases(objects, range(args.seeds), args.pushes):
         turned = np.flatnonzero(np.abs(motions[:, 0]) > 0.01)
         cm = 100 * sim.mask.resolution
         for k in flips:
             observed = motions.copy()
-            wrong = rng.choice(turned, size=min(k, len(turned)), replace=False)
-            observed[wrong, 0] *= -1
+            if k == "all":
+                observed[:, 0] *= -1
+            else:
+                wrong = rng.choice(turned, size=min(k, len(turned)), replace=False)
+                observed[wrong, 0] *= -1
+            flagged[k] += sign_flip_nats(sim.mask, actions, observed) > SIGN_FLIP_NATS
             for m in names:
                 t0 = time.perf_counter()
-                est = estimate(sim.mask, actions, observed, m)
-                seconds[m] += time.perf_counter() - t0
+                est = estimate(sim.mask, actions, observed, m, model=args.model)
+                seconds[m].append(time.perf_counter() - t0)
                 errors[m, k].append(est.error_px(sim.com_px) * cm)
+                statuses[m, k].append(est.status)
                 if m == "posterior":
                     x, y = np.round(sim.com_px).astype(int)
                     covered[k].append(bool(est.region[y, x]))
+                    near[k].append(bool(ndimage.binary_dilation(est.region)[y, x]))
     n = len(errors[names[0], flips[0]])
     print(f"{n} recordings ({len(objects)} objects x seeds 0..{args.seeds - 1}), "
-          f"{args.pushes} pushes each; {time.perf_counter() - start:.0f} s")
+          f"{args.pushes} pushes each, posterior --model {args.model}; "
+          f"{time.perf_counter() - start:.0f} s")
     print("| method | wrong senses | mean error (cm) | median (cm) | p90 (cm) "
-          "| truth in 90 % region |")
-    print("| --- | --- | --- | --- | --- | --- |")
+          "| truth in 90 % region | within a pixel of it |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     for m in names:
         for k in flips:
             e = np.asarray(errors[m, k])
             share = f"{100 * np.mean(covered[k]):.0f} %" if m == "posterior" else ""
+            close = f"{100 * np.mean(near[k]):.0f} %" if m == "posterior" else ""
             print(f"| {m} | {k} | {e.mean():.2f} | {np.median(e):.2f} | "
-                  f"{np.quantile(e, 0.9):.2f} | {share} |")
-    print("time per estimate: " + ", ".join(
-        f"{m} {1000 * seconds[m] / (n * len(flips)):.0f} ms" for m in names))
+                  f"{np.quantile(e, 0.9):.2f} | {share} | {close} |")
+    print("time per estimate (median): " + ", ".join(
+        f"{m} {1000 * np.median(seconds[m]):.0f} ms" for m in names))
+    print("comcore estimate's sign check: " + ", ".join(
+        f"{k} wrong: flagged {flagged[k]} of {n}" for k in flips))
+    for m in ("posterior", "alg2"):
+        print(f"{m} status: " + ", ".join(
+            f"{k} wrong: {statuses[m, k].count('ok')} ok of {len(statuses[m, k])}" for k in flips))
 
 
 if __name__ == "__main__":

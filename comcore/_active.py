@@ -12,19 +12,28 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
+
 from ._choice import Candidates
 from ._errors import PushFailedError
 from ._flat_options import resolve_groups
+from ._force_lines import force_line_distances
 from ._grid import prior_grid
-from ._likelihood import gyration_px, push_evidence, tracking_noise
+from ._likelihood import (
+    SenseTally,
+    gyration_px,
+    push_evidence,
+    sense_flip_prob,
+    tracking_noise,
+)
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import is_miss
 from ._records import PushLog
 from ._session import ActiveSession, session_setup
-from ._stop import offline_status
+from ._stop import offline_status, sense_check
 from ._types import Estimate, Motion, PushRecord
-from ._validation import check_actions, check_mask, check_motions, check_per_push
+from ._validation import check_actions, check_mask, check_motions, check_per_push, check_turns
 
 __all__ = ["estimate_active", "estimate_posterior"]
 
@@ -192,7 +201,7 @@ def estimate_posterior(
     motions=None,
     *,
     pushes=None,
-    model=None,
+    model=DEFAULT_MODEL,
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     prior=None,
     credible: float = DEFAULT_CREDIBLE,
@@ -226,12 +235,15 @@ def estimate_posterior(
         Instead of ``actions`` and ``motions``: an :class:`Estimate`'s
         ``pushes`` (failed ones are skipped; each record's
         ``rotation_observed`` and ``residual_px`` are scored as recorded).
-    model : HypothesisPredictor or sequence of them, optional
-        Motion model of the likelihood. Default None: the Voting Theorem
-        alone (pass ``comcore.LimitSurfaceModel(pusher_radius=...)`` for
-        :func:`comcore.estimate_active`'s default).
+    model : HypothesisPredictor, sequence of them, or None, optional
+        Motion model of the likelihood. Default: the session's,
+        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
+        tells a recording with the wrong sign of theta from a right one;
+        ``None``: the Voting Theorem alone (about 20 times faster, and its
+        senses checked only as below).
     pusher_radius : float, optional
-        Radius (metres) of the round pusher, for ``model=comcore``'s default.
+        Radius (metres) of the round pusher, for the default model (default
+        4 mm): set it from your robot.
     prior, credible, likelihood
         As for :func:`comcore.estimate_active`.
     rotation_observed : sequence of bool, shape (n,), optional
@@ -248,8 +260,13 @@ def estimate_posterior(
     -------
     Estimate
         As :func:`comcore.estimate_active`'s; ``used`` the pushes that carried
-        evidence. ``status`` is ``"ok"``, ``"inconsistent"`` when no hypothesis
-        explains the pushes well, or ``"no_evidence"`` when no push carried any
+        evidence; ``extras["senses"]`` the check of the observed senses
+        (:class:`comcore._stop.SenseCheck`: how many pushes the best CoM
+        leaves unexplained, against what ``flip_prob`` allows). ``status`` is
+        ``"ok"``, ``"inconsistent"`` when no hypothesis explains the pushes
+        well or the senses fail their check (most contradict the estimate, or
+        no CoM leaves as few unexplained as ``flip_prob`` allows), or
+        ``"no_evidence"`` when no push carried any
         (:func:`comcore._stop.offline_status`).
 
     Raises
@@ -259,19 +276,31 @@ def estimate_posterior(
 
     Examples
     --------
-    Four pushes across a plate and the senses they turned it in: the CoM is
-    between rows 8 and 13 and columns 8 and 13 (each sense may be wrong with
-    probability ``flip_prob``, so the 90 % region still reaches outside):
+    Four pushes across a plate and the senses they turned it in, scored by
+    the Voting Theorem alone (the motions are made up, not physical): the
+    CoM is between rows 8 and 13 and columns 8 and 13 (each sense may be
+    wrong with probability ``flip_prob``, so the 90 % region still reaches
+    outside):
 
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
     >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
-    >>> est = comcore.estimate_posterior(mask, actions, motions)
+    >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
     >>> est.status, np.round(est.com, 1).tolist(), round(est.extras["credible_radius_px"], 1)
     ('ok', [11.1, 11.1], 7.7)
-    >>> comcore.estimate_posterior(mask, pushes=est.pushes).com == est.com
+    >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
     True
+
+    Ten pushes that no CoM explains: five say it is above row 8, five below
+    row 18. Every CoM leaves at least five unexplained, where ``flip_prob``
+    allows 0.7 on average:
+
+    >>> est = comcore.estimate_posterior(
+    ...     mask, [(0, 8, 30, 8), (0, 18, 30, 18)] * 5, [(0.2, 3, 0), (-0.2, 3, 0)] * 5,
+    ...     model=None)
+    >>> est.status, est.extras["senses"].fewest_unexplained
+    ('inconsistent', 5)
     """
     mask = check_mask(mask)
     scoring, credible = session_setup(
@@ -285,19 +314,38 @@ def estimate_posterior(
     lines = Candidates(mask, acts, None, scoring.mus, rng=None, name="actions").lines
     post = scoring.posterior(pixels, prior_weights)
     log = PushLog(post, credible)
+    senses = SenseTally(post.log_w.shape[:2])
     gyration = gyration_px(mask)
     for i, record in enumerate(records):
         if record.outcome == "miss":
             log.add(record, post)
             continue
+        tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
         loglik, excess = push_evidence(
             post, scoring, mask, acts[i], lines[i], record.motion,
-            rotation_observed=record.rotation_observed,
-            tracking=tracking_noise(scoring.tracking, record.residual_px, gyration),
+            rotation_observed=record.rotation_observed, tracking=tracking,
         )  # fmt: skip
         log.add(record, post, loglik, excess)
+        _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
     used = [i for i, r in given if r.outcome == "evidence"]
-    return log.estimate(mask, post, used, offline_status(log.state))
+    check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
+    status = offline_status(log.state, check)
+    return log.estimate(mask, post, used, status, {"senses": check})
+
+
+def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
+    """Count the push's observed sense against every hypothesis (:class:`SenseTally`)."""
+    theta = float(record.motion[0])
+    if not record.rotation_observed or abs(theta) <= scoring.theta_tol:
+        return
+    flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
+    distances = force_line_distances(pixels, lines)  # (p, m)
+    tally.add(distances, 1 if theta > 0 else -1, flip, scoring.line_scale_px)
+
+
+def _nearest_pixel(pixels, point) -> int:
+    """Index of the grid pixel nearest ``point``."""
+    return int(np.argmin(np.sum((pixels - np.asarray(point)) ** 2, axis=1)))
 
 
 def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> list:
@@ -322,7 +370,7 @@ def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> 
     if actions is None or motions is None:
         raise TypeError("estimate_posterior needs actions and motions (or pushes=...)")
     acts = check_actions(actions, "actions", allow_empty=False)
-    moves = check_motions(motions, n=len(acts), name="motions")
+    moves = check_turns(check_motions(motions, n=len(acts), name="motions"))
     observed = check_per_push(rotation_observed, len(acts), "rotation_observed", True)
     residuals = check_per_push(residual_px, len(acts), "residual_px", float("nan"))
     return [

@@ -15,7 +15,9 @@ the object (the first mask's frame): its action and force lines there
   to each power of ``model_weight``.
 * **The noise.** The tracking error of a measured motion (``motion_noise``,
   widened by a registration's residual: :func:`tracking_noise`), and whether
-  any hypothesis explains the pushes at all (:func:`consistency_threshold`).
+  any hypothesis explains the pushes at all (:func:`consistency_threshold`;
+  for the senses alone, :class:`SenseTally`: how many pushes each hypothesis
+  leaves unexplained, against what ``flip_prob`` allows).
 
 :class:`Scoring` is a :class:`comcore.Likelihood` in pixels of one mask, with
 its motion models: what the functions here read.
@@ -48,8 +50,10 @@ __all__ = [
     "LINE_BLUR_M",
     "NEAR_LINE_M",
     "PRUNE_LOG",
+    "UNEXPLAINED_STDS",
     "Evidence",
     "Scoring",
+    "SenseTally",
     "check_models",
     "consistency_threshold",
     "gyration_px",
@@ -69,6 +73,10 @@ _LOGISTIC_STD = math.pi / math.sqrt(3.0)
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
 PRUNE_LOG = 25.0
+#: A hypothesis leaves a push's observed sense unexplained when it lies more than this many
+#: standard deviations of the force line's blur on the wrong side of the line (the logistic
+#: edge then gives the observed sense 2.6 % before ``flip_prob``).
+UNEXPLAINED_STDS = 2.0
 
 
 @dataclass(frozen=True)
@@ -337,6 +345,59 @@ def _sense_excess(distances, sense: int, flip_prob: float, scale: float):
     q = np.clip(q, 1e-300, 1.0)
     rest = np.clip(1 - q, 1e-300, 1.0)
     return -np.log(q) + q * np.log(q) + rest * np.log(rest)
+
+
+class SenseTally:
+    """How many pushes' observed senses each (CoM, friction) hypothesis leaves unexplained.
+
+    The Voting Theorem's check of recorded pushes, with or without a motion
+    model: a push is unexplained by a hypothesis that lies more than
+    :data:`UNEXPLAINED_STDS` standard deviations of the force line's blur on
+    the wrong side of its force line. Under the hypothesis that made the
+    pushes, push ``i`` is unexplained with probability at most
+    ``allowed[i]``: its sense's flip probability (``flip_prob``, more for a
+    rotation within the tracking noise of zero: :func:`sense_flip_prob`)
+    plus the edge's 2.6 %. The stop rule compares the fewest unexplained
+    pushes with those probabilities (:func:`comcore._stop.sense_check`).
+
+    Examples
+    --------
+    Two pushes whose senses put the CoM on opposite sides of one line: every
+    hypothesis leaves one of them unexplained.
+
+    >>> tally = SenseTally((3, 1))
+    >>> distances = np.array([[-9.0], [0.0], [9.0]])  # three CoMs, one friction value
+    >>> tally.add(distances, +1, 0.05, 1.0)
+    >>> tally.add(distances, -1, 0.05, 1.0)
+    >>> tally.counts[:, 0].tolist(), tally.fewest, len(tally.allowed)
+    ([1, 0, 1], 0, 2)
+    """
+
+    def __init__(self, shape: tuple[int, int]):
+        self.counts = np.zeros(shape, dtype=np.int64)
+        self.allowed: list[float] = []
+
+    def add(self, distances, sense: int, flip_prob: float, scale: float) -> None:
+        """Count one push of observed ``sense`` (0: none, not counted) at ``distances`` (p, m).
+
+        ``flip_prob`` is the probability its sense is wrong, ``scale`` the
+        force line's logistic scale (pixels).
+        """
+        if sense == 0:
+            return
+        margin = UNEXPLAINED_STDS * _LOGISTIC_STD * scale
+        self.counts += np.asarray(sense * distances < -margin)
+        edge = 1.0 / (1.0 + math.exp(UNEXPLAINED_STDS * _LOGISTIC_STD))
+        self.allowed.append(flip_prob + (1.0 - 2.0 * flip_prob) * edge)
+
+    @property
+    def fewest(self) -> int:
+        """The fewest pushes any hypothesis leaves unexplained (0 before any)."""
+        return int(self.counts.min()) if self.counts.size else 0
+
+    def at_pixel(self, index: int) -> int:
+        """The fewest pushes a CoM at grid pixel ``index`` leaves unexplained, any friction."""
+        return int(self.counts[index].min())
 
 
 def consistency_threshold(n_pushes: int) -> float:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from ._conventions import check_plausible
 from ._limit_surface_physics import SMOOTHING_CELLS, push_motions
 from ._mask import Mask
 from ._outline_field import outline_field
@@ -30,7 +31,7 @@ from ._push_lattice import (
 )
 from ._validation import check_actions, check_mask, check_points
 
-__all__ = ["FAMILY", "LimitSurfaceModel"]
+__all__ = ["FAMILY", "LimitSurfaceModel", "check_push_lengths"]
 
 #: The pressure spreads :meth:`LimitSurfaceModel.family` weighs: the exponential
 #: and the clipped linear tilt of a uniform footprint (see docs/motion-model.md).
@@ -71,6 +72,35 @@ def _number(value, name: str, *, integer: bool = False, allow_inf: bool = False)
     return value
 
 
+def check_push_lengths(mask: Mask, actions: np.ndarray, name: str = "actions") -> np.ndarray:
+    """``actions`` if each is at least a pixel long, else a ValueError with that push's numbers.
+
+    A push shorter than a pixel moves nothing the camera can see: it comes of
+    lengths set in metres over a resolution in the wrong unit (3 cm at 2.5
+    "metres" per pixel is 0.012 px), and the lattice such a push is integrated
+    on would be sized by the same mistake.
+
+    Examples
+    --------
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((4, 4), bool), 3))
+    >>> check_push_lengths(mask, np.array([[0.0, 4.5, 3.2, 4.5], [0.0, 4.5, 0.01, 4.5]]))
+    Traceback (most recent call last):
+    ...
+    ValueError: actions[1] is 0.01 px long (2.5e-05 m at 0.0025 m per pixel): a push must be at least a pixel long; are its lengths in metres and the mask's resolution in metres per pixel?
+    """  # noqa: E501
+    lengths = np.hypot(actions[:, 2] - actions[:, 0], actions[:, 3] - actions[:, 1])
+    short = np.flatnonzero(lengths < 1.0)
+    if len(short):
+        i = int(short[0])
+        raise ValueError(
+            f"{name}[{i}] is {lengths[i]:.3g} px long ({lengths[i] * mask.resolution:.3g} m at "
+            f"{mask.resolution:g} m per pixel): a push must be at least a pixel long; are its "
+            "lengths in metres and the mask's resolution in metres per pixel?"
+        )
+    return actions
+
+
 @dataclass(frozen=True)
 class LimitSurfaceModel:
     """Quasi-static pushing with the footprint's exact limit surface (a ``HypothesisPredictor``).
@@ -88,8 +118,9 @@ class LimitSurfaceModel:
     Parameters
     ----------
     pusher_radius : float, optional
-        Radius of the round pusher, metres (0: a point). An action is the path
-        of the disc's leading point, as in :mod:`simulators`.
+        Radius of the round pusher, metres (0: a point; at most 5 cm,
+        ``comcore.PLAUSIBLE``). An action is the path of the disc's leading
+        point, as in :mod:`simulators`.
     pressure : {"tilted", "linear", "peaked"}, optional
         ``"tilted"`` (default): the uniform footprint tilted exponentially (the
         spread closest to uniform in relative entropy); ``"linear"``: tilted
@@ -136,6 +167,7 @@ class LimitSurfaceModel:
         radius = _number(self.pusher_radius, "pusher_radius")
         if radius < 0:
             raise ValueError(f"pusher_radius must be >= 0 (metres), got {radius}")
+        radius = check_plausible(radius, "pusher_radius", "pusher_radius")
         object.__setattr__(self, "pusher_radius", radius)
         if self.pressure not in PRESSURES:
             raise ValueError(f"pressure must be one of {PRESSURES}, got {self.pressure!r}")
@@ -151,6 +183,7 @@ class LimitSurfaceModel:
         spacing = _number(self.node_spacing, "node_spacing")
         if spacing < 0:
             raise ValueError(f"node_spacing must be >= 0 metres (0: none), got {spacing}")
+        check_plausible(spacing, "node_spacing", "push_length")
         object.__setattr__(self, "node_spacing", spacing)
 
     @classmethod
@@ -213,12 +246,13 @@ class LimitSurfaceModel:
         Raises
         ------
         ValueError
-            If an action starts inside the object, or ``mu`` is negative or NaN.
+            If an action starts inside the object or is shorter than a pixel
+            (:func:`check_push_lengths`), or ``mu`` is negative or NaN.
         TypeError
             If ``mu`` is not a number.
         """
         mask = check_mask(mask)
-        acts = check_actions(actions)
+        acts = check_push_lengths(mask, check_actions(actions))
         pts = check_points(coms, "coms")
         mu = _number(mu, "mu", allow_inf=True)
         if mu < 0:

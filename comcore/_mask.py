@@ -10,7 +10,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_points
-from ._conventions import DEFAULT_RESOLUTION, pixel_centres
+from ._conventions import DEFAULT_RESOLUTION, check_plausible, pixel_centres
 
 __all__ = ["Mask"]
 
@@ -59,7 +59,9 @@ class Mask:
         ``True`` where the object is, indexed ``[row, col]``. Copied and made
         read-only; numeric arrays may hold only 0 and 1.
     resolution : float, optional
-        Metres per pixel (like a ROS ``OccupancyGrid``), default 2.5 mm.
+        Metres per pixel (like a ROS ``OccupancyGrid``), default 2.5 mm; values
+        outside ``comcore.PLAUSIBLE["resolution"]`` (10 micrometres to 5 cm a
+        pixel) are refused with a guess at the unit they were typed in.
 
     Examples
     --------
@@ -73,7 +75,11 @@ class Mask:
     Traceback (most recent call last):
     ...
     ValueError: mask must contain at least one object pixel, got an all-False image
-    """
+    >>> Mask(np.ones((3, 3)), resolution=2.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: resolution 2.5 m per pixel is implausible (expected 1e-05 to 0.05 m per pixel): did you mean millimetres, 0.0025?
+    """  # noqa: E501
 
     data: np.ndarray
     resolution: float = DEFAULT_RESOLUTION
@@ -94,7 +100,9 @@ class Mask:
             raise ValueError(
                 f"resolution must be a positive finite number (metres per pixel), got {res}"
             )
-        object.__setattr__(self, "resolution", res)
+        # before anything is sized by it: 2.5 (millimetres typed as metres) would make every
+        # length in metres a thousand times too short in pixels
+        object.__setattr__(self, "resolution", check_plausible(res, "resolution", "resolution"))
 
     # -- basic measures -------------------------------------------------------------
     @property

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ._conventions import ANGLE_EPS
+from ._conventions import ANGLE_EPS, check_plausible
 from ._likelihood_motion import NEAR_LINE_M, model_error_log_density, theta_scale
 from ._sampling import DEFAULT_TRAVEL_M
 from ._stop import stop_index, stop_reason
@@ -30,6 +30,7 @@ from ._validation import (
     check_count,
     check_mu,
     check_pair,
+    check_physical,
     check_positive,
     check_powers,
     check_probability,
@@ -39,6 +40,8 @@ __all__ = [
     "DEFAULT_CREDIBLE",
     "DEFAULT_MODEL",
     "DEFAULT_PUSHER_RADIUS",
+    "MAX_CANDIDATES",
+    "MAX_N_MU",
     "SELECTIONS",
     "UNKNOWN_MU_RANGE",
     "Likelihood",
@@ -57,6 +60,12 @@ SELECTIONS = ("sense", "model")
 UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
+#: Most friction values a likelihood marginalises over: the model is integrated once per
+#: value, about 0.04 s per push and value on a 2-core machine (benchmarks/bench_active.py), so
+#: 32 keeps a 5-push session under 10 s; past about 100 it ran over 30 s.
+MAX_N_MU = 32
+#: Most default candidates drawn (:func:`comcore.sample_pushes`): 10,000 cost 3 s a session.
+MAX_CANDIDATES = 20_000
 
 
 class _DefaultModel:
@@ -81,7 +90,10 @@ class Likelihood:
     resolution: the same object gives the same posterior at any resolution.
     The defaults were fitted against the simulator or chosen on seed-1
     benchmark trials (docs/active.md); how each term uses them is in
-    :mod:`comcore._likelihood`.
+    :mod:`comcore._likelihood`. Lengths outside ``comcore.PLAUSIBLE``
+    (``pusher_error`` and the absolute parts of ``translation_error`` and
+    ``motion_noise``: at most 5 cm; the rotation of ``motion_noise``: at most
+    0.5 rad) are refused with a guess at the unit they were typed in.
 
     Attributes
     ----------
@@ -89,7 +101,8 @@ class Likelihood:
         Contact friction: unknown (None, marginalised over ``[0, 2]``), known,
         or a range (marginalised over it).
     n_mu : int
-        Number of friction values the unknown friction is marginalised over.
+        Number of friction values the unknown friction is marginalised over
+        (at most :data:`MAX_N_MU`).
     flip_prob : float
         Probability that an observed sense of rotation is wrong, in (0, 0.5).
     theta_tol : float
@@ -181,17 +194,24 @@ class Likelihood:
     def __post_init__(self):
         if self.mu is not None:
             check_mu(self.mu)
-        _set(self, "n_mu", check_count(self.n_mu, "n_mu", 1))
+        _set(self, "n_mu", _bounded_count(self.n_mu, "n_mu", MAX_N_MU, "friction values"))
         flip_prob = check_probability(self.flip_prob, "flip_prob", open_low=True)
         if flip_prob >= 0.5:
             raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
         _set(self, "flip_prob", flip_prob)
         _set(self, "theta_tol", check_positive(self.theta_tol, "theta_tol", allow_zero=True))
         _set(self, "theta_noise", check_pair(self.theta_noise, "theta_noise"))
-        _set(self, "translation_error", check_pair(self.translation_error, "translation_error"))
-        pusher_error = check_positive(self.pusher_error, "pusher_error", allow_zero=True)
+        translation_error = check_pair(self.translation_error, "translation_error")
+        check_plausible(translation_error[0], "translation_error's absolute part", "length_noise")
+        _set(self, "translation_error", translation_error)
+        pusher_error = check_physical(
+            self.pusher_error, "pusher_error", "length_noise", allow_zero=True
+        )
         _set(self, "pusher_error", pusher_error)
-        _set(self, "motion_noise", check_pair(self.motion_noise, "motion_noise", allow_zero=True))
+        motion_noise = check_pair(self.motion_noise, "motion_noise", allow_zero=True)
+        check_plausible(motion_noise[0], "motion_noise's rotation", "angle_noise")
+        check_plausible(motion_noise[1], "motion_noise's translation", "length_noise")
+        _set(self, "motion_noise", motion_noise)
         _set(self, "model_weight", check_powers(self.model_weight, "model_weight"))
         _set(self, "model_scales", _factors(self.model_scales))
 
@@ -221,7 +241,7 @@ class StopRule:
     target_radius : float
         The credible region's radius (metres) at which the session stops
         ``"ok"``. A region can be no smaller than a pixel (``0.56 *
-        resolution``).
+        resolution``); at most 0.5 m.
     min_information : float
         Stop when no push is expected to teach more bits than this.
 
@@ -259,7 +279,8 @@ class StopRule:
     def __post_init__(self):
         _set(self, "max_pushes", check_count(self.max_pushes, "max_pushes", 0))
         _set(self, "min_pushes", check_count(self.min_pushes, "min_pushes", 0))
-        _set(self, "target_radius", check_positive(self.target_radius, "target_radius"))
+        target = check_physical(self.target_radius, "target_radius", "target_radius")
+        _set(self, "target_radius", target)
         info = check_positive(self.min_information, "min_information", allow_zero=True)
         _set(self, "min_information", info)
 
@@ -277,7 +298,8 @@ class PushChoice:
         predicts it, is expected to tell the most (slower; it steers towards
         pushes where the model is least right, docs/active.md).
     n_candidates : int
-        Number of default candidates (:func:`comcore.sample_pushes`).
+        Number of default candidates (:func:`comcore.sample_pushes`), at most
+        :data:`MAX_CANDIDATES`.
     cone : float
         Half-angle (radians, in [0, pi/2)) of the default candidates'
         directions about the inward normal; 0 pushes along the normal, where
@@ -285,7 +307,7 @@ class PushChoice:
     travel : float
         How far (metres) the default candidates push past first contact: set
         it from your workspace. Longer pushes tell more per push, and the
-        model errs more on them.
+        model errs more on them. At most 0.5 m (``comcore.PLAUSIBLE``).
 
     Examples
     --------
@@ -304,16 +326,28 @@ class PushChoice:
     def __post_init__(self):
         if self.selection not in SELECTIONS:
             raise ValueError(f"selection must be one of {SELECTIONS}, got {self.selection!r}")
-        _set(self, "n_candidates", check_count(self.n_candidates, "n_candidates", 1))
+        n_candidates = _bounded_count(self.n_candidates, "n_candidates", MAX_CANDIDATES, "pushes")
+        _set(self, "n_candidates", n_candidates)
         cone = check_positive(self.cone, "cone", allow_zero=True)
         if cone >= math.pi / 2:
             raise ValueError(f"cone must be a half-angle in [0, pi/2) radians, got {cone}")
         _set(self, "cone", cone)
-        _set(self, "travel", check_positive(self.travel, "travel"))
+        _set(self, "travel", check_physical(self.travel, "travel", "push_length"))
 
 
 def _set(obj, name: str, value) -> None:
     object.__setattr__(obj, name, value)
+
+
+def _bounded_count(value, name: str, most: int, what: str) -> int:
+    """A count in ``[1, most]``; above ``most`` a ValueError saying what it would cost."""
+    count = check_count(value, name, 1)
+    if count > most:
+        raise ValueError(
+            f"{name} must be at most {most} ({what}; each one costs time on every push), "
+            f"got {count}"
+        )
+    return count
 
 
 def _factors(value) -> tuple[float, ...]:

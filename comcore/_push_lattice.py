@@ -20,7 +20,7 @@ import numpy as np
 
 from ._mask import Mask
 
-__all__ = ["PushLattice", "expect_frictions", "pressure_table", "remembered"]
+__all__ = ["MAX_LATTICE_NODES", "PushLattice", "expect_frictions", "pressure_table", "remembered"]
 
 #: Node spacing (metres) on the push line, and its growth per unit of lever arm.
 NEAR_LINE_SPACING_M, SPACING_GROWTH = 0.0025, 0.5
@@ -28,6 +28,11 @@ NEAR_LINE_SPACING_M, SPACING_GROWTH = 0.0025, 0.5
 PRESSURE_GRID_M = 0.005
 #: Pushes whose node motions are remembered per mask and model, and friction values.
 CACHED_PUSHES, MAX_REMEMBERED_MUS = 4, 12
+#: Most nodes of one push's lattice. A node holds a motion per pressure spread and friction
+#: value remembered (up to 24 x 24 bytes) besides its position: a million nodes is about
+#: 0.6 GB. A push on a wide camera frame at 1 mm per pixel needs about 25,000; the bound is
+#: reached only when the spacing in pixels is wrong (a resolution typed in millimetres).
+MAX_LATTICE_NODES = 1_000_000
 
 _TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _MEMOS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -46,12 +51,29 @@ def lever_nodes(spacing: float, near: float, reach: float) -> np.ndarray:
     return np.concatenate([-half[:0:-1], half])
 
 
+def lever_count(spacing: float, near: float, reach: float) -> int:
+    """About how many nodes :func:`lever_nodes` returns (within a few), without making them."""
+    x, n = 0.0, 0
+    while x < reach and near + SPACING_GROWTH * x < spacing:  # the growing steps: a few dozen
+        x += near + SPACING_GROWTH * x
+        n += 1
+    n += max(0, int(np.ceil((reach - x) / spacing)))
+    return 2 * n + 1
+
+
 class PushLattice:
     """Nodes on lines parallel to one push, over the whole image.
 
     Node ``(i, j)`` lies at ``start + along[i] * u + lever[j] * w``, ``u`` the
     push direction and ``w`` its perpendicular; ``points`` (n_i * n_j, 2) in
     that order.
+
+    Raises
+    ------
+    ValueError
+        If the lattice would hold more than :data:`MAX_LATTICE_NODES` nodes
+        (a node spacing far below a pixel: a resolution or spacing in the wrong
+        unit), naming the push and the numbers.
     """
 
     def __init__(self, mask: Mask, action: np.ndarray, spacing_m: float):
@@ -65,8 +87,17 @@ class PushLattice:
         spacing = self.spacing = max(float(spacing_m) / mask.resolution, 1e-3)
         near = min(NEAR_LINE_SPACING_M / mask.resolution, spacing)
         first, last = np.floor(a.min() / spacing), np.ceil(a.max() / spacing)
+        reach = float(np.abs(b).max()) + spacing
+        n_nodes = (last - first + 1) * lever_count(spacing, near, reach)
+        if n_nodes > MAX_LATTICE_NODES:
+            raise ValueError(
+                f"the push {np.round(np.asarray(action, float), 3).tolist()} needs a lattice of "
+                f"{n_nodes:.3g} nodes (node spacing {spacing:.3g} px = {spacing_m:g} m at "
+                f"{mask.resolution:g} m per pixel over a {w} x {h} px image), over the bound "
+                f"of {MAX_LATTICE_NODES:,}: is the mask's resolution in metres per pixel?"
+            )
         self.along = spacing * np.arange(first, last + 1)
-        self.lever = lever_nodes(spacing, near, float(np.abs(b).max()) + spacing)
+        self.lever = lever_nodes(spacing, near, reach)
         grid_a, grid_b = np.meshgrid(self.along, self.lever, indexing="ij")
         self.points = (
             self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w

@@ -181,7 +181,7 @@ def credible_level(estimate: Estimate, point) -> float:
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30)]
-    >>> est = comcore.estimate_posterior(mask, actions, [(0.2, 3, 0), (-0.2, 0, 3)])
+    >>> est = comcore.estimate_posterior(mask, actions, [(0.2, 3, 0), (-0.2, 0, 3)], model=None)
     >>> comcore.credible_level(est, (8.0, 8.0)) < 0.5 < comcore.credible_level(est, (20.0, 20.0))
     True
     """

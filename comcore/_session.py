@@ -19,6 +19,7 @@ from ._errors import SessionError
 from ._flat_options import resolve_groups
 from ._grid import prior_grid
 from ._likelihood import Scoring, check_models, gyration_px, push_evidence, tracking_noise
+from ._limit_surface_model import check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import (
@@ -33,14 +34,14 @@ from ._pose_tracking import (
 from ._records import PushLog, SessionState
 from ._stop import choice_status, stop_reason
 from ._types import Action, Estimate, Motion, PushRecord
-from ._validation import check_mask, check_motions, check_positive, check_probability, check_rng
+from ._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 
 __all__ = ["ActiveSession", "session_setup"]
 
 
 def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tuple:
     """``(Scoring, credible)`` of an active estimator's arguments, each checked and named."""
-    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
+    pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
     return Scoring.build(likelihood, mask, models), credible
@@ -162,6 +163,7 @@ class ActiveSession:
         self._candidates = Candidates(
             self._first, candidates, self._choice, self._scoring.mus, check_rng(rng)
         )
+        check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY
@@ -309,7 +311,12 @@ class ActiveSession:
         SessionError
             If no push is waiting for its observation.
         TypeError, ValueError
-            On invalid arguments (named); the session is then unchanged.
+            On invalid arguments (named); the session is then unchanged and
+            waits for the observation still. A ``mask`` that is not the first
+            mask's object moved is refused so (its area changed by more than
+            25 %, or its outline lies more than 1.5 px RMS from the first
+            mask's after the best rigid motion: a single pixel, another
+            object; :func:`comcore._pose_tracking.read_pose`).
         """
         if self.done or not self._handed_out:
             what = f"the session is done (status {self._final!r})" if self.done else "no push"

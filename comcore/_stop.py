@@ -22,14 +22,60 @@ In order:
 Whatever the reason, the status is ``"inconsistent"`` instead when no (CoM,
 friction, model) hypothesis explains the pushes well
 (:func:`comcore._likelihood.consistency_threshold`).
+
+A posterior over recorded pushes (:func:`offline_status`) chooses none and has
+no budget: it is ``"ok"``, ``"no_evidence"`` or ``"inconsistent"``. Besides the
+likelihood's check, its observed senses of rotation are checked on their own
+(:func:`sense_check`), the one check the Voting Theorem alone can make: a
+recording whose senses no CoM explains (theta with the wrong sign on an
+object whose pushes do not all pass near its centroid), or whose answer most
+of them contradict, is not ``"ok"`` whatever the model.
 """
 
 from __future__ import annotations
 
-__all__ = ["STATUSES", "choice_status", "offline_status", "stop_index", "stop_reason"]
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = [
+    "SENSE_ALPHA",
+    "STATUSES",
+    "SenseCheck",
+    "choice_status",
+    "offline_status",
+    "sense_check",
+    "stop_index",
+    "stop_reason",
+]
 
 #: Every status a session can stop with.
 STATUSES = ("ok", "budget", "exhausted", "uninformative", "inconsistent")
+#: The senses are inconsistent when even the hypothesis that explains most of them leaves
+#: so many unexplained that, had it made them, so many or more would occur with less than
+#: this probability (before the minimum over hypotheses lowers the count further).
+SENSE_ALPHA = 1e-3
+
+
+class SenseCheck(NamedTuple):
+    """The check of a recording's observed senses (``extras["senses"]`` of an offline posterior)."""
+
+    n_pushes: int
+    """Pushes whose sense of rotation was observed (counted)."""
+    fewest_unexplained: int
+    """The fewest of them any (CoM, friction) hypothesis leaves unexplained."""
+    unexplained_at_estimate: int
+    """Those a CoM at the estimate leaves unexplained (any friction)."""
+    expected: float
+    """How many the hypothesis that made them would leave unexplained, on average."""
+    p_value: float
+    """Probability of ``fewest_unexplained`` or more under that hypothesis."""
+
+    @property
+    def consistent(self) -> bool:
+        """``p_value`` at least :data:`SENSE_ALPHA` and the estimate explains most senses."""
+        return self.p_value >= SENSE_ALPHA and 2 * self.unexplained_at_estimate <= self.n_pushes
 
 
 def stop_reason(rule, state, resolution: float) -> str | None:
@@ -86,15 +132,64 @@ def choice_status(rule, state, gain: float | None) -> str | None:
     return reason if state.consistent else "inconsistent"
 
 
-def offline_status(state) -> str:
+def offline_status(state, senses: SenseCheck | None = None) -> str:
     """The status of a posterior over recorded pushes (it chooses none, so it has no budget).
 
     ``"no_evidence"`` when no push carried any, ``"inconsistent"`` when no
-    hypothesis explains them, else ``"ok"``.
+    hypothesis explains them or their senses fail :func:`sense_check`, else
+    ``"ok"``.
     """
     if state.n_evidence == 0:
         return "no_evidence"
+    if senses is not None and not senses.consistent:
+        return "inconsistent"
     return "ok" if state.consistent else "inconsistent"
+
+
+def sense_check(tally, estimate_index: int) -> SenseCheck:
+    """Whether a recording's observed senses are what its best hypothesis would give.
+
+    ``tally`` (:class:`comcore._likelihood.SenseTally`) counts, for every
+    (CoM, friction) hypothesis, the pushes whose observed sense it leaves
+    unexplained, and the probability of each being so under the hypothesis
+    that made them (``flip_prob`` and the force line's blur). The fewest any
+    hypothesis leaves is compared with the Poisson-binomial law of that count:
+    below :data:`SENSE_ALPHA` the senses are inconsistent (with ``flip_prob``
+    0.05 and 40 pushes, 10 or more unexplained). So is an estimate (the
+    posterior mean, at grid pixel ``estimate_index``) that leaves more than
+    half of them unexplained, whatever the hypotheses' best.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from comcore._likelihood import SenseTally
+    >>> tally = SenseTally((2, 1))
+    >>> for _ in range(20):  # twenty pushes, each saying the CoM is on the side of pixel 0
+    ...     tally.add(np.array([[5.0], [-5.0]]), +1, 0.05, 1.0)
+    >>> sense_check(tally, 0).consistent, sense_check(tally, 1).consistent
+    (True, False)
+    """
+    allowed = np.asarray(tally.allowed, dtype=float)
+    fewest = tally.fewest
+    return SenseCheck(
+        n_pushes=len(allowed),
+        fewest_unexplained=fewest,
+        unexplained_at_estimate=tally.at_pixel(estimate_index) if len(allowed) else 0,
+        expected=float(allowed.sum()),
+        p_value=_at_least(fewest, allowed),
+    )
+
+
+def _at_least(k: int, probabilities: np.ndarray) -> float:
+    """P(at least ``k`` of independent events with these probabilities): Poisson-binomial."""
+    if k <= 0:
+        return 1.0
+    counts = np.zeros(len(probabilities) + 1)
+    counts[0] = 1.0
+    for p in probabilities:  # the law of the count, one event at a time
+        counts[1:] = counts[1:] * (1.0 - p) + counts[:-1] * p
+        counts[0] *= 1.0 - p
+    return float(min(1.0, math.fsum(counts[k:])))
 
 
 def stop_index(rule, states, resolution: float) -> int:

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ._checks import _as_float_rows, _real_number, check_finite, check_point, check_points
-from ._conventions import LENGTH_EPS
+from ._conventions import LENGTH_EPS, check_plausible
 from ._mask import Mask
 from ._types import Action, Motion
 
@@ -211,6 +211,48 @@ def check_positive(value, name: str, *, allow_zero: bool = False) -> float:
         want = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be a finite number {want}, got {v}")
     return v
+
+
+def check_turns(motions: np.ndarray, name: str = "motions") -> np.ndarray:
+    """``motions`` (n, 3) if no push turned the object by more than pi, else a ValueError.
+
+    One push cannot turn an object by more than half a turn: a larger theta is
+    in degrees, not radians.
+
+    Examples
+    --------
+    >>> check_turns(np.array([[0.2, 3.0, 0.0], [25.0, 1.0, 1.0]]))
+    Traceback (most recent call last):
+    ...
+    ValueError: motions[1] turns the object by 25 rad, more than pi: theta must be in radians (did you mean degrees, 0.436 rad?)
+    """  # noqa: E501
+    big = np.flatnonzero(np.abs(motions[:, 0]) > math.pi)
+    if len(big):
+        i = int(big[0])
+        theta = float(motions[i, 0])
+        raise ValueError(
+            f"{name}[{i}] turns the object by {theta:g} rad, more than pi: theta must be in "
+            f"radians (did you mean degrees, {math.radians(theta):.3g} rad?)"
+        )
+    return motions
+
+
+def check_physical(value, name: str, kind: str, *, allow_zero: bool = False) -> float:
+    """Validate a length (metres) or angle (radians) a user sets: positive and believable.
+
+    ``kind`` names its range in :data:`comcore.PLAUSIBLE`; outside it the
+    ValueError guesses the unit it was typed in.
+
+    Examples
+    --------
+    >>> check_physical(0.004, "pusher_radius", "pusher_radius")
+    0.004
+    >>> check_physical(4, "pusher_radius", "pusher_radius")
+    Traceback (most recent call last):
+    ...
+    ValueError: pusher_radius 4 m is implausible (expected at most 0.05 m): did you mean millimetres, 0.004?
+    """  # noqa: E501
+    return check_plausible(check_positive(value, name, allow_zero=allow_zero), name, kind)
 
 
 def check_rng(rng, name: str = "rng") -> np.random.Generator:

@@ -618,7 +618,8 @@ def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
     drops = {}
     for noise in (0.0, 0.05):
         est = comcore.estimate_posterior(
-            mask, action, [(0.01, 0.0, 0.0)], likelihood=comcore.Likelihood(motion_noise=(noise, 0.0)))
+            mask, action, [(0.01, 0.0, 0.0)], model=None,  # the sense's term alone
+            likelihood=comcore.Likelihood(motion_noise=(noise, 0.0)))
         history = est.extras["history"]
         drops[noise] = history[0].entropy_bits - history[1].entropy_bits
     assert 0 < drops[0.05] < 0.5 * drops[0.0]

@@ -17,13 +17,14 @@ from comcore.cli import main
 from .scripts import run_script
 
 HEADER = "sx,sy,ex,ey,theta,tx,ty\n"
-# A 20 x 20 square (pixels 4..23) pushed across its rows and columns; the
-# signs follow the Voting Theorem for a CoM at (10.5, 10.5).
+# A 20 x 20 square (pixels 4..23) pushed across its rows and columns; the motions are
+# comcore.LimitSurfaceModel(pusher_radius=0.004)'s for a CoM at (10.5, 10.5) and mu = 0.3 at
+# 2.5 mm per pixel (the default --model and --pusher-radius), rounded to 3 decimals.
 PUSHES = [
-    (0, 13, 30, 13, 0.2, 3, 0),
-    (13, 0, 13, 30, -0.2, 0, 3),
-    (0, 8, 30, 8, -0.3, 3, 0),
-    (8, 0, 8, 30, 0.3, 0, 3),
+    (0, 13, 30, 13, 1.344, 12.931, -12.832),
+    (13, 0, 13, 30, -1.344, -12.832, 12.931),
+    (0, 8, 30, 8, -1.08, 7.821, 9.148),
+    (8, 0, 8, 30, 1.08, 9.148, 7.821),
 ]
 
 
@@ -347,7 +348,10 @@ def test_the_methods_benchmark_script_runs():
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]
-    assert lines[-1].startswith("time per estimate: ")
+    assert lines[-4].startswith("time per estimate (median): ")
+    assert lines[-3].startswith("comcore estimate's sign check: 0 wrong: flagged 0 of 1")
+    assert lines[-2].startswith("posterior status: 0 wrong: ")
+    assert lines[-1].startswith("alg2 status: 0 wrong: ")
 
 
 def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys):

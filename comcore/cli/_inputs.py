@@ -29,8 +29,9 @@ __all__ = [
 
 #: Columns of the pushes CSV: the pusher's path (pixels) and the observed motion.
 COLUMNS = ("sx", "sy", "ex", "ey", "theta", "tx", "ty")
-#: Plausible camera resolutions (metres per pixel): 10 micrometres to 5 cm a pixel.
-RESOLUTION_RANGE = (1e-5, 0.05)
+#: Plausible camera resolutions (metres per pixel): 10 micrometres to 5 cm a pixel, as
+#: everywhere in comcore (``comcore.PLAUSIBLE["resolution"]``).
+RESOLUTION_RANGE = (comcore.PLAUSIBLE["resolution"].low, comcore.PLAUSIBLE["resolution"].high)
 
 
 class InputError(ValueError):
@@ -53,26 +54,24 @@ class Pushes:
 def check_resolution(value: float) -> float:
     """``value`` (metres per pixel) if it lies in :data:`RESOLUTION_RANGE`, else InputError.
 
+    The message guesses the unit it was typed in (:func:`comcore.check_plausible`).
+
     Examples
     --------
     >>> check_resolution(0.0025)
     0.0025
     >>> try:
-    ...     check_resolution(2.5)  # centimetres typed for metres
+    ...     check_resolution(2.5)  # millimetres typed for metres
     ... except InputError as e:
     ...     print(e)
-    --resolution 2.5 m per pixel is implausible: ... (centimetres? 2.5 cm is 0.025 m)
-    """
-    lo, hi = RESOLUTION_RANGE
+    --resolution 2.5 m per pixel is implausible (expected 1e-05 to 0.05 m per pixel): did you mean millimetres, 0.0025?
+    """  # noqa: E501
     if not (math.isfinite(value) and value > 0):
         raise InputError(f"--resolution must be a positive number of metres per pixel, got {value}")
-    if not lo <= value <= hi:
-        hint = f" (centimetres? {value} cm is {value / 100:g} m)" if value > hi else ""
-        raise InputError(
-            f"--resolution {value:g} m per pixel is implausible: expected metres per pixel in "
-            f"[{lo:g}, {hi:g}]{hint}"
-        )
-    return float(value)
+    try:
+        return comcore.check_plausible(value, "--resolution", "resolution")
+    except ValueError as e:
+        raise InputError(str(e)) from None
 
 
 def _read_image(path: Path, option: str = "--mask") -> np.ndarray:

@@ -10,12 +10,21 @@ push must start from the pose of the mask.
 
 Pushes that miss the object (a graze past a corner included) or start inside
 it are dropped with one warning naming their CSV line numbers; ``--strict``
-refuses them. ``--example`` runs on the small recording shipped in
-``comcore/data/examples/``.
+refuses them, and so is a recording where most pushes would be dropped (with
+a hint when swapping the x and y columns makes them hit). ``--example`` runs on
+the small recording shipped in ``comcore/data/examples/``.
+
+The default method, ``posterior``, scores the pushes with the motion model of
+:class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
+``--pusher-radius`` metres); ``--model none`` is the Voting Theorem alone.
+Whatever the method, a recording that explains itself far better with every
+theta's sign flipped is reported as ``inconsistent`` with that hint
+(:func:`sign_flip_nats`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 from importlib import resources
@@ -24,6 +33,8 @@ from pathlib import Path
 import numpy as np
 
 import comcore
+from comcore._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from comcore._validation import check_physical
 
 from . import _options
 from ._inputs import (
@@ -45,6 +56,17 @@ METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 CREDIBLE = 0.9
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
+#: The motion models of ``--model`` (the posterior's), the default first.
+MODELS = ("limit-surface", "none")
+#: A recording whose Voting-Theorem evidence rises by more than this (nats) with every
+#: theta's sign flipped has its sign flipped (a Bayes factor of 20). Of 180 benchmark
+#: recordings (20 objects x seeds 0-2, 0, 1 or 3 senses flipped at random) none is flagged,
+#: of the same 60 with every sign flipped all are
+#: (``benchmarks/estimate_methods.py --flips 0,1,3,all``; docs/bench.md).
+SIGN_FLIP_NATS = 3.0
+#: More than this share of the pushes dropped (missing the object or starting inside it)
+#: means the pushes are not in the mask's pixel frame: refused.
+MOST_DROPPED = 0.5
 
 
 def methods() -> tuple[str, ...]:
@@ -123,6 +145,7 @@ def add_arguments(parser) -> None:
         help="refuse pushes that miss the object or start inside it (default: drop them "
         "with a warning)",
     )
+    _add_model_arguments(parser)
     add("--json", action="store_true", help="print one JSON object instead of text")
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
@@ -133,6 +156,27 @@ def add_arguments(parser) -> None:
         "--example)",
     )
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
+
+
+def _add_model_arguments(parser) -> None:
+    """``--model`` and ``--pusher-radius``: the posterior's motion model."""
+    parser.add_argument(
+        "--model",
+        choices=MODELS,
+        default=MODELS[0],
+        help="the posterior's motion model (default limit-surface: comcore.LimitSurfaceModel, "
+        "the active session's; it tells a recording with theta's sign flipped from a right "
+        "one, and takes a few seconds for 40 pushes). none: the Voting Theorem alone, about "
+        "20 times faster (docs/bench.md)",
+    )
+    parser.add_argument(
+        "--pusher-radius",
+        type=float,
+        default=DEFAULT_PUSHER_RADIUS,
+        help="radius of the round pusher in METRES, for --model limit-surface (default "
+        f"{DEFAULT_PUSHER_RADIUS:g} m); over "
+        f"{comcore.PLAUSIBLE['pusher_radius'].high:g} m is refused",
+    )
 
 
 def overlay_path(args) -> Path | None:
@@ -159,10 +203,27 @@ def overlay_path(args) -> Path | None:
     return mask.with_name(f"{mask.stem}-overlay.png")
 
 
-def estimate(mask: comcore.Mask, actions, motions, method: str) -> comcore.Estimate:
-    """Run one of :func:`methods` on the observed pushes."""
+def estimate(
+    mask: comcore.Mask,
+    actions,
+    motions,
+    method: str,
+    *,
+    model: str = MODELS[0],
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+) -> comcore.Estimate:
+    """Run one of :func:`methods` on the observed pushes.
+
+    ``model`` (one of :data:`MODELS`) and ``pusher_radius`` (metres) are the
+    posterior's; the other methods take no model.
+    """
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}, got {model!r}")
     if method == "posterior":
-        return comcore.estimate_posterior(mask, actions, motions, credible=CREDIBLE)
+        chosen = None if model == "none" else DEFAULT_MODEL
+        return comcore.estimate_posterior(
+            mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius
+        )
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -214,6 +275,81 @@ def _inputs(args):
     return Path(args.mask), Path(args.pushes)
 
 
+def sign_flip_nats(mask: comcore.Mask, actions, motions) -> float:
+    """How much better (nats) every theta with its sign flipped explains the pushes.
+
+    The log evidence of the Voting Theorem's posterior
+    (``comcore.estimate_posterior(..., model=None)``) over the pushes with
+    every theta negated, minus that over the pushes as given: above
+    :data:`SIGN_FLIP_NATS` the recording's theta is counter-clockwise with
+    the y axis up (the table's frame) instead of on screen. Model-free and
+    quick (two posteriors of the senses alone), so it is checked for every
+    method.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+    >>> motions = np.array([(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)])
+    >>> sign_flip_nats(mask, actions, motions) < 0 < sign_flip_nats(mask, actions, -motions)
+    True
+    """
+    motions = np.asarray(motions, dtype=float)
+    flipped = motions * np.array([-1.0, 1.0, 1.0])
+    evidence = [
+        comcore.estimate_posterior(mask, actions, m, model=None).extras["log_evidence"]
+        for m in (motions, flipped)
+    ]
+    return float(evidence[1] - evidence[0])
+
+
+def _sign_mistake(mask, pushes) -> str | None:
+    """The message for a recording whose theta looks sign-flipped, or None."""
+    gain = sign_flip_nats(mask, pushes.actions, pushes.motions)
+    if gain <= SIGN_FLIP_NATS:
+        return None
+    return (
+        f"the pushes are explained far better with every theta's sign flipped ({gain:.0f} nats "
+        "more evidence): theta looks counter-clockwise with the y axis up (a table's frame); "
+        "comcore's theta is counter-clockwise on screen, y pointing down the image: negate the "
+        "theta column"
+    )
+
+
+def _recording_mistakes(mask, recorded, dropped: dict) -> None:
+    """Refuse a recording whose theta is in degrees, or most of whose pushes miss the mask.
+
+    For the latter, say whether x and y look swapped.
+    """
+    turned = np.flatnonzero(np.abs(recorded.motions[:, 0]) > np.pi)
+    if len(turned):
+        line, theta = int(recorded.lines[turned[0]]), float(recorded.motions[turned[0], 0])
+        raise InputError(
+            f"--pushes: line {line}, column theta: {theta:g} rad is more than pi (a push turns an "
+            f"object by less than half a turn): theta must be in radians (degrees? "
+            f"{np.radians(theta):.3g} rad)"
+        )
+    n = len(recorded.lines)
+    if len(dropped) <= MOST_DROPPED * n:
+        return
+    message = (
+        f"--pushes: {len(dropped)} of {n} pushes miss the object or start inside it (CSV "
+        f"line(s) {line_list(list(dropped))}): the pushes do not look like pushes on this mask"
+    )
+    swapped = recorded.actions[:, [1, 0, 3, 2]]
+    found = comcore.contacts(mask, swapped)
+    hits = int(np.sum(found.hit & ~found.starts_inside))
+    if hits > n - len(dropped):
+        message += (
+            f"; with the x and y columns swapped {hits} of {n} would hit it: x is the column and "
+            "y the row (pointing down), so sx, ex, tx go along the image's width"
+        )
+    else:
+        message += "; are the mask and the pushes in the same pixel frame and resolution?"
+    raise InputError(message)
+
+
 #: What a status other than ``ok`` means for the user's recording (a warning on stderr).
 STATUS_MEANINGS = {
     "inconsistent": "no CoM explains the observed motions well: check the pixel frame, the "
@@ -227,17 +363,21 @@ STATUS_MEANINGS = {
 }
 
 
-def _result(args, mask, recorded, pushes, dropped, est) -> dict:
+def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
     """The JSON object of a run (without the overlay)."""
     return {
         "com_px": list(est.com),
         "com_m": list(est.com_m),
         "method": args.method,
-        "status": est.status,
+        "model": args.model if args.method == "posterior" else None,
+        "status": "inconsistent" if mistake else est.status,
+        "estimator_status": est.status,
+        "mistake": mistake,
         "used_lines": [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)],
         "dropped_lines": {str(k): v for k, v in dropped.items()},
         "n_pushes": len(recorded.lines),
         "resolution": mask.resolution,
+        "object_size_m": object_size_m(mask),
         "region": region_summary(est, mask.resolution),
         "covariance_px2": None if est.covariance is None else np.asarray(est.covariance).tolist(),
         "overlay": None,
@@ -273,8 +413,11 @@ def _print_text(result: dict, est: comcore.Estimate) -> None:
     x, y = est.com
     print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
     n_kept = result["n_pushes"] - len(result["dropped_lines"])
-    print(f"method {result['method']}, status {est.status}, {len(est.used)} of {n_kept} "
+    print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
           "pushes used")  # fmt: skip
+    width, height = (100 * v for v in result["object_size_m"])
+    print(f"object: {width:.1f} x {height:.1f} cm at {result['resolution']:g} m per pixel "
+          "(check it: a wrong --resolution shows here)")  # fmt: skip
     region = result["region"]
     if "credible_radius_px" in region:
         print(
@@ -290,17 +433,48 @@ def _print_text(result: dict, est: comcore.Estimate) -> None:
         print(f"overlay: {result['overlay']}{replaced}")
 
 
+def object_size_m(mask: comcore.Mask) -> list[float]:
+    """Width and height (metres) of the object's bounding box in the image.
+
+    A resolution ten times off is still plausible and cannot be told from the
+    pushes (they are in pixels); the object's size in metres shows it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> object_size_m(comcore.Mask(np.pad(np.ones((20, 30), bool), 4), resolution=0.0025))
+    [0.075, 0.05]
+    """
+    rows, cols = np.nonzero(mask.data)
+    return [
+        float((cols.max() - cols.min() + 1) * mask.resolution),
+        float((rows.max() - rows.min() + 1) * mask.resolution),
+    ]
+
+
+def _pusher_radius(args) -> float:
+    """``--pusher-radius`` in metres, checked against ``comcore.PLAUSIBLE``."""
+    try:
+        return check_physical(
+            args.pusher_radius, "--pusher-radius", "pusher_radius", allow_zero=True
+        )
+    except ValueError as e:
+        raise InputError(str(e)) from None
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; 0 on success, 2 on a bad file or option, 1 if estimation fails."""
     try:
         mask_path, pushes_path = _inputs(args)
         resolution = check_resolution(args.resolution)
+        pusher_radius = _pusher_radius(args)
         mask = read_mask(
             mask_path, resolution, args.object, threshold=args.threshold,
             background=args.background, roi=args.roi,
         )  # fmt: skip
         recorded = read_pushes(pushes_path)
         pushes, dropped = screen_pushes(mask, recorded, strict=args.strict)
+        _recording_mistakes(mask, recorded, dropped)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
@@ -312,15 +486,20 @@ def run(args) -> int:
             file=sys.stderr,
         )
     try:
-        est = estimate(mask, pushes.actions, pushes.motions, args.method)
+        est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
+                       pusher_radius=pusher_radius)  # fmt: skip
+        mistake = _sign_mistake(mask, pushes)
     except (TypeError, ValueError) as e:
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1
-    if not est.ok:
+    if mistake:
+        print(f"comcore estimate: warning: status inconsistent: {mistake}", file=sys.stderr)
+    elif not est.ok:
         meaning = STATUS_MEANINGS.get(est.status, "the estimator could not do its job fully")
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
-    result = _result(args, mask, recorded, pushes, dropped, est)
-    code = _overlay(args, mask, pushes, est, result)
+    result = _result(args, mask, recorded, pushes, dropped, est, mistake)
+    shown = dataclasses.replace(est, status="inconsistent") if mistake else est
+    code = _overlay(args, mask, pushes, shown, result)
     if code:
         return code
     if args.json:
