@@ -200,6 +200,7 @@ def test_disc_contact_of_a_grazing_push_the_leading_line_misses(square_mask):
 def test_disc_contacts_match_the_exact_polygon_contact_to_a_pixel():
     # The simulator's contact is exact on the polygon; on its mask the disc's agrees to a pixel,
     # for pushes head on and up to 80 deg off the normal, including ones the line misses.
+    pytest.importorskip("shapely")  # the simulators need comcore[sim]
     simulators = pytest.importorskip("simulators")
     sim = simulators.PushSimulator.from_polygon(
         [(0, 0), (0.09, 0), (0.09, 0.06), (0.03, 0.075), (0, 0.05)], pusher_radius=0.00475

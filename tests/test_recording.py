@@ -213,6 +213,7 @@ def test_inputs_are_not_mutated():
 
 @pytest.mark.parametrize("resolution", [0.0025, 0.001])
 def test_mask_from_outline_is_the_simulators_mask(resolution):
+    pytest.importorskip("shapely")  # the simulators need comcore[sim]
     simulators = pytest.importorskip("simulators")
     sim = simulators.PushSimulator.from_polygon(L_SHAPE, resolution=resolution)
     mask = comcore.mask_from_outline(L_SHAPE, resolution)
@@ -240,6 +241,7 @@ def test_a_simulated_push_comes_back_as_the_simulators_own_motion(start_pose):
     # The exact simulator pushes an L-shaped plate (its CoM at the origin of its frame) from a
     # start pose; its trajectory, written as pose streams, must give back the simulator's own
     # motion (seen from the object's frame at the start) and the same push line.
+    pytest.importorskip("shapely")  # the simulators need comcore[sim]
     simulators = pytest.importorskip("simulators")
     poly = np.array(L_SHAPE)
     area = 0.5 * np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1])
