@@ -19,6 +19,7 @@ from scipy import ndimage
 from ._conventions import check_plausible
 from ._limit_surface_physics import SMOOTHING_CELLS, push_motions
 from ._mask import Mask
+from ._neighbourhood import LocalArrays, Window, margin_px
 from ._outline_field import outline_field
 from ._pressure import PRESSURES, pressures, support
 from ._push_lattice import (
@@ -40,13 +41,23 @@ FAMILY = ("tilted", "linear")
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _nearest_pixel(mask: Mask) -> np.ndarray:
-    """For every pixel, the (row, col) of the nearest object pixel (cached per mask)."""
+def _nearest_pixel(mask: Mask) -> LocalArrays:
+    """For every pixel, the (row, col) of the nearest object pixel (cached per mask).
+
+    On the object's neighbourhood (:mod:`comcore._neighbourhood`), grown when asked elsewhere:
+    a window that holds every object pixel gives the whole image's answer.
+    """
     out = _NEAREST.get(mask)
     if out is None:
-        out = _NEAREST[mask] = ndimage.distance_transform_edt(
-            ~mask.data, return_distances=False, return_indices=True
-        )
+        data, margin = mask.data, margin_px(mask.resolution)
+
+        def nearest(win):
+            rows, cols = ndimage.distance_transform_edt(
+                ~win.crop(data), return_distances=False, return_indices=True
+            )
+            return rows + win.lo[0], cols + win.lo[1]
+
+        out = _NEAREST[mask] = LocalArrays(Window.around(data, margin), nearest, margin=margin)
     return out
 
 
@@ -56,8 +67,8 @@ def _on_object(mask: Mask, points: np.ndarray) -> np.ndarray:
     rows = np.clip(np.rint(points[:, 1]).astype(np.intp), 0, h - 1)
     cols = np.clip(np.rint(points[:, 0]).astype(np.intp), 0, w - 1)
     exact = (rows == np.rint(points[:, 1])) & (cols == np.rint(points[:, 0]))
-    near_r, near_c = _nearest_pixel(mask)
-    moved = np.column_stack([near_c[rows, cols], near_r[rows, cols]]).astype(float)
+    near_r, near_c = _nearest_pixel(mask).at(rows, cols)
+    moved = np.column_stack([near_c, near_r]).astype(float)
     return np.where((mask.data[rows, cols] & exact)[:, None], points, moved)
 
 
@@ -296,7 +307,7 @@ class LimitSurfaceModel:
             if spread not in press:
                 table = pressure_table(
                     mask, (spread, self.support_points),
-                    lambda p, spread=spread: self._pressures(mask, p, spread),
+                    lambda m, p, spread=spread: self._pressures(m, p, spread),
                 )  # fmt: skip
                 press[spread] = (table_pressures(table, points, _table_step(mask)), k)
             same.append(press[spread][1] * n + np.arange(n))

@@ -11,11 +11,15 @@ from scipy import ndimage
 
 from ._checks import check_points
 from ._conventions import DEFAULT_RESOLUTION, check_plausible, pixel_centres
+from ._neighbourhood import LocalArrays, Window, filter_halo, margin_px, padded_crop
 
 __all__ = ["Mask"]
 
 #: Gaussian sigma (pixels) of the smoothing used to estimate outline normals.
 NORMAL_SMOOTHING_PX = 2.0
+#: Padding of the smoothed mask, and how far its gradient reaches from a cut edge.
+_NORMAL_PAD = int(4 * NORMAL_SMOOTHING_PX) + 2
+_NORMAL_HALO = filter_halo(NORMAL_SMOOTHING_PX)
 
 
 def _as_bool_image(data) -> np.ndarray:
@@ -227,9 +231,17 @@ class Mask:
         return out
 
     @cached_property
-    def _outside_distance(self) -> np.ndarray:
-        """Distance (pixels) from each pixel centre to the nearest object pixel centre."""
-        return ndimage.distance_transform_edt(~self.data)
+    def _outside_distance(self) -> LocalArrays:
+        """Distance (pixels) from each pixel centre to the nearest object pixel centre.
+
+        On the object's neighbourhood (:mod:`comcore._neighbourhood`), grown when asked elsewhere.
+        """
+        data = self.data
+        return LocalArrays(
+            Window.around(data, margin_px(self.resolution)),
+            lambda win: (ndimage.distance_transform_edt(~win.crop(data)),),
+            margin=margin_px(self.resolution),
+        )
 
     def distance_to_object(self, points) -> np.ndarray:
         """Distance in pixels from points ``(x, y)`` to the nearest object pixel centre.
@@ -262,19 +274,29 @@ class Mask:
         col = np.clip(np.floor(p[:, 0] + 0.5), 0, w - 1)
         row = np.clip(np.floor(p[:, 1] + 0.5), 0, h - 1)
         off = np.hypot(p[:, 0] - col, p[:, 1] - row)
-        return self._outside_distance[row.astype(int), col.astype(int)] + np.where(
+        return self._outside_distance.at(row.astype(int), col.astype(int))[0] + np.where(
             (col == np.floor(p[:, 0] + 0.5)) & (row == np.floor(p[:, 1] + 0.5)), 0.0, off
         )
 
     @cached_property
-    def _inward_field(self) -> tuple[np.ndarray, np.ndarray]:
-        """Gradient (d/dx, d/dy) of the smoothed indicator: points into the object."""
-        pad = int(4 * NORMAL_SMOOTHING_PX) + 2
-        smooth = ndimage.gaussian_filter(
-            np.pad(self.data.astype(float), pad), NORMAL_SMOOTHING_PX, mode="constant"
+    def _inward_field(self) -> LocalArrays:
+        """Gradient (d/dx, d/dy) of the smoothed indicator, padded: points into the object.
+
+        On the object's neighbourhood (:mod:`comcore._neighbourhood`), grown when asked elsewhere.
+        """
+        data, pad = self.data, _NORMAL_PAD
+        margin = margin_px(self.resolution)
+
+        def fields(win):
+            smooth = ndimage.gaussian_filter(
+                padded_crop(data, pad, win).astype(float), NORMAL_SMOOTHING_PX, mode="constant"
+            )
+            gy, gx = np.gradient(smooth)
+            return gx, gy
+
+        return LocalArrays(
+            Window.around(data, margin + _NORMAL_HALO, pad), fields, _NORMAL_HALO, margin
         )
-        gy, gx = np.gradient(smooth)
-        return gx, gy
 
     def inward_normals(self, points) -> np.ndarray:
         """Unit inward normals of the outline near points ``(x, y)``, shape (n, 2).
@@ -285,11 +307,9 @@ class Mask:
         (deep inside or far outside the object) the normal is ``(0, 0)``.
         """
         p = np.atleast_2d(np.asarray(points, dtype=float))
-        gx, gy = self._inward_field
-        pad = int(4 * NORMAL_SMOOTHING_PX) + 2
-        coords = np.vstack([p[:, 1] + pad, p[:, 0] + pad])
-        nx = ndimage.map_coordinates(gx, coords, order=1, mode="constant")
-        ny = ndimage.map_coordinates(gy, coords, order=1, mode="constant")
+        nx, ny = self._inward_field.interpolate(
+            p[:, 1] + _NORMAL_PAD, p[:, 0] + _NORMAL_PAD, "constant"
+        )
         v = np.column_stack([nx, ny])
         norm = np.hypot(nx, ny)
         good = norm > 1e-9

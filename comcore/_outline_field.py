@@ -16,6 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._mask import Mask
+from ._neighbourhood import LocalArrays, Window, filter_halo, margin_px, padded_crop
 from ._validation import check_actions, check_mask, check_positive
 
 __all__ = ["OutlineField", "outline_field"]
@@ -24,6 +25,8 @@ __all__ = ["OutlineField", "outline_field"]
 SDF_SMOOTHING_PX = 1.0
 #: Padding (pixels) of the distance field around the mask image.
 FIELD_PAD_PX = 24
+#: Pixels from a cut edge of the neighbourhood that the smoothing and the gradient reach.
+FIELD_HALO_PX = filter_halo(SDF_SMOOTHING_PX)
 #: March step (pixels) and bisections of the search for the first contact.
 CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
 
@@ -44,23 +47,18 @@ class OutlineField:
     """
 
     def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
-        img = np.pad(mask.data, pad)
-        outside = ndimage.distance_transform_edt(~img)
-        inside = ndimage.distance_transform_edt(img)
-        sdf = ndimage.gaussian_filter(
-            np.where(img, 0.5 - inside, outside - 0.5), SDF_SMOOTHING_PX, mode="nearest"
-        )
-        gy, gx = np.gradient(sdf)
         self.pad = pad
-        self._fields = (sdf, gx, gy)
+        # On the object's neighbourhood, grown when asked elsewhere: the whole image's numbers.
+        window = Window.around(mask.data, margin_px(mask.resolution) + FIELD_HALO_PX, pad)
+        self._local = LocalArrays(
+            window, lambda win: _fields(padded_crop(mask.data, pad, win)),
+            FIELD_HALO_PX, margin_px(mask.resolution),
+        )  # fmt: skip
 
     def sample(self, x, y):
         """Distance and unit outward gradient ``(gx, gy)`` at points ``(x, y)`` (bilinear)."""
         shape = np.shape(x)
-        coords = np.vstack([np.ravel(y) + self.pad, np.ravel(x) + self.pad])
-        d, gx, gy = (
-            ndimage.map_coordinates(f, coords, order=1, mode="nearest") for f in self._fields
-        )
+        d, gx, gy = self._local.interpolate(np.ravel(y) + self.pad, np.ravel(x) + self.pad)
         norm = np.maximum(np.hypot(gx, gy), 1e-12)
         return d.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
 
@@ -111,6 +109,17 @@ class OutlineField:
         start = actions[:, :2] - radii[:, None] * unit
         travel, hit = _first_contact(self, start, unit, length, radii)
         return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii
+
+
+def _fields(img: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The smoothed signed distance and its gradient ``(sdf, gx, gy)`` of a (padded) image."""
+    outside = ndimage.distance_transform_edt(~img)
+    inside = ndimage.distance_transform_edt(img)
+    sdf = ndimage.gaussian_filter(
+        np.where(img, 0.5 - inside, outside - 0.5), SDF_SMOOTHING_PX, mode="nearest"
+    )
+    gy, gx = np.gradient(sdf)
+    return sdf, gx, gy
 
 
 _FIELDS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

@@ -19,6 +19,7 @@ from collections import OrderedDict
 import numpy as np
 
 from ._mask import Mask
+from ._neighbourhood import LocalArrays, Window, margin_px
 
 __all__ = ["MAX_LATTICE_NODES", "PushLattice", "expect_frictions", "pressure_table", "remembered"]
 
@@ -132,19 +133,37 @@ class PushLattice:
         return nodes, weights
 
 
-def pressure_table(mask: Mask, key, compute) -> np.ndarray:
-    """``compute(points)`` (n, N) on the square grid ``PRESSURE_GRID_M`` apart, cached.
+def pressure_table(mask: Mask, key, compute) -> LocalArrays:
+    """``compute(mask, points)`` (n, N) on the square grid ``PRESSURE_GRID_M`` apart, cached.
 
-    Returns the table, shape (n_i, n_j, N), for :func:`table_pressures`.
+    The grid's node ``(i, j)`` lies at pixel ``(x, y) = step * (i, j)``, over
+    the whole image; its pressures are computed where they are asked about
+    (:func:`table_pressures`): on the object's neighbourhood first (the CoM
+    hypotheses lie on the object), grown when a point needs a node outside it
+    (:class:`comcore._neighbourhood.LocalArrays`). A node's pressures do not
+    depend on which other nodes are computed with it.
+
+    Returns the table for :func:`table_pressures`.
     """
     tables = _TABLES.setdefault(mask, {})
     if key not in tables:
         h, w = mask.shape
         g = _table_step(mask)
         ni, nj = int(np.ceil((w - 1) / g)) + 2, int(np.ceil((h - 1) / g)) + 2
-        ii, jj = np.meshgrid(np.arange(ni), np.arange(nj), indexing="ij")
-        points = g * np.column_stack([ii.ravel(), jj.ravel()]).astype(float)
-        tables[key] = compute(points).reshape(ni, nj, -1)
+        box = Window.around(mask.data, 0)  # rows, columns of the object
+        lo = (int(np.floor(box.lo[1] / g)), int(np.floor(box.lo[0] / g)))
+        hi = (int(np.ceil((box.hi[1] - 1) / g)) + 2, int(np.ceil((box.hi[0] - 1) / g)) + 2)
+        margin = int(np.ceil(margin_px(mask.resolution) / g))
+        ref = weakref.ref(mask)  # the cache must not keep its key alive
+
+        def make(win):
+            ii, jj = np.meshgrid(
+                np.arange(win.lo[0], win.hi[0]), np.arange(win.lo[1], win.hi[1]), indexing="ij"
+            )
+            points = g * np.column_stack([ii.ravel(), jj.ravel()]).astype(float)
+            return (compute(ref(), points).reshape((*ii.shape, -1)),)
+
+        tables[key] = LocalArrays(Window.box((ni, nj), lo, hi, margin), make, margin=margin)
     return tables[key]
 
 
@@ -153,16 +172,18 @@ def _table_step(mask: Mask) -> float:
     return max(PRESSURE_GRID_M / mask.resolution, 1.0)
 
 
-def table_pressures(table: np.ndarray, points: np.ndarray, step: float) -> np.ndarray:
+def table_pressures(table: LocalArrays, points: np.ndarray, step: float) -> np.ndarray:
     """Pressures at points, bilinear in the table of :func:`pressure_table`, (n, N)."""
-    cell = np.clip(points / step, 0.0, np.array(table.shape[:2]) - 1 - 1e-9)
+    cell = np.clip(points / step, 0.0, np.array(table.window.shape) - 1 - 1e-9)
     lo = np.floor(cell).astype(np.intp)
     f = cell - lo
     i, j = lo[:, 0], lo[:, 1]
+    (values,), origin = table.local(np.concatenate([i, i + 1]), np.concatenate([j, j + 1]))
+    i, j = i - origin[0], j - origin[1]
     fx, fy = f[:, :1], f[:, 1:]
     return (
-        table[i, j] * (1 - fx) * (1 - fy) + table[i, j + 1] * (1 - fx) * fy
-        + table[i + 1, j] * fx * (1 - fy) + table[i + 1, j + 1] * fx * fy
+        values[i, j] * (1 - fx) * (1 - fy) + values[i, j + 1] * (1 - fx) * fy
+        + values[i + 1, j] * fx * (1 - fy) + values[i + 1, j + 1] * fx * fy
     )  # fmt: skip
 
 

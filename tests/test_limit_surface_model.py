@@ -90,7 +90,7 @@ def test_interpolation_is_exact_at_the_lattice_nodes():
     nodes = lattice.points[mask.contains(lattice.points)][::3]
     grid = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=0.01)
     direct = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=0.0)
-    table = pressure_table(mask, ("tilted", 32), lambda p: direct._pressures(mask, p))
+    table = pressure_table(mask, ("tilted", 32), lambda m, p: direct._pressures(m, p))
     # The nodes' pressures come from the per-mask table: the same pressures, directly.
     expected = direct._motions(mask, push, table_pressures(table, nodes, 2.0), 0.4)
     asked = np.vstack([nodes, mask.pixels])  # many hypotheses: the lattice is used
