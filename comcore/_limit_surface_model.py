@@ -19,7 +19,7 @@ from scipy import ndimage
 from ._conventions import check_plausible
 from ._limit_surface_physics import SMOOTHING_CELLS, push_motions
 from ._mask import Mask
-from ._neighbourhood import LocalArrays, Window, margin_px
+from ._neighbourhood import LocalArrays, margin_px
 from ._outline_field import outline_field
 from ._pressure import PRESSURES, pressures, support
 from ._push_lattice import (
@@ -57,7 +57,7 @@ def _nearest_pixel(mask: Mask) -> LocalArrays:
             )
             return rows + win.lo[0], cols + win.lo[1]
 
-        out = _NEAREST[mask] = LocalArrays(Window.around(data, margin), nearest, margin=margin)
+        out = _NEAREST[mask] = LocalArrays(mask._box.grown_by(margin), nearest, margin=margin)
     return out
 
 

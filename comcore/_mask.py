@@ -10,8 +10,15 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_points
-from ._conventions import DEFAULT_RESOLUTION, check_plausible, pixel_centres
-from ._neighbourhood import LocalArrays, Window, filter_halo, margin_px, padded_crop
+from ._conventions import DEFAULT_RESOLUTION, check_plausible
+from ._neighbourhood import (
+    LocalArrays,
+    Window,
+    filter_halo,
+    margin_px,
+    padded_crop,
+    true_pixels,
+)
 
 __all__ = ["Mask"]
 
@@ -115,9 +122,14 @@ class Mask:
         return self.data.shape  # type: ignore[return-value]
 
     @cached_property
+    def _box(self) -> Window:
+        """The object's bounding box (:mod:`comcore._neighbourhood`)."""
+        return Window.around(self.data, 0)
+
+    @cached_property
     def pixels(self) -> np.ndarray:
         """Centres ``(x, y)`` of the object's pixels, shape (m, 2), row-major order."""
-        out = pixel_centres(self.data)
+        out = true_pixels(self.data, self._box)  # every object pixel is in the box
         out.setflags(write=False)
         return out
 
@@ -145,8 +157,10 @@ class Mask:
     @cached_property
     def boundary(self) -> np.ndarray:
         """Object pixels with a 4-neighbour outside the object (bool image, read-only)."""
-        inner = ndimage.binary_erosion(self.data, border_value=0)
-        out = self.data & ~inner
+        window = self._box.grown_by(1)  # background all round, or the image's own border
+        part = window.crop(self.data)
+        out = np.zeros(self.shape, bool)
+        window.crop(out)[...] = part & ~ndimage.binary_erosion(part, border_value=0)
         out.setflags(write=False)
         return out
 
@@ -238,7 +252,7 @@ class Mask:
         """
         data = self.data
         return LocalArrays(
-            Window.around(data, margin_px(self.resolution)),
+            self._box.grown_by(margin_px(self.resolution)),
             lambda win: (ndimage.distance_transform_edt(~win.crop(data)),),
             margin=margin_px(self.resolution),
         )
@@ -295,7 +309,7 @@ class Mask:
             return gx, gy
 
         return LocalArrays(
-            Window.around(data, margin + _NORMAL_HALO, pad), fields, _NORMAL_HALO, margin
+            self._box.grown_by(margin + _NORMAL_HALO, pad), fields, _NORMAL_HALO, margin
         )
 
     def inward_normals(self, points) -> np.ndarray:

@@ -34,8 +34,14 @@ import numpy as np
 from scipy import ndimage
 
 __all__ = [
-    "NEIGHBOURHOOD_MARGIN_M", "LocalArrays", "Window", "filter_halo", "margin_px", "padded_crop",
-]  # fmt: skip
+    "NEIGHBOURHOOD_MARGIN_M",
+    "LocalArrays",
+    "Window",
+    "filter_halo",
+    "margin_px",
+    "padded_crop",
+    "true_pixels",
+]
 
 #: Margin (metres) of the window around the object: a push's standoff (1.2 cm by
 #: default), the pusher's radius and its travel past the outline (3 cm) fit in it.
@@ -99,15 +105,24 @@ class Window:
     def around(cls, image: np.ndarray, margin: int, pad: int = 0) -> Window:
         """The bounding box of ``image``'s true values grown by ``margin``, clipped to it.
 
-        With ``pad``, on ``np.pad(image, pad)`` (its shape and indices).
+        With ``pad``, on ``np.pad(image, pad)`` (its shape and indices). An
+        image without a true value gives the whole image.
         """
-        shape = (int(image.shape[0]) + 2 * pad, int(image.shape[1]) + 2 * pad)
+        shape = (int(image.shape[0]), int(image.shape[1]))
         rows = np.flatnonzero(image.any(axis=1))
         cols = np.flatnonzero(image.any(axis=0))
         if not len(rows):
-            return cls((0, 0), shape, shape)
-        lo, hi = (rows[0] + pad, cols[0] + pad), (rows[-1] + 1 + pad, cols[-1] + 1 + pad)
-        return cls.box(shape, lo, hi, margin)
+            return cls((0, 0), shape, shape).grown_by(0, pad)
+        return cls((rows[0], cols[0]), (rows[-1] + 1, cols[-1] + 1), shape).grown_by(margin, pad)
+
+    def grown_by(self, margin: int, pad: int = 0) -> Window:
+        """The box grown by ``margin`` on the array padded by ``pad`` (its indices), clipped."""
+        shape = (self.shape[0] + 2 * pad, self.shape[1] + 2 * pad)
+        lo = (self.lo[0] + pad, self.lo[1] + pad)
+        hi = (self.hi[0] + pad, self.hi[1] + pad)
+        if self.lo == (0, 0) and self.hi == self.shape:  # the whole image: the whole padded one
+            lo, hi = (0, 0), shape
+        return Window.box(shape, lo, hi, margin)
 
     @classmethod
     def box(cls, shape, lo, hi, margin: int = 0) -> Window:
@@ -147,6 +162,22 @@ class Window:
         lo = (min(self.lo[0], int(i.min()) - reach), min(self.lo[1], int(j.min()) - reach))
         hi = (max(self.hi[0], int(i.max()) + 1 + reach), max(self.hi[1], int(j.max()) + 1 + reach))
         return Window.box(self.shape, lo, hi)
+
+
+def true_pixels(image: np.ndarray, window: Window) -> np.ndarray:
+    """Centres ``(x, y)`` of ``image``'s true pixels in ``window``, whole-image coordinates.
+
+    Row-major, as ``comcore.pixel_centres(image)``: the same array when the
+    window holds every true pixel, at the window's cost.
+
+    Examples
+    --------
+    >>> image = np.zeros((6, 8), bool); image[2, 5] = image[3, 4] = True
+    >>> true_pixels(image, Window((2, 4), (4, 6), (6, 8))).tolist()
+    [[5.0, 2.0], [4.0, 3.0]]
+    """
+    rows, cols = np.nonzero(window.crop(image))
+    return np.column_stack([cols + window.lo[1], rows + window.lo[0]]).astype(float)
 
 
 def padded_crop(data: np.ndarray, pad: int, window: Window) -> np.ndarray:

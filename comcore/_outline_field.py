@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._mask import Mask
-from ._neighbourhood import LocalArrays, Window, filter_halo, margin_px, padded_crop
+from ._neighbourhood import LocalArrays, filter_halo, margin_px, padded_crop
 from ._validation import check_actions, check_mask, check_positive
 
 __all__ = ["OutlineField", "outline_field"]
@@ -49,7 +49,7 @@ class OutlineField:
     def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
         self.pad = pad
         # On the object's neighbourhood, grown when asked elsewhere: the whole image's numbers.
-        window = Window.around(mask.data, margin_px(mask.resolution) + FIELD_HALO_PX, pad)
+        window = mask._box.grown_by(margin_px(mask.resolution) + FIELD_HALO_PX, pad)
         self._local = LocalArrays(
             window, lambda win: _fields(padded_crop(mask.data, pad, win)),
             FIELD_HALO_PX, margin_px(mask.resolution),

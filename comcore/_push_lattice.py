@@ -150,7 +150,7 @@ def pressure_table(mask: Mask, key, compute) -> LocalArrays:
         h, w = mask.shape
         g = _table_step(mask)
         ni, nj = int(np.ceil((w - 1) / g)) + 2, int(np.ceil((h - 1) / g)) + 2
-        box = Window.around(mask.data, 0)  # rows, columns of the object
+        box = mask._box  # rows, columns of the object
         lo = (int(np.floor(box.lo[1] / g)), int(np.floor(box.lo[0] / g)))
         hi = (int(np.ceil((box.hi[1] - 1) / g)) + 2, int(np.ceil((box.hi[0] - 1) / g)) + 2)
         margin = int(np.ceil(margin_px(mask.resolution) / g))

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._conventions import pixel_centres, rotate_vectors
+from ._conventions import rotate_vectors
 from ._geometry import contacts
 from ._mask import Mask
+from ._neighbourhood import true_pixels
 from ._validation import check_mask, check_positive, check_rng
 
 __all__ = ["sample_pushes"]
@@ -87,7 +88,7 @@ def sample_pushes(
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
     clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
     rng = check_rng(rng)
-    outline = pixel_centres(mask.boundary)
+    outline = true_pixels(mask.boundary, mask._box)  # the object's box: not the whole frame
     out = np.empty((0, 4))
     for _ in range(50):
         if len(out) >= n:

@@ -31,12 +31,17 @@ def test_bench_mask_from_image_refuses_an_unknown_condition():
 
 
 def test_bench_first_observe_script_runs():
-    args = ["--objects", "1", "--width", "200", "--height", "160", "--share", "0.05", "--crop", "30"]
-    lines = run_script("benchmarks/bench_first_observe.py", *args, timeout=120).splitlines()
-    assert re.fullmatch(r"first push of 1 sessions \(seed 1\): masks \d+-\d+ x \d+-\d+ px, .*", lines[0])
-    for line, step in zip(lines[1:], ("ActiveSession(mask)", "next_push()", "observe(mask)")):
+    args = ["--objects", "1", "--repeats", "2", "--width", "200", "--height", "160", "--share", "0.05"]
+    lines = run_script("benchmarks/bench_first_observe.py", *args, "--crop", "30", timeout=120)
+    lines = lines.splitlines()
+    assert re.fullmatch(
+        r"first push of 2 sessions \(1 objects x 2, seed 1\): masks \d+-\d+ x \d+-\d+ px, .*",
+        lines[0],
+    )
+    steps = ("ActiveSession(mask)", "next_push()", "observe(mask)", "all three")
+    for line, step in zip(lines[1:], steps):
         assert re.fullmatch(rf"  {re.escape(step)}: median \d+ ms wall, \d+ ms CPU", line)
-    assert len(lines) == 4
+    assert len(lines) == 5
 
 
 def test_bench_measure_motion_in_a_wide_frame():

@@ -329,3 +329,25 @@ def test_fields_are_exact_at_the_windows_cut_edges(k):
     fresh = comcore.Mask(mask.data, resolution=mask.resolution)
     pts = points_at_the_edges(fresh._inward_field.window, int(4 * NORMAL_SMOOTHING_PX) + 2, k)
     np.testing.assert_array_equal(fresh.inward_normals(pts), whole_inward_normals(fresh, pts))
+
+
+@pytest.mark.parametrize("k", range(len(MASKS)))
+def test_pixels_and_boundary_match_the_whole_frame(k):
+    mask = MASKS[k]
+    data = mask.data
+    rows, cols = np.nonzero(data)
+    np.testing.assert_array_equal(mask.pixels, np.column_stack([cols, rows]).astype(float))
+    np.testing.assert_array_equal(
+        mask.boundary, data & ~ndimage.binary_erosion(data, border_value=0)
+    )
+    full = comcore.Mask(np.ones((5, 7), bool))  # the object is the whole image
+    np.testing.assert_array_equal(full.boundary, ~ndimage.binary_erosion(full.data, border_value=0))
+
+
+@pytest.mark.parametrize("k", range(len(MASKS)))
+def test_outline_pixels_of_sample_pushes_match_the_whole_frame(k):
+    # the outline pixels drawn from: the box's, in the whole frame's order
+    mask = MASKS[k]
+    np.testing.assert_array_equal(
+        neighbourhood.true_pixels(mask.boundary, mask._box), comcore.pixel_centres(mask.boundary)
+    )
