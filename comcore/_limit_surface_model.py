@@ -29,6 +29,7 @@ from ._push_lattice import (
     pressure_table,
     remembered,
     table_pressures,
+    widened,
 )
 from ._validation import check_actions, check_mask, check_points
 
@@ -39,6 +40,9 @@ __all__ = ["FAMILY", "LimitSurfaceModel", "check_push_lengths"]
 FAMILY = ("tilted", "linear")
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: How far (in node spacings) from a hypothesis the nodes it is interpolated from lie: a
+#: cell's diagonal, at most sqrt(2) spacings; the pressure table starts that far round the object.
+_LATTICE_REACH = 1.5
 
 
 def _nearest_pixel(mask: Mask) -> LocalArrays:
@@ -278,26 +282,33 @@ class LimitSurfaceModel:
         """Motions of one push, interpolated from its lattice's nodes, (n, 1, 3)."""
         spreads = tuple(p for p in PRESSURES if p == self.pressure or p in self.batch_pressures)
         settings = (self.pusher_radius, self.n_steps, self.support_points, self.node_spacing)
+        key = (settings, spreads, action.tobytes())
+        near = mask._box.grown_by(margin_px(mask.resolution))  # the object's neighbourhood
         lattice, known, mus = remembered(
-            mask, (settings, spreads, action.tobytes()),
-            lambda: PushLattice(mask, action, self.node_spacing), mu, spreads,
-        )  # fmt: skip
-        corners, weights, keys = lattice.cells(pts)
+            mask, key, lambda: PushLattice(mask, action, self.node_spacing, near), mu, spreads
+        )
+        found = lattice.cells(pts)
+        if found is None:  # a hypothesis off the neighbourhood: the whole image's lattice
+            lattice, known = widened(
+                mask, key, lambda: PushLattice(mask, action, self.node_spacing)
+            )
+            found = lattice.cells(pts)
+        corners, weights, keys = found
         if len(keys) >= len(pts):  # interpolation would not save anything
             return self._motions(mask, action[None], self._pressures(mask, pts), mu)
         todo = keys[np.isnan(known[self.pressure, mu][keys, 0])]
         if len(todo):
-            self._integrate_nodes(mask, action, lattice.points[todo], todo, known, mus, spreads)
+            self._integrate_nodes(mask, action, lattice, todo, known, mus, spreads)
         motion = known[self.pressure, mu]
         return np.einsum("kn,kns->ns", weights, motion[corners])[:, None, :]
 
-    def _integrate_nodes(self, mask, action, points, todo, known, mus, spreads):
+    def _integrate_nodes(self, mask, action, lattice, todo, known, mus, spreads):
         """Integrate the push at nodes for every pressure spread and friction not yet known.
 
         One batch: per spread the friction values highest first, so that a row
         that sticks can move as its spread's highest-friction copy does.
         """
-        n = len(todo)
+        n, points = len(todo), lattice.points[todo]
         jobs = [
             (spread, m) for spread in spreads for m in sorted(mus, reverse=True)
             if np.isnan(known[spread, m][todo, 0]).all()
@@ -308,6 +319,7 @@ class LimitSurfaceModel:
                 table = pressure_table(
                     mask, (spread, self.support_points),
                     lambda m, p, spread=spread: self._pressures(m, p, spread),
+                    reach_px=_LATTICE_REACH * lattice.spacing,
                 )  # fmt: skip
                 press[spread] = (table_pressures(table, points, _table_step(mask)), k)
             same.append(press[spread][1] * n + np.arange(n))

@@ -8,7 +8,8 @@ nodes lie on lines parallel to the push, close together near the push line
 arm) and ``spacing`` apart far from it and along it: spacings in metres, so
 a finer camera does not multiply the nodes. The pressure at a node is
 interpolated bilinearly from a table of the pressure spread on a square grid
-over the image (``PRESSURE_GRID_M``), computed once per mask.
+over the image (``PRESSURE_GRID_M``), kept per mask and computed where it is
+asked about: the object's neighbourhood (:mod:`comcore._neighbourhood`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,14 @@ import numpy as np
 from ._mask import Mask
 from ._neighbourhood import LocalArrays, Window, margin_px
 
-__all__ = ["MAX_LATTICE_NODES", "PushLattice", "expect_frictions", "pressure_table", "remembered"]
+__all__ = [
+    "MAX_LATTICE_NODES",
+    "PushLattice",
+    "expect_frictions",
+    "pressure_table",
+    "remembered",
+    "widened",
+]
 
 #: Node spacing (metres) on the push line, and its growth per unit of lever arm.
 NEAR_LINE_SPACING_M, SPACING_GROWTH = 0.0025, 0.5
@@ -63,21 +71,25 @@ def lever_count(spacing: float, near: float, reach: float) -> int:
 
 
 class PushLattice:
-    """Nodes on lines parallel to one push, over the whole image.
+    """Nodes on lines parallel to one push, over the whole image or the part of it in a box.
 
     Node ``(i, j)`` lies at ``start + along[i] * u + lever[j] * w``, ``u`` the
     push direction and ``w`` its perpendicular; ``points`` (n_i * n_j, 2) in
-    that order.
+    that order. With ``box`` (a :class:`comcore._neighbourhood.Window` of the
+    image: the object's neighbourhood) only the whole image's nodes whose
+    cells reach into the box are made, at the same positions; a point whose
+    cell is not among them is not located (:meth:`cells` returns None) and
+    :meth:`whole_ids` maps the nodes to those of the whole image's lattice.
 
     Raises
     ------
     ValueError
-        If the lattice would hold more than :data:`MAX_LATTICE_NODES` nodes
-        (a node spacing far below a pixel: a resolution or spacing in the wrong
-        unit), naming the push and the numbers.
+        If the whole image's lattice would hold more than
+        :data:`MAX_LATTICE_NODES` nodes (a node spacing far below a pixel: a
+        resolution or spacing in the wrong unit), naming the push and the numbers.
     """
 
-    def __init__(self, mask: Mask, action: np.ndarray, spacing_m: float):
+    def __init__(self, mask: Mask, action: np.ndarray, spacing_m: float, box: Window | None = None):
         self.start = np.asarray(action[:2], dtype=float)
         d = np.asarray(action[2:], dtype=float) - self.start
         self.u = d / np.hypot(d[0], d[1])
@@ -97,51 +109,85 @@ class PushLattice:
                 f"{mask.resolution:g} m per pixel over a {w} x {h} px image), over the bound "
                 f"of {MAX_LATTICE_NODES:,}: is the mask's resolution in metres per pixel?"
             )
-        self.along = spacing * np.arange(first, last + 1)
-        self.lever = lever_nodes(spacing, near, reach)
+        along = spacing * np.arange(first, last + 1)
+        lever = lever_nodes(spacing, near, reach)
+        self._whole = (along[0], len(along), lever)  # what locates a point in the whole lattice
+        i0, i1, j0, j1 = 0, len(along), 0, len(lever)
+        if box is not None:  # the nodes of the cells over the box (one more each side)
+            (r0, c0), (r1, c1) = box.lo, box.hi
+            inner = np.array([[c0 - 1, r0 - 1], [c1, r0 - 1], [c0 - 1, r1], [c1, r1]], float)
+            a, b = (inner - self.start) @ self.u, (inner - self.start) @ self.w
+            i0 = max(int(np.floor((a.min() - along[0]) / spacing)) - 1, 0)
+            i1 = min(int(np.ceil((a.max() - along[0]) / spacing)) + 2, len(along))
+            j0 = max(int(np.searchsorted(lever, b.min(), side="right")) - 2, 0)
+            j1 = min(int(np.searchsorted(lever, b.max(), side="left")) + 2, len(lever))
+        self._offset = (i0, j0)
+        self.along, self.lever = along[i0:i1], lever[j0:j1]
         grid_a, grid_b = np.meshgrid(self.along, self.lever, indexing="ij")
         self.points = (
             self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
         )  # fmt: skip
 
+    def whole_ids(self) -> np.ndarray:
+        """Each node's index in the whole image's lattice of the same push, (n_nodes,)."""
+        n_j = len(self._whole[2])
+        i = np.arange(len(self.along)) + self._offset[0]
+        j = np.arange(len(self.lever)) + self._offset[1]
+        return (i[:, None] * n_j + j[None, :]).ravel()
+
     def cells(self, points: np.ndarray):
         """:meth:`locate` and the sorted distinct nodes used, remembered for the last points.
 
-        An estimator asks about the same hypotheses for several friction values
-        and models in turn.
+        None when a point's cell is not in this lattice (one on a box: the
+        point is off the box). An estimator asks about the same hypotheses for
+        several friction values and models in turn.
         """
         last = getattr(self, "_last", None)
         if last is None or not np.array_equal(last[0], points):
-            corners, weights = self.locate(points)
-            used = np.zeros(len(self.points), dtype=bool)
-            used[corners.ravel()] = True
-            last = self._last = (points.copy(), (corners, weights, np.flatnonzero(used)))
+            corners, weights, inside = self.locate(points)
+            found = None
+            if inside.all():
+                used = np.zeros(len(self.points), dtype=bool)
+                used[corners.ravel()] = True
+                found = (corners, weights, np.flatnonzero(used))
+            last = self._last = (points.copy(), found)
         return last[1]
 
-    def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Corner nodes (4, n) and bilinear weights (4, n) of each point's cell."""
+    def locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Corner nodes (4, n), bilinear weights (4, n) of each point's cell, and if it is here.
+
+        The cell and weights are the whole image's lattice's (a point beyond
+        it is clamped to its edge cell), the nodes this lattice's numbers.
+        """
         rel = points - self.start
         a, b = rel @ self.u, rel @ self.w
-        n_i, n_j = len(self.along), len(self.lever)
-        fi = np.clip((a - self.along[0]) / self.spacing, 0.0, n_i - 1 - 1e-9)
+        along0, n_i, lever = self._whole
+        fi = np.clip((a - along0) / self.spacing, 0.0, n_i - 1 - 1e-9)
         i = np.floor(fi).astype(np.intp)
-        j = np.clip(np.searchsorted(self.lever, b, side="right") - 1, 0, n_j - 2)
+        j = np.clip(np.searchsorted(lever, b, side="right") - 1, 0, len(lever) - 2)
         fa = fi - i
-        fb = np.clip((b - self.lever[j]) / (self.lever[j + 1] - self.lever[j]), 0.0, 1.0)
+        fb = np.clip((b - lever[j]) / (lever[j + 1] - lever[j]), 0.0, 1.0)
+        i, j = i - self._offset[0], j - self._offset[1]
+        n_i, n_j = len(self.along), len(self.lever)
+        inside = (i >= 0) & (i < n_i - 1) & (j >= 0) & (j < n_j - 1)
+        i, j = np.where(inside, i, 0), np.where(inside, j, 0)
         nodes = np.stack([i * n_j + j, i * n_j + j + 1, (i + 1) * n_j + j, (i + 1) * n_j + j + 1])
         weights = np.stack([(1 - fa) * (1 - fb), (1 - fa) * fb, fa * (1 - fb), fa * fb])
-        return nodes, weights
+        return nodes, weights, inside
 
 
-def pressure_table(mask: Mask, key, compute) -> LocalArrays:
+def pressure_table(mask: Mask, key, compute, reach_px: float | None = None) -> LocalArrays:
     """``compute(mask, points)`` (n, N) on the square grid ``PRESSURE_GRID_M`` apart, cached.
 
     The grid's node ``(i, j)`` lies at pixel ``(x, y) = step * (i, j)``, over
     the whole image; its pressures are computed where they are asked about
-    (:func:`table_pressures`): on the object's neighbourhood first (the CoM
-    hypotheses lie on the object), grown when a point needs a node outside it
+    (:func:`table_pressures`): first on the object's box grown by ``reach_px``
+    (how far from a CoM hypothesis on the object a lattice node it is
+    interpolated from can lie; default the neighbourhood's margin), then
+    grown when a point needs a node outside it
     (:class:`comcore._neighbourhood.LocalArrays`). A node's pressures do not
-    depend on which other nodes are computed with it.
+    depend on which other nodes are computed with it, so the table holds the
+    whole image's numbers wherever it is read.
 
     Returns the table for :func:`table_pressures`.
     """
@@ -153,7 +199,8 @@ def pressure_table(mask: Mask, key, compute) -> LocalArrays:
         box = mask._box  # rows, columns of the object
         lo = (int(np.floor(box.lo[1] / g)), int(np.floor(box.lo[0] / g)))
         hi = (int(np.ceil((box.hi[1] - 1) / g)) + 2, int(np.ceil((box.hi[0] - 1) / g)) + 2)
-        margin = int(np.ceil(margin_px(mask.resolution) / g))
+        reach = margin_px(mask.resolution) if reach_px is None else reach_px
+        margin = int(np.ceil(reach / g)) + 1
         ref = weakref.ref(mask)  # the cache must not keep its key alive
 
         def make(win):
@@ -204,6 +251,26 @@ def expect_frictions(mask: Mask, mus) -> None:
         memo["before"] = [float(m) for m in mus][:MAX_REMEMBERED_MUS]
 
 
+def widened(mask: Mask, key, make_whole):
+    """The push ``key``'s lattice made over the whole image, its node motions carried over.
+
+    For a hypothesis off the object's neighbourhood (:meth:`PushLattice.cells`
+    gives None): ``make_whole()`` is the whole image's lattice of the same
+    push, and what the neighbourhood's lattice knew is kept under its nodes'
+    indices there. Returns ``(lattice, per_mu)`` as :func:`remembered` does.
+    """
+    pushes = _memo(mask)["pushes"]
+    lattice, per_mu = pushes[key]
+    whole = make_whole()
+    ids = lattice.whole_ids()
+    carried = {}
+    for job, motions in per_mu.items():
+        carried[job] = np.full((len(whole.points), 3), np.nan)
+        carried[job][ids] = motions
+    pushes[key] = (whole, carried)
+    return whole, carried
+
+
 def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     """The remembered lattice and node motions of one push (``key``), and the frictions to batch.
 
@@ -229,5 +296,6 @@ def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     lattice, per_mu = pushes[key]
     for spread in spreads:
         for m in mus:
-            per_mu.setdefault((spread, m), np.full((len(lattice.points), 3), np.nan))
+            if (spread, m) not in per_mu:  # (not setdefault: it would fill an array every call)
+                per_mu[spread, m] = np.full((len(lattice.points), 3), np.nan)
     return lattice, per_mu, mus

@@ -20,7 +20,7 @@ from comcore._mask import NORMAL_SMOOTHING_PX
 from comcore._neighbourhood import LocalArrays, Window, margin_px, padded_crop
 from comcore._outline_field import FIELD_PAD_PX, SDF_SMOOTHING_PX, OutlineField
 from comcore._pressure import pressures, support
-from comcore._push_lattice import _table_step, pressure_table, table_pressures
+from comcore._push_lattice import PushLattice, _memo, _table_step, pressure_table, table_pressures
 from tests.frames import star_polygon
 
 
@@ -351,3 +351,48 @@ def test_outline_pixels_of_sample_pushes_match_the_whole_frame(k):
     np.testing.assert_array_equal(
         neighbourhood.true_pixels(mask.boundary, mask._box), comcore.pixel_centres(mask.boundary)
     )
+
+
+def test_push_lattice_on_the_neighbourhood_is_part_of_the_whole_ones():
+    mask = MASKS[0]
+    push = comcore.sample_pushes(mask, 1, rng=3)[0]
+    whole = PushLattice(mask, push, 0.01)
+    near = PushLattice(mask, push, 0.01, mask._box.grown_by(margin_px(mask.resolution)))
+    assert len(near.points) < len(whole.points) / 10
+    np.testing.assert_array_equal(near.points, whole.points[near.whole_ids()])
+    pts = np.vstack([mask.pixels, mask.pixels + 0.37])
+    (c_near, w_near, used_near), (c_whole, w_whole, used_whole) = near.cells(pts), whole.cells(pts)
+    np.testing.assert_array_equal(near.whole_ids()[c_near], c_whole)
+    np.testing.assert_array_equal(w_near, w_whole)
+    np.testing.assert_array_equal(near.whole_ids()[used_near], used_whole)
+    far = np.array([[1.0, 1.0], [mask.shape[1] - 2.0, 5.0]])
+    assert near.cells(np.vstack([pts, far])) is None and whole.cells(far) is not None
+
+
+def model_calls(mask):
+    """Motions of one push for hypotheses on the object, then some far off it, then again."""
+    model = comcore.LimitSurfaceModel(pusher_radius=0.004)
+    push = comcore.sample_pushes(mask, 1, rng=4)
+    h, w = mask.shape
+    far = np.vstack([mask.pixels, [[2.0, 2.0], [w - 3.0, h - 3.0], [w / 2, 1.0]]])
+    out = [model.predict_hypotheses(mask, push, mask.pixels, 0.5)]
+    ((lattice, _),) = _memo(mask)["pushes"].values()
+    n_first = len(lattice.points)
+    return n_first, [
+        *out,
+        model.predict_hypotheses(mask, push, far, 0.5),
+        model.predict_hypotheses(mask, push, mask.pixels, 0.2),
+        model.predict_hypotheses(mask, push, far[::-1], 0.2),
+    ]
+
+
+def test_model_off_the_neighbourhood_is_the_whole_frames(monkeypatch):
+    # hypotheses off the object widen the push's lattice to the whole image, carrying over
+    # the node motions already integrated: the same numbers as a whole lattice from the start
+    data = MASKS[0].data
+    n_near, got = model_calls(comcore.Mask(data, resolution=0.001))
+    monkeypatch.setattr(neighbourhood, "NEIGHBOURHOOD_MARGIN_M", 100.0)
+    n_whole, want = model_calls(comcore.Mask(data, resolution=0.001))
+    assert n_near < n_whole / 5  # the first calls used the neighbourhood's lattice
+    for a, b in zip(got, want):
+        np.testing.assert_array_equal(a, b)
