@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from scipy import ndimage
@@ -45,6 +46,14 @@ _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _LATTICE_REACH = 1.5
 
 
+def _nearest(data: np.ndarray, window) -> tuple[np.ndarray, np.ndarray]:
+    """(row, col) of the nearest object pixel, whole-image indices, on a window holding it."""
+    rows, cols = ndimage.distance_transform_edt(
+        ~window.crop(data), return_distances=False, return_indices=True
+    )
+    return rows + window.lo[0], cols + window.lo[1]
+
+
 def _nearest_pixel(mask: Mask) -> LocalArrays:
     """For every pixel, the (row, col) of the nearest object pixel (cached per mask).
 
@@ -53,15 +62,10 @@ def _nearest_pixel(mask: Mask) -> LocalArrays:
     """
     out = _NEAREST.get(mask)
     if out is None:
-        data, margin = mask.data, margin_px(mask.resolution)
-
-        def nearest(win):
-            rows, cols = ndimage.distance_transform_edt(
-                ~win.crop(data), return_distances=False, return_indices=True
-            )
-            return rows + win.lo[0], cols + win.lo[1]
-
-        out = _NEAREST[mask] = LocalArrays(mask._box.grown_by(margin), nearest, margin=margin)
+        margin = margin_px(mask.resolution)
+        out = _NEAREST[mask] = LocalArrays(
+            mask._box.grown_by(margin), partial(_nearest, mask.data), 0, margin
+        )
     return out
 
 

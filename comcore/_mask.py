@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
 from scipy import ndimage
@@ -58,6 +58,20 @@ def _as_bool_image(data) -> np.ndarray:
             "comcore.mask_from_image(image), which thresholds it"
         )
     return arr.astype(bool)
+
+
+def _outside(data: np.ndarray, window: Window) -> tuple[np.ndarray]:
+    """The distance to the nearest object pixel on a window holding the object."""
+    return (ndimage.distance_transform_edt(~window.crop(data)),)
+
+
+def _inward(data: np.ndarray, window: Window) -> tuple[np.ndarray, np.ndarray]:
+    """The smoothed indicator's gradient ``(d/dx, d/dy)`` on a window of the padded image."""
+    smooth = ndimage.gaussian_filter(
+        padded_crop(data, _NORMAL_PAD, window).astype(float), NORMAL_SMOOTHING_PX, mode="constant"
+    )
+    gy, gx = np.gradient(smooth)
+    return gx, gy
 
 
 @dataclass(frozen=True, eq=False)
@@ -250,12 +264,8 @@ class Mask:
 
         On the object's neighbourhood (:mod:`comcore._neighbourhood`), grown when asked elsewhere.
         """
-        data = self.data
-        return LocalArrays(
-            self._box.grown_by(margin_px(self.resolution)),
-            lambda win: (ndimage.distance_transform_edt(~win.crop(data)),),
-            margin=margin_px(self.resolution),
-        )
+        margin = margin_px(self.resolution)
+        return LocalArrays(self._box.grown_by(margin), partial(_outside, self.data), 0, margin)
 
     def distance_to_object(self, points) -> np.ndarray:
         """Distance in pixels from points ``(x, y)`` to the nearest object pixel centre.
@@ -298,19 +308,11 @@ class Mask:
 
         On the object's neighbourhood (:mod:`comcore._neighbourhood`), grown when asked elsewhere.
         """
-        data, pad = self.data, _NORMAL_PAD
         margin = margin_px(self.resolution)
-
-        def fields(win):
-            smooth = ndimage.gaussian_filter(
-                padded_crop(data, pad, win).astype(float), NORMAL_SMOOTHING_PX, mode="constant"
-            )
-            gy, gx = np.gradient(smooth)
-            return gx, gy
-
         return LocalArrays(
-            self._box.grown_by(margin + _NORMAL_HALO, pad), fields, _NORMAL_HALO, margin
-        )
+            self._box.grown_by(margin + _NORMAL_HALO, _NORMAL_PAD),
+            partial(_inward, self.data), _NORMAL_HALO, margin,
+        )  # fmt: skip
 
     def inward_normals(self, points) -> np.ndarray:
         """Unit inward normals of the outline near points ``(x, y)``, shape (n, 2).

@@ -239,23 +239,29 @@ class LocalArrays:
         self, window: Window, make: Callable[[Window], tuple], halo: int = 0, margin: int = 0
     ):
         self._make, self.halo, self.margin = make, int(halo), int(margin)
-        self._compute(window)
+        self._state = (window, tuple(make(window)))  # replaced whole: a reader sees one pair
 
-    def _compute(self, window: Window) -> None:
-        self.window = window
-        self.arrays = tuple(self._make(window))
+    @property
+    def window(self) -> Window:
+        """Where the arrays are computed now."""
+        return self._state[0]
 
-    def ensure(self, index0, index1) -> None:
-        """Grow the window (and compute again) unless it holds the index pairs exactly."""
-        if not self.window.covers(index0, index1, self.halo):
-            self._compute(self.window.grown(index0, index1, self.margin, self.halo))
+    def local(self, index0, index1) -> tuple[tuple[np.ndarray, ...], tuple[int, int]]:
+        """The arrays, once they hold the index pairs exactly, and their window's origin ``lo``.
+
+        The window is grown (and the arrays computed again) unless it holds them.
+        """
+        window, arrays = self._state
+        if not window.covers(index0, index1, self.halo):
+            window = window.grown(index0, index1, self.margin, self.halo)
+            self._state = window, arrays = window, tuple(self._make(window))
+        return arrays, window.lo
 
     def at(self, index0, index1) -> tuple[np.ndarray, ...]:
         """Each array at whole-image indices (integer arrays of one shape, in range)."""
         i, j = np.asarray(index0, dtype=np.intp), np.asarray(index1, dtype=np.intp)
-        self.ensure(i, j)
-        i, j = i - self.window.lo[0], j - self.window.lo[1]
-        return tuple(a[i, j] for a in self.arrays)
+        arrays, (i0, j0) = self.local(i, j)
+        return tuple(a[i - i0, j - j0] for a in arrays)
 
     def interpolate(
         self, coord0, coord1, mode: str = "nearest", cval: float = 0.0
@@ -267,23 +273,17 @@ class LocalArrays:
         ``mode="nearest"`` clamps them; beyond the image's border ``"constant"``
         gives ``cval`` on the window as on the image, since the window then
         reaches that border), and the coordinates are shifted by its origin, an
-        integer (exact in floating point).
+        integer (exact in floating point). ``coord0``, ``coord1``: 1-D, one length.
         """
         c0, c1 = np.asarray(coord0, dtype=float), np.asarray(coord1, dtype=float)
         finite = np.isfinite(c0) & np.isfinite(c1)
-        if finite.any():
-            shape = self.window.shape
-            f0 = np.floor(np.clip(c0[finite], -1.0, shape[0]))
-            f1 = np.floor(np.clip(c1[finite], -1.0, shape[1]))
-            i = np.clip(np.concatenate([f0, f0 + 1]), 0, shape[0] - 1).astype(np.intp)
-            j = np.clip(np.concatenate([f1, f1 + 1]), 0, shape[1] - 1).astype(np.intp)
-            self.ensure(i, j)
-        coords = np.vstack([c0.ravel() - self.window.lo[0], c1.ravel() - self.window.lo[1]])
+        shape = self.window.shape
+        f0 = np.floor(np.clip(c0[finite], -1.0, shape[0]))
+        f1 = np.floor(np.clip(c1[finite], -1.0, shape[1]))
+        i = np.clip(np.concatenate([f0, f0 + 1]), 0, shape[0] - 1).astype(np.intp)
+        j = np.clip(np.concatenate([f1, f1 + 1]), 0, shape[1] - 1).astype(np.intp)
+        arrays, (i0, j0) = self.local(i, j)
+        coords = np.vstack([c0 - i0, c1 - j0])
         return tuple(
-            ndimage.map_coordinates(a, coords, order=1, mode=mode, cval=cval) for a in self.arrays
+            ndimage.map_coordinates(a, coords, order=1, mode=mode, cval=cval) for a in arrays
         )
-
-    def local(self, index0, index1) -> tuple[tuple[np.ndarray, ...], tuple[int, int]]:
-        """The arrays, once they hold the indices exactly, and the window's origin ``lo``."""
-        self.ensure(index0, index1)
-        return self.arrays, self.window.lo

@@ -11,6 +11,7 @@ the disc's centre, as for a real round pusher.
 from __future__ import annotations
 
 import weakref
+from functools import partial
 
 import numpy as np
 from scipy import ndimage
@@ -51,8 +52,7 @@ class OutlineField:
         # On the object's neighbourhood, grown when asked elsewhere: the whole image's numbers.
         window = mask._box.grown_by(margin_px(mask.resolution) + FIELD_HALO_PX, pad)
         self._local = LocalArrays(
-            window, lambda win: _fields(padded_crop(mask.data, pad, win)),
-            FIELD_HALO_PX, margin_px(mask.resolution),
+            window, partial(_fields, mask.data, pad), FIELD_HALO_PX, margin_px(mask.resolution),
         )  # fmt: skip
 
     def sample(self, x, y):
@@ -111,8 +111,9 @@ class OutlineField:
         return start + travel[:, None] * unit, unit, np.where(hit, length - travel, 0.0), hit, radii
 
 
-def _fields(img: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The smoothed signed distance and its gradient ``(sdf, gx, gy)`` of a (padded) image."""
+def _fields(data: np.ndarray, pad: int, window) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The smoothed signed distance and its gradient ``(sdf, gx, gy)`` on a padded window."""
+    img = padded_crop(data, pad, window)
     outside = ndimage.distance_transform_edt(~img)
     inside = ndimage.distance_transform_edt(img)
     sdf = ndimage.gaussian_filter(

@@ -396,3 +396,18 @@ def test_model_off_the_neighbourhood_is_the_whole_frames(monkeypatch):
     assert n_near < n_whole / 5  # the first calls used the neighbourhood's lattice
     for a, b in zip(got, want):
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_mask_and_its_fields_still_pickle():
+    # the fields a mask caches are windows with the function that grows them: picklable
+    import pickle
+
+    mask = comcore.Mask(MASKS[0].data, resolution=MASKS[0].resolution)
+    near, far = points_near_and_far(mask, 40)
+    mask.inward_normals(near), mask.distance_to_object(near)
+    field = OutlineField(mask)
+    copy_mask, copy_field = pickle.loads(pickle.dumps((mask, field)))
+    np.testing.assert_array_equal(copy_mask.inward_normals(far), mask.inward_normals(far))
+    np.testing.assert_array_equal(copy_mask.distance_to_object(far), mask.distance_to_object(far))
+    for a, b in zip(copy_field.sample(far[:, 0], far[:, 1]), field.sample(far[:, 0], far[:, 1])):
+        np.testing.assert_array_equal(a, b)
