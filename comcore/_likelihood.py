@@ -100,10 +100,17 @@ class Scoring:
     pusher_px: float
     model_weights: tuple
     model_scales: tuple
+    pusher_radius: float = 0.0
 
     @classmethod
-    def build(cls, likelihood: Likelihood, mask: Mask, models: tuple) -> Scoring:
-        """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``."""
+    def build(
+        cls, likelihood: Likelihood, mask: Mask, models: tuple, pusher_radius: float = 0.0
+    ) -> Scoring:
+        """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``.
+
+        ``pusher_radius`` (metres) places each push's contact where the pusher's
+        disc first touches the object (0: a point on the leading line).
+        """
         t_abs, t_rel = likelihood.translation_error
         track_theta, track_m = likelihood.motion_noise
         line_std_m = math.hypot(likelihood.pusher_error, LINE_BLUR_M)
@@ -120,6 +127,7 @@ class Scoring:
             pusher_px=likelihood.pusher_error / mask.resolution,
             model_weights=likelihood.model_weight,
             model_scales=likelihood.model_scales,
+            pusher_radius=pusher_radius,
         )
 
     @property

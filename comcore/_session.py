@@ -33,7 +33,7 @@ from ._pose_tracking import (
 )
 from ._records import PushLog, SessionState
 from ._stop import choice_status, stop_reason
-from ._types import Action, Estimate, Motion, PushRecord
+from ._types import Action, Estimate, Motion, PushRecord, SkippedPush
 from ._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 
 __all__ = ["ActiveSession", "session_setup"]
@@ -44,7 +44,7 @@ def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tup
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
-    return Scoring.build(likelihood, mask, models), credible
+    return Scoring.build(likelihood, mask, models, pusher_radius), credible
 
 
 class ActiveSession:
@@ -161,8 +161,9 @@ class ActiveSession:
             raise ValueError("selection='model' needs a model")
         pixels, prior_weights = prior_grid(self._first, prior)
         self._candidates = Candidates(
-            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng)
-        )
+            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng),
+            pusher_radius=self._scoring.pusher_radius,
+        )  # fmt: skip
         check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
@@ -248,6 +249,11 @@ class ActiveSession:
     def motions(self) -> np.ndarray:
         """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
         return np.array([r.camera_motion for r in self._log.executed], float).reshape(-1, 3)
+
+    @property
+    def skipped_candidates(self) -> tuple[SkippedPush, ...]:
+        """The given candidates never offered: they start inside the first mask or miss it."""
+        return self._candidates.skipped
 
     @property
     def history(self) -> tuple[SessionState, ...]:
@@ -425,7 +431,10 @@ class ActiveSession:
 
     def _executed(self, executed):
         """The executed push in the object's frame and its force lines (None: it misses)."""
-        return executed_in_object(self._first, self._pose, executed, self._scoring.mus)
+        scoring = self._scoring
+        return executed_in_object(
+            self._first, self._pose, executed, scoring.mus, scoring.pusher_radius
+        )
 
     def reset_pose(self, pose=None) -> None:
         """Tell the session the object was put back in the first pose (or moved to ``pose``).

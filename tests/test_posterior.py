@@ -56,7 +56,7 @@ _ONE = ([(0, 20, 20, 20)], [(0.1, 0, 0)])
 @pytest.mark.parametrize(
     ("args", "kwargs", "error", "match"),
     [
-        (([(0, 0, 0, 1)], [(0.1, 0, 0)]), {}, ValueError, "actions must hit the object"),
+        (([(0, 0, 0, 1)], [(0.1, 0, 0)]), {}, ValueError, "actions must start outside the object and touch it"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)] * 2), {}, ValueError, "motions"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"max_pushes": 3}, TypeError, "chooses no pushes"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"min_pushes": 1}, TypeError, "chooses no pushes"),
