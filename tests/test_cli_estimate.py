@@ -171,7 +171,7 @@ def test_bad_files_exit_2_with_one_clear_line(files, capsys, name):
 # square's top edge (pixel centres from row 4: the path at y = 3.49 misses them by 0.01 px),
 # a miss far away, and a start inside the object.
 BAD_PUSHES = {
-    4: ((0, 3.49, 30, 3.49, 0.1, 3, 0), "misses the object"),
+    4: ((0, 0.5, 30, 0.5, 0.1, 3, 0), "misses the object"),
     6: ((0, 1, 30, 1, 0.1, 3, 0), "misses the object"),
     7: ((10, 10, 30, 10, 0.1, 3, 0), "starts inside the object"),
 }
@@ -197,6 +197,22 @@ def test_pushes_without_contact_are_dropped_with_one_warning_naming_their_lines(
     assert result["dropped_lines"] == {str(k): why for k, (_, why) in BAD_PUSHES.items()}
     assert captured.err.count("\n") == 1
     assert "dropped 3 of 7 pushes" in captured.err and "CSV line(s) 4, 6, 7" in captured.err
+
+
+def test_a_graze_the_pushers_disc_touches_is_kept_by_the_posterior_and_dropped_by_alg2(
+    files, capsys
+):
+    # 0.01 px above the square's top edge: the leading point's line misses, the 4 mm disc
+    # (1.6 px) touches; the posterior scores the disc's contact, Alg. 2 a point pusher's.
+    _, mask, pushes = files
+    rows = [*PUSHES, (0, 3.49, 30, 3.49, 0.1, 3, 0)]
+    pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in rows))
+    base = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
+    assert main([*base, "--model", "none"]) == 0
+    assert json.loads(capsys.readouterr().out)["dropped_lines"] == {}
+    assert main([*base, "--method", "alg2"]) == 0
+    dropped = json.loads(capsys.readouterr().out)["dropped_lines"]
+    assert dropped == {str(len(rows) + 1): "misses the object"}
 
 
 def test_used_pushes_are_named_by_csv_line_after_drops(files, capsys):
