@@ -315,7 +315,7 @@ def estimate_posterior(
     usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
-    log = PushLog(post, credible)
+    log = PushLog(post, credible, scoring.systematic_px)
     senses = SenseTally(post.log_w.shape[:2])
     gyration = gyration_px(mask)
     for i, record in enumerate(records):

@@ -96,6 +96,7 @@ class Scoring:
     model_weights: tuple
     model_scales: tuple
     pusher_radius: float = 0.0
+    systematic_px: float = 0.0
 
     @classmethod
     def build(
@@ -120,6 +121,7 @@ class Scoring:
             line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
             tracking=(track_theta, track_m / mask.resolution),
             pusher_px=likelihood.pusher_error / mask.resolution,
+            systematic_px=likelihood.systematic_error / mask.resolution,
             model_weights=likelihood.model_weight,
             model_scales=likelihood.model_scales,
             pusher_radius=pusher_radius,

@@ -161,7 +161,7 @@ class ActiveSession:
         self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
-        self._log = PushLog(self._posterior, credible)
+        self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
         self._handed_out = False
         self._plan()
 

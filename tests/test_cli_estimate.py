@@ -13,6 +13,7 @@ import pytest
 
 import comcore
 from comcore.cli import main
+from comcore.cli.estimate import SYSTEMATIC_ERROR
 
 from .scripts import run_script
 
@@ -332,8 +333,9 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
                  "--method", "posterior", "--no-overlay"]) == 0  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    floor = comcore.Likelihood(systematic_error=SYSTEMATIC_ERROR)  # the CLI's default
     expected = comcore.estimate_posterior(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES],
-                                          credible=0.9)  # fmt: skip
+                                          credible=0.9, likelihood=floor)  # fmt: skip
     assert result["com_px"] == pytest.approx(expected.com)
     assert result["region"]["area_px"] == int(expected.region.sum())
     assert result["region"]["credible_radius_px"] == pytest.approx(
@@ -358,9 +360,9 @@ def test_the_real_entry_point_never_prints_a_traceback(files):
 
 def test_the_methods_benchmark_script_runs():
     pytest.importorskip("shapely")
-    args = ["--objects", "Obj3", "--seeds", "1", "--pushes", "12", "--flips", "0,1"]
+    args = ["--objects", "Obj3", "--seeds", "0", "--pushes", "12", "--flips", "0,1"]
     lines = run_script("benchmarks/estimate_methods.py", *args, timeout=120).splitlines()
-    assert lines[0].startswith("1 recordings (1 objects x seeds 0..0), 12 pushes each")
+    assert lines[0].startswith("1 recordings (1 objects x seeds [0]), 12 pushes each")
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]
