@@ -324,22 +324,10 @@ def _overlay(args, mask, pushes, est, result: dict) -> int:
     return 0
 
 
-def _pusher_radius(args) -> float:
-    """``--pusher-radius`` in metres, checked against ``comcore.PLAUSIBLE``."""
+def _metres(value, flag: str, kind: str) -> float:
+    """A length option in metres (`--pusher-radius`, `--systematic-error`), checked."""
     try:
-        return check_physical(
-            args.pusher_radius, "--pusher-radius", "pusher_radius", allow_zero=True
-        )
-    except ValueError as e:
-        raise InputError(str(e)) from None
-
-
-def _systematic_error(args) -> float:
-    """``--systematic-error`` in metres, checked against ``comcore.PLAUSIBLE``."""
-    try:
-        return check_physical(
-            args.systematic_error, "--systematic-error", "length_noise", allow_zero=True
-        )
+        return check_physical(value, flag, kind, allow_zero=True)
     except ValueError as e:
         raise InputError(str(e)) from None
 
@@ -349,8 +337,8 @@ def run(args) -> int:
     try:
         mask_path, pushes_path = _inputs(args)
         resolution = check_resolution(args.resolution)
-        pusher_radius = _pusher_radius(args)
-        systematic_error = _systematic_error(args)
+        pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
+        systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
         mask = read_mask(
             mask_path, resolution, args.object, threshold=args.threshold,
             background=args.background, roi=args.roi,
