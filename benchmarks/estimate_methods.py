@@ -9,9 +9,9 @@ CoM error (cm) and, for the posterior, how often the true CoM lies in its 90 % c
 region. ``--model`` is the posterior's motion model (``comcore estimate --model``): the
 default ``limit-surface``, or ``none`` (the Voting Theorem alone, the default before issue 21).
 
-    python benchmarks/estimate_methods.py                    # 20 objects x 3 seeds (0, 1, 2)
+    python benchmarks/estimate_methods.py                    # 20 objects x seeds 0, 1, 2
     python benchmarks/estimate_methods.py --model none       # the posterior without the model
-    python benchmarks/estimate_methods.py --objects Obj3 --seeds 1 --flips 0   # a quick look
+    python benchmarks/estimate_methods.py --objects Obj3 --seeds 0 --flips 0   # a quick look
     python benchmarks/estimate_methods.py --flips 0,all --model none  # every sign flipped
 
 ``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the
@@ -29,7 +29,14 @@ import numpy as np
 from scipy import ndimage
 
 import comcore
-from comcore.cli.estimate import MODELS, SIGN_FLIP_NATS, estimate, methods, sign_flip_nats
+from comcore.cli.estimate import (
+    MODELS,
+    SIGN_FLIP_NATS,
+    SYSTEMATIC_ERROR,
+    estimate,
+    methods,
+    sign_flip_nats,
+)
 
 
 def cases(objects, seeds, n_pushes):
@@ -48,13 +55,20 @@ def main(argv=None) -> None:
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--objects", default=",".join(simulators.BENCHMARK_OBJECTS))
-    parser.add_argument("--seeds", type=int, default=3, help="seeds 0 .. N-1 per object")
+    parser.add_argument(
+        "--seeds", default="0,1,2", help="seeds per object, e.g. 0 or 1,2"
+    )
+    parser.add_argument(
+        "--systematic-error", type=float, default=SYSTEMATIC_ERROR,
+        help="the posterior's (metres; comcore estimate --systematic-error)",
+    )  # fmt: skip
     parser.add_argument("--pushes", type=int, default=40)
     parser.add_argument(
         "--flips", default="0,1,3", help="wrong senses per recording ('all': every sign flipped)"
     )
     parser.add_argument("--model", choices=MODELS, default=MODELS[0], help="the posterior's")
     args = parser.parse_args(argv)
+    seeds = [int(v) for v in args.seeds.split(",") if v.strip()]
     objects = [o.strip() for o in args.objects.split(",") if o.strip()]
     flips = [k.strip() if k.strip() == "all" else int(k) for k in args.flips.split(",")]
     names = [m for m in methods() if m != "alg2-rotation"]
@@ -65,7 +79,7 @@ def main(argv=None) -> None:
     flagged = {k: 0 for k in flips}  # comcore estimate's check of theta's sign
     seconds = {m: [] for m in names}
     start = time.perf_counter()
-    for _, _, sim, actions, motions, rng in cases(objects, range(args.seeds), args.pushes):
+    for _, _, sim, actions, motions, rng in cases(objects, seeds, args.pushes):
         turned = np.flatnonzero(np.abs(motions[:, 0]) > 0.01)
         cm = 100 * sim.mask.resolution
         for k in flips:
@@ -78,7 +92,8 @@ def main(argv=None) -> None:
             flagged[k] += sign_flip_nats(sim.mask, actions, observed) > SIGN_FLIP_NATS
             for m in names:
                 t0 = time.perf_counter()
-                est = estimate(sim.mask, actions, observed, m, model=args.model)
+                est = estimate(sim.mask, actions, observed, m, model=args.model,
+                               systematic_error=args.systematic_error)  # fmt: skip
                 seconds[m].append(time.perf_counter() - t0)
                 errors[m, k].append(est.error_px(sim.com_px) * cm)
                 statuses[m, k].append(est.status)
@@ -87,8 +102,9 @@ def main(argv=None) -> None:
                     covered[k].append(bool(est.region[y, x]))
                     near[k].append(bool(ndimage.binary_dilation(est.region)[y, x]))
     n = len(errors[names[0], flips[0]])
-    print(f"{n} recordings ({len(objects)} objects x seeds 0..{args.seeds - 1}), "
-          f"{args.pushes} pushes each, posterior --model {args.model}; "
+    print(f"{n} recordings ({len(objects)} objects x seeds {seeds}), "
+          f"{args.pushes} pushes each, posterior --model {args.model} "
+          f"--systematic-error {args.systematic_error:g}; "
           f"{time.perf_counter() - start:.0f} s")
     print("| method | wrong senses | mean error (cm) | median (cm) | p90 (cm) "
           "| truth in 90 % region | within a pixel of it |")

@@ -25,6 +25,7 @@ LEGACY = {
     "likelihood": comcore.Likelihood(pusher_error=0.0, motion_noise=(0.0, 0.0), model_weight=1.0),
     "stop": comcore.StopRule(target_radius=0.0045),
     "model": None,
+    "pusher_radius": 0.0,  # contacts on the leading point's line, as then (not the disc's)
 }
 
 

@@ -49,29 +49,25 @@ def outlines(data_dir: str) -> dict:
     return {name: np.asarray(s["polygon_m"], dtype=float) for name, s in shapes.items()}
 
 
-#: The contacts the Voting Theorem's agreement is checked at (see use_disc_contacts).
-_contacts = comcore.contacts
+#: The contacts every estimator scores (see use_contacts): the disc's radius, 0 for the line.
+_contact_radius = mp.PUSHER_RADIUS
 
 
-def use_disc_contacts(radius: float) -> None:
-    """Emulate estimators that score each push at its disc's contact (issue 20, part 1).
+def use_contacts(kind: str) -> None:
+    """Score every push at its disc's contact (``"disc"``) or at the leading line's (``"line"``).
 
-    The estimators take a push's contact from :func:`comcore.contacts` (the leading
-    point's line) and refuse a batch with a push whose line misses. Until they take
-    :func:`comcore.disc_contacts`, this replaces the ``contacts`` that the push choice's
-    candidates (``estimate_posterior``, ``ActiveSession``) and Alg. 2 call by the disc's,
-    for this process: every push whose disc touches is scored, at the disc's contact.
+    The estimators take the disc's contact for ``pusher_radius`` > 0 (every push the disc
+    touches, grazing ones too) and the leading line's for ``pusher_radius=0``; ``"line"``
+    is what they did before issue 20 (and the paper's point pusher), kept for comparison.
     """
-    import comcore._choice as choice
-    import comcore._progressive as progressive
+    global _contact_radius
+    _contact_radius = {"disc": mp.PUSHER_RADIUS, "line": 0.0}[kind]
 
-    def disc(mask, actions):
-        return comcore.disc_contacts(mask, actions, radius)
 
-    choice.contacts = disc
-    progressive.contacts = disc
-    global _contacts
-    _contacts = disc
+def _contacts(mask, actions):
+    if _contact_radius == 0:
+        return comcore.contacts(mask, actions)
+    return comcore.disc_contacts(mask, actions, _contact_radius)
 
 
 def load_object(
@@ -80,7 +76,7 @@ def load_object(
     """The recorded pushes of one plate (every file of it under ``data_dir/abs``).
 
     Only the pushes whose leading line enters the mask are scored, unless ``grazing``
-    (with :func:`use_disc_contacts`): then every push the recording kept.
+    (with ``use_contacts("disc")``): then every push the recording kept.
     """
     start = time.perf_counter()
     files = sorted(glob.glob(os.path.join(data_dir, "abs", "*", f"*_shape={name}_*.h5")))
@@ -203,13 +199,16 @@ def subsets(n: int, k: int, count: int, seed: int, salt: int) -> list[np.ndarray
 
 def posterior(obj, world, idx, model, options) -> dict:
     est = comcore.estimate_posterior(
-        obj.mask, obj.actions[idx], obj.motions[world][idx], model=model, **options
-    )
+        obj.mask, obj.actions[idx], obj.motions[world][idx], model=model,
+        pusher_radius=_contact_radius, **options,
+    )  # fmt: skip
     return score(est, obj.mask, obj.com)
 
 
 def progressive(obj, world, idx) -> dict:
-    est = comcore.estimate_progressive(obj.mask, obj.actions[idx], obj.motions[world][idx])
+    est = comcore.estimate_progressive(
+        obj.mask, obj.actions[idx], obj.motions[world][idx], pusher_radius=_contact_radius
+    )
     return score(est, obj.mask, obj.com)
 
 
@@ -218,7 +217,7 @@ def active_pool(obj, world, pool, model, options, seed) -> dict:
     session = comcore.ActiveSession(
         obj.mask,
         model=model,
-        pusher_radius=mp.PUSHER_RADIUS,
+        pusher_radius=_contact_radius,
         candidates=obj.actions[pool],
         rng=seed,
         **options,

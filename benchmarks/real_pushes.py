@@ -70,6 +70,10 @@ MODELS = {
         SCALES,
     ),
     "family3+scales": (lambda: tuple(_lsm(p, PRESSURES3) for p in PRESSURES3), SCALES),
+    # fixed powers on the model's likelihood (the default learns one of 0.25-1.0 per session)
+    "w1": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=1.0)}),
+    "w08": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=0.8)}),
+    "w06": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=0.6)}),
 }
 
 
@@ -264,10 +268,10 @@ def main(argv=None) -> int:
     p.add_argument("--max-speed", type=float, default=None, help="only files this slow (m/s)")
     p.add_argument(
         "--contacts",
-        default="line",
+        default="disc",
         choices=("line", "disc"),
-        help="score pushes at the leading line's contact (as the estimators do today) or "
-        "emulate the disc's (every push the disc touches, grazing ones too)",
+        help="score pushes at the pusher disc's contact (the estimators' own, every push the "
+        "disc touches, grazing ones too) or at the leading line's (the paper's point pusher)",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--no-figure", action="store_true")
@@ -281,8 +285,7 @@ def main(argv=None) -> int:
     args.ks = [int(k) for k in args.ks.split(",")]
     os.makedirs(args.out, exist_ok=True)
     shapes = runs.outlines(args.data)
-    if args.contacts == "disc":
-        runs.use_disc_contacts(mp.PUSHER_RADIUS)
+    runs.use_contacts(args.contacts)
     results, times = {}, {}
     wall = time.perf_counter()
     for salt, name in enumerate(OBJECTS):

@@ -33,9 +33,10 @@ from ._conventions import (
     rotation_matrix,
     rotation_sign,
 )
+from ._disc_contacts import disc_contacts
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._flat_options import option_groups
-from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
+from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel

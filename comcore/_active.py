@@ -14,10 +14,10 @@ import math
 
 import numpy as np
 
-from ._choice import Candidates
+from ._disc_contacts import pusher_contacts, usable_pushes
 from ._errors import PushFailedError
 from ._flat_options import resolve_groups
-from ._force_lines import force_line_distances
+from ._force_lines import force_line_distances, push_force_lines
 from ._grid import prior_grid
 from ._likelihood import (
     SenseTally,
@@ -311,12 +311,16 @@ def estimate_posterior(
     records = [record for _, record in given]
     acts = check_actions([r.action for r in records], "actions", allow_empty=False)
     pixels, prior_weights = prior_grid(mask, prior)
-    lines = Candidates(mask, acts, None, scoring.mus, rng=None, name="actions").lines
+    con = pusher_contacts(mask, acts, scoring.pusher_radius)
+    usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
+    lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
-    log = PushLog(post, credible)
+    log = PushLog(post, credible, scoring.systematic_px)
     senses = SenseTally(post.log_w.shape[:2])
     gyration = gyration_px(mask)
     for i, record in enumerate(records):
+        if not usable[i]:
+            continue
         if record.outcome == "miss":
             log.add(record, post)
             continue
@@ -327,10 +331,11 @@ def estimate_posterior(
         )  # fmt: skip
         log.add(record, post, loglik, excess)
         _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
-    used = [i for i, r in given if r.outcome == "evidence"]
+    used = [i for (i, r), ok in zip(given, usable) if ok and r.outcome == "evidence"]
+    skipped = tuple(s._replace(index=given[s.index][0]) for s in skipped)
     check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
     status = offline_status(log.state, check)
-    return log.estimate(mask, post, used, status, {"senses": check})
+    return log.estimate(mask, post, used, status, {"senses": check, "skipped": skipped})
 
 
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:

@@ -11,7 +11,14 @@ import math
 
 import numpy as np
 
-__all__ = ["check_finite", "check_point", "check_points"]
+__all__ = [
+    "check_count",
+    "check_finite",
+    "check_number",
+    "check_pair",
+    "check_point",
+    "check_points",
+]
 
 
 def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
@@ -90,3 +97,70 @@ def check_point(value, name: str = "point") -> np.ndarray:
             f"{name} must be a single point of shape (2,), got shape {np.shape(value)}"
         )
     return arr[0]
+
+
+def check_number(value, name: str, *, integer: bool = False, allow_inf: bool = False) -> float:
+    """``value`` as a float if it is a real number (an integer with ``integer``), not NaN.
+
+    A bool, a string or an array is a TypeError naming ``name``; NaN (and
+    infinity unless ``allow_inf``) a ValueError.
+
+    >>> check_number(3, "n_iterations", integer=True)
+    3.0
+    >>> check_number(2.5, "n_iterations", integer=True)
+    Traceback (most recent call last):
+    ...
+    TypeError: n_iterations must be an integer, got float
+    """
+    kinds = (int, np.integer) if integer else (int, float, np.integer, np.floating)
+    if isinstance(value, bool) or not isinstance(value, kinds):
+        kind = "an integer" if integer else "a number"
+        raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
+    value = float(value)
+    if math.isnan(value) or (math.isinf(value) and not allow_inf):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def check_count(value, name: str, minimum: int = 0) -> int:
+    """Validate an int (not a bool) of at least ``minimum``.
+
+    A wrong type is a TypeError, a wrong value a ValueError, for every count.
+
+    Examples
+    --------
+    >>> check_count(3, "max_pushes")
+    3
+    >>> check_count(0, "n_mu", 1)
+    Traceback (most recent call last):
+    ...
+    ValueError: n_mu must be >= 1, got 0
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def check_pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
+    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers (both >= 0 with allow_zero).
+
+    Examples
+    --------
+    >>> check_pair((0.01, 0.13), "theta_noise")
+    (0.01, 0.13)
+    >>> check_pair((0.0, 0.1), "theta_noise")
+    Traceback (most recent call last):
+    ...
+    ValueError: theta_noise must be a pair with absolute > 0 and other >= 0, got (0.0, 0.1)
+    """
+    try:
+        a, r = (float(v) for v in value)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
+    low_ok = a >= 0 if allow_zero else a > 0
+    if not (low_ok and math.isfinite(a) and r >= 0 and math.isfinite(r)):
+        want = "both >= 0" if allow_zero else "absolute > 0 and other >= 0"
+        raise ValueError(f"{name} must be a pair with {want}, got ({a}, {r})")
+    return a, r

@@ -18,8 +18,8 @@ import math
 import numpy as np
 from scipy.special import logsumexp
 
+from ._disc_contacts import pusher_contacts, usable_pushes
 from ._force_lines import LINE_SCALE_PX, force_line_distances, push_force_lines
-from ._geometry import contacts
 from ._grid import GridPosterior
 from ._likelihood_motion import STUDENT_DOF, com_shift, model_predictions, student_t, theta_scale
 from ._mask import Mask
@@ -47,32 +47,39 @@ class Candidates:
     mask : Mask
         The first mask.
     candidates : array_like, shape (n, 4), or None
-        Given pushes (each must start outside the first mask and hit it), or
-        None to draw ``choice.n_candidates`` with :func:`comcore.sample_pushes`.
+        Given pushes, or None to draw ``choice.n_candidates`` with
+        :func:`comcore.sample_pushes`. Given pushes that start inside the
+        first mask or never touch it are not offered (:attr:`skipped` says
+        which and why); a ValueError if none is usable.
     choice : PushChoice
     mus : numpy.ndarray, shape (m,)
         The friction values of the force lines.
     rng : numpy.random.Generator
     name : str, optional
         The argument's name in error messages.
+    pusher_radius : float
+        Radius (metres) of the round pusher: contacts are where its disc first
+        touches the object (:func:`comcore._disc_contacts.pusher_contacts`).
     """
 
     def __init__(
-        self, mask: Mask, candidates, choice: PushChoice, mus, rng, name: str = "candidates"
-    ):
+        self, mask: Mask, candidates, choice: PushChoice, mus, rng, name: str = "candidates",
+        *, pusher_radius: float,
+    ):  # fmt: skip
         if candidates is None:
             actions = sample_pushes(
                 mask, choice.n_candidates, cone=choice.cone, travel=choice.travel, rng=rng
             )
         else:
             actions = check_actions(candidates, name, allow_empty=False)
-        con = contacts(mask, actions)
-        con.require_hits(name)
+        self.pusher_radius = pusher_radius
+        con = pusher_contacts(mask, actions, pusher_radius)
+        usable, self.skipped = usable_pushes(con, name, most=False)
         self.mask = mask
         self.actions = np.array(actions, dtype=float)
         self.actions.setflags(write=False)
         self.lines = push_force_lines(con, actions, mus)
-        self.available = np.ones(len(actions), dtype=bool)
+        self.available = usable.copy()
         self._centroid = np.asarray(mask.centroid, dtype=float)
         self._in_view = self._inside_image(self.actions)
 
@@ -100,7 +107,7 @@ class Candidates:
         ``mask_now`` is the object as seen now (an observed mask, or the first
         mask moved to ``pose``; None when it left the image). A candidate is
         offered when, mapped through the pose, it starts and ends inside the
-        image, starts outside the object and hits it.
+        image, starts outside the object and its pusher touches it.
         """
         ok = self.available.copy()
         if mask_now is None:
@@ -110,7 +117,7 @@ class Candidates:
         idx = np.flatnonzero(ok)
         if len(idx):
             moved = self.in_pose(pose, idx)
-            con = contacts(mask_now, moved)
+            con = pusher_contacts(mask_now, moved, self.pusher_radius)
             ok[idx] = self._inside_image(moved) & con.hit & ~con.starts_inside
         return ok
 

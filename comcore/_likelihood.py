@@ -45,6 +45,7 @@ from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, Likelihood, mu_grid
 from ._predictor import HypothesisPredictor
+from ._senses import _LOGISTIC_STD, UNEXPLAINED_STDS, SenseTally
 
 __all__ = [
     "LINE_BLUR_M",
@@ -68,15 +69,9 @@ __all__ = [
 #: normals. Fitted against the simulator as a logistic of scale 1.2 px at
 #: 2.5 mm/px (docs/active.md); the pusher's own error adds in quadrature.
 LINE_BLUR_M = 1.2 * 0.0025 * math.pi / math.sqrt(3.0)
-#: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
-_LOGISTIC_STD = math.pi / math.sqrt(3.0)
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
 PRUNE_LOG = 25.0
-#: A hypothesis leaves a push's observed sense unexplained when it lies more than this many
-#: standard deviations of the force line's blur on the wrong side of the line (the logistic
-#: edge then gives the observed sense 2.6 % before ``flip_prob``).
-UNEXPLAINED_STDS = 2.0
 
 
 @dataclass(frozen=True)
@@ -100,10 +95,18 @@ class Scoring:
     pusher_px: float
     model_weights: tuple
     model_scales: tuple
+    pusher_radius: float = 0.0
+    systematic_px: float = 0.0
 
     @classmethod
-    def build(cls, likelihood: Likelihood, mask: Mask, models: tuple) -> Scoring:
-        """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``."""
+    def build(
+        cls, likelihood: Likelihood, mask: Mask, models: tuple, pusher_radius: float = 0.0
+    ) -> Scoring:
+        """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``.
+
+        ``pusher_radius`` (metres) places each push's contact where the pusher's
+        disc first touches the object (0: a point on the leading line).
+        """
         t_abs, t_rel = likelihood.translation_error
         track_theta, track_m = likelihood.motion_noise
         line_std_m = math.hypot(likelihood.pusher_error, LINE_BLUR_M)
@@ -118,8 +121,10 @@ class Scoring:
             line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
             tracking=(track_theta, track_m / mask.resolution),
             pusher_px=likelihood.pusher_error / mask.resolution,
+            systematic_px=likelihood.systematic_error / mask.resolution,
             model_weights=likelihood.model_weight,
             model_scales=likelihood.model_scales,
+            pusher_radius=pusher_radius,
         )
 
     @property
@@ -345,59 +350,6 @@ def _sense_excess(distances, sense: int, flip_prob: float, scale: float):
     q = np.clip(q, 1e-300, 1.0)
     rest = np.clip(1 - q, 1e-300, 1.0)
     return -np.log(q) + q * np.log(q) + rest * np.log(rest)
-
-
-class SenseTally:
-    """How many pushes' observed senses each (CoM, friction) hypothesis leaves unexplained.
-
-    The Voting Theorem's check of recorded pushes, with or without a motion
-    model: a push is unexplained by a hypothesis that lies more than
-    :data:`UNEXPLAINED_STDS` standard deviations of the force line's blur on
-    the wrong side of its force line. Under the hypothesis that made the
-    pushes, push ``i`` is unexplained with probability at most
-    ``allowed[i]``: its sense's flip probability (``flip_prob``, more for a
-    rotation within the tracking noise of zero: :func:`sense_flip_prob`)
-    plus the edge's 2.6 %. The stop rule compares the fewest unexplained
-    pushes with those probabilities (:func:`comcore._stop.sense_check`).
-
-    Examples
-    --------
-    Two pushes whose senses put the CoM on opposite sides of one line: every
-    hypothesis leaves one of them unexplained.
-
-    >>> tally = SenseTally((3, 1))
-    >>> distances = np.array([[-9.0], [0.0], [9.0]])  # three CoMs, one friction value
-    >>> tally.add(distances, +1, 0.05, 1.0)
-    >>> tally.add(distances, -1, 0.05, 1.0)
-    >>> tally.counts[:, 0].tolist(), tally.fewest, len(tally.allowed)
-    ([1, 0, 1], 0, 2)
-    """
-
-    def __init__(self, shape: tuple[int, int]):
-        self.counts = np.zeros(shape, dtype=np.int64)
-        self.allowed: list[float] = []
-
-    def add(self, distances, sense: int, flip_prob: float, scale: float) -> None:
-        """Count one push of observed ``sense`` (0: none, not counted) at ``distances`` (p, m).
-
-        ``flip_prob`` is the probability its sense is wrong, ``scale`` the
-        force line's logistic scale (pixels).
-        """
-        if sense == 0:
-            return
-        margin = UNEXPLAINED_STDS * _LOGISTIC_STD * scale
-        self.counts += np.asarray(sense * distances < -margin)
-        edge = 1.0 / (1.0 + math.exp(UNEXPLAINED_STDS * _LOGISTIC_STD))
-        self.allowed.append(flip_prob + (1.0 - 2.0 * flip_prob) * edge)
-
-    @property
-    def fewest(self) -> int:
-        """The fewest pushes any hypothesis leaves unexplained (0 before any)."""
-        return int(self.counts.min()) if self.counts.size else 0
-
-    def at_pixel(self, index: int) -> int:
-        """The fewest pushes a CoM at grid pixel ``index`` leaves unexplained, any friction."""
-        return int(self.counts[index].min())
 
 
 def consistency_threshold(n_pushes: int) -> float:

@@ -9,7 +9,6 @@ bilinearly to the hypotheses asked about.
 
 from __future__ import annotations
 
-import math
 import weakref
 from dataclasses import dataclass
 from functools import partial
@@ -32,7 +31,7 @@ from ._push_lattice import (
     table_pressures,
     widened,
 )
-from ._validation import check_actions, check_mask, check_points
+from ._validation import check_actions, check_mask, check_number, check_points
 
 __all__ = ["FAMILY", "LimitSurfaceModel", "check_push_lengths"]
 
@@ -78,17 +77,6 @@ def _on_object(mask: Mask, points: np.ndarray) -> np.ndarray:
     near_r, near_c = _nearest_pixel(mask).at(rows, cols)
     moved = np.column_stack([near_c, near_r]).astype(float)
     return np.where((mask.data[rows, cols] & exact)[:, None], points, moved)
-
-
-def _number(value, name: str, *, integer: bool = False, allow_inf: bool = False) -> float:
-    kinds = (int, np.integer) if integer else (int, float, np.integer, np.floating)
-    if isinstance(value, bool) or not isinstance(value, kinds):
-        kind = "an integer" if integer else "a number"
-        raise TypeError(f"{name} must be {kind}, got {type(value).__name__}")
-    value = float(value)
-    if math.isnan(value) or (math.isinf(value) and not allow_inf):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
 
 
 def check_push_lengths(mask: Mask, actions: np.ndarray, name: str = "actions") -> np.ndarray:
@@ -183,7 +171,7 @@ class LimitSurfaceModel:
     batch_pressures: tuple[str, ...] = ()
 
     def __post_init__(self):
-        radius = _number(self.pusher_radius, "pusher_radius")
+        radius = check_number(self.pusher_radius, "pusher_radius")
         if radius < 0:
             raise ValueError(f"pusher_radius must be >= 0 (metres), got {radius}")
         radius = check_plausible(radius, "pusher_radius", "pusher_radius")
@@ -191,7 +179,7 @@ class LimitSurfaceModel:
         if self.pressure not in PRESSURES:
             raise ValueError(f"pressure must be one of {PRESSURES}, got {self.pressure!r}")
         for name, low in (("n_steps", 1), ("support_points", 4)):
-            value = _number(getattr(self, name), name, integer=True)
+            value = check_number(getattr(self, name), name, integer=True)
             if value < low:
                 raise ValueError(f"{name} must be an integer >= {low}, got {int(value)}")
             object.__setattr__(self, name, int(value))
@@ -199,7 +187,7 @@ class LimitSurfaceModel:
         if not isinstance(batch, (tuple, list)) or any(b not in PRESSURES for b in batch):
             raise ValueError(f"batch_pressures must be a tuple of {PRESSURES}, got {batch!r}")
         object.__setattr__(self, "batch_pressures", tuple(batch))
-        spacing = _number(self.node_spacing, "node_spacing")
+        spacing = check_number(self.node_spacing, "node_spacing")
         if spacing < 0:
             raise ValueError(f"node_spacing must be >= 0 metres (0: none), got {spacing}")
         check_plausible(spacing, "node_spacing", "push_length")
@@ -273,7 +261,7 @@ class LimitSurfaceModel:
         mask = check_mask(mask)
         acts = check_push_lengths(mask, check_actions(actions))
         pts = check_points(coms, "coms")
-        mu = _number(mu, "mu", allow_inf=True)
+        mu = check_number(mu, "mu", allow_inf=True)
         if mu < 0:
             raise ValueError(f"mu must be >= 0 (inf allowed), got {mu}")
         if len(acts) == 0 or len(pts) == 0:

@@ -127,6 +127,13 @@ class Likelihood:
     model_scales : tuple of float
         Factors on the model's error scales, one unknown factor per session
         marginalised like the friction (``(1.0,)``: the scales as given).
+    systematic_error : float
+        Standard deviation (metres) of an error on the CoM that more pushes do
+        not average away (a motion model that errs the same way on every push
+        of an object): the credible region, its radius and the stop rule read
+        the posterior blurred by a Gaussian of this size. Default 0 (none):
+        the session's pushes stop before it matters; ``comcore estimate`` sets
+        1.5 mm for its many-push recordings (docs/bench.md).
 
     Examples
     --------
@@ -149,6 +156,7 @@ class Likelihood:
     motion_noise: tuple[float, float] = (math.radians(0.5), 0.0005)
     model_weight: Any = (0.25, 0.4, 0.6, 1.0)
     model_scales: tuple[float, ...] = (1.0,)
+    systematic_error: float = 0.0
 
     def model_error_scales(self, lever_m, displacement_m) -> tuple[np.ndarray, np.ndarray]:
         """The scales of the model's errors the likelihood assumes, for given pushes.
@@ -208,6 +216,10 @@ class Likelihood:
             self.pusher_error, "pusher_error", "length_noise", allow_zero=True
         )
         _set(self, "pusher_error", pusher_error)
+        systematic = check_physical(
+            self.systematic_error, "systematic_error", "length_noise", allow_zero=True
+        )
+        _set(self, "systematic_error", systematic)
         motion_noise = check_pair(self.motion_noise, "motion_noise", allow_zero=True)
         check_plausible(motion_noise[0], "motion_noise's rotation", "angle_noise")
         check_plausible(motion_noise[1], "motion_noise's translation", "length_noise")

@@ -19,8 +19,8 @@ import numpy as np
 from scipy import ndimage
 
 from ._conventions import apply_motion
+from ._disc_contacts import pusher_contacts
 from ._force_lines import push_force_lines
-from ._geometry import contacts
 from ._mask import Mask
 from ._registration import _measure
 from ._types import Action, Motion
@@ -248,7 +248,7 @@ _NOT_THE_OBJECT = (
 EXECUTED_BACKOFF_M = 0.005
 
 
-def executed_in_object(first: Mask, pose: Motion, executed, mus):
+def executed_in_object(first: Mask, pose: Motion, executed, mus, pusher_radius: float):
     """An executed push (camera frame at ``pose``) in the object's frame, and its force lines.
 
     Returns ``(action (4,), lines (m, 3))``, or ``(action, None)`` when the
@@ -262,13 +262,13 @@ def executed_in_object(first: Mask, pose: Motion, executed, mus):
     if acts.shape[0] != 1:
         raise ValueError(f"executed must be a single action (4 numbers), got {acts.shape[0]}")
     obj = object_from_camera(acts, pose, first.centroid)
-    con = contacts(first, obj)
+    con = pusher_contacts(first, obj, pusher_radius)
     step = np.asarray(Action(*obj[0]).direction) * (0.001 / first.resolution)
     for _ in range(round(EXECUTED_BACKOFF_M / 0.001)):
         if not con.starts_inside[0]:
             break
         obj[0, :2] -= step
-        con = contacts(first, obj)
+        con = pusher_contacts(first, obj, pusher_radius)
     if con.starts_inside[0]:
         raise ValueError(
             f"executed {acts[0].tolist()} starts inside the object as the session sees it"

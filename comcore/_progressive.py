@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._conventions import pixel_centres
-from ._geometry import contacts, line_distances, side_counts
+from ._disc_contacts import pusher_contacts, usable_pushes
+from ._geometry import line_distances, side_counts
 from ._mask import Mask
 from ._regions import best_component, estimate_from_region, label_components
 from ._sampling import HALF_PIXEL_DIAGONAL
@@ -15,6 +16,7 @@ from ._validation import (
     check_mask,
     check_motions,
     check_mu,
+    check_physical,
     check_positive,
     check_probability,
 )
@@ -89,6 +91,7 @@ def estimate_progressive(
     min_score: float = 0.6,
     selection: str = "equality",
     mu=None,
+    pusher_radius: float = 0.0,
 ) -> Estimate:
     """Estimate the CoM with Alg. 2: cut the feasible region with the best-splitting push.
 
@@ -172,6 +175,13 @@ def estimate_progressive(
     selection : {"equality", "rotation"}, optional
     mu : None, float or (lo, hi), optional
         Contact friction for the Voting Theorem (default unknown).
+    pusher_radius : float, optional
+        Radius (metres) of a round pusher: each push's contact is where its
+        disc first touches the object (:func:`comcore.disc_contacts`), so a
+        grazing push whose leading line misses the mask is still scored. The
+        default 0 is the paper's point pusher on the leading line. Pushes
+        that start inside the object or never touch it are left out and
+        reported in ``extras["skipped"]``; a ValueError if more than half are.
 
     Returns
     -------
@@ -211,19 +221,24 @@ def estimate_progressive(
     check_mu(mu)
     if selection not in SELECTIONS:
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
+    pusher_radius = check_physical(
+        pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
+    )
     n_actions = acts.shape[0]
+    skipped: tuple = ()
+    usable = np.ones(n_actions, dtype=bool)
     if n_actions:
-        con = contacts(mask, acts)
-        con.require_hits("actions")
+        con = pusher_contacts(mask, acts, pusher_radius)
+        usable, skipped = usable_pushes(con, "actions")
     theta = mots[:, 0]
     small = np.abs(theta) < min_rotation  # turned too little to trust the sense
-    keep = ~small
+    keep = ~small & usable
     if not keep.any():
         return estimate_from_region(
             mask,
             mask.data,
             status="no_actions",
-            extras={"region_sizes": [mask.area_px], "contradicted": []},
+            extras={"region_sizes": [mask.area_px], "contradicted": [], "skipped": skipped},
         )
 
     current = mask.data.copy()  # the feasible region, as an image
@@ -296,7 +311,7 @@ def estimate_progressive(
         region,
         used=used,
         status="contradiction" if contradicted else "ok",
-        extras={"region_sizes": sizes, "contradicted": contradicted},
+        extras={"region_sizes": sizes, "contradicted": contradicted, "skipped": skipped},
     )
 
 

@@ -20,7 +20,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ._conventions import DEFAULT_RESOLUTION
-from ._geometry import contacts, disc_contacts
+from ._disc_contacts import disc_contacts
+from ._geometry import contacts
 from ._mask import Mask
 from ._outline import (
     DEFAULT_MARGIN_M,
@@ -29,7 +30,7 @@ from ._outline import (
     mask_from_outline,
 )
 from ._pose_streams import pose_at, push_window, stream, to_frame
-from ._types import Action, Motion
+from ._types import Action, Motion, SkippedPush
 from ._validation import _as_float_rows, check_point, check_positive
 
 __all__ = ["RecordedPush", "Recording", "SkippedPush", "recording_from_poses"]
@@ -68,23 +69,6 @@ class RecordedPush(NamedTuple):
     path_deviation: float
     """Largest distance (metres) of the pusher's recorded path over the window from the
     straight ``action``."""
-
-
-class SkippedPush(NamedTuple):
-    """One push that could not be used, and why."""
-
-    index: int
-    """Position of the push in the input."""
-    name: str
-    """Its name, or ``""``."""
-    reason: str
-    """``"starts_inside"`` (the pusher's disc starts inside the outline, or the action's
-    start falls on the mask), ``"misses"`` (the disc never comes within the contact
-    tolerance of the outline, or misses the drawn mask), ``"short"`` (the pusher travels
-    less than the window after first contact) or ``"no_object_pose"`` (the object's stream
-    does not cover the window)."""
-    detail: str
-    """A sentence with the numbers."""
 
 
 @dataclass(frozen=True, eq=False)

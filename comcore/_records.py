@@ -55,8 +55,9 @@ class SessionState(NamedTuple):
 class PushLog:
     """Records, states and evidence of a session or an offline posterior (internal, mutable)."""
 
-    def __init__(self, post: GridPosterior, credible: float):
+    def __init__(self, post: GridPosterior, credible: float, blur_px: float = 0.0):
         self.credible = credible
+        self.blur_px = blur_px  # Likelihood.systematic_error, pixels
         self.records: list[PushRecord] = []
         self.history: list[SessionState] = []
         self.excess = np.zeros(post.log_w.shape)
@@ -64,7 +65,7 @@ class PushLog:
         self._state(post)
 
     def _state(self, post: GridPosterior) -> None:
-        _, area = post.credible(self.credible)
+        _, area = post.credible(self.credible, self.blur_px)
         self.history.append(
             SessionState(
                 com=tuple(float(v) for v in post.mean()),
@@ -123,7 +124,7 @@ class PushLog:
         ``"history"`` (the :class:`SessionState` of every posterior, the prior
         first).
         """
-        region_idx, area = post.credible(self.credible)
+        region_idx, area = post.credible(self.credible, self.blur_px)
         rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
         region = np.zeros(mask.shape, dtype=bool)
         region[rows[region_idx], cols[region_idx]] = True

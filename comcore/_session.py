@@ -3,37 +3,29 @@
 The session holds the state and the order of calls; what it does at each step
 lives in a file of its own: the likelihood of a push (:mod:`comcore._likelihood`),
 the push choice (:mod:`comcore._choice`), the stop rule (:mod:`comcore._stop`),
-the pose tracking (:mod:`comcore._pose_tracking`) and the records
+the pose tracking (:mod:`comcore._pose_tracking`), reading a push
+(:mod:`comcore._push_reading`) and the records
 (:mod:`comcore._records`).
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ._choice import Candidates
-from ._conventions import apply_motion, object_motion_from_camera
+from ._conventions import apply_motion
 from ._errors import SessionError
 from ._flat_options import resolve_groups
 from ._grid import prior_grid
-from ._likelihood import Scoring, check_models, gyration_px, push_evidence, tracking_noise
+from ._likelihood import Scoring, check_models, gyration_px
 from ._limit_surface_model import check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
-from ._pose_tracking import (
-    IDENTITY,
-    executed_in_object,
-    is_miss,
-    moved_mask,
-    read_pose,
-    relative,
-    symmetric_branches,
-)
+from ._pose_tracking import IDENTITY, moved_mask
+from ._push_reading import PushContext, read_push
 from ._records import PushLog, SessionState
 from ._stop import choice_status, stop_reason
-from ._types import Action, Estimate, Motion, PushRecord
+from ._types import Action, Estimate, Motion, PushRecord, SkippedPush
 from ._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 
 __all__ = ["ActiveSession", "session_setup"]
@@ -44,7 +36,7 @@ def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tup
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
-    return Scoring.build(likelihood, mask, models), credible
+    return Scoring.build(likelihood, mask, models, pusher_radius), credible
 
 
 class ActiveSession:
@@ -161,14 +153,15 @@ class ActiveSession:
             raise ValueError("selection='model' needs a model")
         pixels, prior_weights = prior_grid(self._first, prior)
         self._candidates = Candidates(
-            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng)
-        )
+            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng),
+            pusher_radius=self._scoring.pusher_radius,
+        )  # fmt: skip
         check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
         self._pose = IDENTITY
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
-        self._log = PushLog(self._posterior, credible)
+        self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
         self._handed_out = False
         self._plan()
 
@@ -248,6 +241,11 @@ class ActiveSession:
     def motions(self) -> np.ndarray:
         """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
         return np.array([r.camera_motion for r in self._log.executed], float).reshape(-1, 3)
+
+    @property
+    def skipped_candidates(self) -> tuple[SkippedPush, ...]:
+        """The given candidates never offered: they start inside the first mask or miss it."""
+        return self._candidates.skipped
 
     @property
     def history(self) -> tuple[SessionState, ...]:
@@ -345,87 +343,11 @@ class ActiveSession:
         self._plan()
 
     def _reading(self, mask, motion, failed: bool, executed):
-        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
-
-        Validates everything; changes nothing.
-        """
-        index = self._pending
-        planned = self._candidates.actions[index]
-        done_as = None if executed is None else self._executed(executed)
-        # an executed path that misses the object is kept as planned: a miss carries no
-        # evidence, and a replay (estimate_posterior) needs pushes that hit the first mask
-        scored = planned if done_as is None or done_as[1] is None else done_as[0]
-        base = {
-            "index": index,
-            "planned": planned,
-            "camera_action": self._candidates.in_pose(self._pose, [index])[0],
-            "pose_before": self._pose,
-        }
-        if failed:
-            return PushRecord(action=planned, motion=None, outcome="failed", **base), (), None
-        reading = read_pose(self._first, self._pose, mask, motion)
-        branches = symmetric_branches(reading, self._pose)
-        if is_miss(relative(self._pose, branches[0].pose), self._first.resolution):
-            return self._record(base, scored, branches[0], "miss"), (), branches[0].pose
-        action, lines = planned, self._candidates.lines[index]
-        if done_as is not None:
-            action, lines = done_as
-            if lines is None:
-                raise ValueError(
-                    f"executed {np.asarray(executed, float).ravel().tolist()} misses the "
-                    "object as the session sees it, but the object moved: pass the path the "
-                    "pusher took, in camera pixels"
-                )
-        branch, loglik, excess = self._best_branch(branches, action, lines)
-        return self._record(base, scored, branch, "evidence"), (loglik, excess), branch.pose
-
-    def _best_branch(self, branches, action, lines):
-        """Of the rotations the masks allow, the one the posterior explains best.
-
-        A symmetric outline (a hexagon) turned by more than half its symmetry
-        angle looks like a smaller turn the other way: the reading kept is the
-        one of highest marginal likelihood, not merely the nearest.
-        """
-        best = None
-        for branch in branches:
-            obj_motion = self._object_motion(branch)
-            loglik, excess = push_evidence(
-                self._posterior,
-                self._scoring,
-                self._first,
-                action,
-                lines,
-                obj_motion,
-                rotation_observed=not branch.ambiguous,
-                tracking=tracking_noise(
-                    self._scoring.tracking, branch.residual_px, self._gyration_px
-                ),
-            )
-            evidence = self._posterior.predictive(loglik.full)
-            if best is None or evidence > best[0]:
-                best = (evidence, branch, loglik, excess)
-        return best[1:]
-
-    def _object_motion(self, reading) -> np.ndarray:
-        camera_motion = relative(self._pose, reading.pose)
-        return object_motion_from_camera(camera_motion, self._pose.theta)
-
-    def _record(self, base: dict, action, reading, outcome: str) -> PushRecord:
-        residual = reading.residual_px
-        return PushRecord(
-            action=action,
-            motion=tuple(float(v) for v in self._object_motion(reading)),
-            outcome=outcome,
-            camera_motion=relative(self._pose, reading.pose),
-            rotation_observed=not reading.ambiguous,
-            residual_px=residual if math.isfinite(residual) else None,
-            symmetry=reading.symmetry,
-            **base,
-        )
-
-    def _executed(self, executed):
-        """The executed push in the object's frame and its force lines (None: it misses)."""
-        return executed_in_object(self._first, self._pose, executed, self._scoring.mus)
+        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
+        return read_push(
+            PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
+            self._candidates, self._pending, mask, motion, failed, executed,
+        )  # fmt: skip
 
     def reset_pose(self, pose=None) -> None:
         """Tell the session the object was put back in the first pose (or moved to ``pose``).

@@ -149,7 +149,7 @@ def offline_status(state, senses: SenseCheck | None = None) -> str:
 def sense_check(tally, estimate_index: int) -> SenseCheck:
     """Whether a recording's observed senses are what its best hypothesis would give.
 
-    ``tally`` (:class:`comcore._likelihood.SenseTally`) counts, for every
+    ``tally`` (:class:`comcore._senses.SenseTally`) counts, for every
     (CoM, friction) hypothesis, the pushes whose observed sense it leaves
     unexplained, and the probability of each being so under the hypothesis
     that made them (``flip_prob`` and the force line's blur). The fewest any
@@ -162,7 +162,7 @@ def sense_check(tally, estimate_index: int) -> SenseCheck:
     Examples
     --------
     >>> import numpy as np
-    >>> from comcore._likelihood import SenseTally
+    >>> from comcore._senses import SenseTally
     >>> tally = SenseTally((2, 1))
     >>> for _ in range(20):  # twenty pushes, each saying the CoM is on the side of pixel 0
     ...     tally.add(np.array([[5.0], [-5.0]]), +1, 0.05, 1.0)

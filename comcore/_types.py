@@ -10,7 +10,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["OUTCOMES", "Action", "Estimate", "Motion", "PushRecord"]
+__all__ = ["OUTCOMES", "Action", "Estimate", "Motion", "PushRecord", "SkippedPush"]
 
 
 def _finite_float(value, name: str, owner: str) -> float:
@@ -136,6 +136,23 @@ class Motion(_MotionFields):
 
 
 _IDENTITY = Motion(0.0, 0.0, 0.0)
+class SkippedPush(NamedTuple):
+    """One push that could not be used, and why."""
+
+    index: int
+    """Position of the push in the input."""
+    name: str
+    """Its name, or ``""``."""
+    reason: str
+    """``"starts_inside"`` (the pusher's disc starts inside the outline, or the action's
+    start falls on the mask), ``"misses"`` (the disc never comes within the contact
+    tolerance of the outline, or misses the drawn mask), ``"short"`` (the pusher travels
+    less than the window after first contact) or ``"no_object_pose"`` (the object's stream
+    does not cover the window)."""
+    detail: str
+    """A sentence with the numbers."""
+
+
 #: What a reported push did: it moved the object (``"evidence"``), it did not
 #: (``"miss"``: below the tracking noise), or it could not be executed (``"failed"``).
 OUTCOMES = ("evidence", "miss", "failed")

@@ -12,17 +12,29 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._checks import _as_float_rows, _real_number, check_finite, check_point, check_points
+from ._checks import (  # the low-level checks, re-exported
+    _as_float_rows,
+    _real_number,
+    check_count,
+    check_finite,
+    check_number,
+    check_pair,
+    check_point,
+    check_points,
+)
 from ._conventions import LENGTH_EPS, check_plausible
 from ._mask import Mask
 from ._types import Action, Motion
 
 __all__ = [
     "check_actions",
+    "check_count",
     "check_finite",
     "check_mask",
     "check_motions",
     "check_mu",
+    "check_number",
+    "check_pair",
     "check_point",
     "check_points",
     "check_priors",
@@ -293,50 +305,6 @@ def check_rng(rng, name: str = "rng") -> np.random.Generator:
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be {want}, got {type(rng).__name__}") from None
     return np.random.default_rng(seeds)
-
-
-def check_count(value, name: str, minimum: int = 0) -> int:
-    """Validate an int (not a bool) of at least ``minimum``.
-
-    A wrong type is a TypeError, a wrong value a ValueError, for every count.
-
-    Examples
-    --------
-    >>> check_count(3, "max_pushes")
-    3
-    >>> check_count(0, "n_mu", 1)
-    Traceback (most recent call last):
-    ...
-    ValueError: n_mu must be >= 1, got 0
-    """
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value}")
-    return int(value)
-
-
-def check_pair(value, name: str, allow_zero: bool = False) -> tuple[float, float]:
-    """Validate an ``(absolute > 0, other >= 0)`` pair of numbers (both >= 0 with allow_zero).
-
-    Examples
-    --------
-    >>> check_pair((0.01, 0.13), "theta_noise")
-    (0.01, 0.13)
-    >>> check_pair((0.0, 0.1), "theta_noise")
-    Traceback (most recent call last):
-    ...
-    ValueError: theta_noise must be a pair with absolute > 0 and other >= 0, got (0.0, 0.1)
-    """
-    try:
-        a, r = (float(v) for v in value)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name} must be a pair of numbers (absolute, other)") from e
-    low_ok = a >= 0 if allow_zero else a > 0
-    if not (low_ok and math.isfinite(a) and r >= 0 and math.isfinite(r)):
-        want = "both >= 0" if allow_zero else "absolute > 0 and other >= 0"
-        raise ValueError(f"{name} must be a pair with {want}, got ({a}, {r})")
-    return a, r
 
 
 def check_powers(value, name: str) -> tuple[float, ...]:

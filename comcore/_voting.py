@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._conventions import ANGLE_EPS, _ccw_cross, rotation_sign
+from ._disc_contacts import disc_contacts
 from ._geometry import contacts
 from ._mask import Mask
 from ._validation import (
@@ -262,7 +263,10 @@ def _thetas(theta, single: bool) -> np.ndarray:
     return th.reshape(-1)
 
 
-def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: float = ANGLE_EPS):
+def region(
+    mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: float = ANGLE_EPS,
+    pusher_radius: float = 0.0,
+):  # fmt: skip
     """The CoM positions on the mask consistent with an observed rotation.
 
     Parameters
@@ -283,6 +287,10 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
     theta_tol : float, optional
         ``|theta| <= theta_tol`` counts as no rotation (sense 0); finite and
         >= 0.
+    pusher_radius : float, optional
+        Radius (metres) of a round pusher: the contact is where its disc first
+        touches the object (:func:`comcore.disc_contacts`). Default 0: a point
+        on the leading line.
 
     Returns
     -------
@@ -324,7 +332,8 @@ def region(mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: flo
     band = check_positive(band, "band", allow_zero=True)
     theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
     senses = rotation_sign(th, theta_tol)
-    con = contacts(mask, acts)
+    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
+    con = contacts(mask, acts) if pusher_radius == 0 else disc_contacts(mask, acts, pusher_radius)
     con.require_hits("action")
     out = np.zeros((acts.shape[0], *mask.shape), dtype=bool)
     rows, cols = mask.pixels[:, 1].astype(int), mask.pixels[:, 0].astype(int)

@@ -155,11 +155,15 @@ def test_credible_region_counts_the_last_pixel_fractionally():
     seed=st.integers(0, 2**16),
 )
 def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
-    """With noise-free senses the true CoM keeps the highest posterior (up to the line edge)."""
+    """With noise-free senses the true CoM keeps the highest posterior (up to the line edge).
+
+    The toy robot is a point pusher on the leading line, and the session is told so
+    (``pusher_radius=0``: the line's contacts, not a disc's).
+    """
     mask = _plate()
     com = (float(col), float(row))
     push = _robot(mask, com, mu)
-    est = comcore.estimate_active(mask, push, rng=seed, model=None, stop=comcore.StopRule(max_pushes=5), choice=comcore.PushChoice(cone=0.0), likelihood=comcore.Likelihood(mu=mu))
+    est = comcore.estimate_active(mask, push, rng=seed, model=None, pusher_radius=0.0, stop=comcore.StopRule(max_pushes=5), choice=comcore.PushChoice(cone=0.0), likelihood=comcore.Likelihood(mu=mu))
     acts = actions_of(est)
     con = comcore.contacts(mask, acts)
     direction = (acts[:, 2:] - acts[:, :2]) / np.hypot(*(acts[:, 2:] - acts[:, :2]).T)[:, None]
@@ -364,7 +368,7 @@ def test_a_prior_off_the_object_is_allowed():
         ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
         ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.HypothesisPredictor"),
         ({"model": []}, ValueError, "model must not be an empty sequence"),
-        ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must hit the object"),
+        ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must start outside the object and touch it"),
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
         ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
@@ -633,7 +637,8 @@ def test_the_default_model_is_the_limit_surface_with_the_pusher_radius():
     push = _robot(mask, (14.0, 12.0), 0.4, model=comcore.LimitSurfaceModel(pusher_radius=0.002))
     default = comcore.estimate_active(mask, push, rng=0, pusher_radius=0.002, stop=comcore.StopRule(max_pushes=1))
     explicit = comcore.estimate_active(
-        mask, push, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002), stop=comcore.StopRule(max_pushes=1))
+        mask, push, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002), pusher_radius=0.002,
+        stop=comcore.StopRule(max_pushes=1))
     other = comcore.estimate_active(mask, push, rng=0, pusher_radius=0.006, stop=comcore.StopRule(max_pushes=1))
     np.testing.assert_allclose(default.extras["posterior"], explicit.extras["posterior"])
     assert np.abs(default.extras["posterior"] - other.extras["posterior"]).max() > 1e-6

@@ -13,6 +13,7 @@ import pytest
 
 import comcore
 from comcore.cli import main
+from comcore.cli.estimate import SYSTEMATIC_ERROR
 
 from .scripts import run_script
 
@@ -171,7 +172,7 @@ def test_bad_files_exit_2_with_one_clear_line(files, capsys, name):
 # square's top edge (pixel centres from row 4: the path at y = 3.49 misses them by 0.01 px),
 # a miss far away, and a start inside the object.
 BAD_PUSHES = {
-    4: ((0, 3.49, 30, 3.49, 0.1, 3, 0), "misses the object"),
+    4: ((0, 0.5, 30, 0.5, 0.1, 3, 0), "misses the object"),
     6: ((0, 1, 30, 1, 0.1, 3, 0), "misses the object"),
     7: ((10, 10, 30, 10, 0.1, 3, 0), "starts inside the object"),
 }
@@ -197,6 +198,22 @@ def test_pushes_without_contact_are_dropped_with_one_warning_naming_their_lines(
     assert result["dropped_lines"] == {str(k): why for k, (_, why) in BAD_PUSHES.items()}
     assert captured.err.count("\n") == 1
     assert "dropped 3 of 7 pushes" in captured.err and "CSV line(s) 4, 6, 7" in captured.err
+
+
+def test_a_graze_the_pushers_disc_touches_is_kept_by_the_posterior_and_dropped_by_alg2(
+    files, capsys
+):
+    # 0.01 px above the square's top edge: the leading point's line misses, the 4 mm disc
+    # (1.6 px) touches; the posterior scores the disc's contact, Alg. 2 a point pusher's.
+    _, mask, pushes = files
+    rows = [*PUSHES, (0, 3.49, 30, 3.49, 0.1, 3, 0)]
+    pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in rows))
+    base = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
+    assert main([*base, "--model", "none"]) == 0
+    assert json.loads(capsys.readouterr().out)["dropped_lines"] == {}
+    assert main([*base, "--method", "alg2"]) == 0
+    dropped = json.loads(capsys.readouterr().out)["dropped_lines"]
+    assert dropped == {str(len(rows) + 1): "misses the object"}
 
 
 def test_used_pushes_are_named_by_csv_line_after_drops(files, capsys):
@@ -316,8 +333,9 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
                  "--method", "posterior", "--no-overlay"]) == 0  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    floor = comcore.Likelihood(systematic_error=SYSTEMATIC_ERROR)  # the CLI's default
     expected = comcore.estimate_posterior(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES],
-                                          credible=0.9)  # fmt: skip
+                                          credible=0.9, likelihood=floor)  # fmt: skip
     assert result["com_px"] == pytest.approx(expected.com)
     assert result["region"]["area_px"] == int(expected.region.sum())
     assert result["region"]["credible_radius_px"] == pytest.approx(
@@ -342,9 +360,9 @@ def test_the_real_entry_point_never_prints_a_traceback(files):
 
 def test_the_methods_benchmark_script_runs():
     pytest.importorskip("shapely")
-    args = ["--objects", "Obj3", "--seeds", "1", "--pushes", "12", "--flips", "0,1"]
+    args = ["--objects", "Obj3", "--seeds", "0", "--pushes", "12", "--flips", "0,1"]
     lines = run_script("benchmarks/estimate_methods.py", *args, timeout=120).splitlines()
-    assert lines[0].startswith("1 recordings (1 objects x seeds 0..0), 12 pushes each")
+    assert lines[0].startswith("1 recordings (1 objects x seeds [0]), 12 pushes each")
     rows = [line.split(" | ")[0].lstrip("| ") for line in lines[3:] if line.startswith("| ")]
     expected = ["posterior", "alg2", "alg1", "centroid"]
     assert rows == [m for m in expected for _ in (0, 1)]

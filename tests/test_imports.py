@@ -122,3 +122,16 @@ def test_a_package_importing_its_modules_is_no_cycle(tmp_path):
     graph = import_graph(tmp_path, ["pkg"])
     assert graph == {"pkg": {"pkg._a", "pkg._b"}, "pkg._a": {"pkg._b"}, "pkg._b": set()}
     assert cycles(graph) == []
+
+
+#: The house rule (docs/architecture.md, issue 19): a module a newcomer opens fits in one read.
+MAX_MODULE_LINES = 400
+
+
+def test_no_module_of_comcore_is_over_400_lines():
+    long = {
+        str(path.relative_to(ROOT)): n
+        for path in sorted((ROOT / "comcore").rglob("*.py"))
+        if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES
+    }
+    assert not long, f"split these modules (over {MAX_MODULE_LINES} lines): {long}"

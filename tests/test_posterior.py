@@ -56,7 +56,7 @@ _ONE = ([(0, 20, 20, 20)], [(0.1, 0, 0)])
 @pytest.mark.parametrize(
     ("args", "kwargs", "error", "match"),
     [
-        (([(0, 0, 0, 1)], [(0.1, 0, 0)]), {}, ValueError, "actions must hit the object"),
+        (([(0, 0, 0, 1)], [(0.1, 0, 0)]), {}, ValueError, "actions must start outside the object and touch it"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)] * 2), {}, ValueError, "motions"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"max_pushes": 3}, TypeError, "chooses no pushes"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"min_pushes": 1}, TypeError, "chooses no pushes"),
@@ -157,3 +157,33 @@ def test_an_unobserved_rotation_and_a_registration_residual_tell_less():
         # the records carry the readings: a replay of them is the same posterior
         again = comcore.estimate_posterior(mask, pushes=wider.pushes, **kwargs)
         np.testing.assert_array_equal(again.extras["posterior"], wider.extras["posterior"])
+
+
+# -- an error that more pushes do not average away -------------------------------------------
+
+
+def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
+    mask = comcore.Mask(np.pad(np.ones((30, 40), bool), 6), resolution=0.0025)
+    actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
+    com = (24.0, 19.0)
+    motions = [(0.05 * np.sign(d), 0.0, 0.0) for d in comcore.signed_line_distance([com], actions)[0]]
+    plain = comcore.estimate_posterior(mask, actions, motions, model=None)
+    floored = comcore.estimate_posterior(
+        mask, actions, motions, model=None,
+        likelihood=comcore.Likelihood(systematic_error=0.005),
+    )  # fmt: skip
+    np.testing.assert_array_equal(plain.extras["posterior"], floored.extras["posterior"])
+    assert plain.com == floored.com
+    assert floored.region.sum() > plain.region.sum()
+    assert (floored.region | ~plain.region).all()  # it grows around the plain region
+    radii = [e.extras["credible_radius_px"] for e in (plain, floored)]
+    # a 2 px (5 mm) blur adds about its 90 % radius (2.15 std) in quadrature, give or take a pixel
+    assert radii[1] > np.hypot(radii[0], 2.15 * 2.0) - 1.0
+    assert not floored.region[~mask.data].any()  # only the object's pixels
+
+
+def test_systematic_error_is_in_metres_and_checked():
+    with pytest.raises(ValueError, match=r"systematic_error 2 m is implausible .* millimetres"):
+        comcore.Likelihood(systematic_error=2.0)
+    with pytest.raises(ValueError, match="systematic_error"):
+        comcore.Likelihood(systematic_error=-0.001)

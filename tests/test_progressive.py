@@ -116,7 +116,7 @@ def test_progressive_input_errors(square_mask):
         comcore.estimate_progressive(square_mask, acts, np.ones((4, 3)), area_ratio=-0.1)
     with pytest.raises(ValueError, match="expected 4, got 3"):
         comcore.estimate_progressive(square_mask, acts, np.ones((3, 3)))
-    with pytest.raises(ValueError, match="start inside"):
+    with pytest.raises(ValueError, match="must start outside the object"):
         comcore.estimate_progressive(square_mask, [(20, 20, 30, 20)], [(0.3, 0, 0)])
 
 

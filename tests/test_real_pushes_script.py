@@ -67,12 +67,13 @@ def test_real_pushes_script_on_simulated_recordings(tmp_path):
         assert real["active"]["error_cm"] == pytest.approx(sim["active"]["error_cm"], abs=1e-6)
     # four normal pushes from two sides pin the CoM of a uniform square
     assert res["real"]["lsm"]["all"]["error_cm"] < 0.5 and res["real"]["lsm"]["all"]["holds"]
-    # The disc's contacts (emulated in the estimators): head on they are the line's, to a pixel.
-    disc_out = tmp_path / "disc"
+    # The leading line's contacts (the paper's point pusher): head on they are the disc's
+    # (the estimators' default above), to a pixel.
+    disc_out = tmp_path / "line"
     run_script(
         "benchmarks/real_pushes.py", str(data), "--out", str(disc_out), "--objects", "rect1",
         "--worlds", "real", "--models", "vt", "--ks", "2", "--subsets", "2", "--pools", "1",
-        "--contacts", "disc", "--no-figure",
+        "--contacts", "line", "--no-figure",
     )  # fmt: skip
     disc = json.loads((disc_out / "results.json").read_text())["results"]["rect1"]["real"]
     assert disc["vt_agreement"] == [4, 4]

@@ -195,14 +195,22 @@ def line_list(lines) -> str:
     return shown + (f" and {len(lines) - 10} more" if len(lines) > 10 else "")
 
 
-def screen_pushes(mask: comcore.Mask, pushes: Pushes, *, strict: bool) -> tuple[Pushes, dict]:
+def screen_pushes(
+    mask: comcore.Mask, pushes: Pushes, *, strict: bool, pusher_radius: float = 0.0
+) -> tuple[Pushes, dict]:
     """The pushes that hit the object, and ``{line: reason}`` for those dropped.
 
-    A push misses (its path never enters an object pixel: a graze past a
-    corner counts) or starts inside the object; either gives no contact to
-    reason about. ``strict``: raise InputError naming them instead.
+    A push misses or starts inside the object; either gives no contact to
+    reason about. The contact is the estimator's: a round pusher's disc of
+    ``pusher_radius`` metres (the posterior's, :func:`comcore.disc_contacts`:
+    a graze past a corner the disc touches is kept), or with 0 the leading
+    point's path on the pixels (Alg. 1 and Alg. 2: a graze counts as a
+    miss). ``strict``: raise InputError naming them instead.
     """
-    found = comcore.contacts(mask, pushes.actions)
+    if pusher_radius > 0:
+        found = comcore.disc_contacts(mask, pushes.actions, pusher_radius)
+    else:
+        found = comcore.contacts(mask, pushes.actions)
     bad = found.starts_inside | ~found.hit
     reasons = {
         int(line): ("starts inside the object" if inside else "misses the object")

@@ -1,0 +1,60 @@
+"""What ``comcore estimate`` prints: the region's size, the text summary, what a status means."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import comcore
+
+__all__ = ["STATUS_MEANINGS", "print_text", "region_summary"]
+
+#: What a status other than ``ok`` means for the user's recording (a warning on stderr).
+STATUS_MEANINGS = {
+    "inconsistent": "no CoM explains the observed motions well: check the pixel frame, the "
+    "sign of theta (counter-clockwise on screen is positive) and that every push started "
+    "from the pose of the mask",
+    "contradiction": "some pushes contradict the others (a sense observed the wrong way?); "
+    "the estimate rests on the consistent ones",
+    "no_evidence": "no push moved the object measurably: the estimate is the prior's mean",
+    "no_actions": "no push turned the object enough to use: the estimate is the centroid",
+    "flat_heatmap": "the pushes do not single out a region: the estimate is the centroid",
+}
+
+
+def region_summary(est: comcore.Estimate, resolution: float, credible: float) -> dict:
+    """Size of the estimate's region: area, equivalent radius, bounding box; credible radius."""
+    region = np.asarray(est.region)
+    area = int(region.sum())
+    out: dict = {"area_px": area, "radius_px": float(np.sqrt(area / np.pi))}
+    if area:
+        rows, cols = np.nonzero(region)
+        out["bbox_px"] = [int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())]
+    if "credible_radius_px" in est.extras:
+        out["credible_radius_px"] = float(est.extras["credible_radius_px"])
+        out["credible"] = credible
+    out["radius_m"] = out.get("credible_radius_px", out["radius_px"]) * resolution
+    return out
+
+
+def print_text(result: dict, est: comcore.Estimate) -> None:
+    x, y = est.com
+    print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
+    n_kept = result["n_pushes"] - len(result["dropped_lines"])
+    print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
+          "pushes used")  # fmt: skip
+    width, height = (100 * v for v in result["object_size_m"])
+    print(f"object: {width:.1f} x {height:.1f} cm at {result['resolution']:g} m per pixel "
+          "(check it: a wrong --resolution shows here)")  # fmt: skip
+    region = result["region"]
+    if "credible_radius_px" in region:
+        print(
+            f"{100 * region['credible']:.0f} % credible region: {region['area_px']} px, radius "
+            f"{region['credible_radius_px']:.2f} px = {region['radius_m'] * 1000:.1f} mm"
+        )
+    else:
+        print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
+    if result["used_lines"]:
+        print("pushes used (CSV lines, in order): " + ", ".join(map(str, result["used_lines"])))
+    if result["overlay"] is not None:
+        replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
+        print(f"overlay: {result['overlay']}{replaced}")
