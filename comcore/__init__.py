@@ -36,6 +36,9 @@ from ._conventions import (
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
+from ._goal_session import GoalSession
+from ._goal_translation import TranslationPush, translation_push
+from ._goal_types import Goal
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
@@ -84,6 +87,8 @@ __all__ = [
     "ComcoreError",
     "Contacts",
     "Estimate",
+    "Goal",
+    "GoalSession",
     "HypothesisPredictor",
     "ImageError",
     "Likelihood",
@@ -102,6 +107,7 @@ __all__ = [
     "SessionError",
     "SkippedPush",
     "StopRule",
+    "TranslationPush",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -145,5 +151,6 @@ __all__ = [
     "sample_pushes",
     "signed_line_distance",
     "split_by_line",
+    "translation_push",
     "vt",
 ]
