@@ -38,7 +38,7 @@ from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, disc_contacts, signed_line_distance, split_by_line
 from ._goal_session import GoalSession
 from ._goal_translation import TranslationPush, translation_push
-from ._goal_types import Goal
+from ._goal_types import CoMHypotheses, Goal
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
@@ -84,6 +84,7 @@ __all__ = [
     "PLAUSIBLE",
     "Action",
     "ActiveSession",
+    "CoMHypotheses",
     "ComcoreError",
     "Contacts",
     "Estimate",

@@ -31,7 +31,7 @@ from ._validation import check_actions
 
 __all__ = ["Candidates", "model_gains", "sense_information"]
 
-#: Hypotheses (pixel, friction) drawn from the posterior to score candidates with the model.
+#: CoMHypotheses (pixel, friction) drawn from the posterior to score candidates with the model.
 MODEL_PARTICLES = 64
 #: Above this many pixels, hypotheses are gathered into blocks to score candidates.
 MAX_SCORING_POINTS = 2500
@@ -168,7 +168,7 @@ def _tanh_into(out, tmp, x, y, lines, scale: float):
 
 
 def _coarse(pixels, weights):
-    """Hypotheses with posterior mass, gathered into square blocks when there are many.
+    """CoMHypotheses with posterior mass, gathered into square blocks when there are many.
 
     Pixels below ``PRUNE_MASS`` of the largest mass are dropped. Above
     ``MAX_SCORING_POINTS`` pixels, blocks of ``b x b`` pixels become one

@@ -18,9 +18,9 @@ from ._conventions import object_motion_from_camera
 from ._errors import SessionError
 from ._flat_options import resolve_groups
 from ._goal_planner import plan_push, reached
-from ._goal_translation import planning_model
+from ._goal_prior import prior_particles, touches_border
+from ._goal_translation import STANDOFF_M, planning_model
 from ._goal_types import PLANNING_PARTICLES, Goal, hypotheses_from
-from ._grid import prior_grid
 from ._likelihood import gyration_px, push_evidence, tracking_noise
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
@@ -35,17 +35,12 @@ from ._pose_tracking import (
 from ._records import PushLog
 from ._session import ActiveSession, session_setup
 from ._types import Action, Estimate, Motion, PushRecord
-from ._validation import check_count, check_mask, check_physical
+from ._validation import check_count, check_mask, check_physical, check_rng
 
 __all__ = ["GOAL_STATUSES", "GoalSession"]
 
 #: What :attr:`GoalSession.status` can say.
 GOAL_STATUSES = ("running", "reached", "budget", "stuck", "lost")
-
-
-def _touches_border(mask: Mask) -> bool:
-    d = mask.data
-    return bool(d[0].any() or d[-1].any() or d[:, 0].any() or d[:, -1].any())
 
 
 class GoalSession:
@@ -92,8 +87,9 @@ class GoalSession:
         What is known of the CoM: None (uniform over the mask), an active
         estimator's :class:`comcore.Estimate` of ``first_mask`` (its
         posterior image and friction posterior), an :class:`ActiveSession`
-        on ``first_mask`` (its estimate now), or CoM pixels ``(k, 2)`` /
-        ``(coms, weights)``.
+        on ``first_mask`` (its estimate now; the goal session starts at its
+        :attr:`~ActiveSession.pose`, where its pushes left the object), or CoM
+        pixels ``(k, 2)`` / ``(coms, weights)``.
     learn : bool, optional
         Update the posterior with every push (default True); False plans on
         the prior, fixed.
@@ -104,8 +100,16 @@ class GoalSession:
         :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
     n_particles : int, optional
         Posterior particles a push is planned over (default 32).
+    push_directions : array_like, optional
+        The only camera directions (radians; 0: +x, pi/2: +y down the screen)
+        the robot may push along, where its workspace allows no others
+        (default: 8 evenly spaced, and the direction to the goal).
     likelihood : Likelihood, optional
         As for :class:`ActiveSession`.
+    rng : None, int or numpy.random.Generator, optional
+        Checked and kept for the ActiveSession's shape; the planner draws
+        nothing at random (its particles are a systematic draw), so a session
+        is reproducible whatever the seed.
 
     Raises
     ------
@@ -138,6 +142,7 @@ class GoalSession:
         model=DEFAULT_MODEL,
         planner_model=None,
         n_particles: int = PLANNING_PARTICLES,
+        push_directions=None,
         likelihood=None,
         rng=None,
     ):
@@ -153,6 +158,15 @@ class GoalSession:
             raise ValueError(f"max_travel {max_travel} m is under two pixels of the mask")
         self._max_pushes = check_count(max_pushes, "max_pushes", 1)
         self._n_particles = check_count(n_particles, "n_particles", 1)
+        self._allowed = None
+        if push_directions is not None:
+            allowed = np.atleast_1d(np.asarray(push_directions, dtype=float))
+            if allowed.ndim != 1 or len(allowed) == 0 or not np.isfinite(allowed).all():
+                raise ValueError(
+                    f"push_directions must be finite angles (radians), got {push_directions!r}"
+                )
+            self._allowed = allowed
+        check_rng(rng)
         self._radius = check_physical(
             pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
         )
@@ -163,14 +177,20 @@ class GoalSession:
         self._planner = planning_model(self._radius) if planner_model is None else planner_model
         self._target = goal.target_px(self._first)
         self._check_goal_in_view()
-        pixels, weights, fixed = self._prior(prior)
+        start = IDENTITY
+        if isinstance(prior, ActiveSession):  # go on from where its pushes left the object
+            start = prior.pose
+            if prior.estimate().region.shape != self._first.shape:
+                raise ValueError("prior's ActiveSession runs on a mask of another shape")
+        pixels, weights, fixed = prior_particles(self._first, prior, self._n_particles)
         self._posterior = self._scoring.posterior(pixels, weights)
         self._fixed = fixed if not self._learn else None  # fixed planning particles
         self._reach = float(np.hypot(*(self._first.pixels - self._first.centroid).T).max()) + 1
         self._gyration = gyration_px(self._first)
-        self._pose = IDENTITY
+        self._pose = start
         self._log = PushLog(self._posterior, credible)
         self._n_pushes, self._final, self._plan, self._handed_out = 0, None, None, False
+        self._min_travel = 0.0  # after a push that did not move the object: a longer one
         self._update()
 
     def _check_goal_in_view(self) -> None:
@@ -184,28 +204,6 @@ class GoalSession:
                 f"goal puts the object's centroid at ({x:.0f}, {y:.0f}) px, outside the camera's "
                 f"{w} x {h} px view: metres given as pixels (units='px')?"
             )
-
-    def _prior(self, prior):
-        """Prior pixels, weights, and the planning particles of a fixed posterior."""
-        first, n = self._first, self._n_particles
-        if isinstance(prior, ActiveSession):
-            prior = prior.estimate()
-        if prior is None:
-            pixels, weights = prior_grid(first, None)
-            return pixels, weights, None
-        if isinstance(prior, Estimate) and prior.extras.get("posterior") is not None:
-            image = np.asarray(prior.extras["posterior"], float)
-        else:
-            hyps = hypotheses_from(prior, first, n)  # validates; an estimate without an image
-            image = np.zeros(first.shape)
-            rows = np.clip(np.rint(hyps.coms[:, 1]).astype(int), 0, first.shape[0] - 1)
-            cols = np.clip(np.rint(hyps.coms[:, 0]).astype(int), 0, first.shape[1] - 1)
-            np.add.at(image, (rows, cols), hyps.weights)
-        fixed = hypotheses_from(prior, first, n)
-        if image.shape != first.shape:
-            raise ValueError(f"prior's posterior has shape {image.shape}, first_mask {first.shape}")
-        pixels, weights = prior_grid(first, image)
-        return pixels, weights, fixed
 
     # -- state ---------------------------------------------------------------------------
 
@@ -221,7 +219,7 @@ class GoalSession:
         hyps = self._fixed or hypotheses_from(self._posterior, self._first, self._n_particles)
         self._plan = plan_push(
             self._first, self._pose, self._goal, self._target, hyps, self._planner,
-            self._max_travel_px, self._radius, self._reach,
+            self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
         )  # fmt: skip
         if self._plan is None:
             self._final = "stuck"
@@ -309,13 +307,25 @@ class GoalSession:
             raise TypeError(
                 f"observe() takes exactly one of mask, motion or out_of_view=True, got {given}"
             )
-        if out_of_view or (isinstance(mask, Mask) and _touches_border(mask)):
+        if mask is not None:
+            mask = check_mask(mask)
+            if mask.shape != self._first.shape or mask.resolution != self._first.resolution:
+                raise ValueError(
+                    f"mask must have the first mask's shape {self._first.shape} and resolution "
+                    f"{self._first.resolution:g} m/px, got {mask.shape} at {mask.resolution:g}"
+                )
+        if out_of_view or (mask is not None and touches_border(mask)):
             self._n_pushes += 1
             self._handed_out, self._plan, self._final = False, None, "lost"
             return
         record, evidence, pose = self._reading(mask, motion)
         self._log.add(record, self._posterior, *evidence)
         self._n_pushes += 1
+        if record.outcome == "miss":  # the same push again would not move it either
+            travel = np.hypot(*np.subtract(record.action.end, record.action.start))
+            self._min_travel = 2 * (travel - STANDOFF_M / self._first.resolution)
+        else:
+            self._min_travel = 0.0
         self._pose, self._handed_out = pose, False
         self._update()
 
@@ -329,7 +339,10 @@ class GoalSession:
             "camera_action": plan.camera_action,
             "pose_before": self._pose,
         }
+        # a symmetric outline's rotation is read to a symmetry angle: the reading nearest the
+        # planned push's predicted rotation first (with learning, the best explained is kept)
         branches = symmetric_branches(reading, self._pose)
+        branches.sort(key=lambda r: abs(r.pose.theta - plan.expected_pose.theta))
         _, lines = executed_in_object(self._first, IDENTITY, plan.action, self._scoring.mus)
         moved = not is_miss(relative(self._pose, branches[0].pose), self._first.resolution)
         if not moved or lines is None or not self._learn:

@@ -18,7 +18,7 @@ import numpy as np
 
 from ._conventions import apply_motion, rotate_vectors
 from ._geometry import contacts, disc_contacts
-from ._goal_types import PLANNING_PARTICLES, Hypotheses, _finite, hypotheses_from
+from ._goal_types import PLANNING_PARTICLES, CoMHypotheses, _finite, hypotheses_from
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import DEFAULT_PUSHER_RADIUS
@@ -73,7 +73,8 @@ def line_pushes(first: Mask, pose: Motion, directions, offsets, lengths, pusher_
     standoff = STANDOFF_M / first.resolution
     d_idx, o_idx = np.meshgrid(np.arange(len(directions)), np.arange(offsets.shape[1]))
     d_idx, o_idx = d_idx.ravel(), o_idx.ravel()
-    angle = np.asarray(directions, float)[d_idx] - pose.theta  # into the object's frame
+    # a camera angle a is the object-frame angle a + theta (theta turns CCW on screen, y down)
+    angle = np.asarray(directions, float)[d_idx] + pose.theta  # into the object's frame
     unit = np.column_stack([np.cos(angle), np.sin(angle)])
     across = np.column_stack([-unit[:, 1], unit[:, 0]])
     off = offsets[d_idx, o_idx]
@@ -97,7 +98,7 @@ def line_pushes(first: Mask, pose: Motion, directions, offsets, lengths, pusher_
     return actions.reshape(-1, 4), meta.reshape(-1, 3).astype(float)
 
 
-def predict_motions(model, first: Mask, actions: np.ndarray, hyps: Hypotheses) -> np.ndarray:
+def predict_motions(model, first: Mask, actions: np.ndarray, hyps: CoMHypotheses) -> np.ndarray:
     """Each push's motion for each hypothesis, first mask's frame: shape (n_h, n_a, 3).
 
     One model call per distinct friction value, vectorised over the pushes and
@@ -140,7 +141,7 @@ class TranslationPush(NamedTuple):
     """Posterior mean of its displacement across the direction (metres, CCW side positive)."""
 
 
-def _cross_offsets(first: Mask, angle: float, hyps: Hypotheses, n: int) -> np.ndarray:
+def _cross_offsets(first: Mask, angle: float, hyps: CoMHypotheses, n: int) -> np.ndarray:
     """Offsets across the object (px), evenly spaced, plus the hypotheses' mean and +-1 sd."""
     c0 = np.asarray(first.centroid, float)
     across = np.array([-math.sin(angle), math.cos(angle)])
@@ -234,7 +235,7 @@ def translation_push(
         raise ValueError(f"travel {travel_m:g} m is under a pixel ({mask.resolution:g} m/px)")
     hyps = hypotheses_from(posterior, mask, int(n_particles))
     model = planning_model(pusher_radius) if model is None else model
-    offsets = _cross_offsets(mask, angle - pose.theta, hyps, int(n_offsets))[None]
+    offsets = _cross_offsets(mask, angle + pose.theta, hyps, int(n_offsets))[None]
     actions, _ = line_pushes(mask, pose, np.array([angle]), offsets, [travel_px], pusher_radius)
     if len(actions) == 0:
         raise ValueError("no push along direction touches the object")

@@ -1,7 +1,7 @@
 """What a goal is, and the CoM hypotheses a push is planned over.
 
 :class:`Goal` is the pose a user wants the object in (position, orientation,
-either optional, with tolerances in metres and radians). :class:`Hypotheses`
+either optional, with tolerances in metres and radians). :class:`CoMHypotheses`
 is a small weighted set of (CoM, friction) hypotheses drawn from a posterior:
 what :func:`comcore.translation_push` and :class:`comcore.GoalSession` predict
 each candidate push over, instead of one point estimate.
@@ -21,7 +21,7 @@ from ._mask import Mask
 from ._options import Likelihood, mu_grid
 from ._types import Estimate
 
-__all__ = ["PLANNING_PARTICLES", "Goal", "Hypotheses", "hypotheses_from"]
+__all__ = ["PLANNING_PARTICLES", "CoMHypotheses", "Goal", "hypotheses_from"]
 
 #: How many (CoM, friction) particles a push is planned over (a systematic draw).
 PLANNING_PARTICLES = 32
@@ -148,8 +148,13 @@ class Goal:
         return None
 
 
-class Hypotheses(NamedTuple):
-    """Weighted (CoM, friction) hypotheses, the CoMs in pixels of the first mask."""
+class CoMHypotheses(NamedTuple):
+    """Weighted (CoM, friction) hypotheses, the CoMs in pixels of the first mask.
+
+    A posterior :func:`comcore.translation_push` and :class:`comcore.GoalSession`
+    accept as it is (e.g. a known CoM and friction:
+    ``CoMHypotheses(np.array([[x, y]]), np.array([mu]), np.array([1.0]))``).
+    """
 
     coms: np.ndarray
     """Shape (n, 2)."""
@@ -172,24 +177,24 @@ def _default_mus() -> np.ndarray:
     return mu_grid(lik.mu, lik.n_mu)
 
 
-def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None) -> Hypotheses:
+def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None) -> CoMHypotheses:
     """``n`` particles of a posterior over the CoM (and the friction where it has one).
 
     Accepted: a :class:`comcore.Estimate` of an active estimator (its
     ``extras["posterior"]`` image, ``"mu_grid"`` and ``"mu_posterior"``; an
     estimate without a posterior image is its ``com`` alone), a
-    :class:`Hypotheses`, the session's grid posterior, an array of CoMs
+    :class:`CoMHypotheses`, the session's grid posterior, an array of CoMs
     ``(k, 2)`` (equal weights) or a pair ``(coms (k, 2), weights (k,))``.
     Frictions unknown to the posterior are ``mus`` (default: the
     :class:`comcore.Likelihood` grid), each CoM crossed with each.
     """
-    if isinstance(posterior, Hypotheses):
-        return posterior
+    if isinstance(posterior, CoMHypotheses):
+        return _checked(posterior, mask)
     if isinstance(posterior, GridPosterior):
         joint = posterior.sense_weights  # (p, m)
         index, w = _systematic(joint.ravel(), n)
         p, m = np.unravel_index(index, joint.shape)
-        return Hypotheses(posterior.pixels[p], posterior.mus[m], w)
+        return CoMHypotheses(posterior.pixels[p], posterior.mus[m], w)
     if isinstance(posterior, Estimate):
         image = posterior.extras.get("posterior")
         if image is None:
@@ -213,6 +218,15 @@ def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None
     return _from_points(posterior, mask, n, _friction(mus))
 
 
+def _checked(hyps: CoMHypotheses, mask: Mask) -> CoMHypotheses:
+    base = _from_points((hyps.coms, hyps.weights), mask, len(hyps.coms), np.array([0.0]))
+    mus = np.asarray(hyps.mus, dtype=float)
+    if mus.shape != (len(base.coms),) or not np.isfinite(mus).all() or (mus < 0).any():
+        raise ValueError(f"CoMHypotheses.mus must be {len(base.coms)} friction values >= 0")
+    weights = np.asarray(hyps.weights, dtype=float)
+    return CoMHypotheses(np.asarray(hyps.coms, float), mus, weights / weights.sum())
+
+
 def _friction(mus) -> np.ndarray:
     if mus is None:
         return _default_mus()
@@ -222,15 +236,15 @@ def _friction(mus) -> np.ndarray:
     return out
 
 
-def _crossed(coms, cw, grid, mu_w, n) -> Hypotheses:
+def _crossed(coms, cw, grid, mu_w, n) -> CoMHypotheses:
     mu_w = np.full(len(grid), 1.0 / len(grid)) if mu_w is None else mu_w
     joint = (cw[:, None] * mu_w[None, :]).ravel()
     index, w = _systematic(joint / joint.sum(), max(n, 1))
     c, m = np.unravel_index(index, (len(coms), len(grid)))
-    return Hypotheses(np.asarray(coms, float)[c], grid[m], w)
+    return CoMHypotheses(np.asarray(coms, float)[c], grid[m], w)
 
 
-def _from_points(posterior, mask: Mask, n: int, grid) -> Hypotheses:
+def _from_points(posterior, mask: Mask, n: int, grid) -> CoMHypotheses:
     weights = None
     if isinstance(posterior, tuple) and len(posterior) == 2:
         posterior, weights = posterior

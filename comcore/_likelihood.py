@@ -70,7 +70,7 @@ __all__ = [
 LINE_BLUR_M = 1.2 * 0.0025 * math.pi / math.sqrt(3.0)
 #: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
 _LOGISTIC_STD = math.pi / math.sqrt(3.0)
-#: Hypotheses this many nats below the best are dropped before the model is asked
+#: CoMHypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).
 PRUNE_LOG = 25.0
 #: A hypothesis leaves a push's observed sense unexplained when it lies more than this many

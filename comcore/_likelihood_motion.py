@@ -168,7 +168,7 @@ def excess_surprise(terms) -> np.ndarray:
 def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     """Motions of ``actions`` per (pixel, mu, model) where ``alive``, shape (p, m, k, a, 3).
 
-    Hypotheses that are not alive are left NaN (the models are not asked).
+    CoMHypotheses that are not alive are left NaN (the models are not asked).
     """
     out = np.full((*alive.shape, len(actions), 3), np.nan)
     for model in models:  # optional: a model that batches friction values is told them
