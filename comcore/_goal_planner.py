@@ -3,7 +3,7 @@
 A greedy one-step lookahead. The candidates are pushes along
 :data:`N_DIRECTIONS` camera directions (and the direction from the object to
 the goal), at offsets across the object (evenly spaced, and at the
-hypotheses' mean CoM and +-0.5 and 1 standard deviations of it), each for a
+hypotheses' mean CoM and +-1 standard deviation of it), each for a
 few lengths up to the travel the user allows (the full travel, a half, a
 quarter, and the distance left to the goal). The motion model predicts every
 candidate for every (CoM, friction) particle
@@ -22,9 +22,9 @@ loses to a shorter or longer one that surely does not. The candidate of least
 expected cost is chosen if it is expected to bring the object closer than
 it is now (by at least :data:`MIN_GAIN` of the cost). Where none is (a wide
 posterior: every push may turn the object a lot) a **probe** is made: the
-push of least expected cost among those at least a quarter of the allowed travel
+push of least expected cost among those at least a tenth of the allowed travel
 long after contact (:data:`PROBE_LENGTH`) that bring the object closer under
-at least half the posterior's mass (:data:`PROBE_CHANCE`); it is evidence,
+at least a quarter of the posterior's mass (:data:`PROBE_CHANCE`); it is evidence,
 and the next plan is made on a narrower posterior. Where no push is even
 that, there is none (the session says ``"stuck"``: the goal needs a pull, or
 the model sees no push that helps). To keep a step fast, every candidate is
@@ -58,18 +58,18 @@ __all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost"]
 
 #: Camera directions tried at every step (evenly spaced), besides the goal's direction.
 N_DIRECTIONS = 8
-#: Offsets evenly spaced across the object per direction (the posterior's five added).
+#: Offsets evenly spaced across the object per direction (the posterior's three added).
 N_OFFSETS = 5
 #: Fractions of the allowed travel tried (the distance left to the goal is added).
 LENGTH_FRACTIONS = (1.0, 0.5, 0.25, 0.1, 0.04)
 #: Particles of the first, coarse pass over every candidate, and the candidates it keeps
 #: for the full pass over all particles.
-COARSE_PARTICLES, KEPT = 8, 16
+COARSE_PARTICLES, KEPT = 6, 12
 #: A push is only worth making if it is expected to cut the cost by this share ...
 MIN_GAIN = 0.02
 #: ... or, where none is, if the posterior gives it at least this chance of bringing the
 #: object closer (a probe; it is evidence too).
-PROBE_CHANCE = 0.5
+PROBE_CHANCE = 0.25
 #: A probe travels at least this share of the allowed travel after contact (a shorter one
 #: teaches little, and the model's small motions are its least accurate).
 PROBE_LENGTH = 0.1
@@ -115,7 +115,9 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
         directions = np.linspace(0, 2 * np.pi, N_DIRECTIONS, endpoint=False)
         if goal_angle is not None:
             directions = np.append(directions, goal_angle)
-    offsets = np.stack([_cross_offsets(first, a + pose.theta, hyps, N_OFFSETS) for a in directions])
+    offsets = np.stack(
+        [_cross_offsets(first, a + pose.theta, hyps, N_OFFSETS, halves=False) for a in directions]
+    )
     lengths = [f * max_travel_px for f in LENGTH_FRACTIONS]
     if left_px is not None and 2.0 <= left_px < max_travel_px:
         lengths.append(left_px)
@@ -201,7 +203,7 @@ def plan_push(
     best = int(np.argmin(cost))
     if not np.isfinite(cost[best]) or cost[best] > cost_now * (1.0 - MIN_GAIN):
         # a probe: no push is expected to help on average (a wide posterior), but one the
-        # posterior more likely than not says helps is made (and teaches it)
+        # posterior gives a fair chance to help is made (and teaches it)
         likely = (weights * (each < cost_now)).sum(axis=0) >= PROBE_CHANCE
         travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
         likely &= travel >= PROBE_LENGTH * max_travel_px - 1e-6

@@ -19,7 +19,7 @@ import numpy as np
 from ._conventions import apply_motion, rotate_vectors
 from ._geometry import contacts, disc_contacts
 from ._goal_types import PLANNING_PARTICLES, CoMHypotheses, _finite, hypotheses_from
-from ._limit_surface_model import LimitSurfaceModel
+from ._limit_surface_model import LimitSurfaceModel, check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import IDENTITY, camera_from_object
@@ -102,11 +102,17 @@ def predict_motions(model, first: Mask, actions: np.ndarray, hyps: CoMHypotheses
     """Each push's motion for each hypothesis, first mask's frame: shape (n_h, n_a, 3).
 
     One model call per distinct friction value, vectorised over the pushes and
-    that friction's CoMs.
+    that friction's CoMs (one call for all with the planner's own
+    :class:`comcore.LimitSurfaceModel`, which integrates a friction per row).
     """
     out = np.zeros((len(hyps.coms), len(actions), 3))
     if len(actions) == 0:
         return out
+    if isinstance(model, LimitSurfaceModel) and model.node_spacing == 0:
+        # one batch for every friction: the integration takes a friction per pressure row
+        check_push_lengths(first, np.asarray(actions, float))
+        press = model._pressures(first, hyps.coms)
+        return model._motions(first, np.asarray(actions, float), press, hyps.mus)
     for mu in np.unique(hyps.mus):
         rows = np.flatnonzero(hyps.mus == mu)
         pred = np.asarray(model.predict_hypotheses(first, actions, hyps.coms[rows], float(mu)))
@@ -141,8 +147,10 @@ class TranslationPush(NamedTuple):
     """Posterior mean of its displacement across the direction (metres, CCW side positive)."""
 
 
-def _cross_offsets(first: Mask, angle: float, hyps: CoMHypotheses, n: int) -> np.ndarray:
-    """Offsets across the object (px), evenly spaced, plus the hypotheses' mean and +-1 sd."""
+def _cross_offsets(
+    first: Mask, angle: float, hyps: CoMHypotheses, n: int, halves: bool = True
+) -> np.ndarray:
+    """Offsets across the object (px), evenly spaced, plus the hypotheses' mean, +-1 sd (+-0.5)."""
     c0 = np.asarray(first.centroid, float)
     across = np.array([-math.sin(angle), math.cos(angle)])
     proj = (first.pixels - c0) @ across
@@ -150,7 +158,7 @@ def _cross_offsets(first: Mask, angle: float, hyps: CoMHypotheses, n: int) -> np
     com = (hyps.coms - c0) @ across
     mean = float(hyps.weights @ com)
     sd = math.sqrt(float(hyps.weights @ (com - mean) ** 2))
-    extra = [mean, mean - sd, mean + sd, mean - 0.5 * sd, mean + 0.5 * sd]
+    extra = [mean, mean - sd, mean + sd] + ([mean - 0.5 * sd, mean + 0.5 * sd] if halves else [])
     return np.clip(np.concatenate([np.linspace(lo, hi, n), extra]), lo, hi)
 
 
