@@ -10,7 +10,6 @@ import pytest
 import comcore
 
 simulators = pytest.importorskip("simulators")
-pytest.importorskip("shapely")
 
 
 def _plate():
@@ -99,6 +98,7 @@ def test_goal_validates():
 
 
 def _robot(name, friction="low", seed=1):
+    pytest.importorskip("shapely")  # the simulated robot's arm
     sim = simulators.accepted_random_simulator(name, friction, rng=seed)
     return simulators.SimulatedRobot(sim, camera_margin=0.2, rng=0)
 
