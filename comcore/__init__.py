@@ -37,6 +37,9 @@ from ._disc_contacts import disc_contacts
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._flat_options import option_groups
 from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
+from ._goal_session import GoalSession
+from ._goal_translation import TranslationPush, translation_push
+from ._goal_types import CoMHypotheses, Goal
 from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
@@ -82,9 +85,12 @@ __all__ = [
     "PLAUSIBLE",
     "Action",
     "ActiveSession",
+    "CoMHypotheses",
     "ComcoreError",
     "Contacts",
     "Estimate",
+    "Goal",
+    "GoalSession",
     "HypothesisPredictor",
     "ImageError",
     "Likelihood",
@@ -103,6 +109,7 @@ __all__ = [
     "SessionError",
     "SkippedPush",
     "StopRule",
+    "TranslationPush",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
@@ -146,5 +153,6 @@ __all__ = [
     "sample_pushes",
     "signed_line_distance",
     "split_by_line",
+    "translation_push",
     "vt",
 ]
