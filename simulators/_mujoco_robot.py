@@ -239,7 +239,14 @@ class MujocoRobot:
         mujoco = self._mj
         if self._renderer is None:
             w, h = self.camera.image_size
-            self._renderer = mujoco.Renderer(self.model, height=h, width=w)
+            try:
+                self._renderer = mujoco.Renderer(self.model, height=h, width=w)
+            except Exception as e:  # GLFW without a display, EGL missing, ...
+                raise RuntimeError(
+                    f"MuJoCo cannot render offscreen here ({e}); set MUJOCO_GL=egl and "
+                    "EGL_PLATFORM=surfaceless (or MUJOCO_GL=osmesa) before mujoco is first "
+                    "imported (docs/mujoco.md)"
+                ) from e
         self._renderer.update_scene(self.data, camera="top")
         return self._renderer.render().copy()
 
