@@ -44,7 +44,7 @@ SWEEP = (
     (
         "fine: dt 0.125 ms, tc 1 ms, speed 2 cm/s",
         dict(timestep=0.000125, contact_timeconst=0.001, speed=0.02),
-    ),  # noqa: E501
+    ),
     ("default (dt 0.5 ms, tc 2 ms, Newton, elliptic, 5 cm/s, 300 feet)", {}),
     ("dt 0.25 ms", dict(timestep=0.00025)),
     ("dt 1 ms", dict(timestep=0.001)),

@@ -21,7 +21,7 @@ Examples
 """
 
 from ._mass import MassDistribution, tilt_to_com
-from ._mujoco_camera import CameraSettings
+from ._mujoco_camera import CameraSettings, homography_table_to_image, warp_to_grid
 from ._mujoco_robot import MujocoPush, MujocoRobot
 from ._mujoco_scene import MujocoSettings
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
@@ -59,12 +59,14 @@ __all__ = [
     "SimulatedRobot",
     "action_from_world",
     "check_polygon",
+    "homography_table_to_image",
     "load_object",
     "load_shape",
     "normal_pushes_through_com",
     "random_com",
     "random_simulator",
     "tilt_to_com",
+    "warp_to_grid",
 ]
 __all__ += [
     "AcceptedPushes",
