@@ -66,12 +66,19 @@ class MujocoSettings:
     Attributes
     ----------
     speed : float
-        Pusher speed along the path, m/s (0.05: quasi-static, see docs/mujoco.md).
+        Pusher speed along the path, m/s. At 0.01 the turns are within about a degree of
+        their slow-push limit; at 0.05 the object hops on its feet and turns 10-20 % less
+        (docs/mujoco.md).
     timestep : float
         MuJoCo time step, seconds.
     contact_timeconst : float
-        Time constant of every contact (``solref``), seconds; at least twice ``timestep``.
-        Stiff (0.002 s) so that the 4 mm pusher does not sink into the object.
+        Time constant (``solref``) of the pusher's contact with the object, seconds; at
+        least twice ``timestep``. Stiff (0.002 s) so that the 4 mm pusher does not sink
+        into the object.
+    support_timeconst : float
+        Time constant of the feet's contacts with the table. MuJoCo's default softness
+        (0.02 s): stiffer support contacts make the pushed object hop on its feet
+        (docs/mujoco.md), which weakens the support friction.
     solver, cone, integrator : str
         MuJoCo's ``<option>`` settings.
     iterations : int
@@ -95,7 +102,7 @@ class MujocoSettings:
 
     Examples
     --------
-    >>> MujocoSettings(timestep=0.001).contact_timeconst
+    >>> MujocoSettings(timestep=0.0005).contact_timeconst
     0.002
     >>> MujocoSettings(solver="Gauss")
     Traceback (most recent call last):
@@ -103,9 +110,10 @@ class MujocoSettings:
     ValueError: solver must be one of ('Newton', 'CG', 'PGS'), got 'Gauss'
     """
 
-    speed: float = 0.05
-    timestep: float = 0.0005
+    speed: float = 0.01
+    timestep: float = 0.001
     contact_timeconst: float = 0.002
+    support_timeconst: float = 0.02
     solver: str = "Newton"
     cone: str = "elliptic"
     integrator: str = "implicitfast"
@@ -120,7 +128,9 @@ class MujocoSettings:
     pusher_mass: float = 0.5
 
     def __post_init__(self):
-        for name in ("speed", "timestep", "contact_timeconst", "foot_radius", "thickness"):
+        for name in ("speed", "timestep", "contact_timeconst", "support_timeconst"):
+            check_positive(getattr(self, name), name)
+        for name in ("foot_radius", "thickness"):
             check_positive(getattr(self, name), name)
         check_positive(self.pusher_gain, "pusher_gain")
         check_positive(self.pusher_mass, "pusher_mass")
@@ -129,11 +139,12 @@ class MujocoSettings:
         n = self.noslip_iterations
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
             raise ValueError(f"noslip_iterations must be an integer >= 0, got {n!r}")
-        if self.contact_timeconst < 2 * self.timestep:
-            raise ValueError(
-                f"contact_timeconst must be at least 2 * timestep ({2 * self.timestep:g} s), "
-                f"got {self.contact_timeconst:g} (MuJoCo would soften it silently)"
-            )
+        for name in ("contact_timeconst", "support_timeconst"):
+            if getattr(self, name) < 2 * self.timestep:
+                raise ValueError(
+                    f"{name} must be at least 2 * timestep ({2 * self.timestep:g} s), "
+                    f"got {getattr(self, name):g} (MuJoCo would soften it silently)"
+                )
         for name, allowed in (
             ("solver", SOLVERS),
             ("cone", CONES),
@@ -250,7 +261,8 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
         geoms.append(
             f'<geom name="foot{i}" type="sphere" size="{s.foot_radius:.9g}" '
             f'pos="{x:.9g} {y:.9g} {s.foot_radius:.9g}" density="0" contype="0" '
-            f'conaffinity="1" friction="{simulator.mu_floor:.9g} 0 0" group="3" rgba="0 0 0 0"/>'
+            f'conaffinity="1" friction="{simulator.mu_floor:.9g} 0 0" group="3" rgba="0 0 0 0" '
+            f'solref="{s.support_timeconst:.9g} 1"/>'
         )
     r = simulator.pusher_radius
     kv = 2.0 * math.sqrt(s.pusher_gain * s.pusher_mass)
@@ -276,7 +288,8 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
            directional="false" castshadow="true" cutoff="{camera.light_cutoff_deg:.6g}"
            exponent="2" diffuse="0.8 0.8 0.8" specular="0.1 0.1 0.1"/>
     <geom name="table" type="plane" size="0 0 0.01" contype="1" conaffinity="0"
-          friction="{simulator.mu_floor:.9g} 0 0" material="table"/>
+          friction="{simulator.mu_floor:.9g} 0 0" material="table"
+          solref="{s.support_timeconst:.9g} 1"/>
     <camera name="top" pos="{_f(camera.position)}" xyaxes="{_f(camera.xyaxes)}"
             fovy="{math.degrees(camera.fov):.9g}"/>
     <body name="object">
