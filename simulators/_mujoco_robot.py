@@ -277,13 +277,15 @@ class MujocoRobot:
         self.data.ctrl[:] = q
         self._mj.mj_forward(self.model, self.data)
 
-    def execute(self, action) -> MujocoPush:
+    def execute(self, action, *, retract: bool = True) -> MujocoPush:
         """Push the object from where it is now along ``action`` (grid pixels).
 
         The pusher's centre is lowered ``pusher_radius`` behind the path's start
         (farther back, 1 mm at a time, if its disc would overlap the object), follows
-        the line at ``settings.speed`` to the end, backs off 5 mm and is parked; the
-        scene settles ``settings.settle`` s.
+        the line at ``settings.speed`` to the end, backs off 5 mm and is parked out of
+        view; the scene settles ``settings.settle`` s. ``retract=False`` leaves the
+        pusher where the path ended, touching the object, in the next frames (what a
+        camera sees of an arm that does not move away).
 
         Raises
         ------
@@ -317,7 +319,7 @@ class MujocoRobot:
         self._set_pusher(c0)
         lag, hit = 0.0, False
         step = self.settings.speed * dt
-        for travel in (length, -BACK_OFF_M):
+        for travel in (length, -BACK_OFF_M) if retract else (length,):
             origin = data.qpos[7:9].copy()
             n = max(1, math.ceil(abs(travel) / step))
             for k in range(1, n + 1):
@@ -328,7 +330,8 @@ class MujocoRobot:
                 lag = max(lag, float(np.hypot(*(data.qpos[7:9] - data.ctrl))))
             if travel > 0:  # hold the end point until the servo has caught up
                 mj.mj_step(model, data, nstep=max(1, round(HOLD_S / dt)))
-        self._set_pusher(PARK_XY)
+        if retract:
+            self._set_pusher(PARK_XY)
         self._settle()
         after = self._body_pose()
         record = MujocoPush(
