@@ -8,6 +8,8 @@ session measuring each pose from the mask it is handed), with the world played b
   (warped to the grid with the camera's homography, then ``comcore.mask_from_image``);
 * ``mujoco-truth-mask``: the same MuJoCo physics, masks rasterised from the polygon
   at MuJoCo's true pose (swaps the camera for the truth: what the mask costs);
+* ``mujoco-vt``: rendered masks, the session without its motion model (``model=None``,
+  the Voting Theorem alone): what comcore's motion model costs or gains on MuJoCo;
 * ``exact`` / ``pymunk``: :class:`simulators.SimulatedRobot` on comcore's exact
   engine / pymunk, noise-free masks (the realism table's engines, same trials here).
 
@@ -37,7 +39,9 @@ import numpy as np
 import comcore
 import simulators
 
-ENGINES = ("mujoco", "mujoco-truth-mask", "exact", "pymunk")
+ENGINES = ("mujoco", "mujoco-truth-mask", "mujoco-vt", "exact", "pymunk")
+#: Run by default (``mujoco-vt`` on request: ``--engines mujoco-vt``).
+DEFAULT_ENGINES = ("mujoco", "mujoco-truth-mask", "exact", "pymunk")
 #: Failed pushes (refused actions or frames) after which a run gives up, as the benchmark.
 MAX_FAILURES = 5
 
@@ -61,7 +65,10 @@ def run(sim, engine, session_rng, robot_rng):
     frames = refused = failures = 0
     first = _mask(robot, engine)
     frames += 1
-    session = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=session_rng)
+    model = {"model": None} if engine == "mujoco-vt" else {}
+    session = comcore.ActiveSession(
+        first, pusher_radius=sim.pusher_radius, rng=session_rng, **model
+    )
     while not session.done:
         action = session.next_push()
         try:
@@ -125,7 +132,7 @@ def main(argv=None):
     parser.add_argument("--friction", nargs="+", default=["low", "high"])
     parser.add_argument("--trials", type=int, default=5)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--engines", nargs="+", default=list(ENGINES), choices=ENGINES)
+    parser.add_argument("--engines", nargs="+", default=list(DEFAULT_ENGINES), choices=ENGINES)
     parser.add_argument("--json", help="write the rows and the table here")
     args = parser.parse_args(argv)
     rows, t0 = [], time.time()
