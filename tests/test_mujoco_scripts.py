@@ -24,3 +24,8 @@ def test_the_active_benchmark_runs():
         "--engines", "mujoco", "exact",
     )  # fmt: skip
     assert "| mujoco | 1 |" in out and "| exact | 1 |" in out
+
+
+def test_the_hop_check_runs():
+    out = run_script("benchmarks/mujoco_hop.py")
+    assert out.count("feet down") == 4
