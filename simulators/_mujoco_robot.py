@@ -244,7 +244,7 @@ class MujocoRobot:
             except Exception as e:  # GLFW without a display, EGL missing, ...
                 raise RuntimeError(
                     f"MuJoCo cannot render offscreen here ({e}); set MUJOCO_GL=egl and "
-                    "EGL_PLATFORM=surfaceless (or MUJOCO_GL=osmesa) before mujoco is first "
+                    "EGL_PLATFORM=surfaceless before mujoco is first "
                     "imported (docs/mujoco.md)"
                 ) from e
         self._renderer.update_scene(self.data, camera="top")
