@@ -20,6 +20,7 @@ EXTRA_MODULES = {
     "sim": ("shapely", "trimesh", "pymunk"),
     "anp": ("torch",),
     "plot": ("matplotlib",),
+    "mujoco": ("mujoco",),
 }
 #: Modules (or folders) whose doctests need an extra, from the repository root.
 DOCTESTS_NEED = {
@@ -28,6 +29,7 @@ DOCTESTS_NEED = {
     "predictors/anp": "anp",
     "predictors/oracle.py": "sim",
     "simulators": "sim",
+    "simulators/_mujoco_robot.py": "mujoco",
 }
 
 

@@ -5,7 +5,9 @@ uniform floor with distributed Coulomb friction, seen by a top-down camera. The
 default engine solves the quasi-static pusher-slider problem exactly on the limit
 surface of the support; a pymunk rigid-body engine is an option
 (``EngineSettings(engine="pymunk")``), less accurate at affordable solver
-settings. Objects come from vertex arrays, from SVG/DXF outlines or from meshes
+settings. :class:`MujocoRobot` plays the robot and its camera in MuJoCo
+(``pip install comcore[mujoco]``; mujoco is imported only when one is built).
+Objects come from vertex arrays, from SVG/DXF outlines or from meshes
 (trimesh), or from the 20-object benchmark set (``load_object("Obj7")``).
 The physics model and its measured parameters are in ``docs/simulators.md``.
 
@@ -19,6 +21,9 @@ Examples
 """
 
 from ._mass import MassDistribution, tilt_to_com
+from ._mujoco_camera import CameraSettings, homography_table_to_image, warp_to_grid
+from ._mujoco_robot import MujocoPush, MujocoRobot
+from ._mujoco_scene import MujocoSettings
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
 from ._pushes import action_from_world, normal_pushes_through_com
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
@@ -41,8 +46,12 @@ __all__ = [
     "ENGINES",
     "FRICTION_CLASSES",
     "MASS_STYLES",
+    "CameraSettings",
     "EngineSettings",
     "MassDistribution",
+    "MujocoPush",
+    "MujocoRobot",
+    "MujocoSettings",
     "ObjectShape",
     "PushResult",
     "PushSimulator",
@@ -50,12 +59,14 @@ __all__ = [
     "SimulatedRobot",
     "action_from_world",
     "check_polygon",
+    "homography_table_to_image",
     "load_object",
     "load_shape",
     "normal_pushes_through_com",
     "random_com",
     "random_simulator",
     "tilt_to_com",
+    "warp_to_grid",
 ]
 __all__ += [
     "AcceptedPushes",

@@ -34,6 +34,7 @@ OPTIONAL_MODULES = frozenset(
         "tqdm",
         "pyarrow",
         "h5py",  # [real]
+        "mujoco",  # [mujoco]
     }
 )
 

@@ -1,0 +1,143 @@
+"""simulators.MujocoRobot: MuJoCo's physics and rendered camera as the robot (needs comcore[mujoco])."""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+# Offscreen rendering: set before mujoco is first imported (as a user must, docs/mujoco.md).
+os.environ.setdefault("MUJOCO_GL", "egl")
+os.environ.setdefault("EGL_PLATFORM", "surfaceless")
+pytest.importorskip("shapely", reason="the simulators need shapely: pip install comcore[sim]")
+pytest.importorskip("mujoco", reason="the MuJoCo robot needs mujoco: pip install comcore[mujoco]")
+
+import comcore
+import simulators
+
+SMALL = simulators.CameraSettings(image_size=(200, 150))
+#: A 10 x 6 cm plate whose CoM is off its centre (point mass and tilt).
+PLATE = [(0.0, 0.0), (0.10, 0.0), (0.10, 0.06), (0.0, 0.06)]
+
+
+@pytest.fixture(scope="module")
+def plate():
+    sim = simulators.PushSimulator.from_polygon(PLATE, com=(0.06, 0.025), mu_contact=0.5)
+    robot = simulators.MujocoRobot(sim, camera=SMALL)
+    yield sim, robot
+    robot.close()
+
+
+def test_the_scenes_centre_of_mass_is_the_trials(plate):
+    sim, robot = plate
+    assert np.allclose(robot.com_body, sim.com_m, atol=1e-6)  # MuJoCo's, from the pieces
+    mass = float(robot.model.body_mass[robot.model.body("object").id])
+    assert mass == pytest.approx(sim.mass.total_mass, rel=1e-6)
+
+
+def test_point_masses_keep_the_centre_of_mass():
+    sim = simulators.random_simulator("Obj12", friction="low", rng=3)
+    trial = simulators.PushSimulator.from_shape(
+        sim.shape, point_masses=[(*sim.shape.centroid_m, 0.8)], com=None
+    )
+    robot = simulators.MujocoRobot(trial, camera=SMALL)
+    assert np.allclose(robot.com_body, trial.com_m, atol=1e-6)
+
+
+def _push_from_start(robot, action):
+    robot.place(None)
+    return robot.execute(action)
+
+
+def test_a_push_through_the_com_translates_without_turning(plate):
+    _sim, robot = plate
+    grid = robot.simulator
+    through = simulators.normal_pushes_through_com(grid)
+    for action in through[:2]:  # the long and the short side
+        push = _push_from_start(robot, action)
+        assert push.hit
+        assert abs(push.motion.theta) < math.radians(1.5)
+        assert math.hypot(push.motion.tx, push.motion.ty) * grid.resolution > 0.02
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_an_off_centre_push_turns_the_voting_theorems_way(plate, side):
+    # Down onto the top edge, 3 cm left (right) of the CoM: the CoM is to its right (left),
+    # so the object turns counter-clockwise (clockwise), as the exact engine does.
+    sim, robot = plate
+    grid = robot.simulator
+    start = (sim.com_m[0] + side * 0.03, 0.07)
+    push = _push_from_start(robot, simulators.action_from_world(grid, start, (0.0, -1.0)))
+    exact = grid.push(simulators.action_from_world(grid, start, (0.0, -1.0))).motion
+    assert np.sign(push.motion.theta) == -side == np.sign(exact.theta)
+    assert abs(push.motion.theta) > math.radians(3)
+
+
+def test_the_object_is_never_reset(plate):
+    sim, robot = plate
+    robot.place(None)
+    grid = robot.simulator
+    start = (sim.com_m[0] - 0.03, 0.07)
+    before = robot.pushes
+    first = robot.execute(simulators.action_from_world(grid, start, (0.0, -1.0), travel_m=0.02))
+    mask = robot.camera_mask()
+    action = comcore.sample_pushes(mask, 1, rng=0)[0]
+    second = robot.execute(action)
+    assert robot.pushes == before + 2 and first.pose != second.pose
+    assert second.pose == robot.pose
+
+
+def test_the_rendered_mask_is_the_polygon_under_the_homography(plate):
+    sim, robot = plate
+    robot.place(None)
+    truth = robot.simulator.mask  # the footprint rasterised on the grid at the start
+    mask = robot.camera_mask()
+    assert mask.resolution == robot.resolution and mask.shape == truth.shape
+    assert abs(mask.area_px - truth.area_px) < 0.04 * truth.area_px
+    assert np.hypot(*np.subtract(mask.centroid, truth.centroid)) < 1.0
+    # The raw (perspective) frame: the object's centroid where the homography puts it.
+    frame = robot.camera_frame()
+    assert frame.dtype == np.uint8 and frame.shape == (150, 200, 3)
+    raw = comcore.mask_from_image(frame)
+    h = robot.homography_table_to_image()
+    p = h @ [*sim.shape.centroid_m, 1.0]
+    assert np.hypot(*(np.asarray(raw.centroid) - p[:2] / p[2])) < 1.0
+
+
+def test_a_push_starting_inside_is_refused_and_changes_nothing(plate):
+    _sim, robot = plate
+    robot.place(None)
+    pose, pushes = robot.world_pose, robot.pushes
+    c = robot.simulator.com_px
+    with pytest.raises(ValueError, match="action must start outside"):
+        robot.execute((c[0], c[1], c[0] + 10, c[1]))
+    with pytest.raises(ValueError, match="single action"):
+        robot.execute([[0, 0, 1, 1], [0, 0, 2, 2]])
+    assert robot.world_pose == pose and robot.pushes == pushes
+
+
+def test_bad_arguments_are_named():
+    with pytest.raises(TypeError, match="simulator must be a simulators.PushSimulator"):
+        simulators.MujocoRobot("Obj1")
+    sim = simulators.PushSimulator.from_polygon(PLATE)
+    with pytest.raises(TypeError, match="settings must be a simulators.MujocoSettings"):
+        simulators.MujocoRobot(sim, settings={"timestep": 0.001})
+    with pytest.raises(ValueError, match="contact_timeconst must be at least 2 \\* timestep"):
+        simulators.MujocoSettings(timestep=0.002)
+    with pytest.raises(ValueError, match="fov must be in \\(0, pi\\) radians"):
+        simulators.CameraSettings(fov=45)
+    with pytest.raises(ValueError, match="image_size must be \\(width, height\\)"):
+        simulators.CameraSettings(image_size=(640,))
+    with pytest.raises(ValueError, match="camera_margin must be a finite number > 0"):
+        simulators.MujocoRobot(sim, camera_margin=-1)
+    with pytest.raises(TypeError, match="pose must be three numbers"):
+        simulators.MujocoRobot(sim, camera=SMALL).place("here")
+
+
+def test_the_callers_simulator_is_not_modified():
+    sim = simulators.PushSimulator.from_polygon(PLATE, com=(0.04, 0.03))
+    mask, margin = sim.mask.data.copy(), sim.margin
+    simulators.MujocoRobot(sim, camera=SMALL, resolution=0.003)
+    assert np.array_equal(sim.mask.data, mask) and sim.margin == margin
