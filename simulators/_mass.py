@@ -151,21 +151,27 @@ class MassDistribution:
         return dist
 
 
-def _grid_cells(poly, shapely, n_support: int):
-    """Centroids, areas and spacing of grid cells clipped to the polygon."""
-    h = math.sqrt(poly.area / n_support)
+def clipped_grid(poly, h: float, shapely):
+    """The cells of side ``h`` of the grid over ``poly``'s box, clipped to it (empty ones dropped).
+
+    The grid is centred on the box; the same cells carry the mass in
+    :meth:`MassDistribution.on_shape` and in the MuJoCo scene's object.
+    """
     x0, y0, x1, y1 = poly.bounds
     nx, ny = math.ceil((x1 - x0) / h), math.ceil((y1 - y0) / h)
     ox = x0 - 0.5 * (nx * h - (x1 - x0))
     oy = y0 - 0.5 * (ny * h - (y1 - y0))
     ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
     lo_x, lo_y = ox + ix.ravel() * h, oy + iy.ravel() * h
-    boxes = shapely.box(lo_x, lo_y, lo_x + h, lo_y + h)
-    clipped = shapely.intersection(boxes, poly)
-    areas = shapely.area(clipped)
-    keep = areas > 1e-6 * h * h
-    cent = shapely.get_coordinates(shapely.centroid(clipped[keep]))
-    return cent, areas[keep], h
+    clipped = shapely.intersection(shapely.box(lo_x, lo_y, lo_x + h, lo_y + h), poly)
+    return clipped[shapely.area(clipped) > 1e-6 * h * h]
+
+
+def _grid_cells(poly, shapely, n_support: int):
+    """Centroids, areas and spacing of grid cells clipped to the polygon."""
+    h = math.sqrt(poly.area / n_support)
+    cells = clipped_grid(poly, h, shapely)
+    return shapely.get_coordinates(shapely.centroid(cells)), shapely.area(cells), h
 
 
 #: A stalled tilt is accepted when its mean is this close to the target, relative to the

@@ -28,6 +28,7 @@ import numpy as np
 from comcore import check_positive
 
 from ._deps import require_shapely
+from ._mass import clipped_grid
 
 __all__ = ["MujocoSettings", "build_scene_xml", "require_mujoco"]
 
@@ -158,18 +159,6 @@ class MujocoSettings:
                 raise ValueError(f"{name} must be an integer >= 4, got {value!r}")
 
 
-def _grid(poly, h: float, shapely):
-    """Cells of side ``h`` clipped to ``poly`` (the grid of ``MassDistribution.on_shape``)."""
-    x0, y0, x1, y1 = poly.bounds
-    nx, ny = math.ceil((x1 - x0) / h), math.ceil((y1 - y0) / h)
-    ox = x0 - 0.5 * (nx * h - (x1 - x0))
-    oy = y0 - 0.5 * (ny * h - (y1 - y0))
-    ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
-    lo_x, lo_y = ox + ix.ravel() * h, oy + iy.ravel() * h
-    clipped = shapely.intersection(shapely.box(lo_x, lo_y, lo_x + h, lo_y + h), poly)
-    return clipped[shapely.area(clipped) > 1e-6 * h * h]
-
-
 def _convex_parts(piece, shapely) -> list[np.ndarray]:
     """Convex polygons (ccw vertex arrays) whose union is ``piece``."""
     parts = []
@@ -194,7 +183,7 @@ def object_pieces(simulator):
     shapely = require_shapely()
     mass = simulator.mass
     poly = simulator.shape.polygon()
-    cells = _grid(poly, mass.cell_size_m, shapely)
+    cells = clipped_grid(poly, mass.cell_size_m, shapely)
     centroids = shapely.get_coordinates(shapely.centroid(cells))
     pieces, masses, lumps = [], [], []
     for p, m in zip(mass.points_m, mass.masses):
@@ -211,7 +200,7 @@ def object_pieces(simulator):
 
 
 def _feet(poly, n: int, shapely) -> np.ndarray:
-    cells = _grid(poly, math.sqrt(poly.area / n), shapely)
+    cells = clipped_grid(poly, math.sqrt(poly.area / n), shapely)
     pts = shapely.get_coordinates(shapely.point_on_surface(cells))
     return pts
 
