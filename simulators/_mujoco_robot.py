@@ -277,7 +277,7 @@ class MujocoRobot:
         self.data.ctrl[:] = q
         self._mj.mj_forward(self.model, self.data)
 
-    def execute(self, action, *, retract: bool = True) -> MujocoPush:
+    def execute(self, action, frames: int = 0, *, retract: bool = True) -> MujocoPush:
         """Push the object from where it is now along ``action`` (grid pixels).
 
         The pusher's centre is lowered ``pusher_radius`` behind the path's start
@@ -285,14 +285,20 @@ class MujocoRobot:
         the line at ``settings.speed`` to the end, backs off 5 mm and is parked out of
         view; the scene settles ``settings.settle`` s. ``retract=False`` leaves the
         pusher where the path ended, touching the object, in the next frames (what a
-        camera sees of an arm that does not move away).
+        camera sees of an arm that does not move away). ``frames`` is there for
+        ``SimulatedRobot.execute``'s callers: only 0 (no frames during the push).
 
         Raises
         ------
         ValueError
             If ``action`` is not one finite, non-zero-length action, or it starts inside
-            the object as it is now (the robot is unchanged then).
+            the object as it is now, or ``frames`` is not 0 (the robot is unchanged then).
         """
+        if frames:
+            raise ValueError(
+                f"frames={frames!r}: the MuJoCo robot renders no frames during a push (take "
+                "camera_mask() after it; simulators.SimulatedRobot records frames)"
+            )
         acts = comcore.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import os
 
@@ -141,3 +142,33 @@ def test_the_callers_simulator_is_not_modified():
     mask, margin = sim.mask.data.copy(), sim.margin
     simulators.MujocoRobot(sim, camera=SMALL, resolution=0.003)
     assert np.array_equal(sim.mask.data, mask) and sim.margin == margin
+
+
+def test_the_mujoco_robot_takes_no_frames_during_a_push(plate):
+    _sim, robot = plate
+    action = comcore.sample_pushes(robot.camera_mask(), 1, rng=0)[0]
+    pose, pushes = robot.world_pose, robot.pushes
+    with pytest.raises(ValueError, match="renders no frames during a push"):
+        robot.execute(action, frames=3)
+    assert robot.world_pose == pose and robot.pushes == pushes
+
+
+def test_comcore_bench_runs_active_robot_on_mujoco(tmp_path):
+    """``--conditions mujoco``: the session on MuJoCo's physics and rendered frames."""
+    from comcore.bench import CONDITIONS, parse_condition
+    from comcore.cli import main
+
+    assert "mujoco" not in CONDITIONS  # not among "all": it needs an extra
+    assert parse_condition("mujoco").robot_engine == "mujoco"
+    with pytest.raises(ValueError, match="MuJoCo robot takes no"):
+        parse_condition("mujoco(pusher_error=0.003)").robot(
+            simulators.PushSimulator.from_polygon(PLATE), None
+        )
+    args = ["bench", "--objects", "Obj1", "--trials", "1", "--friction", "low",
+            "--estimators", "active-robot", "--conditions", "mujoco", "--workers", "1",
+            "--out", str(tmp_path), "--no-figures", "--no-progress"]  # fmt: skip
+    assert main(args) == 0
+    rows = [json.loads(line) for line in (tmp_path / "conditions.jsonl").read_text().splitlines()]
+    (row,) = rows
+    assert row["condition"] == "mujoco" and row["status"] in ("ok", "budget")
+    assert row["error_cm"] < 1.5 and row["pushes_used"] >= 1

@@ -15,7 +15,7 @@ Examples
 """
 
 from ._conditions import friction_table, run_conditions
-from ._realism import CONDITIONS, Condition, parse_condition
+from ._realism import CONDITIONS, OPTIONAL_CONDITIONS, Condition, parse_condition
 from ._registry import (
     ESTIMATORS,
     PREDICTORS,
@@ -44,6 +44,7 @@ __all__ = [
     "DEFAULT_CONE",
     "DEFAULT_ESTIMATORS",
     "ESTIMATORS",
+    "OPTIONAL_CONDITIONS",
     "PREDICTORS",
     "ROW_FIELDS",
     "BenchConfig",

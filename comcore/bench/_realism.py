@@ -18,6 +18,10 @@ the condition. The built-in conditions (:data:`CONDITIONS`, docs/robot.md):
 ``resolution-0.1``        the camera at 0.1 cm per pixel (1 mm) instead of 2.5 mm
 ``no-reset``              the object is never put back: only estimators that push
                           from where the last push left it (``active-robot``) run
+``mujoco``                MuJoCo's physics plays the object and a rendered camera
+                          sees it (``simulators.MujocoRobot``, never reset: only
+                          ``active-robot`` runs); needs ``comcore[mujoco]``, so it
+                          is not among ``all`` (:data:`OPTIONAL_CONDITIONS`)
 ========================  =====================================================
 
 Options change a condition's numbers: ``"pusher-error(pusher_error=0.001)"``,
@@ -36,8 +40,16 @@ import comcore
 
 from ._registry import EstimatorSpec, parse_call
 
-__all__ = ["CONDITIONS", "Condition", "ConditionWorld", "parse_condition"]
+__all__ = [
+    "CONDITIONS",
+    "OPTIONAL_CONDITIONS",
+    "Condition",
+    "ConditionWorld",
+    "parse_condition",
+]
 
+#: What may play the object for estimators that use a robot (``Condition.robot_engine``).
+ROBOT_ENGINES = (None, "mujoco")
 #: Outline-pixel flip probability of the ``mask-noise`` condition.
 MASK_NOISE = 0.5
 #: Pusher position error (std across the push, metres) of ``pusher-error``.
@@ -72,6 +84,11 @@ class Condition:
         (``simulators.SimulatedRobot``: wide enough to keep a pushed object in view).
     resets : bool
         ``False``: the object is never put back; estimators that need it are not run.
+    robot_engine : str or None
+        What plays the object for estimators that use a robot: ``None``, the
+        trial's simulator (``simulators.SimulatedRobot``); ``"mujoco"``,
+        ``simulators.MujocoRobot`` (MuJoCo's physics, masks from rendered
+        frames; the trial's object, mass distribution and friction).
     """
 
     name: str
@@ -83,6 +100,7 @@ class Condition:
     mask_noise: float = 0.0
     measured: bool = False
     resets: bool = True
+    robot_engine: str | None = None
 
     def __post_init__(self):
         if self.engine is not None:
@@ -93,6 +111,11 @@ class Condition:
                     f"condition {self.name!r}: engine must be one of {simulators.ENGINES}, "
                     f"got {self.engine!r}"
                 )
+        if self.robot_engine not in ROBOT_ENGINES:
+            raise ValueError(
+                f"condition {self.name!r}: robot_engine must be one of {ROBOT_ENGINES}, "
+                f"got {self.robot_engine!r}"
+            )
         if self.resolution is not None:
             comcore.check_positive(self.resolution, f"condition {self.name!r}: resolution")
         comcore.check_positive(
@@ -126,6 +149,7 @@ class Condition:
             and not self.pusher_error
             and self.motion_noise is None
             and not self.measured
+            and self.robot_engine is None
         )
 
     def fits(self, spec: EstimatorSpec) -> str | None:
@@ -159,9 +183,20 @@ class Condition:
         )
 
     def robot(self, simulator, rng, **options):
-        """A ``simulators.SimulatedRobot`` of ``simulator`` with this condition's errors."""
+        """A ``simulators.SimulatedRobot`` of ``simulator`` with this condition's errors.
+
+        With ``robot_engine="mujoco"`` a ``simulators.MujocoRobot`` of the same object
+        (its own camera and physics; a pusher error or mask noise is refused: MuJoCo's
+        pusher follows its path and its camera's masks are what they are).
+        """
         import simulators
 
+        if self.robot_engine == "mujoco":
+            errors = {k: options.get(k, getattr(self, k)) for k in ("pusher_error", "mask_noise")}
+            if any(errors.values()):
+                raise ValueError(f"condition {self.name!r}: the MuJoCo robot takes no {errors}")
+            margin = options.get("camera_margin") or simulators.DEFAULT_CAMERA_MARGIN
+            return simulators.MujocoRobot(simulator, camera_margin=margin)
         kwargs: dict[str, Any] = {"pusher_error": self.pusher_error, "mask_noise": self.mask_noise}
         kwargs.update(options)
         return simulators.SimulatedRobot(simulator, rng=rng, **kwargs)
@@ -197,6 +232,18 @@ CONDITIONS: dict[str, Condition] = {
 }
 
 
+#: Conditions that need an optional extra: named in ``--conditions``, not among ``all``.
+OPTIONAL_CONDITIONS: dict[str, Condition] = {
+    "mujoco": Condition(
+        "mujoco",
+        "MuJoCo's physics and a rendered camera play the object, never reset "
+        "(simulators.MujocoRobot; comcore[mujoco])",
+        resets=False,
+        robot_engine="mujoco",
+    )
+}
+
+
 def parse_condition(label: str) -> Condition:
     """The condition named by ``label``: a name, optionally with field overrides.
 
@@ -209,7 +256,8 @@ def parse_condition(label: str) -> Condition:
     ...
     ValueError: conditions: unknown condition 'fog'; registered: exact, mask-noise, ...
     """
-    name, options = parse_call(label, "conditions", CONDITIONS)
+    known = {**CONDITIONS, **OPTIONAL_CONDITIONS}
+    name, options = parse_call(label, "conditions", known)
     allowed = {f.name for f in fields(Condition)} - {"name", "description"}
     bad = sorted(set(options) - allowed)
     if bad:
@@ -217,7 +265,7 @@ def parse_condition(label: str) -> Condition:
             f"conditions: {label!r} has unknown option(s) {bad}; allowed: {sorted(allowed)}"
         )
     label = label.strip() if options else name
-    return replace(CONDITIONS[name], name=label, **options)
+    return replace(known[name], name=label, **options)
 
 
 class ConditionWorld:

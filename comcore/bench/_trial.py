@@ -316,4 +316,6 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
         robot = robots.robots[-1] if robots.robots else None
         values = {"pushes_used": used, "prior_pushes": prior, "message": message, "robot": robot}
         rows.append(_row(spec, ctx, label, spec.predictor, estimate=est, **values))
+        for used in robots.robots:  # a MuJoCo robot holds a GL context: free it now
+            getattr(used, "close", lambda: None)()
     return TrialOutcome(rows, ctx, estimates) if keep else rows
