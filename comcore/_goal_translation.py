@@ -16,16 +16,17 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._checks import check_finite
 from ._conventions import apply_motion, rotate_vectors
 from ._disc_contacts import disc_contacts
 from ._geometry import contacts
-from ._goal_types import PLANNING_PARTICLES, CoMHypotheses, _finite, hypotheses_from
+from ._goal_types import PLANNING_PARTICLES, CoMHypotheses, hypotheses_from
 from ._limit_surface_model import LimitSurfaceModel, check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_PUSHER_RADIUS
 from ._pose_tracking import IDENTITY, camera_from_object
 from ._types import Action, Motion
-from ._validation import check_mask, check_motions, check_physical
+from ._validation import check_count, check_mask, check_motions, check_physical
 
 __all__ = [
     "STANDOFF_M",
@@ -74,9 +75,9 @@ def line_pushes(first: Mask, pose: Motion, directions, offsets, lengths, pusher_
     standoff = STANDOFF_M / first.resolution
     d_idx, o_idx = np.meshgrid(np.arange(len(directions)), np.arange(offsets.shape[1]))
     d_idx, o_idx = d_idx.ravel(), o_idx.ravel()
-    # a camera angle a is the object-frame angle a + theta (theta turns CCW on screen, y down)
-    angle = np.asarray(directions, float)[d_idx] + pose.theta  # into the object's frame
-    unit = np.column_stack([np.cos(angle), np.sin(angle)])
+    camera = np.asarray(directions, float)[d_idx]
+    # the object turned pose.theta from the first mask: turn back into its frame
+    unit = rotate_vectors(np.column_stack([np.cos(camera), np.sin(camera)]), -pose.theta)
     across = np.column_stack([-unit[:, 1], unit[:, 0]])
     off = offsets[d_idx, o_idx]
     start = c0 + off[:, None] * across - (reach + standoff) * unit
@@ -233,12 +234,11 @@ def translation_push(
     """
     mask = check_mask(mask)
     pose = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
-    angle = _finite(direction, "direction")
+    angle = check_finite(direction, "direction")
     travel_m = check_physical(travel, "travel", "push_length")
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
-    for name, value in (("n_offsets", n_offsets), ("n_particles", n_particles)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    n_offsets = check_count(n_offsets, "n_offsets", 1)
+    n_particles = check_count(n_particles, "n_particles", 1)
     travel_px = travel_m / mask.resolution
     if travel_px < 1:
         raise ValueError(f"travel {travel_m:g} m is under a pixel ({mask.resolution:g} m/px)")

@@ -15,6 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._checks import check_finite
 from ._conventions import check_plausible
 from ._grid import GridPosterior
 from ._mask import Mask
@@ -27,15 +28,6 @@ __all__ = ["PLANNING_PARTICLES", "CoMHypotheses", "Goal", "hypotheses_from"]
 PLANNING_PARTICLES = 32
 
 
-def _finite(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
-
-
 def _pair(value, name: str) -> tuple[float, float] | None:
     if value is None:
         return None
@@ -45,7 +37,7 @@ def _pair(value, name: str) -> tuple[float, float] | None:
         raise TypeError(f"{name} must be a pair (x, y) of numbers, got {value!r}") from None
     if len(items) != 2:
         raise ValueError(f"{name} must be a pair (x, y), got {len(items)} numbers")
-    return tuple(_finite(v, f"{name}[{i}]") for i, v in enumerate(items))
+    return tuple(check_finite(v, f"{name}[{i}]") for i, v in enumerate(items))
 
 
 @dataclass(frozen=True)
@@ -111,7 +103,7 @@ class Goal:
         if self.position is not None and self.displacement is not None:
             raise ValueError("Goal takes a position or a displacement, not both")
         if self.orientation is not None:
-            theta = _finite(self.orientation, "Goal.orientation")
+            theta = check_finite(self.orientation, "Goal.orientation")
             if abs(theta) > 2 * math.pi:
                 raise ValueError(
                     f"Goal.orientation {theta:g} rad is more than a full turn: radians are "
@@ -120,11 +112,11 @@ class Goal:
             set_(self, "orientation", theta)
         if self.position is None and self.displacement is None and self.orientation is None:
             raise ValueError("Goal needs a position, a displacement or an orientation")
-        tol = _finite(self.position_tolerance, "Goal.position_tolerance")
+        tol = check_finite(self.position_tolerance, "Goal.position_tolerance")
         if tol <= 0:
             raise ValueError(f"Goal.position_tolerance must be > 0 metres, got {tol}")
         set_(self, "position_tolerance", check_plausible(tol, "position_tolerance", "push_length"))
-        angle = _finite(self.orientation_tolerance, "Goal.orientation_tolerance")
+        angle = check_finite(self.orientation_tolerance, "Goal.orientation_tolerance")
         if not 0 < angle <= math.pi:
             raise ValueError(
                 f"Goal.orientation_tolerance must be in (0, pi] radians, got {angle:g}"

@@ -25,13 +25,13 @@ from __future__ import annotations
 import numpy as np
 
 from ._conventions import ANGLE_EPS, _ccw_cross, rotation_sign
-from ._disc_contacts import disc_contacts
-from ._geometry import contacts
+from ._disc_contacts import pusher_contacts
 from ._mask import Mask
 from ._validation import (
     check_actions,
     check_mask,
     check_mu,
+    check_physical,
     check_point,
     check_points,
     check_positive,
@@ -332,8 +332,10 @@ def region(
     band = check_positive(band, "band", allow_zero=True)
     theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
     senses = rotation_sign(th, theta_tol)
-    pusher_radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
-    con = contacts(mask, acts) if pusher_radius == 0 else disc_contacts(mask, acts, pusher_radius)
+    pusher_radius = check_physical(
+        pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
+    )
+    con = pusher_contacts(mask, acts, pusher_radius)
     con.require_hits("action")
     out = np.zeros((acts.shape[0], *mask.shape), dtype=bool)
     rows, cols = mask.pixels[:, 1].astype(int), mask.pixels[:, 0].astype(int)

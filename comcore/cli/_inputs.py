@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 import comcore
+from comcore._disc_contacts import pusher_contacts
 
 __all__ = [
     "COLUMNS",
@@ -207,10 +208,7 @@ def screen_pushes(
     point's path on the pixels (Alg. 1 and Alg. 2: a graze counts as a
     miss). ``strict``: raise InputError naming them instead.
     """
-    if pusher_radius > 0:
-        found = comcore.disc_contacts(mask, pushes.actions, pusher_radius)
-    else:
-        found = comcore.contacts(mask, pushes.actions)
+    found = pusher_contacts(mask, pushes.actions, pusher_radius)
     bad = found.starts_inside | ~found.hit
     reasons = {
         int(line): ("starts inside the object" if inside else "misses the object")
