@@ -74,7 +74,21 @@ MODELS = {
     "w1": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=1.0)}),
     "w08": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=0.8)}),
     "w06": (lambda: _lsm(), {"likelihood": comcore.Likelihood(model_weight=0.6)}),
+    # the model trusted fully, its error scale learned per session (wide where it errs)
+    "w1+scales": (
+        lambda: _lsm(),
+        {"likelihood": comcore.Likelihood(model_weight=1.0, model_scales=(1.0, 2.0, 4.0))},
+    ),
 }
+# a floor on the CoM's error that more pushes do not average away (Likelihood.systematic_error;
+# estimate_posterior's default is comcore.RECORDED_SYSTEMATIC_ERROR, the sessions' 0): sys0 is
+# estimate_posterior before issue 20 chose that default on the train plates with these
+MODELS.update(
+    {
+        f"sys{mm:g}": (_lsm, {"likelihood": comcore.Likelihood(systematic_error=mm / 1e3)})
+        for mm in (0, 1, 1.5, 2, 2.5, 3, 4)
+    }
+)
 
 
 def run_object(obj, worlds, models, args, salt) -> dict:

@@ -44,7 +44,13 @@ from ._heatmap import estimate_heatmap, rotation_heatmap
 from ._image import mask_from_image
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
-from ._options import Likelihood, PushChoice, StopRule
+from ._options import (
+    RECORDED_SYSTEMATIC_ERROR,
+    SESSION_SYSTEMATIC_ERROR,
+    Likelihood,
+    PushChoice,
+    StopRule,
+)
 from ._outline import mask_from_outline
 from ._outline_field import OutlineField, outline_field
 from ._predictor import (
@@ -83,6 +89,8 @@ __all__ = [
     "DEFAULT_RESOLUTION",
     "LENGTH_EPS",
     "PLAUSIBLE",
+    "RECORDED_SYSTEMATIC_ERROR",
+    "SESSION_SYSTEMATIC_ERROR",
     "Action",
     "ActiveSession",
     "CoMHypotheses",

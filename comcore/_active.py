@@ -28,6 +28,7 @@ from ._likelihood import (
 )
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._pose_tracking import is_miss
 from ._records import PushLog
 from ._session import ActiveSession, session_setup
@@ -245,7 +246,12 @@ def estimate_posterior(
         Radius (metres) of the round pusher, for the default model (default
         4 mm): set it from your robot.
     prior, credible, likelihood
-        As for :func:`comcore.estimate_active`.
+        As for :func:`comcore.estimate_active`, except that a likelihood whose
+        ``systematic_error`` is None (the default) gets
+        ``comcore.RECORDED_SYSTEMATIC_ERROR`` (2 mm), not the sessions' 0:
+        with every push of a recording the model's posterior narrows to a few
+        pixels while its error on a real object does not average away
+        (docs/realdata.md).
     rotation_observed : sequence of bool, shape (n,), optional
         With ``actions``: False for a push whose rotation is unknown (neither
         its sense nor its size is scored). Default: every rotation observed.
@@ -306,6 +312,7 @@ def estimate_posterior(
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible,
         resolve_groups("estimate_posterior", {"likelihood": likelihood}, flat)["likelihood"],
+        RECORDED_FLOOR,
     )  # fmt: skip
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
     records = [record for _, record in given]

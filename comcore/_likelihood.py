@@ -100,13 +100,17 @@ class Scoring:
 
     @classmethod
     def build(
-        cls, likelihood: Likelihood, mask: Mask, models: tuple, pusher_radius: float = 0.0
+        cls, likelihood: Likelihood, mask: Mask, models: tuple, pusher_radius, systematic_floor
     ) -> Scoring:
         """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``.
 
         ``pusher_radius`` (metres) places each push's contact where the pusher's
-        disc first touches the object (0: a point on the leading line).
+        disc first touches the object (0: a point on the leading line);
+        ``systematic_floor`` (metres) is the estimator's ``systematic_error`` where
+        ``likelihood.systematic_error`` is None.
         """
+        systematic = likelihood.systematic_error
+        systematic = systematic_floor if systematic is None else systematic
         t_abs, t_rel = likelihood.translation_error
         track_theta, track_m = likelihood.motion_noise
         line_std_m = math.hypot(likelihood.pusher_error, LINE_BLUR_M)
@@ -121,7 +125,7 @@ class Scoring:
             line_scale_px=line_std_m / _LOGISTIC_STD / mask.resolution,
             tracking=(track_theta, track_m / mask.resolution),
             pusher_px=likelihood.pusher_error / mask.resolution,
-            systematic_px=likelihood.systematic_error / mask.resolution,
+            systematic_px=systematic / mask.resolution,
             model_weights=likelihood.model_weight,
             model_scales=likelihood.model_scales,
             pusher_radius=pusher_radius,

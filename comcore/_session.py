@@ -21,6 +21,7 @@ from ._likelihood import Scoring, check_models, gyration_px
 from ._limit_surface_model import check_push_lengths
 from ._mask import Mask
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
 from ._pose_tracking import IDENTITY, moved_mask
 from ._push_reading import PushContext, read_push
 from ._records import PushLog, SessionState
@@ -31,12 +32,19 @@ from ._validation import check_mask, check_motions, check_physical, check_probab
 __all__ = ["ActiveSession", "session_setup"]
 
 
-def session_setup(mask: Mask, model, pusher_radius, credible, likelihood) -> tuple:
-    """``(Scoring, credible)`` of an active estimator's arguments, each checked and named."""
+def session_setup(
+    mask: Mask, model, pusher_radius, credible, likelihood, systematic_floor=SESSION_FLOOR
+) -> tuple:
+    """``(Scoring, credible)`` of an active estimator's arguments, each checked and named.
+
+    ``systematic_floor`` is the estimator's ``systematic_error`` where the likelihood leaves it
+    None.
+    """
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
-    return Scoring.build(likelihood, mask, models, pusher_radius), credible
+    scoring = Scoring.build(likelihood, mask, models, pusher_radius, systematic_floor)
+    return scoring, credible
 
 
 class ActiveSession:

@@ -15,13 +15,20 @@ from .records import actions_of, motions_of, outcomes_of
 def test_it_is_the_active_posterior_of_the_same_pushes(model):
     mask = _ell()
     active = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=model, rng=3)
+    session_floor = comcore.Likelihood(systematic_error=comcore.SESSION_SYSTEMATIC_ERROR)
     offline = comcore.estimate_posterior(
-        mask, actions_of(active), motions_of(active), model=model
+        mask, actions_of(active), motions_of(active), model=model, likelihood=session_floor
     )
     assert offline.status == "ok" and offline.used == tuple(range(len(active.used)))
     np.testing.assert_allclose(offline.extras["posterior"], active.extras["posterior"], atol=1e-12)
     np.testing.assert_array_equal(offline.region, active.region)
     assert offline.com == pytest.approx(active.com, abs=1e-9)
+    # by default the offline posterior's region is blurred by the recordings' floor (2 mm):
+    # the same posterior and estimate, a wider region
+    default = comcore.estimate_posterior(mask, actions_of(active), motions_of(active), model=model)
+    np.testing.assert_allclose(default.extras["posterior"], active.extras["posterior"], atol=1e-12)
+    assert default.com == pytest.approx(active.com, abs=1e-9)
+    assert default.region.sum() > active.region.sum()
 
 
 def test_the_order_of_the_pushes_does_not_matter():

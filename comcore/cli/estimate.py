@@ -64,11 +64,10 @@ HELP = "estimate the CoM of your object from a mask image and a CSV of observed 
 METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 #: Probability of the posterior's credible region (printed and in the JSON).
 CREDIBLE = 0.9
-#: ``--systematic-error`` (metres): with 40 pushes the model's posterior is a few pixels
-#: wide and errs by about a pixel the same way on every push; this floor brought its 90 %
-#: region's coverage from 75-80 % to 85-95 % on the simulated recordings of seeds 1 and 2
-#: (``benchmarks/estimate_methods.py --seeds 1,2``; reported on seed 0 in docs/bench.md).
-SYSTEMATIC_ERROR = 0.0015
+#: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes
+#: (chosen on the MIT push dataset's train plates: docs/realdata.md). It was 1.5 mm, chosen on
+#: the simulated recordings of seeds 1-2 (benchmarks/estimate_methods.py; docs/bench.md).
+SYSTEMATIC_ERROR = comcore.RECORDED_SYSTEMATIC_ERROR
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 #: The motion models of ``--model`` (the posterior's), the default first.
@@ -189,8 +188,8 @@ def _add_model_arguments(parser) -> None:
         default=SYSTEMATIC_ERROR,
         help="std (METRES) of an error on the CoM that more pushes do not average away: the "
         "credible region is the posterior blurred by it (comcore.Likelihood("
-        f"systematic_error=...); default {SYSTEMATIC_ERROR:g} m, chosen on simulated "
-        "recordings of seeds 1-2, docs/bench.md; 0: none)",
+        f"systematic_error=...); default {SYSTEMATIC_ERROR:g} m, chosen on real "
+        "pushes, docs/realdata.md; 0: none)",
     )
 
 
