@@ -100,7 +100,12 @@ class Scoring:
 
     @classmethod
     def build(
-        cls, likelihood: Likelihood, mask: Mask, models: tuple, pusher_radius, systematic_floor
+        cls,
+        likelihood: Likelihood,
+        mask: Mask,
+        models: tuple,
+        pusher_radius: float = 0.0,
+        systematic_floor: float = 0.0,
     ) -> Scoring:
         """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``.
 

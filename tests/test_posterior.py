@@ -174,7 +174,8 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
     actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
     com = (24.0, 19.0)
     motions = [(0.05 * np.sign(d), 0.0, 0.0) for d in comcore.signed_line_distance([com], actions)[0]]
-    plain = comcore.estimate_posterior(mask, actions, motions, model=None)
+    none = comcore.Likelihood(systematic_error=0.0)
+    plain = comcore.estimate_posterior(mask, actions, motions, model=None, likelihood=none)
     floored = comcore.estimate_posterior(
         mask, actions, motions, model=None,
         likelihood=comcore.Likelihood(systematic_error=0.005),
@@ -187,6 +188,27 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
     # a 2 px (5 mm) blur adds about its 90 % radius (2.15 std) in quadrature, give or take a pixel
     assert radii[1] > np.hypot(radii[0], 2.15 * 2.0) - 1.0
     assert not floored.region[~mask.data].any()  # only the object's pixels
+
+
+def test_none_is_each_estimators_own_floor_recordings_2_mm_sessions_0():
+    assert comcore.Likelihood().systematic_error is None
+    assert comcore.RECORDED_SYSTEMATIC_ERROR == 0.002 and comcore.SESSION_SYSTEMATIC_ERROR == 0.0
+    mask = comcore.Mask(np.pad(np.ones((30, 40), bool), 6), resolution=0.0025)
+    actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
+    d = comcore.signed_line_distance([(24.0, 19.0)], actions)[0]
+    motions = [(0.05 * np.sign(v), 0.0, 0.0) for v in d]
+
+    def region(systematic_error):
+        likelihood = comcore.Likelihood(systematic_error=systematic_error)
+        return comcore.estimate_posterior(
+            mask, actions, motions, model=None, likelihood=likelihood
+        ).region
+
+    np.testing.assert_array_equal(region(None), region(comcore.RECORDED_SYSTEMATIC_ERROR))
+    assert region(None).sum() > region(0.0).sum()
+    # the session's floor is 0: its region is the unblurred posterior's
+    session = comcore.ActiveSession(mask, model=None, candidates=actions, rng=0)
+    assert session._scoring.systematic_px == 0.0
 
 
 def test_systematic_error_is_in_metres_and_checked():
