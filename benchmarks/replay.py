@@ -43,13 +43,17 @@ def posterior_options(options: dict) -> dict:
 
     ``{"model": null}`` (or ``{"vt": true}``): the Voting Theorem alone; otherwise
     ``comcore.LimitSurfaceModel(pusher_radius=...)`` (``"pusher_radius"``, default the
-    benchmark's 4 mm); the other keys are :class:`comcore.Likelihood`'s fields.
+    benchmark's 4 mm); the other keys are :class:`comcore.Likelihood`'s fields
+    (``systematic_error`` defaults to the sessions', 0).
     """
     options = {k: tuple(v) if isinstance(v, list) else v for k, v in options.items()}
     vt = options.pop("vt", False) or ("model" in options and options.pop("model") is None)
     if "model" in options:
         raise ValueError("a variant's 'model' may only be null (the Voting Theorem alone)")
     radius = options.pop("pusher_radius", PUSHER_RADIUS)
+    # a replay scores a session's pushes as the session did: with the sessions' floor for
+    # the systematic error (0), not estimate_posterior's own for recordings (2 mm)
+    options.setdefault("systematic_error", comcore.SESSION_SYSTEMATIC_ERROR)
     out = {"model": None if vt else comcore.LimitSurfaceModel(pusher_radius=radius)}
     out.update(comcore.option_groups(**options))
     if set(out) - {"model", "likelihood"}:

@@ -23,7 +23,12 @@ import numpy as np
 from ._active import estimate_posterior
 from ._flat_options import resolve_groups
 from ._likelihood import check_models
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import (
+    DEFAULT_CREDIBLE,
+    DEFAULT_MODEL,
+    DEFAULT_PUSHER_RADIUS,
+    SESSION_SYSTEMATIC_ERROR,
+)
 from ._types import Estimate
 from ._validation import check_mask, check_point, check_powers
 
@@ -112,7 +117,8 @@ def calibrate_model_weight(
     likelihood : Likelihood, optional
         The likelihood you run the sessions with (``pusher_error``,
         ``motion_noise``, ``mu``, ...); its ``model_weight`` is replaced by
-        each power.
+        each power, and a ``systematic_error`` left None is the sessions' (0),
+        not ``estimate_posterior``'s own for recordings.
     **flat
         Deprecated: the likelihood's options by name.
 
@@ -145,6 +151,8 @@ def calibrate_model_weight(
     likelihood = resolve_groups(
         "calibrate_model_weight", {"likelihood": likelihood}, flat
     )["likelihood"]
+    if likelihood.systematic_error is None:  # scored as the sessions score them
+        likelihood = dataclasses.replace(likelihood, systematic_error=SESSION_SYSTEMATIC_ERROR)
     if isinstance(powers, str) or np.ndim(powers) != 1:
         raise TypeError(f"powers must be a sequence of numbers in (0, 1], got {powers!r}")
     grid = tuple(sorted(check_powers(tuple(powers), "powers")))

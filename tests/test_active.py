@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -766,6 +768,15 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
     assert np.all(wrong.coverage_low <= wrong.coverage) and np.all(wrong.coverage_low >= 0)
     held = [p for p, c in zip(wrong.powers, wrong.coverage) if c >= 0.9]
     assert wrong.recommended == max(held) < 1.0
+    # the regions are the sessions': a systematic_error left None is theirs (0), not the
+    # 2 mm estimate_posterior takes for recordings (which would widen every region)
+    floor = dict(kwargs, likelihood=comcore.Likelihood(mu=0.4, motion_noise=(0.0, 0.0),
+                                                       systematic_error=0.0))  # fmt: skip
+    same = comcore.calibrate_model_weight(records, model=ToyModel(20.0), **floor)
+    np.testing.assert_array_equal(same.radius_m, wrong.radius_m)
+    floor["likelihood"] = dataclasses.replace(floor["likelihood"], systematic_error=0.002)
+    wider = comcore.calibrate_model_weight(records, model=ToyModel(20.0), **floor)
+    assert np.all(wider.radius_m > wrong.radius_m)
 
 
 @pytest.mark.parametrize(

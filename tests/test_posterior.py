@@ -216,3 +216,20 @@ def test_systematic_error_is_in_metres_and_checked():
         comcore.Likelihood(systematic_error=2.0)
     with pytest.raises(ValueError, match="systematic_error"):
         comcore.Likelihood(systematic_error=-0.001)
+
+
+def test_the_benchmarks_replay_scores_a_sessions_pushes_with_the_sessions_floor():
+    """benchmarks/replay.py (the stop-rule and power tuning scripts) replays a session exactly."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "benchmarks" / "replay.py"
+    spec = importlib.util.spec_from_file_location("bench_replay", path)
+    replay = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(replay)
+    mask = _ell()
+    active = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=None, rng=3)
+    kept = replay.kept_pushes(active, mask, (30.0, 24.0))
+    again = replay.replay(kept, replay.posterior_options({"model": None}))
+    np.testing.assert_array_equal(again.region, active.region)
+    assert again.extras["credible_radius_px"] == active.extras["credible_radius_px"]
