@@ -55,13 +55,20 @@ from ._goal_translation import (
 )
 from ._goal_types import CoMHypotheses, Goal, _systematic
 from ._mask import Mask
-from ._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
+from ._options import Likelihood
+from ._pose_tracking import IDENTITY, MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
 from ._types import Action, Motion
 
 __all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost"]
 
 #: Camera directions tried at every step (evenly spaced), besides the goal's direction.
 N_DIRECTIONS = 8
+#: Directions about the goal's (radians): an object on a slanted edge moves at an angle to
+#: the push.
+GOAL_FAN = np.radians([-30.0, 0.0, 30.0])
+#: Fractions of the distance left to the goal tried as lengths (the object often moves
+#: less than the pusher: it slides along the contact).
+LEFT_FRACTIONS = (0.5, 1.0, 1.5)
 #: Offsets evenly spaced across the object per direction (the posterior's three added).
 N_OFFSETS = 5
 #: Fractions of the allowed travel tried (the distance left to the goal is added).
@@ -77,6 +84,20 @@ PROBE_CHANCE = 0.25
 #: A probe travels at least this share of the allowed travel after contact (a shorter one
 #: teaches little, and the model's small motions are its least accurate).
 PROBE_LENGTH = 0.1
+#: Two-step lookahead: the best pushes of the full pass whose follow-up is sought, and the
+#: weight of the follow-up's expected cost (1: trusted as the push's own).
+LOOKAHEAD, LOOKAHEAD_WEIGHT = 4, 1.0
+#: Directions (evenly spaced in the object's frame) of the follow-up pushes.
+FOLLOW_DIRECTIONS = 8
+#: Fractions of the allowed travel of the follow-up pushes.
+FOLLOW_LENGTHS = (1.0, 0.5, 0.25, 0.1)
+#: The motion model's own error (besides the posterior's spread) is counted in a push's cost:
+#: the likelihood's scales (:meth:`comcore.Likelihood.model_error_scales`), its rotation
+#: scale grown with the push's travel after contact as ``(travel / MODEL_ERROR_TRAVEL) **
+#: MODEL_ERROR_POWER`` above its floor (fitted against the exact engine, seed 1: 8 objects x 2
+#: frictions, 2,584 pushes of 0.5-5 cm at every offset, the true CoM and friction).
+MODEL_ERROR_TRAVEL, MODEL_ERROR_POWER = 0.05, 1.8
+_SCALES = Likelihood()
 
 
 class Plan(NamedTuple):
@@ -118,24 +139,53 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
     else:
         directions = np.linspace(0, 2 * np.pi, N_DIRECTIONS, endpoint=False)
         if goal_angle is not None:
-            directions = np.append(directions, goal_angle)
+            directions = np.append(directions, goal_angle + GOAL_FAN)
     offsets = np.stack(
         [_cross_offsets(first, a + pose.theta, hyps, N_OFFSETS, halves=False) for a in directions]
     )
     lengths = [f * max_travel_px for f in LENGTH_FRACTIONS]
-    if left_px is not None and 2.0 <= left_px < max_travel_px:
-        lengths.append(left_px)
+    if left_px is not None:
+        lengths += [f * left_px for f in LEFT_FRACTIONS if f * left_px < max_travel_px]
     lengths = np.unique(np.round([v for v in lengths if v >= 2.0], 6))
     return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
 
 
+def model_variance(goal: Goal, first: Mask, actions, coms, motions) -> np.ndarray:
+    """The motion model's own error on each push's outcome, in the cost's units (n_h, a).
+
+    The variance of the rotation (its scale from the CoM's lever about the
+    push line and the travel, see :data:`MODEL_ERROR_POWER`) over the squared
+    orientation tolerance, plus that of the centroid's displacement (two axes)
+    over the squared position tolerance, each where the goal sets it.
+    """
+    res = first.resolution
+    start, delta = actions[:, :2], actions[:, 2:] - actions[:, :2]
+    length = np.hypot(*delta.T)
+    unit = delta / np.maximum(length, 1e-12)[:, None]
+    rel = coms[:, None, :] - start[None]  # (n_h, a, 2)
+    lever = np.abs(rel[..., 0] * unit[:, 1] - rel[..., 1] * unit[:, 0]) * res
+    travel = np.maximum(length * res - STANDOFF_M, 0.0) / MODEL_ERROR_TRAVEL
+    moved = np.hypot(motions[..., 1], motions[..., 2]) * res
+    theta_s, moved_s = _SCALES.model_error_scales(lever, moved)
+    floor = _SCALES.theta_noise[0]
+    theta_s = floor + (theta_s - floor) * travel**MODEL_ERROR_POWER
+    out = np.zeros(lever.shape)
+    if goal.orientation is not None:
+        out += (theta_s / goal.orientation_tolerance) ** 2
+    if goal.has_position:
+        out += 2 * (moved_s / goal.position_tolerance) ** 2
+    return out
+
+
 def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
     """Expected cost of each candidate (inf: it would carry the object out of view), poses."""
-    motions = camera_motions(predict_motions(model, first, actions, hyps), pose)  # (n_h, a, 3)
+    raw = predict_motions(model, first, actions, hyps)
+    motions = camera_motions(raw, pose)  # (n_h, a, 3)
     theta = pose.theta + motions[..., 0]
     tx, ty = pose.tx + motions[..., 1], pose.ty + motions[..., 2]
     weights = hyps.weights[:, None]
     each = pose_cost(goal, target_px, first.resolution, theta, tx, ty)
+    each = each + model_variance(goal, first, actions, hyps.coms, raw)
     cost = (weights * each).sum(axis=0)
     h, w = first.shape
     cx = first.centroid[0] + (weights * tx).sum(axis=0)
@@ -147,6 +197,75 @@ def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
     moves |= np.abs(motions[..., 0]) >= MISS_ROTATION
     keeps_view &= (weights * moves).sum(axis=0) >= 0.5
     return np.where(keeps_view, cost, np.inf), (theta, tx, ty, each)
+
+
+def _coarse(first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least):
+    """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None)."""
+    goal_angle = left = None
+    if target_px is not None:
+        dx, dy = target_px[0] - pose.tx, target_px[1] - pose.ty
+        left = math.hypot(dx, dy)
+        goal_angle = math.atan2(dy, dx) if left > 0.5 else None
+    actions, _ = _candidates(first, pose, goal_angle, hyps, travel_px, left, radius, allowed)
+    if len(actions) == 0:
+        return None
+    cam_actions = camera_from_object(actions, pose, first.centroid)
+    h, w = first.shape
+    x, y = cam_actions[:, 0::2], cam_actions[:, 1::2]
+    in_view = ((x >= 0) & (x <= w - 1) & (y >= 0) & (y <= h - 1)).all(axis=1)
+    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
+    in_view &= travel >= least - 1e-6
+    actions, cam_actions = actions[in_view], cam_actions[in_view]
+    if len(actions) == 0:
+        return None
+    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px)
+    return actions, cam_actions, cost
+
+
+def _follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, directions):
+    """The least expected cost of one more push from each pose (inf: none), coarse.
+
+    ``poses`` is ``(theta, tx, ty)``, three arrays of shape (P,).
+    The follow-ups are pushes along ``directions`` of the object's own frame
+    (radians): their motions do not depend on the pose, so one prediction
+    serves every pose (the view is not checked for them).
+    """
+    offsets = np.stack(
+        [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
+    )
+    lengths = [f * travel_px for f in FOLLOW_LENGTHS if f * travel_px >= 2.0]
+    actions, _ = line_pushes(first, IDENTITY, directions, offsets, lengths, radius)
+    if len(actions) == 0:
+        return np.full(len(poses[0]), np.inf)
+    raw = predict_motions(model, first, actions, hyps)
+    extra = model_variance(goal, first, actions, hyps.coms, raw)
+    weights = hyps.weights[:, None]
+    moves = np.hypot(raw[..., 1], raw[..., 2]) * first.resolution >= MISS_TRANSLATION_M
+    moves |= np.abs(raw[..., 0]) >= MISS_ROTATION
+    valid = (weights * moves).sum(axis=0) >= 0.5
+    # every pose at once: (P, h, a) motions turned into the camera frame of each pose
+    theta, tx, ty = (np.asarray(v, float)[:, None, None] for v in poses)
+    c, s = np.cos(theta), np.sin(theta)
+    mx, my = raw[None, ..., 1], raw[None, ..., 2]
+    each = pose_cost(
+        goal, target_px, first.resolution, theta + raw[None, ..., 0],
+        tx + c * mx + s * my, ty - s * mx + c * my,
+    ) + extra  # fmt: skip
+    cost = (weights[None] * each).sum(axis=1)  # (P, a)
+    if not valid.any():
+        return np.full(len(theta), np.inf)
+    return cost[:, valid].min(axis=1)
+
+
+def _spread_picks(cost: np.ndarray, travel: np.ndarray, n: int) -> np.ndarray:
+    """The ``n`` least costs and the least of each travel (finite), as indices."""
+    order = np.argsort(cost, kind="stable")
+    picks = set(order[:n].tolist())
+    for t in np.unique(np.round(travel, 3)):
+        mine = order[np.round(travel[order], 3) == t]
+        picks.add(int(mine[0]))
+    picks = np.array(sorted(picks), dtype=int)
+    return picks[np.isfinite(cost[picks])]
 
 
 def plan_push(
@@ -172,31 +291,15 @@ def plan_push(
     """
     res = first.resolution
     cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
-    goal_angle = left = None
-    if target_px is not None:
-        dx, dy = target_px[0] - pose.tx, target_px[1] - pose.ty
-        left = math.hypot(dx, dy)
-        goal_angle = math.atan2(dy, dx) if left > 0.5 else None
-    actions, _ = _candidates(
-        first, pose, goal_angle, hyps, max_travel_px, left, pusher_radius, allowed
-    )
-    if len(actions) == 0:
-        return None
-    cam_actions = camera_from_object(actions, pose, first.centroid)
-    h, w = first.shape
-    x, y = cam_actions[:, 0::2], cam_actions[:, 1::2]
-    in_view = ((x >= 0) & (x <= w - 1) & (y >= 0) & (y <= h - 1)).all(axis=1)
-    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
-    in_view &= travel >= min_travel_px - 1e-6
-    actions, cam_actions = actions[in_view], cam_actions[in_view]
-    if len(actions) == 0:
-        return None
     # a coarse pass over every candidate with a few particles, then the best few again
     index, share = _systematic(hyps.weights, COARSE_PARTICLES)
     coarse = CoMHypotheses(hyps.coms[index], hyps.mus[index], share)
-    cost, _ = _expected(first, pose, goal, target_px, coarse, model, actions, reach_px)
-    keep = np.argsort(cost, kind="stable")[:KEPT]
-    keep = keep[np.isfinite(cost[keep])]
+    options = (model, max_travel_px, pusher_radius, reach_px, allowed)
+    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px)
+    if found is None:
+        return None
+    actions, cam_actions, cost = found
+    keep = _spread_picks(cost, np.hypot(*(actions[:, 2:] - actions[:, :2]).T), KEPT)
     if len(keep) == 0:
         return None
     actions, cam_actions = actions[keep], cam_actions[keep]
@@ -204,22 +307,40 @@ def plan_push(
         first, pose, goal, target_px, hyps, model, actions, reach_px
     )
     weights = hyps.weights[:, None]
-    best = int(np.argmin(cost))
-    if not np.isfinite(cost[best]) or cost[best] > cost_now * (1.0 - MIN_GAIN):
+    means = [(weights * v).sum(axis=0) for v in (theta, tx, ty)]
+    # two steps: the best few pushes again, each followed by the best push from where it is
+    # expected to leave the object (coarse particles); a push is worth what it leads to
+    # the closed-loop value of a push: the expected cost after the best follow-up from where
+    # each particle says it leaves the object, for the best few pushes and the best of each
+    # length (a long push a wide posterior spreads may still lead closer than a creep)
+    value = cost.copy()
+    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
+    order = _spread_picks(cost, travel, LOOKAHEAD)
+    if len(order):
+        after = tuple(v[:, order].ravel() for v in (theta, tx, ty))
+        if allowed is None:
+            directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
+        else:  # the robot's directions, in the object's frame as it is now
+            directions = np.asarray(allowed, float) + pose.theta
+        follow = _follow_ups(
+            first, after, goal, target_px, coarse, model, max_travel_px, pusher_radius, directions
+        ).reshape(len(hyps.weights), len(order))
+        closed = (weights * follow).sum(axis=0)
+        value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
+    best = int(np.argmin(value))
+    if not np.isfinite(value[best]) or value[best] > cost_now * (1.0 - MIN_GAIN):
         # a probe: no push is expected to help on average (a wide posterior), but one the
         # posterior gives a fair chance to help is made (and teaches it)
         likely = (weights * (each < cost_now)).sum(axis=0) >= PROBE_CHANCE
-        travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
+        travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / res
         likely &= travel >= PROBE_LENGTH * max_travel_px - 1e-6
         if not (likely & np.isfinite(cost)).any():
             return None
         best = int(np.argmin(np.where(likely, cost, np.inf)))
-    mean_t = (weights * tx).sum(axis=0), (weights * ty).sum(axis=0)
-    mean_theta = float((weights[:, 0] * theta[:, best]).sum())
     return Plan(
         actions[best].copy(),
         Action(*cam_actions[best]),
         float(cost[best]),
         cost_now,
-        Motion(mean_theta, float(mean_t[0][best]), float(mean_t[1][best])),
+        Motion(*(float(v[best]) for v in means)),
     )
