@@ -89,6 +89,7 @@ PROBE_LENGTH = 0.1
 LOOKAHEAD, LOOKAHEAD_WEIGHT = 4, 1.0
 #: Directions (evenly spaced in the object's frame) of the follow-up pushes.
 FOLLOW_DIRECTIONS = 8
+FOLLOW_LEARNED = 0.5
 #: Fractions of the allowed travel of the follow-up pushes.
 FOLLOW_LENGTHS = (1.0, 0.5, 0.25, 0.1)
 #: The motion model's own error (besides the posterior's spread) is counted in a push's cost:
@@ -222,7 +223,7 @@ def _coarse(first, pose, goal, target_px, hyps, model, travel_px, radius, reach_
     return actions, cam_actions, cost
 
 
-def _follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, directions):
+def _follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner):
     """The least expected cost of one more push from each pose (inf: none), coarse.
 
     ``poses`` is ``(theta, tx, ty)``, three arrays of shape (P,).
@@ -252,6 +253,9 @@ def _follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, d
         tx + c * mx + s * my, ty - s * mx + c * my,
     ) + extra  # fmt: skip
     cost = (weights[None] * each).sum(axis=1)  # (P, a)
+    if FOLLOW_LEARNED:  # the pose's own particle, as if the push had taught it
+        own = each[np.arange(len(owner)), owner]
+        cost = FOLLOW_LEARNED * own + (1 - FOLLOW_LEARNED) * cost
     if not valid.any():
         return np.full(len(theta), np.inf)
     return cost[:, valid].min(axis=1)
@@ -317,15 +321,25 @@ def plan_push(
     travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
     order = _spread_picks(cost, travel, LOOKAHEAD)
     if len(order):
-        after = tuple(v[:, order].ravel() for v in (theta, tx, ty))
+        after = tuple(v[index][:, order].ravel() for v in (theta, tx, ty))
+        owner = np.repeat(np.arange(len(index)), len(order))
         if allowed is None:
             directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
         else:  # the robot's directions, in the object's frame as it is now
             directions = np.asarray(allowed, float) + pose.theta
         follow = _follow_ups(
-            first, after, goal, target_px, coarse, model, max_travel_px, pusher_radius, directions
-        ).reshape(len(hyps.weights), len(order))
-        closed = (weights * follow).sum(axis=0)
+            first,
+            after,
+            goal,
+            target_px,
+            coarse,
+            model,
+            max_travel_px,
+            pusher_radius,
+            directions,
+            owner,
+        ).reshape(len(index), len(order))
+        closed = share @ follow
         value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
     best = int(np.argmin(value))
     if not np.isfinite(value[best]) or value[best] > cost_now * (1.0 - MIN_GAIN):
