@@ -46,6 +46,15 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._goal_costs import (
+    FOLLOW_DIRECTIONS,
+    N_OFFSETS,
+    follow_ups,
+    model_variance,
+    pose_cost,
+    reached,
+    spread_picks,
+)
 from ._goal_translation import (
     STANDOFF_M,
     _cross_offsets,
@@ -55,11 +64,10 @@ from ._goal_translation import (
 )
 from ._goal_types import CoMHypotheses, Goal, _systematic
 from ._mask import Mask
-from ._options import Likelihood
-from ._pose_tracking import IDENTITY, MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
+from ._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
 from ._types import Action, Motion
 
-__all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost"]
+__all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost", "reached"]
 
 #: Camera directions tried at every step (evenly spaced), besides the goal's direction.
 N_DIRECTIONS = 8
@@ -69,8 +77,6 @@ GOAL_FAN = np.radians([-30.0, 0.0, 30.0])
 #: Fractions of the distance left to the goal tried as lengths (the object often moves
 #: less than the pusher: it slides along the contact).
 LEFT_FRACTIONS = (0.5, 1.0, 1.5)
-#: Offsets evenly spaced across the object per direction (the posterior's three added).
-N_OFFSETS = 5
 #: Fractions of the allowed travel tried (the distance left to the goal is added).
 LENGTH_FRACTIONS = (1.0, 0.5, 0.25, 0.1, 0.04)
 #: Particles of the first, coarse pass over every candidate, and the candidates it keeps
@@ -87,18 +93,6 @@ PROBE_LENGTH = 0.1
 #: Two-step lookahead: the best pushes of the full pass whose follow-up is sought, and the
 #: weight of the follow-up's expected cost (1: trusted as the push's own).
 LOOKAHEAD, LOOKAHEAD_WEIGHT = 4, 1.0
-#: Directions (evenly spaced in the object's frame) of the follow-up pushes.
-FOLLOW_DIRECTIONS = 8
-FOLLOW_LEARNED = 0.5
-#: Fractions of the allowed travel of the follow-up pushes.
-FOLLOW_LENGTHS = (1.0, 0.5, 0.25, 0.1)
-#: The motion model's own error (besides the posterior's spread) is counted in a push's cost:
-#: the likelihood's scales (:meth:`comcore.Likelihood.model_error_scales`), its rotation
-#: scale grown with the push's travel after contact as ``(travel / MODEL_ERROR_TRAVEL) **
-#: MODEL_ERROR_POWER`` above its floor (fitted against the exact engine, seed 1: 8 objects x 2
-#: frictions, 2,584 pushes of 0.5-5 cm at every offset, the true CoM and friction).
-MODEL_ERROR_TRAVEL, MODEL_ERROR_POWER = 0.05, 1.8
-_SCALES = Likelihood()
 
 
 class Plan(NamedTuple):
@@ -109,29 +103,6 @@ class Plan(NamedTuple):
     expected_cost: float
     cost_now: float
     expected_pose: Motion  # the particles' mean pose after the push
-
-
-def pose_cost(goal: Goal, target_px, resolution: float, theta, tx, ty) -> np.ndarray:
-    """The squared pose error in tolerances of poses ``(theta, tx, ty)`` (arrays, px)."""
-    cost = np.zeros(np.broadcast(theta, tx, ty).shape)
-    if target_px is not None:
-        dist_m = np.hypot(tx - target_px[0], ty - target_px[1]) * resolution
-        cost = cost + (dist_m / goal.position_tolerance) ** 2
-    if goal.orientation is not None:
-        cost = cost + ((theta - goal.orientation) / goal.orientation_tolerance) ** 2
-    return cost
-
-
-def reached(goal: Goal, target_px, resolution: float, pose: Motion) -> bool:
-    """Whether ``pose`` is within the goal's tolerances."""
-    if target_px is not None:
-        dist = math.hypot(pose.tx - target_px[0], pose.ty - target_px[1]) * resolution
-        if dist > goal.position_tolerance:
-            return False
-    if goal.orientation is not None:
-        if abs(pose.theta - goal.orientation) > goal.orientation_tolerance:
-            return False
-    return True
 
 
 def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_radius, allowed):
@@ -149,33 +120,6 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
         lengths += [f * left_px for f in LEFT_FRACTIONS if f * left_px < max_travel_px]
     lengths = np.unique(np.round([v for v in lengths if v >= 2.0], 6))
     return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
-
-
-def model_variance(goal: Goal, first: Mask, actions, coms, motions) -> np.ndarray:
-    """The motion model's own error on each push's outcome, in the cost's units (n_h, a).
-
-    The variance of the rotation (its scale from the CoM's lever about the
-    push line and the travel, see :data:`MODEL_ERROR_POWER`) over the squared
-    orientation tolerance, plus that of the centroid's displacement (two axes)
-    over the squared position tolerance, each where the goal sets it.
-    """
-    res = first.resolution
-    start, delta = actions[:, :2], actions[:, 2:] - actions[:, :2]
-    length = np.hypot(*delta.T)
-    unit = delta / np.maximum(length, 1e-12)[:, None]
-    rel = coms[:, None, :] - start[None]  # (n_h, a, 2)
-    lever = np.abs(rel[..., 0] * unit[:, 1] - rel[..., 1] * unit[:, 0]) * res
-    travel = np.maximum(length * res - STANDOFF_M, 0.0) / MODEL_ERROR_TRAVEL
-    moved = np.hypot(motions[..., 1], motions[..., 2]) * res
-    theta_s, moved_s = _SCALES.model_error_scales(lever, moved)
-    floor = _SCALES.theta_noise[0]
-    theta_s = floor + (theta_s - floor) * travel**MODEL_ERROR_POWER
-    out = np.zeros(lever.shape)
-    if goal.orientation is not None:
-        out += (theta_s / goal.orientation_tolerance) ** 2
-    if goal.has_position:
-        out += 2 * (moved_s / goal.position_tolerance) ** 2
-    return out
 
 
 def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
@@ -223,55 +167,6 @@ def _coarse(first, pose, goal, target_px, hyps, model, travel_px, radius, reach_
     return actions, cam_actions, cost
 
 
-def _follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner):
-    """The least expected cost of one more push from each pose (inf: none), coarse.
-
-    ``poses`` is ``(theta, tx, ty)``, three arrays of shape (P,).
-    The follow-ups are pushes along ``directions`` of the object's own frame
-    (radians): their motions do not depend on the pose, so one prediction
-    serves every pose (the view is not checked for them).
-    """
-    offsets = np.stack(
-        [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
-    )
-    lengths = [f * travel_px for f in FOLLOW_LENGTHS if f * travel_px >= 2.0]
-    actions, _ = line_pushes(first, IDENTITY, directions, offsets, lengths, radius)
-    if len(actions) == 0:
-        return np.full(len(poses[0]), np.inf)
-    raw = predict_motions(model, first, actions, hyps)
-    extra = model_variance(goal, first, actions, hyps.coms, raw)
-    weights = hyps.weights[:, None]
-    moves = np.hypot(raw[..., 1], raw[..., 2]) * first.resolution >= MISS_TRANSLATION_M
-    moves |= np.abs(raw[..., 0]) >= MISS_ROTATION
-    valid = (weights * moves).sum(axis=0) >= 0.5
-    # every pose at once: (P, h, a) motions turned into the camera frame of each pose
-    theta, tx, ty = (np.asarray(v, float)[:, None, None] for v in poses)
-    c, s = np.cos(theta), np.sin(theta)
-    mx, my = raw[None, ..., 1], raw[None, ..., 2]
-    each = pose_cost(
-        goal, target_px, first.resolution, theta + raw[None, ..., 0],
-        tx + c * mx + s * my, ty - s * mx + c * my,
-    ) + extra  # fmt: skip
-    cost = (weights[None] * each).sum(axis=1)  # (P, a)
-    if FOLLOW_LEARNED:  # the pose's own particle, as if the push had taught it
-        own = each[np.arange(len(owner)), owner]
-        cost = FOLLOW_LEARNED * own + (1 - FOLLOW_LEARNED) * cost
-    if not valid.any():
-        return np.full(len(theta), np.inf)
-    return cost[:, valid].min(axis=1)
-
-
-def _spread_picks(cost: np.ndarray, travel: np.ndarray, n: int) -> np.ndarray:
-    """The ``n`` least costs and the least of each travel (finite), as indices."""
-    order = np.argsort(cost, kind="stable")
-    picks = set(order[:n].tolist())
-    for t in np.unique(np.round(travel, 3)):
-        mine = order[np.round(travel[order], 3) == t]
-        picks.add(int(mine[0]))
-    picks = np.array(sorted(picks), dtype=int)
-    return picks[np.isfinite(cost[picks])]
-
-
 def plan_push(
     first: Mask,
     pose: Motion,
@@ -303,7 +198,7 @@ def plan_push(
     if found is None:
         return None
     actions, cam_actions, cost = found
-    keep = _spread_picks(cost, np.hypot(*(actions[:, 2:] - actions[:, :2]).T), KEPT)
+    keep = spread_picks(cost, np.hypot(*(actions[:, 2:] - actions[:, :2]).T), KEPT)
     if len(keep) == 0:
         return None
     actions, cam_actions = actions[keep], cam_actions[keep]
@@ -319,7 +214,7 @@ def plan_push(
     # length (a long push a wide posterior spreads may still lead closer than a creep)
     value = cost.copy()
     travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
-    order = _spread_picks(cost, travel, LOOKAHEAD)
+    order = spread_picks(cost, travel, LOOKAHEAD) if LOOKAHEAD else []
     if len(order):
         after = tuple(v[index][:, order].ravel() for v in (theta, tx, ty))
         owner = np.repeat(np.arange(len(index)), len(order))
@@ -327,7 +222,7 @@ def plan_push(
             directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
         else:  # the robot's directions, in the object's frame as it is now
             directions = np.asarray(allowed, float) + pose.theta
-        follow = _follow_ups(
+        follow = follow_ups(
             first,
             after,
             goal,
