@@ -127,3 +127,24 @@ def test_the_lookahead_finds_the_way_where_one_step_is_stuck(monkeypatch):
     assert _oracle_trial("Obj12", "low").status == "reached"
     monkeypatch.setattr(_goal_planner, "LOOKAHEAD", 0)
     assert _oracle_trial("Obj12", "low").status == "stuck"
+
+
+def test_reached_keeps_a_margin_of_the_cameras_reading_error():
+    first = _plate()
+    goal = comcore.Goal(displacement=(0.03, 0.0), orientation=0.0)  # 1 cm and 3 degrees
+    # the pose read 2.9 degrees off: within the tolerance, not within it less 0.25 degrees
+    near = comcore.GoalSession(first, goal, max_travel=0.02, model=None, rng=0)
+    near.next_push()
+    near.observe(motion=(math.radians(2.9), 12.0, 0.0))
+    assert near.status == "running"
+    well = comcore.GoalSession(first, goal, max_travel=0.02, model=None, rng=0)
+    well.next_push()
+    well.observe(motion=(math.radians(2.5), 12.0, 0.0))
+    assert well.status == "reached"
+    # the margin takes at most half a tolerance
+    target = goal.target_px(first)
+    pose = Motion(math.radians(1.4), target[0], target[1])
+    assert _goal_costs.reached(goal, target, first.resolution, pose, (1.0, 1.0))
+    assert not _goal_costs.reached(
+        goal, target, first.resolution, pose._replace(theta=0.03), (1.0, 0)
+    )
