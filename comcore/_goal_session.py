@@ -37,6 +37,10 @@ from ._validation import check_count, check_mask, check_physical, check_rng
 
 __all__ = ["GOAL_STATUSES", "GoalSession"]
 
+#: The session says ``"reached"`` when the pose it reads is within the goal's tolerances less
+#: this share of the camera's reading error (:attr:`comcore.Likelihood.motion_noise`: 0.5
+#: degrees and 0.5 mm by default), so that the true pose is within them.
+READING_MARGIN = 0.5
 #: What :attr:`GoalSession.status` can say.
 GOAL_STATUSES = ("running", "reached", "budget", "stuck", "lost")
 
@@ -61,7 +65,9 @@ class GoalSession:
     updates it, and the next push is planned on it.
 
     **Statuses.** ``"running"``; ``"reached"``: the pose is within the goal's
-    tolerances; ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
+    tolerances (the pose as read, within them less half the reading error
+    the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
+    default); ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
     candidate push is expected to bring the object closer (the goal needs a
     pull, or a push the object's outline does not allow); ``"lost"``: the
     object left the camera's view (a mask that touches the image border, or
@@ -169,6 +175,8 @@ class GoalSession:
             pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
         )
         likelihood = resolve_groups("GoalSession", {"likelihood": likelihood}, {})["likelihood"]
+        # the pose is read by the camera: "reached" keeps a margin of its reading error
+        self._margin = tuple(READING_MARGIN * v for v in likelihood.motion_noise)
         self._scoring, credible = session_setup(
             self._first, model, pusher_radius, DEFAULT_CREDIBLE, likelihood
         )
@@ -208,7 +216,7 @@ class GoalSession:
     def _update(self) -> None:
         """Check the goal and the budget; if it goes on, plan the next push."""
         self._plan = None
-        if reached(self._goal, self._target, self._first.resolution, self._pose):
+        if reached(self._goal, self._target, self._first.resolution, self._pose, self._margin):
             self._final = "reached"
             return
         if self._n_pushes >= self._max_pushes:

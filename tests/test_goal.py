@@ -230,9 +230,12 @@ def test_session_takes_an_estimate_or_an_active_session_as_prior_and_mutates_not
     image = first.data.copy()
     active = comcore.ActiveSession(first, model=None, rng=0)
     goal = comcore.Goal(displacement=(0.02, 0.0))
-    a = comcore.GoalSession(first, goal, prior=active, model=None, learn=False, rng=0)
-    b = comcore.GoalSession(first, goal, prior=active.estimate(), model=None, rng=0)
-    assert a.next_push() == b.next_push()
+    for learn in (False, True):
+        # an ActiveSession is taken as its estimate now (learning starts from its CoM posterior
+        # with the likelihood's friction prior, a fixed one plans on its friction posterior too)
+        a = comcore.GoalSession(first, goal, prior=active, model=None, learn=learn, rng=0)
+        b = comcore.GoalSession(first, goal, prior=active.estimate(), model=None, learn=learn)
+        assert a.next_push() == b.next_push()
     assert np.array_equal(first.data, image)
     assert active.status == "waiting_push" and active.pushes == ()
 

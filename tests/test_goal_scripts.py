@@ -30,3 +30,11 @@ def test_goal_figure_draws_a_run(tmp_path):
         "benchmarks/goal_figure.py", "--distance", "0.05", "--turn", "10", "--out", str(out)
     )
     assert out.stat().st_size > 10_000 and "pushes" in title
+
+
+def test_goal_model_error_tabulates_the_rotation_error():
+    args = ["--objects", "Obj8", "--friction", "low", "--directions", "2", "--travels", "0.01"]
+    table = run_script("benchmarks/goal_model_error.py", *args)
+    assert table.startswith("24 pushes; rotation error (deg)")
+    assert "| 1.00 | 0.00-0.25 |" not in table  # 10 pushes: too few for a bin
+    assert "too few pushes to fit" in table
