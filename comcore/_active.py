@@ -219,8 +219,9 @@ def estimate_posterior(
     (the object reset before each), or a session's records
     (``pushes=estimate.pushes``, in the first mask's frame however the
     object moved: with the session's model and options that replays its
-    posterior; its region too with ``systematic_error=0``). A push whose motion is below the noise (it turned by less
-    than 0.01 rad and moved by less than 1 mm: it missed) carries no evidence.
+    posterior; its region too with ``systematic_error=0``). A push whose
+    motion is below the noise (it turned by less than 0.01 rad and moved by
+    less than 1 mm: it missed) carries no evidence.
 
     Parameters
     ----------

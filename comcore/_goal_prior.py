@@ -10,7 +10,11 @@ from ._mask import Mask
 from ._session import ActiveSession
 from ._types import Estimate
 
-__all__ = ["prior_particles", "touches_border"]
+__all__ = ["prior_frictions", "prior_particles", "touches_border"]
+
+#: Friction values an estimate all but ruled out keep this share of the largest weight in a
+#: learning session's prior, so that its own pushes can still revive them.
+MU_FLOOR = 1e-6
 
 
 def touches_border(mask: Mask) -> bool:
@@ -41,3 +45,28 @@ def prior_particles(
         raise ValueError(f"prior's posterior has shape {image.shape}, first_mask {first.shape}")
     pixels, weights = prior_grid(first, image)
     return pixels, weights, fixed
+
+
+def prior_frictions(prior, mus: np.ndarray) -> np.ndarray | None:
+    """A learning session's prior over its friction values: the estimate's, or None (uniform).
+
+    An :class:`Estimate` (or an :class:`ActiveSession`'s) carries its friction
+    posterior (``extras["mu_posterior"]`` over ``extras["mu_grid"]``); a learning
+    goal session starts from it where its likelihood marginalises over the same
+    values, so that what the estimate learnt of the friction is not forgotten.
+    Any other prior, or other friction values, leave the friction uniform.
+    """
+    if isinstance(prior, ActiveSession):
+        prior = prior.estimate()
+    if not isinstance(prior, Estimate):
+        return None
+    grid, weights = prior.extras.get("mu_grid"), prior.extras.get("mu_posterior")
+    if grid is None or weights is None or np.shape(grid) != np.shape(mus):
+        return None
+    if not np.allclose(grid, mus, rtol=1e-9, atol=0.0):
+        return None
+    weights = np.asarray(weights, dtype=float)
+    if not (np.isfinite(weights).all() and (weights >= 0).all() and weights.sum() > 0):
+        return None
+    weights = np.maximum(weights / weights.sum(), MU_FLOOR * weights.max() / weights.sum())
+    return weights / weights.sum()

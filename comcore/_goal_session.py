@@ -15,7 +15,7 @@ import numpy as np
 from ._errors import SessionError
 from ._flat_options import resolve_groups
 from ._goal_planner import plan_push, reached
-from ._goal_prior import prior_particles, touches_border
+from ._goal_prior import prior_frictions, prior_particles, touches_border
 from ._goal_translation import STANDOFF_M, planning_model
 from ._goal_types import PLANNING_PARTICLES, Goal, hypotheses_from
 from ._likelihood import gyration_px
@@ -90,10 +90,11 @@ class GoalSession:
     prior : None, Estimate, ActiveSession or CoM hypotheses, optional
         What is known of the CoM: None (uniform over the mask), an active
         estimator's :class:`comcore.Estimate` of ``first_mask`` (its
-        posterior image and friction posterior), an :class:`ActiveSession`
-        on ``first_mask`` (its estimate now; the goal session starts at its
-        :attr:`~ActiveSession.pose`, where its pushes left the object), or CoM
-        pixels ``(k, 2)`` / ``(coms, weights)``.
+        posterior image and friction posterior: a learning session starts
+        from both, where its likelihood has the estimate's friction values),
+        an :class:`ActiveSession` on ``first_mask`` (its estimate now; the
+        goal session starts at its :attr:`~ActiveSession.pose`, where its
+        pushes left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
     learn : bool, optional
         Update the posterior with every push (default True); False plans on
         the prior, fixed.
@@ -189,7 +190,8 @@ class GoalSession:
             if prior.estimate().region.shape != self._first.shape:
                 raise ValueError("prior's ActiveSession runs on a mask of another shape")
         pixels, weights, fixed = prior_particles(self._first, prior, self._n_particles)
-        self._posterior = self._scoring.posterior(pixels, weights)
+        mu_weights = prior_frictions(prior, self._scoring.mus) if self._learn else None
+        self._posterior = self._scoring.posterior(pixels, weights, mu_weights)
         self._fixed = fixed if not self._learn else None  # fixed planning particles
         self._reach = float(np.hypot(*(self._first.pixels - self._first.centroid).T).max()) + 1
         self._gyration = gyration_px(self._first)

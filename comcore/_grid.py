@@ -59,14 +59,17 @@ class GridPosterior:
     """
 
     def __init__(
-        self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1, n_tempers: int = 1
-    ):
+        self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1, n_tempers: int = 1,
+        mu_weights=None,
+    ):  # fmt: skip
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
         self.n_models, self.n_scales = int(n_models), int(n_scales)
-        log_prior = np.log(np.asarray(prior_weights, dtype=float))
+        log_prior = np.log(np.asarray(prior_weights, dtype=float))[:, None, None]
+        if mu_weights is not None:  # a prior over the friction values too (else uniform)
+            log_prior = log_prior + np.log(np.asarray(mu_weights, dtype=float))[None, :, None]
         shape = (len(self.pixels), len(self.mus), self.n_models * self.n_scales)
-        self.log_w = np.broadcast_to(log_prior[:, None, None], shape).copy()
+        self.log_w = np.broadcast_to(log_prior, shape).copy()
         self._normalise()
         self.n_tempers = int(n_tempers)
         #: Each temper's log predictive score S_e (nats) so far.

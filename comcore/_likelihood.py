@@ -146,11 +146,11 @@ class Scoring:
         """Model-error scale factors marginalised (1 without a model)."""
         return len(self.model_scales) if self.models else 1
 
-    def posterior(self, pixels, prior_weights) -> GridPosterior:
+    def posterior(self, pixels, prior_weights, mu_weights=None) -> GridPosterior:
         """A grid posterior over ``pixels`` (with their prior) for this scoring's hypotheses."""
         n_models = max(len(self.models), 1)
         return GridPosterior(
-            pixels, prior_weights, self.mus, n_models, self.n_scales, self.n_tempers
+            pixels, prior_weights, self.mus, n_models, self.n_scales, self.n_tempers, mu_weights
         )
 
 

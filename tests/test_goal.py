@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -231,13 +232,38 @@ def test_session_takes_an_estimate_or_an_active_session_as_prior_and_mutates_not
     active = comcore.ActiveSession(first, model=None, rng=0)
     goal = comcore.Goal(displacement=(0.02, 0.0))
     for learn in (False, True):
-        # an ActiveSession is taken as its estimate now (learning starts from its CoM posterior
-        # with the likelihood's friction prior, a fixed one plans on its friction posterior too)
+        # an ActiveSession is taken as its estimate now (its CoM and friction posteriors)
         a = comcore.GoalSession(first, goal, prior=active, model=None, learn=learn, rng=0)
         b = comcore.GoalSession(first, goal, prior=active.estimate(), model=None, learn=learn)
         assert a.next_push() == b.next_push()
     assert np.array_equal(first.data, image)
     assert active.status == "waiting_push" and active.pushes == ()
+
+
+def test_a_learning_session_starts_from_the_estimates_friction_posterior_too():
+    """What an estimate learnt of the friction is kept, not reset to the flat prior."""
+    mask = _plate()
+    com = (22.0, 15.0)
+    actions = comcore.sample_pushes(mask, 8, cone=0.3, rng=2)
+    d = comcore.signed_line_distance([com], actions)[0]
+    motions = [(0.05 * np.sign(v), 0.0, 0.0) for v in d]
+    est = comcore.estimate_posterior(mask, actions, motions, model=None)
+    # senses tell little of the friction: say the estimate learnt it was low
+    mu_post = np.array([0.7, 0.2, 0.05, 0.03, 0.01, 0.01])
+    est = dataclasses.replace(est, extras={**est.extras, "mu_posterior": mu_post})
+    goal = comcore.Goal(displacement=(0.02, 0.0))
+    learning = comcore.GoalSession(mask, goal, prior=est, model=None, rng=0)
+    np.testing.assert_allclose(learning._posterior.mu_marginal, mu_post, atol=1e-5)
+    # its CoM prior is the estimate's posterior image
+    image = np.zeros(mask.shape)
+    px = learning._posterior.pixels.astype(int)
+    image[px[:, 1], px[:, 0]] = learning._posterior.weights.sum(axis=(1, 2))
+    np.testing.assert_allclose(image, est.extras["posterior"] / est.extras["posterior"].sum(),
+                               atol=1e-9)  # fmt: skip
+    # other friction values than the estimate's: the friction starts flat
+    other = comcore.GoalSession(mask, goal, prior=est, model=None, rng=0,
+                                likelihood=comcore.Likelihood(n_mu=4))  # fmt: skip
+    np.testing.assert_allclose(other._posterior.mu_marginal, 0.25, atol=1e-12)
 
 
 def test_sessions_are_reproducible():
