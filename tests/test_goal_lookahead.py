@@ -95,6 +95,8 @@ def test_spread_picks_keep_the_best_of_each_length():
 
 def _oracle_trial(name, friction, seed=1):
     """Seed 1's benchmark trial (benchmarks/goal_bench.py's translation goal), the oracle."""
+    pytest.importorskip("trimesh")  # the simulator loads the object's outline with it
+    pytest.importorskip("shapely")  # the simulated robot's arm
     j = ["low", "high"].index(friction)
     key = [seed, simulators.BENCHMARK_OBJECTS.index(name), j, 0, 0]
     sim = simulators.accepted_random_simulator(name, friction, rng=lambda a: [*key, a])
