@@ -81,13 +81,16 @@ def reached(goal: Goal, target_px, resolution: float, pose: Motion, margin=(0.0,
     return True
 
 
-def model_variance(goal: Goal, first: Mask, actions, coms, motions) -> np.ndarray:
+def model_variance(
+    goal: Goal, first: Mask, actions, coms, motions, scales: Likelihood = _SCALES
+) -> np.ndarray:
     """The motion model's own error on each push's outcome, in the cost's units (n_h, a).
 
     The variance of the rotation (its scale from the CoM's lever about the
     push line and the travel, see :data:`MODEL_ERROR_POWER`) over the squared
     orientation tolerance, plus that of the centroid's displacement (two axes)
-    over the squared position tolerance, each where the goal sets it.
+    over the squared position tolerance, each where the goal sets it. The
+    scales are ``scales``' (the session's likelihood; default ``Likelihood()``).
     """
     res = first.resolution
     start, delta = actions[:, :2], actions[:, 2:] - actions[:, :2]
@@ -97,8 +100,8 @@ def model_variance(goal: Goal, first: Mask, actions, coms, motions) -> np.ndarra
     lever = np.abs(rel[..., 0] * unit[:, 1] - rel[..., 1] * unit[:, 0]) * res
     travel = np.maximum(length * res - STANDOFF_M, 0.0) / MODEL_ERROR_TRAVEL
     moved = np.hypot(motions[..., 1], motions[..., 2]) * res
-    theta_s, moved_s = _SCALES.model_error_scales(lever, moved)
-    floor = _SCALES.theta_noise[0]
+    theta_s, moved_s = scales.model_error_scales(lever, moved)
+    floor = scales.theta_noise[0]
     theta_s = floor + (theta_s - floor) * travel**MODEL_ERROR_POWER
     out = np.zeros(lever.shape)
     if goal.orientation is not None:
@@ -108,7 +111,10 @@ def model_variance(goal: Goal, first: Mask, actions, coms, motions) -> np.ndarra
     return out
 
 
-def follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner):
+def follow_ups(
+    first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner,
+    scales: Likelihood = _SCALES,
+):  # fmt: skip
     """The least expected cost of one more push from each pose (inf: none), coarse.
 
     ``poses`` is ``(theta, tx, ty)``, three arrays of shape (P,); ``owner``
@@ -127,7 +133,7 @@ def follow_ups(first, poses, goal, target_px, hyps, model, travel_px, radius, di
     if len(actions) == 0:
         return np.full(len(poses[0]), np.inf)
     raw = predict_motions(model, first, actions, hyps)
-    extra = model_variance(goal, first, actions, hyps.coms, raw)
+    extra = model_variance(goal, first, actions, hyps.coms, raw, scales)
     weights = hyps.weights[:, None]
     moves = np.hypot(raw[..., 1], raw[..., 2]) * first.resolution >= MISS_TRANSLATION_M
     moves |= np.abs(raw[..., 0]) >= MISS_ROTATION

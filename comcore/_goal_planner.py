@@ -69,6 +69,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._goal_costs import (
+    _SCALES,
     FOLLOW_DIRECTIONS,
     N_OFFSETS,
     follow_ups,
@@ -144,7 +145,7 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
     return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
 
 
-def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
+def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales):
     """Expected cost of each candidate (inf: it would carry the object out of view), poses."""
     raw = predict_motions(model, first, actions, hyps)
     motions = camera_motions(raw, pose)  # (n_h, a, 3)
@@ -152,7 +153,7 @@ def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
     tx, ty = pose.tx + motions[..., 1], pose.ty + motions[..., 2]
     weights = hyps.weights[:, None]
     each = pose_cost(goal, target_px, first.resolution, theta, tx, ty)
-    each = each + model_variance(goal, first, actions, hyps.coms, raw)
+    each = each + model_variance(goal, first, actions, hyps.coms, raw, scales)
     cost = (weights * each).sum(axis=0)
     h, w = first.shape
     cx = first.centroid[0] + (weights * tx).sum(axis=0)
@@ -166,7 +167,9 @@ def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px):
     return np.where(keeps_view, cost, np.inf), (theta, tx, ty, each)
 
 
-def _coarse(first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least):
+def _coarse(
+    first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least, scales
+):
     """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None)."""
     goal_angle = left = None
     if target_px is not None:
@@ -185,7 +188,7 @@ def _coarse(first, pose, goal, target_px, hyps, model, travel_px, radius, reach_
     actions, cam_actions = actions[in_view], cam_actions[in_view]
     if len(actions) == 0:
         return None
-    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px)
+    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales)
     return actions, cam_actions, cost
 
 
@@ -201,6 +204,7 @@ def plan_push(
     reach_px: float,
     allowed=None,
     min_travel_px: float = 0.0,
+    scales=None,
 ) -> Plan | None:
     """The push of least expected remaining pose error, or None when none gets closer.
 
@@ -208,15 +212,18 @@ def plan_push(
     object's radius about its centroid (to keep it in view); ``allowed`` the
     camera directions (radians) the robot may push along (None: any);
     ``min_travel_px`` the least travel after contact (the session raises it
-    after a push that did not move the object).
+    after a push that did not move the object); ``scales`` the session's
+    :class:`comcore.Likelihood`, whose model-error scales the cost counts
+    (None: ``Likelihood()``'s).
     """
+    scales = _SCALES if scales is None else scales
     res = first.resolution
     cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
     # a coarse pass over every candidate with a few particles, then the best few again
     index, share = _systematic(hyps.weights, COARSE_PARTICLES)
     coarse = CoMHypotheses(hyps.coms[index], hyps.mus[index], share)
     options = (model, max_travel_px, pusher_radius, reach_px, allowed)
-    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px)
+    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px, scales)
     if found is None:
         return None
     actions, cam_actions, cost = found
@@ -225,7 +232,7 @@ def plan_push(
         return None
     actions, cam_actions = actions[keep], cam_actions[keep]
     cost, (theta, tx, ty, each) = _expected(
-        first, pose, goal, target_px, hyps, model, actions, reach_px
+        first, pose, goal, target_px, hyps, model, actions, reach_px, scales
     )
     weights = hyps.weights[:, None]
     means = [(weights * v).sum(axis=0) for v in (theta, tx, ty)]
@@ -255,6 +262,7 @@ def plan_push(
             pusher_radius,
             directions,
             owner,
+            scales,
         ).reshape(len(index), len(order))
         closed = share @ follow
         value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)

@@ -178,6 +178,7 @@ class GoalSession:
         likelihood = resolve_groups("GoalSession", {"likelihood": likelihood}, {})["likelihood"]
         # the pose is read by the camera: "reached" keeps a margin of its reading error
         self._margin = tuple(READING_MARGIN * v for v in likelihood.motion_noise)
+        self._likelihood = likelihood  # its model-error scales: the planner's caution too
         self._scoring, credible = session_setup(
             self._first, model, pusher_radius, DEFAULT_CREDIBLE, likelihood
         )
@@ -228,6 +229,7 @@ class GoalSession:
         self._plan = plan_push(
             self._first, self._pose, self._goal, self._target, hyps, self._planner,
             self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
+            self._likelihood,
         )  # fmt: skip
         if self._plan is None:
             self._final = "stuck"

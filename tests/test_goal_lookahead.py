@@ -49,6 +49,27 @@ def test_model_variance_grows_with_the_travel_and_near_the_com_line():
     assert rot == pytest.approx(var - translation)
 
 
+def test_the_planner_counts_the_sessions_model_error_scales():
+    """A likelihood that says the model errs more makes every push's expected cost larger."""
+    first = _plate()
+    goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
+    com = np.array([[54.5, 44.5]])
+    actions = _pushes(first, [0.0, 8.0], [4.0, 10.0, 20.0])
+    motions = np.zeros((1, len(actions), 3))
+    wide = comcore.Likelihood(theta_noise=(0.02, 0.26), translation_error=(0.002, 0.112))
+    base = _goal_costs.model_variance(goal, first, actions, com, motions)
+    assert (_goal_costs.model_variance(goal, first, actions, com, motions, wide) > base).all()
+    # and the session hands its likelihood to the planner
+    hyps = comcore.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
+    where = (first, IDENTITY, goal, goal.target_px(first), hyps, planning_model(0.004))
+    plans = [
+        _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales) for scales in (None, wide)
+    ]
+    assert plans[1].expected_cost > plans[0].expected_cost
+    session = comcore.GoalSession(first, goal, model=None, likelihood=wide, rng=0)
+    assert session._likelihood is wide
+
+
 def test_follow_ups_are_the_least_expected_cost_of_one_more_push():
     first = _plate()
     goal = comcore.Goal(displacement=(0.08, 0.02), orientation=0.3)
