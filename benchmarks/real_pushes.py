@@ -33,6 +33,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import sys
@@ -77,7 +78,7 @@ MODELS = {
     # the model trusted fully, its error scale learned per session (wide where it errs)
     "w1+scales": (
         lambda: _lsm(),
-        {"likelihood": comcore.Likelihood(model_weight=1.0, model_scales=(1.0, 2.0, 4.0))},
+        {"likelihood": dataclasses.replace(SCALES["likelihood"], model_weight=1.0)},
     ),
 }
 # a floor on the CoM's error that more pushes do not average away (Likelihood.systematic_error;

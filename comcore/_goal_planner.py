@@ -204,7 +204,7 @@ def plan_push(
     reach_px: float,
     allowed=None,
     min_travel_px: float = 0.0,
-    scales=None,
+    scales=_SCALES,
 ) -> Plan | None:
     """The push of least expected remaining pose error, or None when none gets closer.
 
@@ -214,9 +214,8 @@ def plan_push(
     ``min_travel_px`` the least travel after contact (the session raises it
     after a push that did not move the object); ``scales`` the session's
     :class:`comcore.Likelihood`, whose model-error scales the cost counts
-    (None: ``Likelihood()``'s).
+    (default ``Likelihood()``'s).
     """
-    scales = _SCALES if scales is None else scales
     res = first.resolution
     cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
     # a coarse pass over every candidate with a few particles, then the best few again

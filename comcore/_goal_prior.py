@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._goal_types import CoMHypotheses, hypotheses_from
+from ._goal_types import CoMHypotheses, estimate_frictions, hypotheses_from
 from ._grid import prior_grid
 from ._mask import Mask
 from ._session import ActiveSession
 from ._types import Estimate
 
-__all__ = ["prior_frictions", "prior_particles", "touches_border"]
+__all__ = ["prior_particles", "touches_border"]
 
 #: Friction values an estimate all but ruled out keep this share of the largest weight in a
 #: learning session's prior, so that its own pushes can still revive them.
@@ -24,14 +24,23 @@ def touches_border(mask: Mask) -> bool:
 
 
 def prior_particles(
-    first: Mask, prior, n: int
-) -> tuple[np.ndarray, np.ndarray, CoMHypotheses | None]:
-    """``(pixels, weights, particles)``: the grid's prior and ``n`` particles (None: uniform)."""
+    first: Mask, prior, n: int, mus: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, CoMHypotheses | None]:
+    """``(pixels, weights, mu_weights, particles)`` of a goal session's ``prior``.
+
+    The grid's prior over the CoM pixels; over the friction values ``mus``
+    (None: uniform): an :class:`Estimate`'s (or an :class:`ActiveSession`'s)
+    friction posterior where it has the same values, so that a learning
+    session does not forget what the estimate learnt of the friction (values
+    it all but ruled out keep :data:`MU_FLOOR` of the largest weight, so that
+    the session's own pushes can revive them); and ``n`` fixed particles
+    (None for no prior).
+    """
     if isinstance(prior, ActiveSession):
         prior = prior.estimate()
     if prior is None:
         pixels, weights = prior_grid(first, None)
-        return pixels, weights, None
+        return pixels, weights, None, None
     if isinstance(prior, Estimate) and prior.extras.get("posterior") is not None:
         image = np.asarray(prior.extras["posterior"], float)
     else:
@@ -44,29 +53,15 @@ def prior_particles(
     if image.shape != first.shape:
         raise ValueError(f"prior's posterior has shape {image.shape}, first_mask {first.shape}")
     pixels, weights = prior_grid(first, image)
-    return pixels, weights, fixed
+    return pixels, weights, _frictions(prior, mus), fixed
 
 
-def prior_frictions(prior, mus: np.ndarray) -> np.ndarray | None:
-    """A learning session's prior over its friction values: the estimate's, or None (uniform).
-
-    An :class:`Estimate` (or an :class:`ActiveSession`'s) carries its friction
-    posterior (``extras["mu_posterior"]`` over ``extras["mu_grid"]``); a learning
-    goal session starts from it where its likelihood marginalises over the same
-    values, so that what the estimate learnt of the friction is not forgotten.
-    Any other prior, or other friction values, leave the friction uniform.
-    """
-    if isinstance(prior, ActiveSession):
-        prior = prior.estimate()
-    if not isinstance(prior, Estimate):
+def _frictions(prior, mus: np.ndarray) -> np.ndarray | None:
+    frictions = estimate_frictions(prior) if isinstance(prior, Estimate) else None
+    if frictions is None or frictions[0].shape != np.shape(mus):
         return None
-    grid, weights = prior.extras.get("mu_grid"), prior.extras.get("mu_posterior")
-    if grid is None or weights is None or np.shape(grid) != np.shape(mus):
-        return None
+    grid, weights = frictions
     if not np.allclose(grid, mus, rtol=1e-9, atol=0.0):
         return None
-    weights = np.asarray(weights, dtype=float)
-    if not (np.isfinite(weights).all() and (weights >= 0).all() and weights.sum() > 0):
-        return None
-    weights = np.maximum(weights / weights.sum(), MU_FLOOR * weights.max() / weights.sum())
+    weights = np.maximum(weights, MU_FLOOR * weights.max())
     return weights / weights.sum()

@@ -15,7 +15,7 @@ import numpy as np
 from ._errors import SessionError
 from ._flat_options import resolve_groups
 from ._goal_planner import plan_push, reached
-from ._goal_prior import prior_frictions, prior_particles, touches_border
+from ._goal_prior import prior_particles, touches_border
 from ._goal_translation import STANDOFF_M, planning_model
 from ._goal_types import PLANNING_PARTICLES, Goal, hypotheses_from
 from ._likelihood import gyration_px
@@ -190,8 +190,9 @@ class GoalSession:
             start = prior.pose
             if prior.estimate().region.shape != self._first.shape:
                 raise ValueError("prior's ActiveSession runs on a mask of another shape")
-        pixels, weights, fixed = prior_particles(self._first, prior, self._n_particles)
-        mu_weights = prior_frictions(prior, self._scoring.mus) if self._learn else None
+        pixels, weights, mu_weights, fixed = prior_particles(
+            self._first, prior, self._n_particles, self._scoring.mus
+        )
         self._posterior = self._scoring.posterior(pixels, weights, mu_weights)
         self._fixed = fixed if not self._learn else None  # fixed planning particles
         self._reach = float(np.hypot(*(self._first.pixels - self._first.centroid).T).max()) + 1

@@ -22,7 +22,13 @@ from ._mask import Mask
 from ._options import Likelihood, mu_grid
 from ._types import Estimate
 
-__all__ = ["PLANNING_PARTICLES", "CoMHypotheses", "Goal", "hypotheses_from"]
+__all__ = [
+    "PLANNING_PARTICLES",
+    "CoMHypotheses",
+    "Goal",
+    "estimate_frictions",
+    "hypotheses_from",
+]
 
 #: How many (CoM, friction) particles a push is planned over (a systematic draw).
 PLANNING_PARTICLES = 32
@@ -202,12 +208,27 @@ def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None
             pixel_w = image[rows, cols]
             index, cw = _systematic(pixel_w / pixel_w.sum(), n)
             coms = np.column_stack([cols[index], rows[index]]).astype(float)
-        grid = posterior.extras.get("mu_grid")
-        if grid is not None and mus is None:
-            mu_w = np.asarray(posterior.extras["mu_posterior"], float)
-            return _crossed(coms, cw, np.asarray(grid, float), mu_w / mu_w.sum(), n)
+        frictions = estimate_frictions(posterior)
+        if frictions is not None and mus is None:
+            return _crossed(coms, cw, *frictions, n)
         return _crossed(coms, cw, _friction(mus), None, n)
     return _from_points(posterior, mask, n, _friction(mus))
+
+
+def estimate_frictions(estimate: Estimate) -> tuple[np.ndarray, np.ndarray] | None:
+    """An estimate's friction values and their posterior (summing to 1), or None if it has none."""
+    grid, weights = estimate.extras.get("mu_grid"), estimate.extras.get("mu_posterior")
+    if grid is None or weights is None:
+        return None
+    grid, weights = np.asarray(grid, float).ravel(), np.asarray(weights, float).ravel()
+    if grid.shape != weights.shape or not (np.isfinite(weights).all() and (weights >= 0).all()):
+        raise ValueError(
+            "the estimate's extras['mu_posterior'] must be non-negative weights, one per "
+            f"extras['mu_grid'] value ({len(grid)}), got {weights.tolist()}"
+        )
+    if weights.sum() <= 0:
+        raise ValueError("the estimate's extras['mu_posterior'] must not be all zero")
+    return grid, weights / weights.sum()
 
 
 def _checked(hyps: CoMHypotheses, mask: Mask) -> CoMHypotheses:

@@ -44,6 +44,7 @@ from ._likelihood_motion import (
 from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, Likelihood, mu_grid
+from ._options import SESSION_SYSTEMATIC_ERROR as FLOOR
 from ._predictor import HypothesisPredictor
 from ._senses import _LOGISTIC_STD, UNEXPLAINED_STDS, SenseTally
 
@@ -105,7 +106,7 @@ class Scoring:
         mask: Mask,
         models: tuple,
         pusher_radius: float = 0.0,
-        systematic_floor: float = 0.0,
+        systematic_floor: float = FLOOR,
     ) -> Scoring:
         """The scoring of ``likelihood`` on ``mask``'s pixels with ``models``.
 

@@ -264,6 +264,10 @@ def test_a_learning_session_starts_from_the_estimates_friction_posterior_too():
     other = comcore.GoalSession(mask, goal, prior=est, model=None, rng=0,
                                 likelihood=comcore.Likelihood(n_mu=4))  # fmt: skip
     np.testing.assert_allclose(other._posterior.mu_marginal, 0.25, atol=1e-12)
+    # a malformed friction posterior is refused, naming it
+    bad = dataclasses.replace(est, extras={**est.extras, "mu_posterior": [0.5, -0.5]})
+    with pytest.raises(ValueError, match=r"extras\['mu_posterior'\] must be non-negative"):
+        comcore.GoalSession(mask, goal, prior=bad, model=None, rng=0)
 
 
 def test_sessions_are_reproducible():

@@ -63,7 +63,8 @@ def test_the_planner_counts_the_sessions_model_error_scales():
     hyps = comcore.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
     where = (first, IDENTITY, goal, goal.target_px(first), hyps, planning_model(0.004))
     plans = [
-        _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales) for scales in (None, wide)
+        _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales)
+        for scales in (comcore.Likelihood(), wide)
     ]
     assert plans[1].expected_cost > plans[0].expected_cost
     session = comcore.GoalSession(first, goal, model=None, likelihood=wide, rng=0)
