@@ -30,6 +30,7 @@ from scipy import ndimage
 
 import comcore
 from comcore.cli.estimate import (
+    BOOTSTRAP,
     MODELS,
     SIGN_FLIP_NATS,
     SYSTEMATIC_ERROR,
@@ -62,6 +63,10 @@ def main(argv=None) -> None:
         "--systematic-error", type=float, default=SYSTEMATIC_ERROR,
         help="the posterior's (metres; comcore estimate --systematic-error)",
     )  # fmt: skip
+    parser.add_argument(
+        "--bootstrap", type=int, default=BOOTSTRAP,
+        help="the posterior's resamplings for its region (comcore estimate --bootstrap)",
+    )  # fmt: skip
     parser.add_argument("--pushes", type=int, default=40)
     parser.add_argument(
         "--flips", default="0,1,3", help="wrong senses per recording ('all': every sign flipped)"
@@ -93,7 +98,8 @@ def main(argv=None) -> None:
             for m in names:
                 t0 = time.perf_counter()
                 est = estimate(sim.mask, actions, observed, m, model=args.model,
-                               systematic_error=args.systematic_error)  # fmt: skip
+                               systematic_error=args.systematic_error,
+                               bootstrap=args.bootstrap)  # fmt: skip
                 seconds[m].append(time.perf_counter() - t0)
                 errors[m, k].append(est.error_px(sim.com_px) * cm)
                 statuses[m, k].append(est.status)
@@ -104,7 +110,7 @@ def main(argv=None) -> None:
     n = len(errors[names[0], flips[0]])
     print(f"{n} recordings ({len(objects)} objects x seeds {seeds}), "
           f"{args.pushes} pushes each, posterior --model {args.model} "
-          f"--systematic-error {args.systematic_error:g}; "
+          f"--systematic-error {args.systematic_error:g} --bootstrap {args.bootstrap}; "
           f"{time.perf_counter() - start:.0f} s")
     print("| method | wrong senses | mean error (cm) | median (cm) | p90 (cm) "
           "| truth in 90 % region | within a pixel of it |")

@@ -214,6 +214,7 @@ def progressive(obj, world, idx) -> dict:
 
 def active_pool(obj, world, pool, model, options, seed) -> dict:
     """``ActiveSession`` choosing among the pool's recorded pushes, shown their motions."""
+    options = {k: v for k, v in options.items() if k != "bootstrap"}  # estimate_posterior's
     session = comcore.ActiveSession(
         obj.mask,
         model=model,

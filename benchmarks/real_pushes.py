@@ -57,7 +57,8 @@ def _lsm(pressure="tilted", batch=()):
 
 
 #: Motion models and likelihood options by name: ``name -> (model factory, keywords)``; the
-#: keywords go to ``estimate_posterior`` and ``ActiveSession`` (a ``comcore.Likelihood``).
+#: keywords go to ``estimate_posterior`` and ``ActiveSession`` (a ``comcore.Likelihood``),
+#: but ``bootstrap`` to ``estimate_posterior`` alone (the sessions do not bag).
 SCALES = {"likelihood": comcore.Likelihood(model_scales=(1.0, 2.0, 4.0))}
 MODELS = {
     "vt": (lambda: None, {}),
@@ -88,6 +89,16 @@ MODELS.update(
     {
         f"sys{mm:g}": (_lsm, {"likelihood": comcore.Likelihood(systematic_error=mm / 1e3)})
         for mm in (0, 1, 1.5, 2, 2.5, 3, 4)
+    }
+)
+# estimate_posterior's region from the posterior itself, not the bagged one (comcore._bagging):
+# nobag is the default before bagging (the 2 mm floor alone), sys0-nobag before issue 20
+MODELS.update(
+    {
+        "nobag": (_lsm, {"bootstrap": 0}),
+        "vt-nobag": (lambda: None, {"bootstrap": 0}),
+        "sys0-nobag": (_lsm, {**MODELS["sys0"][1], "bootstrap": 0}),
+        "sys2-bag": (_lsm, {"likelihood": comcore.Likelihood(systematic_error=0.002)}),
     }
 )
 

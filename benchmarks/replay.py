@@ -58,6 +58,7 @@ def posterior_options(options: dict) -> dict:
     out.update(comcore.option_groups(**options))
     if set(out) - {"model", "likelihood"}:
         raise ValueError(f"a variant may set only the likelihood's options, got {options}")
+    out["bootstrap"] = 0  # and the session's region: the posterior's own, not the bagged one
     return out
 
 

@@ -17,7 +17,8 @@ Examples
 """
 
 from . import vt
-from ._active import estimate_active, estimate_posterior
+from ._active import estimate_active
+from ._bagging import RECORDED_BOOTSTRAP
 from ._calibrate import PowerCalibration, calibrate_model_weight
 from ._conventions import (
     ANGLE_EPS,
@@ -53,6 +54,7 @@ from ._options import (
 )
 from ._outline import mask_from_outline
 from ._outline_field import OutlineField, outline_field
+from ._posterior import estimate_posterior
 from ._predictor import (
     HypothesisPredictor,
     Predictor,
@@ -89,6 +91,7 @@ __all__ = [
     "DEFAULT_RESOLUTION",
     "LENGTH_EPS",
     "PLAUSIBLE",
+    "RECORDED_BOOTSTRAP",
     "RECORDED_SYSTEMATIC_ERROR",
     "SESSION_SYSTEMATIC_ERROR",
     "Action",

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._active import estimate_posterior
 from ._flat_options import resolve_groups
 from ._likelihood import check_models
 from ._options import (
@@ -29,6 +28,7 @@ from ._options import (
     DEFAULT_PUSHER_RADIUS,
     SESSION_SYSTEMATIC_ERROR,
 )
+from ._posterior import estimate_posterior
 from ._types import Estimate
 from ._validation import check_mask, check_point, check_powers
 
@@ -179,6 +179,7 @@ def calibrate_model_weight(
                 model=list(models) if models else None,
                 credible=credible,
                 likelihood=dataclasses.replace(likelihood, model_weight=power),
+                bootstrap=0,  # the sessions' region: the posterior's own, not bagged
             )
             hits[i, j] = est.region_holds(truth)
             radius[i, j] = est.extras["credible_radius_px"] * mask.resolution

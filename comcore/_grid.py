@@ -171,17 +171,40 @@ class GridPosterior:
         w = w[w > 0]
         return float(-(w * np.log2(w)).sum())
 
-    def credible(self, level: float, blur_px: float = 0.0) -> tuple[np.ndarray, float]:
+    def region_weights(self, blur_px: float = 0.0, marginal=None) -> np.ndarray:
+        """The pixel weights a credible region is read from, shape (p,), summing to 1.
+
+        The CoM-pixel marginal, or ``marginal`` given over the same pixels (a
+        bagged posterior's, :mod:`comcore._bagging`); with ``blur_px`` > 0
+        blurred by a Gaussian of that standard deviation (pixels) over the
+        grid's pixels (mass blurred off them is dropped and the rest
+        renormalised): an error on the CoM that no number of pushes averages
+        away (``Likelihood.systematic_error``). Works on the grid's bounding box
+        (plus four standard deviations), not a whole camera frame.
+        """
+        w = self.marginal if marginal is None else np.asarray(marginal, dtype=float)
+        if blur_px <= 0:
+            return w
+        cols = np.rint(self.pixels[:, 0]).astype(np.int64)
+        rows = np.rint(self.pixels[:, 1]).astype(np.int64)
+        pad = math.ceil(4.0 * blur_px) + 1
+        r0, c0 = rows.min() - pad, cols.min() - pad
+        image = np.zeros((rows.max() - r0 + pad + 1, cols.max() - c0 + pad + 1))
+        np.add.at(image, (rows - r0, cols - c0), w)
+        blurred = ndimage.gaussian_filter(image, blur_px, mode="constant", truncate=4.0)
+        w = np.maximum(blurred[rows - r0, cols - c0], 0.0)
+        return w / w.sum()
+
+    def credible(
+        self, level: float, blur_px: float = 0.0, marginal=None
+    ) -> tuple[np.ndarray, float]:
         """Highest-posterior pixels holding ``level`` of the mass, and their area (px^2).
 
-        The area counts the last pixel in proportion to the mass it must
-        contribute, so it varies smoothly as the posterior sharpens. With
-        ``blur_px`` > 0 the marginal is first blurred by a Gaussian of that
-        standard deviation (pixels) over the grid's pixels (mass blurred off
-        them is dropped and the rest renormalised): an error on the CoM that
-        no number of pushes averages away (``Likelihood.systematic_error``).
+        Read from :meth:`region_weights` (``blur_px``, ``marginal``). The area
+        counts the last pixel in proportion to the mass it must contribute, so
+        it varies smoothly as the posterior sharpens.
         """
-        w = self.marginal if blur_px <= 0 else self._blurred_marginal(blur_px)
+        w = self.region_weights(blur_px, marginal)
         order = np.argsort(-w, kind="stable")
         cum = np.cumsum(w[order])
         k = min(int(np.searchsorted(cum, level * cum[-1])), len(w) - 1)
@@ -190,19 +213,3 @@ class GridPosterior:
         chosen = np.zeros(len(w), dtype=bool)
         chosen[order[: k + 1]] = True
         return chosen, float(k + min(max(fraction, 0.0), 1.0))
-
-    def _blurred_marginal(self, blur_px: float) -> np.ndarray:
-        """The pixel marginal blurred by a Gaussian of ``blur_px``, on the grid's pixels only.
-
-        Works on the grid's bounding box (plus four standard deviations), not a
-        whole camera frame.
-        """
-        cols = np.rint(self.pixels[:, 0]).astype(np.int64)
-        rows = np.rint(self.pixels[:, 1]).astype(np.int64)
-        pad = math.ceil(4.0 * blur_px) + 1
-        r0, c0 = rows.min() - pad, cols.min() - pad
-        image = np.zeros((rows.max() - r0 + pad + 1, cols.max() - c0 + pad + 1))
-        np.add.at(image, (rows - r0, cols - c0), self.marginal)
-        blurred = ndimage.gaussian_filter(image, blur_px, mode="constant", truncate=4.0)
-        w = np.maximum(blurred[rows - r0, cols - c0], 0.0)
-        return w / w.sum()

@@ -113,34 +113,47 @@ class PushLog:
         return float(self.excess.min()) if self.n_evidence else 0.0
 
     def estimate(
-        self, mask: Mask, post: GridPosterior, used, status: str, extras=None
+        self, mask: Mask, post: GridPosterior, used, status: str, extras=None, marginal=None
     ) -> Estimate:
         """The :class:`Estimate` of the posterior: mean, covariance, credible region, records.
 
+        The region is read from :meth:`GridPosterior.region_weights`: the
+        posterior's marginal, or ``marginal`` (p,) where given (a bagged
+        posterior's, :mod:`comcore._bagging`; the covariance is then its spread
+        about the posterior's mean), blurred by the systematic error.
         ``extras`` are added to the posterior's own: ``"posterior"`` (H, W),
+        ``"region_posterior"`` (H, W: what the region was read from),
         ``"credible_radius_px"``, ``"mu_grid"``, ``"mu_posterior"``,
         ``"model_posterior"``, ``"scale_posterior"``,
         ``"model_weight_posterior"``, ``"log_evidence"``, ``"excess_nats"`` and
         ``"history"`` (the :class:`SessionState` of every posterior, the prior
         first).
         """
-        region_idx, area = post.credible(self.credible, self.blur_px)
+        weights = post.region_weights(self.blur_px, marginal)
+        region_idx, area = post.credible(self.credible, marginal=weights)
         rows, cols = post.pixels[:, 1].astype(int), post.pixels[:, 0].astype(int)
         region = np.zeros(mask.shape, dtype=bool)
         region[rows[region_idx], cols[region_idx]] = True
-        image = np.zeros(mask.shape)
+        image, region_image = np.zeros(mask.shape), np.zeros(mask.shape)
         np.add.at(image, (rows, cols), post.marginal)
-        com = tuple(float(v) for v in post.mean())
+        np.add.at(region_image, (rows, cols), weights)
+        mean = post.mean()
+        covariance = post.covariance()
+        if marginal is not None:
+            centred = post.pixels - mean
+            covariance = (centred * np.asarray(marginal)[:, None]).T @ centred + np.eye(2) / 12
+        com = tuple(float(v) for v in mean)
         return Estimate(
             com=com,
             com_m=mask.to_metres(com),
             region=region,
             used=tuple(used),
             status=status,
-            covariance=post.covariance(),
+            covariance=covariance,
             extras={
                 **(extras or {}),
                 "posterior": image,
+                "region_posterior": region_image,
                 "credible_radius_px": math.sqrt(area / math.pi),
                 "mu_grid": post.mus.copy(),
                 "mu_posterior": post.mu_marginal,
@@ -159,8 +172,11 @@ class PushLog:
 def credible_level(estimate: Estimate, point) -> float:
     """The smallest credible level whose region holds ``point``: how surprising the truth is.
 
-    The posterior mass of the pixels more probable than the pixel under
-    ``point`` ``(x, y)`` (the highest-posterior-density rank). For an honest
+    The mass of the pixels more probable than the pixel under ``point``
+    ``(x, y)`` (the highest-posterior-density rank) in what the credible
+    region was read from (``extras["region_posterior"]``: the posterior,
+    blurred by a systematic error or bagged where the estimator did so, so
+    that a point inside the 90 % region is below 0.9). For an honest
     posterior it is uniform on [0, 1] over many runs: the share of runs below
     0.9 is the coverage of the 90 % region, and its quantiles say how over- or
     under-confident the posterior is at every level. 1.0 for a point outside
@@ -169,7 +185,8 @@ def credible_level(estimate: Estimate, point) -> float:
     Parameters
     ----------
     estimate : Estimate
-        An active estimator's (``extras["posterior"]`` holds its posterior).
+        An active estimator's (``extras["region_posterior"]`` or
+        ``extras["posterior"]`` holds its posterior).
     point : array_like, shape (2,)
 
     Raises
@@ -186,7 +203,7 @@ def credible_level(estimate: Estimate, point) -> float:
     >>> comcore.credible_level(est, (8.0, 8.0)) < 0.5 < comcore.credible_level(est, (20.0, 20.0))
     True
     """
-    post = estimate.extras.get("posterior")
+    post = estimate.extras.get("region_posterior", estimate.extras.get("posterior"))
     if post is None:
         raise ValueError("estimate must carry a posterior (an active estimator's Estimate)")
     col, row = (round(float(v)) for v in np.asarray(point, dtype=float).reshape(2))

@@ -17,14 +17,15 @@ def test_it_is_the_active_posterior_of_the_same_pushes(model):
     active = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=model, rng=3)
     session_floor = comcore.Likelihood(systematic_error=comcore.SESSION_SYSTEMATIC_ERROR)
     offline = comcore.estimate_posterior(
-        mask, actions_of(active), motions_of(active), model=model, likelihood=session_floor
-    )
+        mask, actions_of(active), motions_of(active), model=model, likelihood=session_floor,
+        bootstrap=0,
+    )  # fmt: skip
     assert offline.status == "ok" and offline.used == tuple(range(len(active.used)))
     np.testing.assert_allclose(offline.extras["posterior"], active.extras["posterior"], atol=1e-12)
     np.testing.assert_array_equal(offline.region, active.region)
     assert offline.com == pytest.approx(active.com, abs=1e-9)
-    # by default the offline posterior's region is blurred by the recordings' floor (2 mm):
-    # the same posterior and estimate, a wider region
+    # by default the offline posterior's region is the bagged posterior's, blurred by the
+    # recordings' floor: the same posterior and estimate, a wider region
     default = comcore.estimate_posterior(mask, actions_of(active), motions_of(active), model=model)
     np.testing.assert_allclose(default.extras["posterior"], active.extras["posterior"], atol=1e-12)
     assert default.com == pytest.approx(active.com, abs=1e-9)
@@ -175,10 +176,13 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
     com = (24.0, 19.0)
     motions = [(0.05 * np.sign(d), 0.0, 0.0) for d in comcore.signed_line_distance([com], actions)[0]]
     none = comcore.Likelihood(systematic_error=0.0)
-    plain = comcore.estimate_posterior(mask, actions, motions, model=None, likelihood=none)
+    # the floor alone, on the posterior's own region (bootstrap=0: not bagged)
+    plain = comcore.estimate_posterior(
+        mask, actions, motions, model=None, likelihood=none, bootstrap=0
+    )
     floored = comcore.estimate_posterior(
         mask, actions, motions, model=None,
-        likelihood=comcore.Likelihood(systematic_error=0.005),
+        likelihood=comcore.Likelihood(systematic_error=0.005), bootstrap=0,
     )  # fmt: skip
     np.testing.assert_array_equal(plain.extras["posterior"], floored.extras["posterior"])
     assert plain.com == floored.com

@@ -34,6 +34,7 @@ import numpy as np
 
 import comcore
 from comcore._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from comcore._posterior import MAX_BOOTSTRAP
 from comcore._validation import check_physical
 
 from . import _options
@@ -68,6 +69,8 @@ CREDIBLE = 0.9
 #: (chosen on the MIT push dataset's train plates: docs/realdata.md). It was 1.5 mm, chosen on
 #: the simulated recordings of seeds 1-2 (benchmarks/estimate_methods.py; docs/bench.md).
 SYSTEMATIC_ERROR = comcore.RECORDED_SYSTEMATIC_ERROR
+#: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
+BOOTSTRAP = comcore.RECORDED_BOOTSTRAP
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 #: The motion models of ``--model`` (the posterior's), the default first.
@@ -191,6 +194,14 @@ def _add_model_arguments(parser) -> None:
         f"systematic_error=...); default {SYSTEMATIC_ERROR:g} m, chosen on real "
         "pushes, docs/realdata.md; 0: none)",
     )
+    parser.add_argument(
+        "--bootstrap",
+        type=int,
+        default=BOOTSTRAP,
+        help="resamplings of the pushes whose posteriors, averaged, give the credible region "
+        f"(the bagged posterior: wider where the pushes disagree; default {BOOTSTRAP}; 0: the "
+        "posterior's own region)",
+    )
 
 
 def overlay_path(args) -> Path | None:
@@ -226,12 +237,13 @@ def estimate(
     model: str = MODELS[0],
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     systematic_error: float = SYSTEMATIC_ERROR,
+    bootstrap: int = BOOTSTRAP,
 ) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes.
 
     ``model`` (one of :data:`MODELS`), ``pusher_radius`` and
-    ``systematic_error`` (metres) are the posterior's; the other methods take
-    no model.
+    ``systematic_error`` (metres) and ``bootstrap`` are the posterior's; the other
+    methods take no model.
     """
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
@@ -240,6 +252,7 @@ def estimate(
         return comcore.estimate_posterior(
             mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
+            bootstrap=bootstrap,
         )  # fmt: skip
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
@@ -338,6 +351,10 @@ def run(args) -> int:
         resolution = check_resolution(args.resolution)
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
+        if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
+            raise InputError(
+                f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
+            )
         mask = read_mask(
             mask_path, resolution, args.object, threshold=args.threshold,
             background=args.background, roi=args.roi,
@@ -360,7 +377,7 @@ def run(args) -> int:
         )
     try:
         est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
-                       systematic_error=systematic_error,
+                       systematic_error=systematic_error, bootstrap=args.bootstrap,
                        pusher_radius=pusher_radius)  # fmt: skip
         mistake = sign_mistake(mask, pushes)
     except (TypeError, ValueError) as e:
