@@ -769,7 +769,7 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
     held = [p for p, c in zip(wrong.powers, wrong.coverage) if c >= 0.9]
     assert wrong.recommended == max(held) < 1.0
     # the regions are the sessions': a systematic_error left None is theirs (0), not the
-    # 2 mm estimate_posterior takes for recordings (which would widen every region)
+    # 1.5 mm estimate_posterior takes for recordings (which would widen every region)
     floor = dict(kwargs, likelihood=comcore.Likelihood(mu=0.4, motion_noise=(0.0, 0.0),
                                                        systematic_error=0.0))  # fmt: skip
     same = comcore.calibrate_model_weight(records, model=ToyModel(20.0), **floor)

@@ -106,7 +106,7 @@ def test_the_bag_of_equal_weights_is_the_posterior_tempers_and_pruning_included(
 
 
 def test_credible_level_reads_what_the_region_was_read_from():
-    mask, actions, motions, a, b = _two_groups(6.0)
+    mask, actions, motions, *_ = _two_groups(6.0)
     est = comcore.estimate_posterior(mask, actions, motions, model=ToyModel(), likelihood=NO_FLOOR)
     inside = np.argwhere(est.region)  # (row, col)
     levels = [comcore.credible_level(est, (c, r)) for r, c in inside]

@@ -147,6 +147,9 @@ def bad_case(tmp, name):
     if name == "no push hits":
         pushes.write_text(HEADER + "0,1,30,1,0.1,3,0\n")  # along row 1, above the object
         return ["--mask", str(mask), "--pushes", str(pushes)], "no push hits the object"
+    if name == "negative bootstrap":
+        args = ["--mask", str(mask), "--pushes", str(pushes), "--bootstrap", "-1"]
+        return args, "--bootstrap must be 0 to 10000 resamplings, got -1"
     if name == "example and files":
         return ["--example", "--mask", str(mask)], "--example replaces --mask and --pushes"
     if name == "no input":
@@ -156,7 +159,8 @@ def bad_case(tmp, name):
 
 CASES = ["missing mask", "not an image", "empty mask", "missing column", "NaN", "not a number",
          "no rows", "binary csv", "bad resolution", "centimetres for metres", "zero-length push",
-         "line after a blank line", "no push hits", "example and files", "no input"]  # fmt: skip
+         "line after a blank line", "no push hits", "negative bootstrap", "example and files",
+         "no input"]  # fmt: skip
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -341,6 +345,13 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
     assert result["region"]["credible_radius_px"] == pytest.approx(
         expected.extras["credible_radius_px"]
     )
+    # --bootstrap 0: the posterior's own region, not the bagged one (estimate_posterior's)
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+                 "--bootstrap", "0", "--no-overlay"]) == 0  # fmt: skip
+    plain = comcore.estimate_posterior(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES],
+                                       credible=0.9, likelihood=floor, bootstrap=0)  # fmt: skip
+    result = json.loads(capsys.readouterr().out)
+    assert result["region"]["area_px"] == int(plain.region.sum())
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method",
                  "posterior", "--no-overlay"]) == 0  # fmt: skip
     assert "credible region:" in capsys.readouterr().out

@@ -194,9 +194,9 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
     assert not floored.region[~mask.data].any()  # only the object's pixels
 
 
-def test_none_is_each_estimators_own_floor_recordings_2_mm_sessions_0():
+def test_none_is_each_estimators_own_floor_recordings_1_5_mm_sessions_0():
     assert comcore.Likelihood().systematic_error is None
-    assert comcore.RECORDED_SYSTEMATIC_ERROR == 0.002 and comcore.SESSION_SYSTEMATIC_ERROR == 0.0
+    assert comcore.RECORDED_SYSTEMATIC_ERROR == 0.0015 and comcore.SESSION_SYSTEMATIC_ERROR == 0.0
     mask = comcore.Mask(np.pad(np.ones((30, 40), bool), 6), resolution=0.0025)
     actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
     d = comcore.signed_line_distance([(24.0, 19.0)], actions)[0]
