@@ -151,3 +151,15 @@ def test_a_bag_too_big_to_keep_is_refused_before_any_push_is_scored(monkeypatch)
         comcore.estimate_posterior(mask, actions, motions, model=None)
     est = comcore.estimate_posterior(mask, actions, motions, model=None, bootstrap=0)
     assert est.extras["bootstrap"] == 0
+
+
+def test_the_bagging_benchmark_runs():
+    pytest.importorskip("trimesh")  # the simulators
+    from tests.scripts import run_script
+
+    out = run_script(
+        "benchmarks/bench_bagging.py", "--objects", "Obj1", "--pushes", "4", "--repeats", "1",
+        "--model", "none", timeout=120,
+    )  # fmt: skip
+    row = [line for line in out.splitlines() if line.startswith("| Obj1 | 4 |")]
+    assert len(row) == 1 and row[0].endswith(" s |")
