@@ -9,11 +9,13 @@ selection using bagged posteriors", Bayesian Analysis 2023): the average of the
 posteriors of ``bootstrap`` resamplings of the pushes. Each resampling is a
 Bayesian bootstrap (Rubin 1981): the pushes' log-likelihoods weighted by
 ``n`` Dirichlet(1, ..., 1) weights, so a push counts 0 to a few times. Where the
-pushes agree the bagged posterior is about the posterior, some 40 % wider in
-radius (twice the variance when the model is right); where some pushes pull
-the CoM one way and others another, it spreads over both. It widens by what the
-data show, with no constant to tune: on the MIT push plates it holds the CoM
-where a 2 mm floor did not (docs/realdata.md).
+pushes agree the bagged posterior is about the posterior (at most about twice
+its variance, where the pushes scatter as much as the likelihood says; 7 %
+wider in radius on the agreeing pushes of tests/test_bagging.py, whose model
+is exact); where some pushes pull the CoM one way and others another, it
+spreads over both. It widens by what the
+data show, with no constant to tune: on the MIT push dataset's test plate it
+holds the CoM where a 2 mm floor alone did not (docs/realdata.md).
 
 The point estimate stays the posterior's mean: the bagged mean was further from
 the true CoM on both the real pushes and their simulated twins.
