@@ -66,8 +66,9 @@ METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 #: Probability of the posterior's credible region (printed and in the JSON).
 CREDIBLE = 0.9
 #: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes
-#: (chosen on the MIT push dataset's train plates: docs/realdata.md). It was 1.5 mm, chosen on
-#: the simulated recordings of seeds 1-2 (benchmarks/estimate_methods.py; docs/bench.md).
+#: (1.5 mm, chosen with the bagged region on the MIT push dataset's train plates:
+#: docs/realdata.md). Before issue 20 it was also 1.5 mm, chosen on the simulated recordings
+#: of seeds 1-2 without bagging (benchmarks/estimate_methods.py; docs/bench.md).
 SYSTEMATIC_ERROR = comcore.RECORDED_SYSTEMATIC_ERROR
 #: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
 BOOTSTRAP = comcore.RECORDED_BOOTSTRAP
