@@ -65,10 +65,9 @@ HELP = "estimate the CoM of your object from a mask image and a CSV of observed 
 METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 #: Probability of the posterior's credible region (printed and in the JSON).
 CREDIBLE = 0.9
-#: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes
-#: (1.5 mm, chosen with the bagged region on the MIT push dataset's train plates:
-#: docs/realdata.md). Before issue 20 it was also 1.5 mm, chosen on the simulated recordings
-#: of seeds 1-2 without bagging (benchmarks/estimate_methods.py; docs/bench.md).
+#: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes,
+#: chosen with the bagged region on the MIT push dataset's train plates (docs/realdata.md;
+#: before issue 20, on simulated recordings without bagging: docs/bench.md).
 SYSTEMATIC_ERROR = comcore.RECORDED_SYSTEMATIC_ERROR
 #: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
 BOOTSTRAP = comcore.RECORDED_BOOTSTRAP
