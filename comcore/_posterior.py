@@ -121,7 +121,8 @@ def estimate_posterior(
         a real object, shared by pushes made alike, does not average away;
         the bagged posterior widens where the pushes disagree
         (:mod:`comcore._bagging`, docs/realdata.md). The estimate ``com`` is
-        the posterior's mean either way.
+        the posterior's mean either way, and ``extras["history"]`` holds the
+        posterior's own states (push by push, not bagged).
     rng : None, int or numpy.random.Generator, optional
         Seed of the resamplings (default 0: the same region every call).
     **flat

@@ -345,6 +345,7 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
     assert result["region"]["credible_radius_px"] == pytest.approx(
         expected.extras["credible_radius_px"]
     )
+    assert result["region"]["bootstrap"] == comcore.RECORDED_BOOTSTRAP == 200
     # --bootstrap 0: the posterior's own region, not the bagged one (estimate_posterior's)
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--bootstrap", "0", "--no-overlay"]) == 0  # fmt: skip
@@ -352,9 +353,11 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
                                        credible=0.9, likelihood=floor, bootstrap=0)  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     assert result["region"]["area_px"] == int(plain.region.sum())
+    assert result["region"]["bootstrap"] == 0
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method",
                  "posterior", "--no-overlay"]) == 0  # fmt: skip
-    assert "credible region:" in capsys.readouterr().out
+    assert "credible region:" in (out := capsys.readouterr().out)
+    assert "(bagged: 200 resamplings of the pushes)" in out
 
 
 def test_the_real_entry_point_never_prints_a_traceback(files):

@@ -32,6 +32,7 @@ def region_summary(est: comcore.Estimate, resolution: float, credible: float) ->
     if "credible_radius_px" in est.extras:
         out["credible_radius_px"] = float(est.extras["credible_radius_px"])
         out["credible"] = credible
+        out["bootstrap"] = int(est.extras.get("bootstrap", 0))  # 0: the posterior's own region
     out["radius_m"] = out.get("credible_radius_px", out["radius_px"]) * resolution
     return out
 
@@ -47,9 +48,11 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
           "(check it: a wrong --resolution shows here)")  # fmt: skip
     region = result["region"]
     if "credible_radius_px" in region:
+        bagged = f" (bagged: {region['bootstrap']} resamplings of the pushes)"
         print(
             f"{100 * region['credible']:.0f} % credible region: {region['area_px']} px, radius "
             f"{region['credible_radius_px']:.2f} px = {region['radius_m'] * 1000:.1f} mm"
+            + (bagged if region.get("bootstrap") else "")
         )
     else:
         print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
