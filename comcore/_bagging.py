@@ -33,8 +33,8 @@ from ._grid import GridPosterior
 
 __all__ = ["MAX_BAG_FLOATS", "MAX_KEPT_FLOATS", "RECORDED_BOOTSTRAP", "PushLikelihoods"]
 
-#: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default
-#: (the region's 90 % boundary moves by under a pixel from one seed to another).
+#: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default (the
+#: 90 % region's radius of the MIT butter plate's 40 pushes is 8.8-9.1 mm over seeds 0-3).
 RECORDED_BOOTSTRAP = 200
 #: Floats one block of resamplings may hold at once (resamplings x tempers x hypotheses).
 MAX_BAG_FLOATS = 4_000_000
