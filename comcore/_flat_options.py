@@ -57,6 +57,11 @@ def option_groups(**flat) -> dict[str, Any]:
                 "translation_noise (pixels) was removed: pass "
                 "likelihood=comcore.Likelihood(translation_error=(metres, relative))"
             )
+        if "bootstrap" in unknown:
+            raise TypeError(
+                "bootstrap is estimate_posterior's alone (it bags a recording's region); a "
+                "session's region is its posterior's own"
+            )
         raise TypeError(f"unknown option(s) {unknown}; the options are {sorted(_GROUP_OF)}")
     out: dict[str, Any] = {}
     for keyword, cls in GROUPS.items():
