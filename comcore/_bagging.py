@@ -52,7 +52,7 @@ class PushLikelihoods:
     from every row, so memory is pushes x live hypotheses.
     """
 
-    def __init__(self, post: GridPosterior, n_pushes: int = 0):
+    def __init__(self, post: GridPosterior, n_pushes: int):
         """Refuse (naming ``bootstrap``) to keep over :data:`MAX_KEPT_FLOATS` for ``n_pushes``."""
         kept = n_pushes * post.n_tempers * post.log_w.size
         if kept > MAX_KEPT_FLOATS:

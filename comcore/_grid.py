@@ -159,10 +159,14 @@ class GridPosterior:
         """Posterior mean of the CoM (x, y) in pixels."""
         return self.marginal @ self.pixels
 
-    def covariance(self) -> np.ndarray:
-        """Posterior covariance (px^2), plus the 1/12 px^2 spread within a pixel."""
-        w = self.marginal
-        centred = self.pixels - w @ self.pixels
+    def covariance(self, weights=None) -> np.ndarray:
+        """Posterior covariance (px^2), plus the 1/12 px^2 spread within a pixel.
+
+        With ``weights`` (p,) over the same pixels (a bagged posterior's): their
+        spread about the posterior's mean, the estimate.
+        """
+        w = self.marginal if weights is None else np.asarray(weights, dtype=float)
+        centred = self.pixels - self.mean()
         return (centred * w[:, None]).T @ centred + np.eye(2) / 12.0
 
     def entropy_bits(self) -> float:

@@ -196,7 +196,7 @@ def estimate_posterior(
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
     log = PushLog(post, credible, scoring.systematic_px)
-    kept = PushLikelihoods(post, sum(usable) if bootstrap else 0)
+    kept = PushLikelihoods(post, int(sum(usable))) if bootstrap else None
     senses = SenseTally(post.log_w.shape[:2])
     gyration = gyration_px(mask)
     for i, record in enumerate(records):
@@ -211,15 +211,15 @@ def estimate_posterior(
             rotation_observed=record.rotation_observed, tracking=tracking,
         )  # fmt: skip
         log.add(record, post, loglik, excess)
-        if bootstrap:
+        if kept is not None:
             kept.add(loglik.tempered)
         _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
     used = [i for (i, r), ok in zip(given, usable) if ok and r.outcome == "evidence"]
     skipped = tuple(s._replace(index=given[s.index][0]) for s in skipped)
     check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
     status = offline_status(log.state, check)
-    bagged = None
-    if len(kept) > 1:
+    bagged = None  # one push is its own bag: the posterior's region
+    if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
     extras = {"senses": check, "skipped": skipped, "bootstrap": 0 if bagged is None else bootstrap}
     return log.estimate(mask, post, used, status, extras, marginal=bagged)

@@ -137,19 +137,14 @@ class PushLog:
         image, region_image = np.zeros(mask.shape), np.zeros(mask.shape)
         np.add.at(image, (rows, cols), post.marginal)
         np.add.at(region_image, (rows, cols), weights)
-        mean = post.mean()
-        covariance = post.covariance()
-        if marginal is not None:
-            centred = post.pixels - mean
-            covariance = (centred * np.asarray(marginal)[:, None]).T @ centred + np.eye(2) / 12
-        com = tuple(float(v) for v in mean)
+        com = tuple(float(v) for v in post.mean())
         return Estimate(
             com=com,
             com_m=mask.to_metres(com),
             region=region,
             used=tuple(used),
             status=status,
-            covariance=covariance,
+            covariance=post.covariance(marginal),
             extras={
                 **(extras or {}),
                 "posterior": image,

@@ -88,7 +88,7 @@ def test_the_bag_of_equal_weights_is_the_posterior_tempers_and_pruning_included(
     pixels, prior = mask.pixels, np.full(mask.area_px, 1.0 / mask.area_px)
     rng = np.random.default_rng(0)
     post = GridPosterior(pixels, prior, mus=[0.2, 0.5], n_models=1, n_tempers=2)
-    kept = PushLikelihoods(post)
+    kept = PushLikelihoods(post, n_pushes=3)
     for _ in range(3):
         full = rng.normal(size=post.log_w.shape) * 3
         full[rng.random(len(pixels)) < 0.2] = -np.inf  # pruned hypotheses
