@@ -24,12 +24,12 @@ EXTRA_MODULES = {
 }
 #: Modules (or folders) whose doctests need an extra, from the repository root.
 DOCTESTS_NEED = {
-    "comcore/plot.py": "plot",
+    "comcore/plot/__init__.py": "plot",
     "comcore/bench/__init__.py": "sim",
     "predictors/anp": "anp",
     "predictors/oracle.py": "sim",
     "simulators": "sim",
-    "simulators/_mujoco_robot.py": "mujoco",
+    "simulators/mujoco/_robot.py": "mujoco",
 }
 
 

@@ -21,8 +21,8 @@ from collections import defaultdict
 import numpy as np
 
 import comcore
-from comcore._regions import estimate_from_region  # no public equivalent
 from comcore.bench import TrialSpec
+from comcore.geometry._regions import estimate_from_region  # no public equivalent
 
 OBJECTS = ("Obj1", "Obj4", "Obj7", "Obj12", "Obj16", "Obj19")
 
@@ -64,12 +64,13 @@ def trials(args, n_max: int):
 
 def mean_heatmap_estimate(mask, actions, motions, threshold, length_scale):
     """Alg. 1 with the heat map divided by the local line density (not the paper's)."""
-    weight = np.exp(-np.abs(comcore.signed_line_distance(mask.pixels, actions)) / length_scale)
+    distance = comcore.geometry.signed_line_distance(mask.pixels, actions)
+    weight = np.exp(-np.abs(distance) / length_scale)
     score = weight @ np.abs(motions[:, 0]) / (weight.sum(axis=1) + 1e-3)
     lo, hi = score.min(), score.max()
     heat = np.zeros(mask.shape)
     heat[mask.data] = (score - lo) / (hi - lo) if hi > lo else 0.0
-    region = comcore.largest_component(mask.data & (heat < threshold))
+    region = comcore.geometry.largest_component(mask.data & (heat < threshold))
     return estimate_from_region(mask, region)
 
 

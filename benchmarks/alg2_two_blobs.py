@@ -36,7 +36,7 @@ def two_blocks() -> np.ndarray:
 
 def exact_motions(mask, actions, com):
     """The Voting Theorem's sense for ``com``, magnitude growing with the lever arm."""
-    con = comcore.contacts(mask, actions)
+    con = comcore.geometry.contacts(mask, actions)
     direction = actions[:, 2:] - actions[:, :2]
     sense = np.array(
         [
@@ -44,7 +44,7 @@ def exact_motions(mask, actions, com):
             for i in range(len(actions))
         ]
     )
-    lever = np.abs(comcore.signed_line_distance([com], actions)[0])
+    lever = np.abs(comcore.geometry.signed_line_distance([com], actions)[0])
     return np.column_stack([sense * GAIN * lever, np.zeros(len(actions)), np.zeros(len(actions))])
 
 
@@ -71,7 +71,7 @@ def trial(seed: int, n_pushes: int, cone: float):
         return blocks[y, x] != truth
 
     two_parts = len(np.unique(blocks[final])) > 1
-    return wrong(est.region), wrong(comcore.largest_component(final)), two_parts
+    return wrong(est.region), wrong(comcore.geometry.largest_component(final)), two_parts
 
 
 def main(argv=None) -> None:

@@ -21,9 +21,9 @@ from _masks import ellipse_mask  # this folder is on the path when run as a scri
 import comcore
 
 # Timing comcore's internal push scoring directly: no public API exposes it alone.
-from comcore._choice import sense_information
-from comcore._force_lines import force_lines
-from comcore._grid import GridPosterior
+from comcore.active._choice import sense_information
+from comcore.active._grid import GridPosterior
+from comcore.vt._force_lines import force_lines
 
 
 def median_ms(fn, repeats: int) -> float:
@@ -55,7 +55,7 @@ def main(argv=None):
 
     mask = ellipse_mask(args.pixels)
     cands = comcore.sample_pushes(mask, args.candidates, cone=0.3, rng=args.seed)
-    con = comcore.contacts(mask, cands)
+    con = comcore.geometry.contacts(mask, cands)
     direction = cands[:, 2:] - cands[:, :2]
     direction /= np.hypot(direction[:, 0], direction[:, 1])[:, None]
     mus = comcore.Likelihood().mus
@@ -74,7 +74,7 @@ def main(argv=None):
     com = np.add(mask.centroid, (7.0, -4.0))
 
     def push(action):
-        c = comcore.contacts(mask, action)
+        c = comcore.geometry.contacts(mask, action)
         sense = comcore.vt.rotation_sense(com, c.point[0], c.normal[0], action.direction, 0.4)
         return comcore.Motion(0.1 * sense, 0.0, 0.0)
 

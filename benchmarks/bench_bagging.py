@@ -7,7 +7,7 @@ Per object (``simulators.random_simulator``, low friction, seed 0) and number of
 a recording of random pushes (``comcore.sample_pushes``, cone 0.3 rad) run in the
 simulator; ``comcore.estimate_posterior`` is timed on it (wall, ``time.perf_counter``,
 and CPU, ``time.process_time``) with ``bootstrap=0`` (the posterior's own region) and
-with the default (``comcore.RECORDED_BOOTSTRAP`` resamplings), ``--repeats`` times each,
+with the default (``comcore.active.RECORDED_BOOTSTRAP`` resamplings), ``--repeats`` times each,
 alternating; the medians are printed, with what the bag adds.
 """
 
@@ -45,19 +45,19 @@ def main(argv=None) -> None:
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--model", choices=("limit-surface", "none"), default="limit-surface")
     args = p.parse_args(argv)
-    model = comcore._options.DEFAULT_MODEL if args.model == "limit-surface" else None
+    model = comcore.active._options.DEFAULT_MODEL if args.model == "limit-surface" else None
     print("| object | pushes | pixels | bootstrap=0 wall / CPU (s) | default wall / CPU (s) "
           "| the bag adds (CPU) |")
     print("| --- | --- | --- | --- | --- | --- |")
     for name in args.objects.split(","):
         for n in (int(v) for v in args.pushes.split(",")):
             mask, actions, motions = recording(name, n, args.resolution)
-            times = {0: [], comcore.RECORDED_BOOTSTRAP: []}
+            times = {0: [], comcore.active.RECORDED_BOOTSTRAP: []}
             for _ in range(args.repeats):
                 for b in times:
                     times[b].append(timed(mask, actions, motions, model=model, bootstrap=b))
             med = {b: np.median(np.asarray(t), axis=0) for b, t in times.items()}
-            plain, bagged = med[0], med[comcore.RECORDED_BOOTSTRAP]
+            plain, bagged = med[0], med[comcore.active.RECORDED_BOOTSTRAP]
             print(f"| {name} | {n} | {mask.area_px} | {plain[0]:.2f} / {plain[1]:.2f} | "
                   f"{bagged[0]:.2f} / {bagged[1]:.2f} | {bagged[1] - plain[1]:+.2f} s |")
 

@@ -23,7 +23,7 @@ def make_case(size: int, n_actions: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     actions = comcore.sample_pushes(mask, n_actions, cone=0.5, travel=0.03, rng=rng)
     com = np.array([c + 9.0, c - 5.0])
-    lever = comcore.signed_line_distance([com], actions)[0]
+    lever = comcore.geometry.signed_line_distance([com], actions)[0]
     motions = np.column_stack([0.004 * lever, np.zeros(n_actions), np.zeros(n_actions)])
     return mask, actions, motions
 

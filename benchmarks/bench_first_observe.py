@@ -44,9 +44,10 @@ def masks(rng, shape, share, resolution):
     poly = comcore.apply_motion(poly, rng.uniform(0, 2 * np.pi), (0.0, 0.0), (0.0, 0.0))
     reach = np.hypot(poly[:, 0], poly[:, 1]).max() + 20
     poly = poly + rng.uniform([reach, reach], [w - reach, h - reach])
-    first = comcore.Mask(comcore.rasterise_polygon(poly, shape), resolution=resolution)
+    first = comcore.Mask(comcore.geometry.rasterise_polygon(poly, shape), resolution=resolution)
     moved = comcore.apply_motion(poly, TURN, SHIFT, first.centroid)
-    return first, comcore.Mask(comcore.rasterise_polygon(moved, shape), resolution=resolution)
+    moved_pixels = comcore.geometry.rasterise_polygon(moved, shape)
+    return first, comcore.Mask(moved_pixels, resolution=resolution)
 
 
 def crop(first, second, pad):

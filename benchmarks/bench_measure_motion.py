@@ -52,7 +52,7 @@ def noisy(mask: comcore.Mask, flip: float, rng: np.random.Generator) -> comcore.
     data = mask.data
     edge = (data & ~ndimage.binary_erosion(data)) | (ndimage.binary_dilation(data) & ~data)
     out = ndimage.binary_fill_holes(data ^ (edge & (rng.random(data.shape) < flip)))
-    return comcore.Mask(comcore.largest_component(out), resolution=mask.resolution)
+    return comcore.Mask(comcore.geometry.largest_component(out), resolution=mask.resolution)
 
 
 def in_frame(mask: comcore.Mask, frame: tuple[int, int] | None) -> comcore.Mask:
@@ -80,7 +80,7 @@ def run(
     themselves (``frame_difference``: rounding only).
     """
     import simulators
-    from comcore._registration import _measure  # the same fit, with its diagnostics
+    from comcore.camera._registration import _measure  # the same fit, with its diagnostics
 
     rng = np.random.default_rng([seed, round(resolution * 1e6)])
     rows = []
@@ -222,7 +222,7 @@ def random_polygon(rng: np.random.Generator, size: float) -> np.ndarray:
 
 def calibrate(n: int, seed: int) -> None:
     """The figures behind OUTLINE_NOISE_PX and REFERENCE_RESIDUAL_PX, and disc visibilities."""
-    from comcore._registration import _measure
+    from comcore.camera._registration import _measure
 
     rng = np.random.default_rng(seed)
     scores, residuals, clear_errors = [], [], []
@@ -232,15 +232,15 @@ def calibrate(n: int, seed: int) -> None:
         centre = np.array([side / 2, side / 2])
         v0 = comcore.apply_motion(random_polygon(rng, size) + centre, rng.uniform(0, 2 * np.pi),
                                   (0.0, 0.0), centre)  # fmt: skip
-        img = comcore.rasterise_polygon(v0, (side, side))
-        if img.sum() < 30 or comcore.largest_component(img).sum() != img.sum():
+        img = comcore.geometry.rasterise_polygon(v0, (side, side))
+        if img.sum() < 30 or comcore.geometry.largest_component(img).sum() != img.sum():
             continue
         before = comcore.Mask(img)
         theta, shift = rng.uniform(-0.5, 0.5), rng.uniform(-5, 5, 2)
-        img = comcore.rasterise_polygon(
+        img = comcore.geometry.rasterise_polygon(
             comcore.apply_motion(v0, theta, shift, before.centroid), (side, side)
         )
-        if comcore.largest_component(img).sum() != img.sum():
+        if comcore.geometry.largest_component(img).sum() != img.sum():
             continue
         m, info = _measure(before, comcore.Mask(img))
         period = 2 * math.pi / m.symmetry
@@ -265,9 +265,10 @@ def calibrate(n: int, seed: int) -> None:
     for label, radius, aspect, k in shapes:
         t = np.arange(k) * 2 * np.pi / k + 0.37
         v0 = np.column_stack([radius * aspect * np.cos(t), radius * np.sin(t)]) + 60.0
-        before = comcore.Mask(comcore.rasterise_polygon(v0, (120, 120)))
+        before = comcore.Mask(comcore.geometry.rasterise_polygon(v0, (120, 120)))
         moved = comcore.apply_motion(v0, 0.2, (2.0, 1.0), before.centroid)
-        _, info = _measure(before, comcore.Mask(comcore.rasterise_polygon(moved, (120, 120))))
+        after = comcore.Mask(comcore.geometry.rasterise_polygon(moved, (120, 120)))
+        _, info = _measure(before, after)
         print(f"  {label}: visibility {info['visibility']:.2f}")
 
 

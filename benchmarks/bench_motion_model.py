@@ -57,7 +57,7 @@ def main(argv=None):
     parser.add_argument(
         "--pixels", type=int, default=None, help="time an ellipse of about this many pixels instead"
     )
-    parser.add_argument("--resolution", type=float, default=comcore.DEFAULT_RESOLUTION,
+    parser.add_argument("--resolution", type=float, default=comcore.conventions.DEFAULT_RESOLUTION,
                         help="camera resolution, metres per pixel (benchmark objects)")  # fmt: skip
     parser.add_argument("--pushes", type=int, default=5, help="timed pushes per mask")
     parser.add_argument("--repeats", type=int, default=3, help="fresh copies of the mask")

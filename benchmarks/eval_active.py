@@ -90,7 +90,7 @@ def run_trial(name, friction, seed, args, model):
         push,
         model=model,
         rng=np.random.default_rng([seed, 2]),
-        **comcore.option_groups(**kwargs, cone=args.cone),
+        **comcore.active.option_groups(**kwargs, cone=args.cone),
     )
     cm = 100 * sim.mask.resolution
     return {

@@ -160,11 +160,12 @@ def residuals(sim, pushes, pred, true):
     """Per push: lever (m), true and predicted theta, CoM displacement error and size (m)."""
     res = sim.mask.resolution
     com = np.asarray(sim.com_px)
-    lever = np.abs(comcore.signed_line_distance(com[None], pushes)[0]) * res
+    lever = np.abs(comcore.geometry.signed_line_distance(com[None], pushes)[0]) * res
     offset = com - np.asarray(sim.mask.centroid)
 
     def com_move(m):
-        return m[:, 1:] + comcore.rotate_vectors(np.tile(offset, (len(m), 1)), m[:, 0]) - offset
+        turned = comcore.conventions.rotate_vectors(np.tile(offset, (len(m), 1)), m[:, 0])
+        return m[:, 1:] + turned - offset
 
     moved_pred = com_move(pred)
     err = np.hypot(*(com_move(true) - moved_pred).T) * res

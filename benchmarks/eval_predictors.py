@@ -122,7 +122,7 @@ def run_trial(sim, args, rng, anp):
     fitted = EllipsoidPredictor(com=fit.com, mu_contact=fit.mu_contact, pusher_radius=radius)
     out["ellipsoid (fitted)"] = fitted.predict(mask, queries)
     if anp is not None:
-        out["anp"] = comcore.predict_motions(anp, mask, queries, priors)
+        out["anp"] = comcore.motion.predict_motions(anp, mask, queries, priors)
     trivial = EllipsoidPredictor(com=mask.centroid, pusher_radius=radius)
     out["trivial (centroid)"] = trivial.predict(mask, queries, priors)
     told = EllipsoidPredictor(com=sim.com_px, mu_contact=sim.mu_contact, pusher_radius=radius)
@@ -263,7 +263,7 @@ def main(argv=None):
                 mean_err.append(extras["com_mean_error_mm"])
                 maha.append(extras["mahalanobis"])
         print(f"{obj} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
-    resolution = comcore.DEFAULT_RESOLUTION
+    resolution = comcore.conventions.DEFAULT_RESOLUTION
     print(table(results, resolution))
     print(
         f"\nEllipsoid fit ({len(fit_s)} trials): CoM error {np.mean(com_err):.1f} mm mean, "

@@ -31,7 +31,7 @@ import time
 import numpy as np
 
 import comcore
-import comcore._goal_session as goal_session  # to time the planner's step alone
+import comcore.goal._session as goal_session  # to time the planner's step alone
 import simulators
 
 STRATEGIES = ("centroid", "estimate-first", "learn", "oracle")
@@ -108,7 +108,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
     if strategy == "centroid":
         prior = [first.centroid]
     elif strategy == "oracle":
-        prior = comcore.CoMHypotheses(
+        prior = comcore.goal.CoMHypotheses(
             np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
         )
     elif strategy == "estimate-first":

@@ -19,7 +19,7 @@ import numpy as np
 
 import comcore
 import simulators
-from comcore._pose_tracking import moved_mask  # the first mask moved to the goal pose
+from comcore.camera._pose_tracking import moved_mask  # the first mask moved to the goal pose
 
 
 def run(args):

@@ -1,6 +1,6 @@
 """The motion model's rotation error against an engine, by push travel and lever.
 
-What the goal planner's model-error term (comcore/_goal_costs.py) is fitted
+What the goal planner's model-error term (comcore/goal/_costs.py) is fitted
 on: for each benchmark object and friction class, pushes from the object's
 first pose along 8 directions at 12 offsets across it (through and around the
 true CoM), each for several travels after contact, predicted by the planner's
@@ -12,7 +12,7 @@ push line (median, 80th percentile), and the planner's form is fitted to the
 
     sigma(lever, travel) = a + b / (1 + (lever / l)^2) * (travel / 5 cm)^p
 
-Example (the fit in comcore/_goal_costs.py: seed 1, 8 objects, about 2 min)::
+Example (the fit in comcore/goal/_costs.py: seed 1, 8 objects, about 2 min)::
 
     PYTHONPATH=. python benchmarks/goal_model_error.py --seed 1 \\
         --objects Obj1 Obj5 Obj8 Obj11 Obj14 Obj15 Obj3 Obj18
@@ -28,8 +28,8 @@ from scipy.optimize import least_squares
 
 import comcore
 import simulators
-from comcore._goal_translation import _cross_offsets, line_pushes, planning_model, predict_motions
-from comcore._pose_tracking import IDENTITY
+from comcore.camera._pose_tracking import IDENTITY
+from comcore.goal._translation import _cross_offsets, line_pushes, planning_model, predict_motions
 
 LEVERS = (0.0, 0.0025, 0.005, 0.01, 0.015, 0.02, 0.03, 0.04, 0.06, 1.0)
 
@@ -42,7 +42,7 @@ def measure(name, friction, j, args):
     robot = simulators.SimulatedRobot(sim, camera_margin=0.40, engine=engine, rng=0)
     first = robot.camera_mask()
     com = np.array(robot.true_com_px())
-    hyps = comcore.CoMHypotheses(com[None], np.array([sim.mu_contact]), np.ones(1))
+    hyps = comcore.goal.CoMHypotheses(com[None], np.array([sim.mu_contact]), np.ones(1))
     directions = np.linspace(0, 2 * np.pi, args.directions, endpoint=False)
     offsets = np.stack([_cross_offsets(first, a, hyps, 7) for a in directions])
     lengths = np.asarray(args.travels) / first.resolution

@@ -35,7 +35,7 @@ def toy_case(seed: int):
     true_com = np.array([17.0, 20.0])
 
     def push(action):
-        c = comcore.contacts(mask, action)
+        c = comcore.geometry.contacts(mask, action)
         s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
         return comcore.Motion(0.1 * s, 0.0, 0.0)
 

@@ -108,7 +108,7 @@ def main_check(objects, n_pushes, seed, with_pymunk):
             mj, dt = mujoco_motions(robot, actions)
             times.append(dt)
             com = np.asarray(grid.com_px)
-            off = np.abs(comcore.signed_line_distance([com], actions)[0]) > 2.0
+            off = np.abs(comcore.geometry.signed_line_distance([com], actions)[0]) > 2.0
             for i, res in enumerate(results):
                 if res.contact_px is None or not off[i]:
                     continue

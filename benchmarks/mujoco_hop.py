@@ -22,7 +22,7 @@ import numpy as np
 
 import simulators
 from simulators import MujocoSettings
-from simulators._mujoco_scene import PARK_XY
+from simulators.mujoco._scene import PARK_XY
 
 CASES = (
     ("all contacts stiff (2 ms), 5 cm/s, dt 0.5 ms",

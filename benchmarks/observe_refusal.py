@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 import comcore
-from comcore._pose_tracking import MAX_AREA_CHANGE, MAX_RESIDUAL_PX, measure_pose
+from comcore.camera._pose_tracking import MAX_AREA_CHANGE, MAX_RESIDUAL_PX, measure_pose
 
 
 def _placed(mask: comcore.Mask, shape, centre) -> np.ndarray:

@@ -1,6 +1,6 @@
 """The runs of benchmarks/real_pushes.py: recorded pushes, their simulated twins, the estimators.
 
-One object at a time: its recorded pushes (``comcore.mit_push``), the same pushes
+One object at a time: its recorded pushes (``comcore.recordings.mit_push``), the same pushes
 through our simulators (the exact quasi-static engine and pymunk; uniform
 pressure, the object's outline, the dataset's pusher), and per world the
 estimators on all pushes, on seeded random subsets of k pushes, and the active
@@ -19,7 +19,7 @@ import numpy as np
 from scipy import ndimage
 
 import comcore
-import comcore.mit_push as mp
+import comcore.recordings.mit_push as mp
 
 #: Rotation (rad) below which a push did not turn the object (the sessions' miss threshold).
 TURNING = 0.01
@@ -66,8 +66,8 @@ def use_contacts(kind: str) -> None:
 
 def _contacts(mask, actions):
     if _contact_radius == 0:
-        return comcore.contacts(mask, actions)
-    return comcore.disc_contacts(mask, actions, _contact_radius)
+        return comcore.geometry.contacts(mask, actions)
+    return comcore.geometry.disc_contacts(mask, actions, _contact_radius)
 
 
 def load_object(
@@ -152,8 +152,8 @@ def disc_agreement(obj: ObjectPushes, known_mu: float) -> dict:
     """
     rec = obj.recording
     acts, moves = rec.actions, rec.motions
-    disc = comcore.disc_contacts(rec.mask, acts, rec.pusher_radius)
-    line = comcore.contacts(rec.mask, acts)
+    disc = comcore.geometry.disc_contacts(rec.mask, acts, rec.pusher_radius)
+    line = comcore.geometry.contacts(rec.mask, acts)
     out = {"turning": 0, "disc_known": 0, "disc_unknown": 0, "line_known": 0, "line_hits": 0}
     for i, (a, m) in enumerate(zip(acts, moves)):
         if abs(m[0]) < TURNING:

@@ -1,7 +1,7 @@
 """comcore on real pushes: the MIT push dataset's plates, beside the same pushes simulated.
 
 Per plate (the dataset's files under ``DATA/abs/*/``, outlines from ``DATA/shapes.json``):
-its recorded pushes through ``comcore.mit_push`` (each push's first ``--travel`` of
+its recorded pushes through ``comcore.recordings.mit_push`` (each push's first ``--travel`` of
 pusher travel after contact, masks at ``--resolution``), and the same pushes through
 our simulators (``exact``: the quasi-static engine; ``pymunk``), uniform pressure,
 contact friction ``--mu-contact``. Per world and motion model:
@@ -46,7 +46,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import real_push_runs as runs
 
 import comcore
-import comcore.mit_push as mp
+import comcore.recordings.mit_push as mp
 
 OBJECTS = ("rect1", "ellip1", "ellip3", "hex", "butter")
 PRESSURES3 = ("tilted", "linear", "peaked")
@@ -83,7 +83,8 @@ MODELS = {
     ),
 }
 # a floor on the CoM's error that more pushes do not average away (Likelihood.systematic_error;
-# estimate_posterior's default is comcore.RECORDED_SYSTEMATIC_ERROR, the sessions' 0): sys0 is
+# estimate_posterior's default is comcore.active.RECORDED_SYSTEMATIC_ERROR, the sessions' 0):
+# sys0 is
 # estimate_posterior before issue 20 chose that default on the train plates with these
 MODELS.update(
     {
@@ -91,7 +92,8 @@ MODELS.update(
         for mm in (0, 1, 1.5, 2, 2.5, 3, 4)
     }
 )
-# estimate_posterior's region from the posterior itself, not the bagged one (comcore._bagging):
+# estimate_posterior's region from the posterior itself, not the bagged one
+# (comcore.active._bagging):
 # before is the default before bagging (a 2 mm floor alone), sys0-nobag before issue 20
 MODELS.update(
     {

@@ -53,9 +53,9 @@ def posterior_options(options: dict) -> dict:
     radius = options.pop("pusher_radius", PUSHER_RADIUS)
     # a replay scores a session's pushes as the session did: with the sessions' floor for
     # the systematic error (0), not estimate_posterior's own for recordings (2 mm)
-    options.setdefault("systematic_error", comcore.SESSION_SYSTEMATIC_ERROR)
+    options.setdefault("systematic_error", comcore.active.SESSION_SYSTEMATIC_ERROR)
     out = {"model": None if vt else comcore.LimitSurfaceModel(pusher_radius=radius)}
-    out.update(comcore.option_groups(**options))
+    out.update(comcore.active.option_groups(**options))
     if set(out) - {"model", "likelihood"}:
         raise ValueError(f"a variant may set only the likelihood's options, got {options}")
     out["bootstrap"] = 0  # and the session's region: the posterior's own, not the bagged one

@@ -8,7 +8,7 @@ measured values printed instead of pass/fail:
   predicts the sense of rotation: the initial sense (first 3 steps) and the
   sense of the returned ``Motion`` (what estimators see), the theorem applied
   at the disc's real contact and at the point-pusher contact of
-  ``comcore.contacts``; per cone and per engine.
+  ``comcore.geometry.contacts``; per cone and per engine.
 * A push along the normal through the CoM: the largest ``|theta|`` and the travel.
 * Mirror symmetry, orientation independence, determinism, rotation growing with
   the lever arm, and the instantaneous rotation against a brute-force limit surface.
@@ -49,10 +49,11 @@ def voting_theorem(objects, cone, n, settings):
             sim = simulators.random_simulator(name, friction=friction, rng=k, settings=settings)
             actions = comcore.sample_pushes(sim.mask, n, cone=cone, rng=100 + k)
             com = np.asarray(sim.com_px)
-            actions = actions[np.abs(comcore.signed_line_distance([com], actions)[0]) > 2.0]
+            distance = comcore.geometry.signed_line_distance([com], actions)[0]
+            actions = actions[np.abs(distance) > 2.0]
             if not len(actions):
                 continue
-            point = comcore.contacts(sim.mask, actions)
+            point = comcore.geometry.contacts(sim.mask, actions)
             for i, res in enumerate(sim.push_many(actions, record=True)):
                 if res.contact_px is None:
                     continue
@@ -208,7 +209,7 @@ def main(argv=None):
             )
             print(
                 f"  {engine:11s} cone {cone:.1f}: {n} pushes; disc contact: initial sense "
-                f"{_pct(ini, n)}, returned motion {_pct(fin, n)}; comcore.contacts: "
+                f"{_pct(ini, n)}, returned motion {_pct(fin, n)}; comcore.geometry.contacts: "
                 f"initial {_pct(p_ini, n)}, returned motion {_pct(p_fin, n)}"
             )
     n, theta, lo, hi = normal_pushes(args.seeds)

@@ -1,10 +1,26 @@
 """comcore: find the centre of mass of an unknown flat object by pushing it.
 
-The core is pure numpy/scipy: value types (:class:`Mask`, :class:`Action`,
-:class:`Motion`, :class:`Estimate`), contact geometry, Mason's Voting Theorem
-(:mod:`comcore.vt`), the paper's two estimators and the :class:`Predictor`
-protocol through which motion models plug in. Conventions (pixel frame, sign of
-theta, units) are defined once, in :mod:`comcore._conventions`.
+The top level holds what a robot stack uses: the value types (:class:`Mask`,
+:class:`Action`, :class:`Motion`, :class:`Estimate`, :class:`PushRecord`), the
+errors, the active session and its option groups, the posterior over recorded
+pushes, the paper's estimators, the goal session, camera frames to masks and
+motions, recordings, and the :class:`Predictor` protocol. Everything else is public
+in the subpackage that holds it:
+
+* :mod:`comcore.conventions`: frames, signs, units and tolerances (the one place).
+* :mod:`comcore.checks`: the validators, for predictor and simulator authors.
+* :mod:`comcore.geometry`: contacts, lines, outlines, rasters, push sampling.
+* :mod:`comcore.vt`: Mason's Voting Theorem.
+* :mod:`comcore.paper`: Alg. 1 and Alg. 2.
+* :mod:`comcore.motion`: the predictor protocol and the limit-surface model.
+* :mod:`comcore.camera`: image to mask, registration, pose tracking.
+* :mod:`comcore.recordings`: recorded pushes (and ``comcore.recordings.mit_push``).
+* :mod:`comcore.active`: the active session, its likelihood, choice and stop rule.
+* :mod:`comcore.goal`: pushing to a goal pose.
+* :mod:`comcore.plot`, :mod:`comcore.cli`, :mod:`comcore.bench`: pictures, the
+  command line and the benchmark (each loads its extras when imported).
+
+``import comcore`` loads numpy and scipy only.
 
 Examples
 --------
@@ -16,89 +32,45 @@ Examples
 (10.5, 10.5)
 """
 
-from . import vt
-from ._active import estimate_active
-from ._bagging import RECORDED_BOOTSTRAP
-from ._calibrate import PowerCalibration, calibrate_model_weight
-from ._conventions import (
-    ANGLE_EPS,
-    DEFAULT_RESOLUTION,
-    LENGTH_EPS,
-    PLAUSIBLE,
-    apply_motion,
-    ccw_cross,
-    check_plausible,
-    pixel_centres,
-    quarter_turn_ccw,
-    rotate_vectors,
-    rotation_matrix,
-    rotation_sign,
-)
-from ._disc_contacts import disc_contacts
+# The subpackages, in the order of the layers (each imports only those above it).
+from . import active as active
+from . import camera as camera
+from . import checks as checks
+from . import conventions as conventions
+from . import geometry as geometry
+from . import goal as goal
+from . import motion as motion
+from . import paper as paper
+from . import recordings as recordings
+from . import vt as vt
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
-from ._flat_options import option_groups
-from ._geometry import Contacts, contacts, signed_line_distance, split_by_line
-from ._goal_session import GoalSession
-from ._goal_translation import TranslationPush, translation_push
-from ._goal_types import CoMHypotheses, Goal
-from ._heatmap import estimate_heatmap, rotation_heatmap
-from ._image import mask_from_image
-from ._limit_surface_model import LimitSurfaceModel
 from ._mask import Mask
-from ._options import (
-    RECORDED_SYSTEMATIC_ERROR,
-    SESSION_SYSTEMATIC_ERROR,
+from ._types import Action, Estimate, Motion, PushRecord
+from .active import (
+    ActiveSession,
     Likelihood,
+    PowerCalibration,
     PushChoice,
     StopRule,
+    calibrate_model_weight,
+    credible_level,
+    estimate_active,
+    estimate_posterior,
 )
-from ._outline import mask_from_outline
-from ._outline_field import OutlineField, outline_field
-from ._posterior import estimate_posterior
-from ._predictor import (
-    HypothesisPredictor,
-    Predictor,
-    check_plausible_motions,
-    check_predictor,
-    predict_motions,
-)
-from ._progressive import equality_score, estimate_progressive
-from ._raster import rasterise_polygon
-from ._recording import RecordedPush, Recording, SkippedPush, recording_from_poses
-from ._records import credible_level
-from ._regions import largest_component
-from ._registration import MotionMeasurement, measure_motion
-from ._sampling import sample_pushes
-from ._session import ActiveSession
-from ._types import Action, Estimate, Motion, PushRecord
-from ._validation import (
-    check_actions,
-    check_mask,
-    check_motions,
-    check_mu,
-    check_point,
-    check_points,
-    check_positive,
-    check_priors,
-    check_probability,
-    check_rng,
-)
+from .camera import MotionMeasurement, mask_from_image, measure_motion
+from .conventions import apply_motion
+from .geometry import mask_from_outline, sample_pushes
+from .goal import Goal, GoalSession
+from .motion import HypothesisPredictor, LimitSurfaceModel, Predictor
+from .paper import estimate_heatmap, estimate_progressive
+from .recordings import RecordedPush, Recording, SkippedPush, recording_from_poses
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "ANGLE_EPS",
-    "DEFAULT_RESOLUTION",
-    "LENGTH_EPS",
-    "PLAUSIBLE",
-    "RECORDED_BOOTSTRAP",
-    "RECORDED_SYSTEMATIC_ERROR",
-    "SESSION_SYSTEMATIC_ERROR",
     "Action",
     "ActiveSession",
-    "CoMHypotheses",
     "ComcoreError",
-    "Contacts",
     "Estimate",
     "Goal",
     "GoalSession",
@@ -109,7 +81,6 @@ __all__ = [
     "Mask",
     "Motion",
     "MotionMeasurement",
-    "OutlineField",
     "PowerCalibration",
     "Predictor",
     "PushChoice",
@@ -120,50 +91,17 @@ __all__ = [
     "SessionError",
     "SkippedPush",
     "StopRule",
-    "TranslationPush",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
-    "ccw_cross",
-    "check_actions",
-    "check_mask",
-    "check_motions",
-    "check_mu",
-    "check_plausible",
-    "check_plausible_motions",
-    "check_point",
-    "check_points",
-    "check_positive",
-    "check_predictor",
-    "check_priors",
-    "check_probability",
-    "check_rng",
-    "contacts",
     "credible_level",
-    "disc_contacts",
-    "equality_score",
     "estimate_active",
     "estimate_heatmap",
     "estimate_posterior",
     "estimate_progressive",
-    "largest_component",
     "mask_from_image",
     "mask_from_outline",
     "measure_motion",
-    "option_groups",
-    "outline_field",
-    "pixel_centres",
-    "predict_motions",
-    "quarter_turn_ccw",
-    "rasterise_polygon",
     "recording_from_poses",
-    "rotate_vectors",
-    "rotation_heatmap",
-    "rotation_matrix",
-    "rotation_sign",
     "sample_pushes",
-    "signed_line_distance",
-    "split_by_line",
-    "translation_push",
-    "vt",
 ]

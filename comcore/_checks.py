@@ -1,6 +1,6 @@
 """Low-level checks of numbers and point arrays, for the modules below the validators.
 
-:mod:`comcore._conventions` and :class:`comcore.Mask` validate their points with these;
+:mod:`comcore.conventions` and :class:`comcore.Mask` validate their points with these;
 :mod:`comcore._validation` (which imports both of them) builds the per-type validators
 on them and re-exports them. This module imports nothing of comcore.
 """

@@ -10,7 +10,6 @@ import numpy as np
 from scipy import ndimage
 
 from ._checks import check_points
-from ._conventions import DEFAULT_RESOLUTION, check_plausible
 from ._neighbourhood import (
     LocalArrays,
     Window,
@@ -19,6 +18,7 @@ from ._neighbourhood import (
     padded_crop,
     true_pixels,
 )
+from .conventions import DEFAULT_RESOLUTION, check_plausible
 
 __all__ = ["Mask"]
 
@@ -85,7 +85,7 @@ class Mask:
         read-only; numeric arrays may hold only 0 and 1.
     resolution : float, optional
         Metres per pixel (like a ROS ``OccupancyGrid``), default 2.5 mm; values
-        outside ``comcore.PLAUSIBLE["resolution"]`` (10 micrometres to 5 cm a
+        outside ``comcore.conventions.PLAUSIBLE["resolution"]`` (10 micrometres to 5 cm a
         pixel) are refused with a guess at the unit they were typed in.
 
     Examples

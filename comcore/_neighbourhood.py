@@ -167,7 +167,7 @@ class Window:
 def true_pixels(image: np.ndarray, window: Window) -> np.ndarray:
     """Centres ``(x, y)`` of ``image``'s true pixels in ``window``, whole-image coordinates.
 
-    Row-major, as ``comcore.pixel_centres(image)``: the same array when the
+    Row-major, as ``comcore.conventions.pixel_centres(image)``: the same array when the
     window holds every true pixel, at the window's cost.
 
     Examples

@@ -1,6 +1,6 @@
 """What a user sets from their robot: the believable range of each value, and the unit guess.
 
-Part of the conventions (:mod:`comcore._conventions` re-exports every name here): a value
+Part of the conventions (:mod:`comcore.conventions` re-exports every name here): a value
 in metres or radians outside its :data:`PLAUSIBLE` range is refused by
 :func:`check_plausible` with a guess at the unit it was typed in (millimetres for metres,
 degrees for radians, pixels per metre for metres per pixel).

@@ -22,9 +22,9 @@ from ._checks import (  # the low-level checks, re-exported
     check_point,
     check_points,
 )
-from ._conventions import LENGTH_EPS, check_plausible
 from ._mask import Mask
 from ._types import Action, Motion
+from .conventions import LENGTH_EPS, check_plausible
 
 __all__ = [
     "check_actions",
@@ -252,7 +252,7 @@ def check_turns(motions: np.ndarray, name: str = "motions") -> np.ndarray:
 def check_physical(value, name: str, kind: str, *, allow_zero: bool = False) -> float:
     """Validate a length (metres) or angle (radians) a user sets: positive and believable.
 
-    ``kind`` names its range in :data:`comcore.PLAUSIBLE`; outside it the
+    ``kind`` names its range in :data:`comcore.conventions.PLAUSIBLE`; outside it the
     ValueError guesses the unit it was typed in.
 
     Examples

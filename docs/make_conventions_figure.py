@@ -24,7 +24,7 @@ def main(out: Path) -> None:
     img[18:24, 8:30] = True
     mask = comcore.Mask(img)
     action = comcore.Action(2, 12, 14, 12)
-    ccw, cw = comcore.split_by_line(mask, action)
+    ccw, cw = comcore.geometry.split_by_line(mask, action)
     shown = np.ones((*img.shape, 3))
     shown[img] = (0.75, 0.75, 0.75)
     shown[ccw] = (0.65, 0.8, 1.0)

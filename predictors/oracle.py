@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
-from comcore import check_plausible_motions
+from comcore.motion import check_plausible_motions
 
 __all__ = ["OraclePredictor"]
 
@@ -59,7 +59,7 @@ class OraclePredictor:
         self.simulator = simulator
 
     def _check_mask(self, mask) -> None:
-        mask = comcore.check_mask(mask)
+        mask = comcore.checks.check_mask(mask)
         own = self.simulator.mask
         if (
             mask.shape != own.shape
@@ -74,8 +74,8 @@ class OraclePredictor:
     def predict(self, mask, actions, priors=()) -> np.ndarray:
         """Motions ``(theta, tx, ty)`` of the actions on the true object, shape (n, 3)."""
         self._check_mask(mask)
-        comcore.check_priors(priors)
-        acts = comcore.check_actions(actions)
+        comcore.checks.check_priors(priors)
+        acts = comcore.checks.check_actions(actions)
         return check_plausible_motions(self.simulator.push_motions(acts), acts, repr(self))
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
@@ -86,9 +86,9 @@ class OraclePredictor:
         numpy.ndarray, shape (n_coms, n_actions, 3)
         """
         self._check_mask(mask)
-        acts = comcore.check_actions(actions)
-        points = comcore.check_points(coms, "coms")
-        lo, hi = comcore.check_mu(mu)
+        acts = comcore.checks.check_actions(actions)
+        points = comcore.checks.check_points(coms, "coms")
+        lo, hi = comcore.checks.check_mu(mu)
         if lo != hi:
             raise ValueError(f"mu must be a single number, got {mu!r}")
         sim = self.simulator

@@ -21,9 +21,6 @@ Examples
 """
 
 from ._mass import MassDistribution, tilt_to_com
-from ._mujoco_camera import CameraSettings, homography_table_to_image, warp_to_grid
-from ._mujoco_robot import MujocoPush, MujocoRobot
-from ._mujoco_scene import MujocoSettings
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
 from ._pushes import action_from_world, normal_pushes_through_com
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
@@ -31,6 +28,9 @@ from ._robot import DEFAULT_CAMERA_MARGIN, RobotPush, SimulatedRobot
 from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
+from .mujoco._camera import CameraSettings, homography_table_to_image, warp_to_grid
+from .mujoco._robot import MujocoPush, MujocoRobot
+from .mujoco._scene import MujocoSettings
 
 # isort: split
 # Draws the simulator accepts, and a robot's errors (noisy masks, pusher paths, the camera).

@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 import comcore
-from comcore import check_point
+from comcore.checks import check_point
 
 __all__ = [
     "AcceptedPushes",
@@ -213,7 +213,7 @@ def sample_accepted_pushes(
     n = _count(n)
     mask = simulator.mask
     respond = simulator.push_motions if respond is None else respond
-    rng = comcore.check_rng(rng)
+    rng = comcore.checks.check_rng(rng)
     pushes, motions = np.empty((0, 4)), np.empty((0, 3))
     refused = 0
     for _ in range(draws):

@@ -55,7 +55,7 @@ def random_com(shape: ObjectShape, rng=None, depth_fraction: float = COM_DEPTH_F
     shapely = require_shapely()
     from shapely.ops import polylabel
 
-    rng = comcore.check_rng(rng)
+    rng = comcore.checks.check_rng(rng)
     poly = shape.polygon()
     inradius = poly.exterior.distance(polylabel(poly, tolerance=1e-5))
     min_depth = depth_fraction * inradius
@@ -75,7 +75,7 @@ def random_simulator(
     shape_or_name,
     friction="low",
     rng=None,
-    resolution: float = comcore.DEFAULT_RESOLUTION,
+    resolution: float = comcore.conventions.DEFAULT_RESOLUTION,
     **options,
 ) -> PushSimulator:
     """A simulator of one random trial on a footprint (what benchmarks draw).
@@ -113,8 +113,8 @@ def random_simulator(
             )
         lo, hi = FRICTION_CLASSES[friction]
     else:
-        lo, hi = comcore.check_mu(friction, "friction")
-    rng = comcore.check_rng(rng)
+        lo, hi = comcore.checks.check_mu(friction, "friction")
+    rng = comcore.checks.check_rng(rng)
     mu = float(rng.uniform(lo, hi))
     style = MASS_STYLES[int(rng.integers(len(MASS_STYLES)))]
     point_masses: list[tuple[float, float, float]] = []
@@ -204,7 +204,7 @@ def accepted_random_simulator(
         raise TypeError(f"attempts must be an integer, got {type(attempts).__name__}")
     if attempts < 1:
         raise ValueError(f"attempts must be >= 1, got {attempts}")
-    stream = None if callable(rng) else comcore.check_rng(rng)
+    stream = None if callable(rng) else comcore.checks.check_rng(rng)
     error: ValueError | None = None
     for attempt in range(int(attempts)):
         try:

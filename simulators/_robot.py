@@ -19,7 +19,8 @@ import numpy as np
 from scipy import ndimage
 
 import comcore
-from comcore import Action, Mask, Motion, check_positive, check_probability
+from comcore import Action, Mask, Motion
+from comcore.checks import check_positive, check_probability
 
 from ._deps import require_shapely
 from ._settings import EngineSettings
@@ -92,15 +93,15 @@ def perturb_actions(actions, offset_px, angle, retreat=None) -> np.ndarray:
     >>> perturb_actions([[0.0, 0.0, 10.0, 0.0]], [2.0], [0.0]).round(12) + 0.0
     array([[ 0., -2., 10., -2.]])
     """
-    acts = comcore.check_actions(actions)
+    acts = comcore.checks.check_actions(actions)
     start, path = acts[:, :2], acts[:, 2:] - acts[:, :2]
     n = len(acts)
     offset = np.broadcast_to(np.asarray(offset_px, float), (n,))
     turn = np.broadcast_to(np.asarray(angle, float), (n,))
     unit = path / np.linalg.norm(path, axis=1, keepdims=True)
-    normal = comcore.rotate_vectors(unit, math.pi / 2)
+    normal = comcore.conventions.rotate_vectors(unit, math.pi / 2)
     new_start = start + offset[:, None] * normal
-    new_path = comcore.rotate_vectors(path, turn)
+    new_path = comcore.conventions.rotate_vectors(path, turn)
     end = new_start + new_path
     if retreat is not None:
         new_start = retreat(new_start, new_path / np.linalg.norm(new_path, axis=1, keepdims=True))
@@ -251,7 +252,7 @@ class SimulatedRobot:
         The physics playing the world: ``"quasistatic"``, ``"pymunk"`` or full
         :class:`EngineSettings`; default the simulator's.
     rng : None, int or numpy.random.Generator, optional
-        Seed of the pusher and camera noise (:func:`comcore.check_rng`).
+        Seed of the pusher and camera noise (:func:`comcore.checks.check_rng`).
 
     Examples
     --------
@@ -313,7 +314,7 @@ class SimulatedRobot:
             mu_floor=simulator.mu_floor,
             settings=settings,
         )
-        self._rng = comcore.check_rng(rng)
+        self._rng = comcore.checks.check_rng(rng)
         self._world = tuple(float(v) for v in self.simulator.initial_pose)
         self.history: list[RobotPush] = []
         sim = self.simulator
@@ -422,7 +423,7 @@ class SimulatedRobot:
             commanded start lies inside the object as it is now (the robot is
             unchanged then).
         """
-        acts = comcore.check_actions(action, "action", allow_empty=False)
+        acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
         if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 0:

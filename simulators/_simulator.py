@@ -1,8 +1,8 @@
 """The :class:`PushSimulator`: a footprint, its mass, a camera and a push engine.
 
 The engine is the exact quasi-static limit-surface integrator
-(:mod:`simulators._quasistatic`) unless ``settings=EngineSettings(engine="pymunk")``
-asks for the pymunk rigid-body engine (:mod:`simulators._pymunk`).
+(:mod:`simulators.engines._quasistatic`) unless ``settings=EngineSettings(engine="pymunk")``
+asks for the pymunk rigid-body engine (:mod:`simulators.engines._pymunk`).
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ from comcore import Mask, Motion
 
 from ._deps import require_shapely
 from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
-from ._quasistatic import QuasiStaticEngine
 from ._settings import EngineSettings
 from ._shapes import ObjectShape, load_shape
+from .engines._quasistatic import QuasiStaticEngine
 
 __all__ = ["DEFAULT_PUSHER_RADIUS", "PushResult", "PushSimulator"]
 
@@ -88,7 +88,7 @@ class PushSimulator:
         mass: MassDistribution,
         *,
         mu_contact: float = 0.3,
-        resolution: float = comcore.DEFAULT_RESOLUTION,
+        resolution: float = comcore.conventions.DEFAULT_RESOLUTION,
         margin: float = DEFAULT_MARGIN,
         pusher_radius: float = DEFAULT_PUSHER_RADIUS,
         mu_floor: float = DEFAULT_MU_FLOOR,
@@ -98,16 +98,16 @@ class PushSimulator:
             raise TypeError(f"shape must be a simulators.ObjectShape, got {type(shape).__name__}")
         if not isinstance(mass, MassDistribution):
             raise TypeError(f"mass must be a MassDistribution, got {type(mass).__name__}")
-        lo, hi = comcore.check_mu(mu_contact, "mu_contact")
+        lo, hi = comcore.checks.check_mu(mu_contact, "mu_contact")
         if lo != hi or math.isinf(lo):
             raise ValueError(f"mu_contact must be one finite number >= 0, got {mu_contact!r}")
         self.shape = shape
         self.mass = mass
         self.mu_contact = lo
-        self.resolution = comcore.check_positive(resolution, "resolution")
-        self.margin = comcore.check_positive(margin, "margin")
-        self.pusher_radius = comcore.check_positive(pusher_radius, "pusher_radius")
-        self.mu_floor = comcore.check_positive(mu_floor, "mu_floor")
+        self.resolution = comcore.checks.check_positive(resolution, "resolution")
+        self.margin = comcore.checks.check_positive(margin, "margin")
+        self.pusher_radius = comcore.checks.check_positive(pusher_radius, "pusher_radius")
+        self.mu_floor = comcore.checks.check_positive(mu_floor, "mu_floor")
         self.settings = EngineSettings() if settings is None else settings
         if not isinstance(self.settings, EngineSettings):
             raise TypeError(f"settings must be an EngineSettings, got {type(settings).__name__}")
@@ -129,7 +129,7 @@ class PushSimulator:
         shape: ObjectShape,
         com=None,
         mu_contact: float = 0.3,
-        resolution: float = comcore.DEFAULT_RESOLUTION,
+        resolution: float = comcore.conventions.DEFAULT_RESOLUTION,
         point_masses=(),
         *,
         mass: float = 1.0,
@@ -187,7 +187,7 @@ class PushSimulator:
         ValueError
             If the points are not of shape (n, 2) or (2,), or not finite.
         """
-        p = comcore.check_points(points_m, "points_m")
+        p = comcore.checks.check_points(points_m, "points_m")
         return np.column_stack([p[:, 0] - self._origin[0], self._origin[1] - p[:, 1]]) / (
             self.resolution
         )
@@ -210,7 +210,7 @@ class PushSimulator:
         ValueError
             If the points are not of shape (n, 2) or (2,), or not finite.
         """
-        p = comcore.check_points(points_px, "points_px") * self.resolution
+        p = comcore.checks.check_points(points_px, "points_px") * self.resolution
         return np.column_stack([p[:, 0] + self._origin[0], self._origin[1] - p[:, 1]])
 
     @property
@@ -283,7 +283,7 @@ class PushSimulator:
                 f"resolution {self.resolution:g} m per pixel is too coarse for this object "
                 f"({(x_max - x_min) * 100:.3g} x {(y_max - y_min) * 100:.3g} cm): no pixel "
                 "centre falls inside it; choose a finer resolution (e.g. the default "
-                f"{comcore.DEFAULT_RESOLUTION:g} m)"
+                f"{comcore.conventions.DEFAULT_RESOLUTION:g} m)"
             )
         return Mask(inside, resolution=self.resolution)
 
@@ -307,7 +307,7 @@ class PushSimulator:
         if self.step_m != settings.step_m:
             settings = dataclasses.replace(settings, step_m=self.step_m)
         if settings.engine == "pymunk":
-            from ._pymunk import PymunkEngine
+            from .engines._pymunk import PymunkEngine
 
             return PymunkEngine(
                 self._outline_body,
@@ -373,7 +373,7 @@ class PushSimulator:
         ------
         ValueError
             If the action's start (the pusher's leading point) lies inside the
-            object's outline at the start pose, as :func:`comcore.contacts`
+            object's outline at the start pose, as :func:`comcore.geometry.contacts`
             refuses such actions; if ``pose`` is not three finite numbers; or
             if the path takes more than ``MAX_STEPS_PER_PUSH`` integration steps
             of :attr:`step_m` (100 m at the default step).
@@ -382,7 +382,7 @@ class PushSimulator:
             pusher, is not refused: the disc is lowered farther back on the
             same line.
         """
-        acts = comcore.check_actions(action, "action", allow_empty=False)
+        acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action, got {acts.shape[0]}")
         return self._push_checked(acts, pose, record, "action")[0]
@@ -392,7 +392,7 @@ class PushSimulator:
 
         Parameters and errors as for :meth:`push`; ``actions`` has shape (n, 4).
         """
-        return self._push_checked(comcore.check_actions(actions), pose, record, "actions")
+        return self._push_checked(comcore.checks.check_actions(actions), pose, record, "actions")
 
     def _push_checked(self, acts, pose, record, name) -> list[PushResult]:
         start_pose = self.initial_pose if pose is None else tuple(float(v) for v in pose)
@@ -456,7 +456,7 @@ class PushSimulator:
         >>> motions.shape, bool(np.allclose(motions[1], sim.push(actions[1]).motion))
         ((4, 3), True)
         """
-        acts = comcore.check_actions(actions)
+        acts = comcore.checks.check_actions(actions)
         self._check_lengths(acts, "actions")  # indices into the whole batch
         out = np.zeros((acts.shape[0], 3))
         for lo in range(0, acts.shape[0], BATCH_SIZE):

@@ -48,7 +48,7 @@ def synthetic_motions(
     mask: comcore.Mask, actions: np.ndarray, com, mu: float = 0.5, gain: float = 0.01
 ):
     """Toy physics: Voting-Theorem sense, magnitude growing with the lever arm."""
-    con = comcore.contacts(mask, actions)
+    con = comcore.geometry.contacts(mask, actions)
     direction = actions[:, 2:] - actions[:, :2]
     sense = np.array(
         [
@@ -56,7 +56,7 @@ def synthetic_motions(
             for i in range(len(actions))
         ]
     )
-    lever = np.abs(comcore.signed_line_distance([com], actions)[0])
+    lever = np.abs(comcore.geometry.signed_line_distance([com], actions)[0])
     unit = direction / np.hypot(*direction.T)[:, None]
     return np.column_stack([sense * gain * lever, 12 * unit[:, 0], 12 * unit[:, 1]])
 

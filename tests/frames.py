@@ -21,7 +21,7 @@ One generator for the tests (tests/test_image.py) and the benchmark
 * ``noise``: sensor noise (Gaussian, grey levels), then clipped and rounded
   to uint8.
 
-The truth is the polygon rasterised at pixel centres (``comcore.rasterise_polygon``). The reference image
+The truth is the polygon rasterised at pixel centres (``comcore.geometry.rasterise_polygon``). The reference image
 of the empty table has the same table and lighting but no object, no cast
 shadow and no frame shadow (taken with the arm away), fresh noise and an
 exposure differing by up to 2 %. Every draw takes a seed or Generator.
@@ -97,7 +97,7 @@ def _coverage(vertices: np.ndarray, box: tuple[slice, slice], samples: int = 4) 
     h, w = rows.stop - rows.start, cols.stop - cols.start
     # sub-pixel j of pixel c is centred at c + (j % samples + 0.5) / samples - 0.5
     fine = (vertices - [cols.start, rows.start] + 0.5) * samples - 0.5
-    inside = comcore.rasterise_polygon(fine, (h * samples, w * samples))
+    inside = comcore.geometry.rasterise_polygon(fine, (h * samples, w * samples))
     return inside.reshape(h, samples, w, samples).mean(axis=(1, 3))
 
 
@@ -212,7 +212,7 @@ def make_frame(
     truth = None
     if not empty:
         coverage[box] = ndimage.gaussian_filter(_coverage(poly, box), blur)
-        truth = comcore.rasterise_polygon(poly, shape)
+        truth = comcore.geometry.rasterise_polygon(poly, shape)
     shade = np.ones(shape)
     if cast_shadow and not empty:
         offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])

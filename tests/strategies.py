@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 import comcore
-from comcore import rasterise_polygon
+from comcore.geometry import rasterise_polygon
 
 
 @st.composite
@@ -25,7 +25,7 @@ def masks(draw, size=24.0):
     poly = draw(star_polygons(size=size))
     side = int(2 * size + 17)
     img = rasterise_polygon(poly, (side, side))
-    img = comcore.largest_component(img)
+    img = comcore.geometry.largest_component(img)
     from hypothesis import assume
 
     assume(img.sum() >= 200)
@@ -57,12 +57,12 @@ def moved_polygon_masks(draw, size=22.0):
     side = int(2 * size + 40)
     poly = poly + 12.0  # room for the motion inside the image
     before_img = rasterise_polygon(poly, (side, side))
-    assume(before_img.sum() >= 300 and comcore.largest_component(before_img).sum() == before_img.sum())
+    assume(before_img.sum() >= 300 and comcore.geometry.largest_component(before_img).sum() == before_img.sum())
     before = comcore.Mask(before_img, resolution=0.0025)
     truth = comcore.Motion(draw(small_rotations), draw(small_shifts), draw(small_shifts))
     moved = comcore.apply_motion(poly, truth.theta, (truth.tx, truth.ty), before.centroid)
     after_img = rasterise_polygon(moved, (side, side))
-    assume(comcore.largest_component(after_img).sum() == after_img.sum())
+    assume(comcore.geometry.largest_component(after_img).sum() == after_img.sum())
     for img in (before_img, after_img):
         assume(not (img[0].any() or img[-1].any() or img[:, 0].any() or img[:, -1].any()))
     return before, comcore.Mask(after_img, resolution=0.0025), truth

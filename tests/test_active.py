@@ -1,4 +1,4 @@
-"""Tests of comcore.estimate_active and its parts (comcore/_active.py, _grid.py, _choice.py)."""
+"""Tests of comcore.estimate_active and its parts (comcore/active/_blocking.py, _grid.py, _choice.py)."""
 
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
-from comcore._choice import binary_entropy, sense_information
-from comcore._force_lines import force_line_distances as line_distances
-from comcore._force_lines import force_lines, side_probability
-from comcore._grid import GridPosterior
+from comcore.active._choice import binary_entropy, sense_information
+from comcore.active._grid import GridPosterior
+from comcore.vt._force_lines import force_line_distances as line_distances
+from comcore.vt._force_lines import force_lines, side_probability
 
 from .records import actions_of, motions_of
 from .scripts import run_script
@@ -42,14 +42,14 @@ class ToyModel:
         self.length = length
 
     def predict_hypotheses(self, mask, actions, coms, mu):
-        acts = comcore.check_actions(actions)
+        acts = comcore.checks.check_actions(actions)
         coms = np.asarray(coms, dtype=float)
-        con = comcore.contacts(mask, acts)
+        con = comcore.geometry.contacts(mask, acts)
         out = np.zeros((len(coms), len(acts), 3))
         for j, a in enumerate(acts):
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
             sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
-            lever = comcore.signed_line_distance(coms, a[None])[:, 0]
+            lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0]
             theta = sense * 0.4 * np.tanh(np.abs(lever) / self.length)
             out[:, j, 0] = theta
             out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
@@ -89,7 +89,7 @@ def _posterior_at(estimate, com):
 def test_force_line_side_is_the_voting_theorem_sense(com, normal_angle, beta, mu):
     """The side of the force line is the sense comcore.vt.rotation_sense votes."""
     normal = np.array([np.cos(normal_angle), np.sin(normal_angle)])
-    push_dir = comcore.rotate_vectors(normal[None], beta)[0]
+    push_dir = comcore.conventions.rotate_vectors(normal[None], beta)[0]
     lines = force_lines(np.zeros((1, 2)), normal[None], push_dir[None], np.array([np.arctan(mu)]))
     d = line_distances(np.array([com]), lines)[0, 0, 0]
     if abs(d) > 1e-6:
@@ -101,7 +101,7 @@ def test_sense_information_equals_brute_force():
     mask = _ell()
     rng = np.random.default_rng(3)
     cands = comcore.sample_pushes(mask, 40, cone=0.4, rng=rng)
-    con = comcore.contacts(mask, cands)
+    con = comcore.geometry.contacts(mask, cands)
     direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
     alphas = np.linspace(0.05, 1.0, 5)
     lines = force_lines(con.point, con.normal, direction, alphas)
@@ -118,13 +118,13 @@ def test_sense_information_equals_brute_force():
 
 def test_scoring_on_blocks_picks_what_the_full_grid_picks(monkeypatch):
     """Large masks are scored on 2x2 blocks: the choice and the gains barely change."""
-    import comcore._choice as posterior
+    import comcore.active._choice as posterior
 
     yy, xx = np.mgrid[:90, :110]
     mask = comcore.Mask(((xx - 55) / 50) ** 2 + ((yy - 45) / 40) ** 2 < 1)
     rng = np.random.default_rng(4)
     cands = comcore.sample_pushes(mask, 80, cone=0.4, rng=rng)
-    con = comcore.contacts(mask, cands)
+    con = comcore.geometry.contacts(mask, cands)
     direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
     lines = force_lines(con.point, con.normal, direction, np.linspace(0.05, 1.0, 4))
     centre = mask.pixels[rng.integers(mask.area_px)]
@@ -167,7 +167,7 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     push = _robot(mask, com, mu)
     est = comcore.estimate_active(mask, push, rng=seed, model=None, pusher_radius=0.0, stop=comcore.StopRule(max_pushes=5), choice=comcore.PushChoice(cone=0.0), likelihood=comcore.Likelihood(mu=mu))
     acts = actions_of(est)
-    con = comcore.contacts(mask, acts)
+    con = comcore.geometry.contacts(mask, acts)
     direction = (acts[:, 2:] - acts[:, :2]) / np.hypot(*(acts[:, 2:] - acts[:, :2]).T)[:, None]
     lines = force_lines(con.point, con.normal, direction, np.array([np.arctan(mu)]))
     distance = np.abs(line_distances(np.array([com]), lines)[0, :, 0])
@@ -395,7 +395,7 @@ def test_bad_arguments_are_named(kwargs, error, match):
     mask = _plate()
     own = {k: v for k, v in kwargs.items() if k in ("model", "candidates", "prior", "credible")}
     with pytest.raises(error, match=match):
-        grouped = comcore.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        grouped = comcore.active.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **own, **grouped)
 
 
@@ -500,7 +500,7 @@ def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
 
     mask = _plate()
     cands = comcore.sample_pushes(mask, 30, rng=2)
-    con = comcore.contacts(mask, cands)
+    con = comcore.geometry.contacts(mask, cands)
     direction = (cands[:, 2:] - cands[:, :2]) / np.hypot(*(cands[:, 2:] - cands[:, :2]).T)[:, None]
     lines = force_lines(con.point, con.normal, direction, np.array([0.3]))
     weights = np.full((mask.area_px, 1), 1.0 / mask.area_px)
@@ -525,14 +525,14 @@ class PhysicalToy:
     """ToyModel in metres: |theta| grows over 2 cm of lever arm, the centroid moves 3 cm."""
 
     def predict_hypotheses(self, mask, actions, coms, mu):
-        acts = comcore.check_actions(actions)
+        acts = comcore.checks.check_actions(actions)
         coms = np.asarray(coms, dtype=float)
-        con = comcore.contacts(mask, acts)
+        con = comcore.geometry.contacts(mask, acts)
         out = np.zeros((len(coms), len(acts), 3))
         for j, a in enumerate(acts):
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
             sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
-            lever = comcore.signed_line_distance(coms, a[None])[:, 0] * mask.resolution
+            lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0] * mask.resolution
             theta = sense * 0.4 * np.tanh(np.abs(lever) / 0.02)
             out[:, j, 0] = theta
             out[:, j, 1:] = 0.03 / mask.resolution * direction * (1 - np.abs(theta))[:, None]
@@ -576,7 +576,7 @@ def test_default_candidates_push_travel_metres_past_first_contact():
     for travel in (0.03, 0.05):
         session = comcore.ActiveSession(mask, model=None, rng=0, choice=comcore.PushChoice(travel=travel))
         actions = np.array([tuple(session.next_push())])
-        contact = comcore.contacts(mask, actions).point[0]
+        contact = comcore.geometry.contacts(mask, actions).point[0]
         past = np.hypot(*(actions[0, 2:] - contact)) * mask.resolution
         assert past == pytest.approx(travel, abs=mask.resolution)
     with pytest.raises(TypeError, match="chooses no pushes"):
@@ -656,8 +656,8 @@ def test_model_none_is_the_voting_theorem_alone():
 
 
 def test_the_pusher_offset_nodes_straddle_the_planned_push():
-    from comcore._likelihood import Scoring
-    from comcore._likelihood_motion import pusher_nodes
+    from comcore.active._likelihood import Scoring
+    from comcore.active._motion_term import pusher_nodes
 
     mask = _plate()
     action = np.array([0.0, 20.0, 30.0, 20.0])

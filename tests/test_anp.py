@@ -94,7 +94,7 @@ def test_shapes_and_protocol(scene):
     mask, queries, priors = scene
     anp = tiny_predictor()
     assert isinstance(anp, comcore.Predictor)
-    assert comcore.predict_motions(anp, mask, queries, priors).shape == (12, 3)
+    assert comcore.motion.predict_motions(anp, mask, queries, priors).shape == (12, 3)
     mean, var = anp.predict_distribution(mask, queries, priors, n_samples=4, rng=0)
     assert mean.shape == var.shape == (12, 3) and (var > 0).all()
     assert anp.predict(mask, queries[:1]).shape == (1, 3)  # zero priors
@@ -289,7 +289,7 @@ def test_weights_with_one_exponent_bit_flipped_predict_no_impossible_motion(tmp_
     with pytest.raises(ValueError, match=message):
         anp.predict(mask, pushes, priors)
     with pytest.raises(ValueError, match=message):  # where predictions enter the core
-        comcore.predict_motions(anp, mask, pushes, priors)
+        comcore.motion.predict_motions(anp, mask, pushes, priors)
     assert np.abs(AnpPredictor().predict(mask, pushes, priors)[:, 0]).max() < np.pi
 
 
@@ -522,7 +522,7 @@ def test_simulated_episodes_are_seeded_and_in_comcore_conventions():
     assert actions.shape == (4, 4) and motions.shape == (4, 3) and 0.5 <= mu <= 0.9
     mask = comcore.Mask(mask_data, resolution)
     assert mask.contains([com])[0]
-    assert comcore.contacts(mask, actions).hit.all()
+    assert comcore.geometry.contacts(mask, actions).hit.all()
     # the pushes move the centroid forward, along the push
     direction = actions[:, 2:] - actions[:, :2]
     assert (np.einsum("ij,ij->i", motions[:, 1:], direction) > 0).all()

@@ -245,7 +245,7 @@ def test_help_shows_the_defaults_and_the_unit(capsys):
     with pytest.raises(SystemExit):
         main(["estimate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert f"METRES per pixel (default {comcore.DEFAULT_RESOLUTION:g} m" in text
+    assert f"METRES per pixel (default {comcore.conventions.DEFAULT_RESOLUTION:g} m" in text
     assert "[1e-05, 0.05] are refused" in text
     assert "estimator (default posterior)" in text and "(default auto:" in text
 
@@ -345,7 +345,7 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
     assert result["region"]["credible_radius_px"] == pytest.approx(
         expected.extras["credible_radius_px"]
     )
-    assert result["region"]["bootstrap"] == comcore.RECORDED_BOOTSTRAP == 200
+    assert result["region"]["bootstrap"] == comcore.active.RECORDED_BOOTSTRAP == 200
     # --bootstrap 0: the posterior's own region, not the bagged one (estimate_posterior's)
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--bootstrap", "0", "--no-overlay"]) == 0  # fmt: skip

@@ -60,8 +60,8 @@ def test_translation_is_applied_after_rotation():
 
 def test_rotation_matrix_is_a_rotation_and_composes():
     a, b = 0.3, -1.1
-    ra, rb = comcore.rotation_matrix(a), comcore.rotation_matrix(b)
-    assert np.allclose(ra @ rb, comcore.rotation_matrix(a + b))
+    ra, rb = comcore.conventions.rotation_matrix(a), comcore.conventions.rotation_matrix(b)
+    assert np.allclose(ra @ rb, comcore.conventions.rotation_matrix(a + b))
     assert np.isclose(np.linalg.det(ra), 1.0)
 
 
@@ -69,24 +69,24 @@ def test_rotate_vectors_agrees_with_rotation_matrix():
     rng = np.random.default_rng(0)
     v = rng.normal(size=(5, 2))
     t = rng.uniform(-3, 3, size=5)
-    expected = np.array([comcore.rotation_matrix(ti) @ vi for ti, vi in zip(t, v)])
-    assert np.allclose(comcore.rotate_vectors(v, t), expected)
+    expected = np.array([comcore.conventions.rotation_matrix(ti) @ vi for ti, vi in zip(t, v)])
+    assert np.allclose(comcore.conventions.rotate_vectors(v, t), expected)
 
 
 def test_ccw_cross_sign_matches_rotation_direction():
     # Turning +x by a small CCW angle: the moment of the turned vector is positive.
-    v = comcore.rotate_vectors([[1.0, 0.0]], 0.1)[0]
-    assert comcore.ccw_cross([1.0, 0.0], v) > 0
+    v = comcore.conventions.rotate_vectors([[1.0, 0.0]], 0.1)[0]
+    assert comcore.conventions.ccw_cross([1.0, 0.0], v) > 0
 
 
 def test_rotation_sign():
-    assert comcore.rotation_sign([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
+    assert comcore.conventions.rotation_sign([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
 
 
 def test_quarter_turn_is_exact_and_agrees_with_rotate_vectors():
     v = np.array([[1.0, 0.0], [0.3, -2.0]])
-    assert comcore.quarter_turn_ccw(v).tolist() == [[0.0, -1.0], [-2.0, -0.3]]
-    assert np.allclose(comcore.quarter_turn_ccw(v), comcore.rotate_vectors(v, np.pi / 2))
+    assert comcore.conventions.quarter_turn_ccw(v).tolist() == [[0.0, -1.0], [-2.0, -0.3]]
+    assert np.allclose(comcore.conventions.quarter_turn_ccw(v), comcore.conventions.rotate_vectors(v, np.pi / 2))
 
 
 def test_apply_motion_keeps_the_shape_of_one_point():
@@ -117,21 +117,21 @@ def test_apply_motion_rejects_bad_input(args, error, match):
     ("call", "error", "match"),
     [
         # [1, 2, 3] used to come back as a 2-vector built from its first two numbers.
-        (lambda: comcore.rotate_vectors([1, 2, 3], 0.1), ValueError, r"vectors must have shape"),
-        (lambda: comcore.rotate_vectors([[1, 0]], np.nan), ValueError, "theta must be finite"),
-        (lambda: comcore.rotate_vectors([[1, 0]] * 3, [0.1, 0.2]), ValueError, "theta must broad"),
-        (lambda: comcore.rotate_vectors("ab", 0.1), TypeError, "vectors must be array_like"),
+        (lambda: comcore.conventions.rotate_vectors([1, 2, 3], 0.1), ValueError, r"vectors must have shape"),
+        (lambda: comcore.conventions.rotate_vectors([[1, 0]], np.nan), ValueError, "theta must be finite"),
+        (lambda: comcore.conventions.rotate_vectors([[1, 0]] * 3, [0.1, 0.2]), ValueError, "theta must broad"),
+        (lambda: comcore.conventions.rotate_vectors("ab", 0.1), TypeError, "vectors must be array_like"),
         # used to return -0.0 from the first two numbers of a 3-vector
-        (lambda: comcore.ccw_cross([1, 2, 3], [1, 2]), ValueError, r"a must have shape"),
-        (lambda: comcore.ccw_cross([1, 2], [[1, 2, 3]]), ValueError, r"b must have shape"),
-        (lambda: comcore.ccw_cross([[1, 2]] * 3, [[1, 2]] * 2), ValueError, "must broadcast"),
-        (lambda: comcore.ccw_cross("ab", [1, 2]), TypeError, "a must be array_like"),
-        (lambda: comcore.ccw_cross([np.inf, 0], [1, 2]), ValueError, "a must be finite"),
+        (lambda: comcore.conventions.ccw_cross([1, 2, 3], [1, 2]), ValueError, r"a must have shape"),
+        (lambda: comcore.conventions.ccw_cross([1, 2], [[1, 2, 3]]), ValueError, r"b must have shape"),
+        (lambda: comcore.conventions.ccw_cross([[1, 2]] * 3, [[1, 2]] * 2), ValueError, "must broadcast"),
+        (lambda: comcore.conventions.ccw_cross("ab", [1, 2]), TypeError, "a must be array_like"),
+        (lambda: comcore.conventions.ccw_cross([np.inf, 0], [1, 2]), ValueError, "a must be finite"),
         # used to return -9223372036854775808 (NaN cast to int)
-        (lambda: comcore.rotation_sign([np.nan]), ValueError, "theta must be finite"),
-        (lambda: comcore.rotation_sign(["x"]), TypeError, "theta must be array_like"),
-        (lambda: comcore.rotation_sign([0.1], tol=-1), ValueError, "tol must be a finite"),
-        (lambda: comcore.rotation_sign([0.1], tol="0"), TypeError, "tol must be a number"),
+        (lambda: comcore.conventions.rotation_sign([np.nan]), ValueError, "theta must be finite"),
+        (lambda: comcore.conventions.rotation_sign(["x"]), TypeError, "theta must be array_like"),
+        (lambda: comcore.conventions.rotation_sign([0.1], tol=-1), ValueError, "tol must be a finite"),
+        (lambda: comcore.conventions.rotation_sign([0.1], tol="0"), TypeError, "tol must be a number"),
     ],
 )
 def test_convention_helpers_reject_bad_input(call, error, match):
@@ -140,32 +140,32 @@ def test_convention_helpers_reject_bad_input(call, error, match):
 
 
 def test_convention_helpers_still_broadcast():
-    assert comcore.ccw_cross([[1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).tolist() == [-1.0, -0.0]
-    assert comcore.rotate_vectors(np.zeros((2, 3, 2)), np.zeros(3)).shape == (2, 3, 2)
-    assert comcore.rotation_sign(0.5).shape == ()
+    assert comcore.conventions.ccw_cross([[1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).tolist() == [-1.0, -0.0]
+    assert comcore.conventions.rotate_vectors(np.zeros((2, 3, 2)), np.zeros(3)).shape == (2, 3, 2)
+    assert comcore.conventions.rotation_sign(0.5).shape == ()
 
 
 @pytest.mark.parametrize("theta", [np.nan, np.inf, -np.inf])
 def test_rotation_matrix_refuses_an_angle_that_is_not_finite(theta):
     # It used to return a matrix of NaN that spread through every point it turned.
     with pytest.raises(ValueError, match="theta must be a finite angle in radians, got"):
-        comcore.rotation_matrix(theta)
+        comcore.conventions.rotation_matrix(theta)
 
 
 def test_rotation_matrix_takes_one_angle():
     with pytest.raises(ValueError, match=r"one angle in radians, got shape \(2,\)"):
-        comcore.rotation_matrix([0.1, 0.2])
+        comcore.conventions.rotation_matrix([0.1, 0.2])
     with pytest.raises(TypeError, match="theta must be an angle in radians, got str"):
-        comcore.rotation_matrix("0.1")
-    assert np.allclose(comcore.rotation_matrix(np.float32(0.0)), np.eye(2))
+        comcore.conventions.rotation_matrix("0.1")
+    assert np.allclose(comcore.conventions.rotation_matrix(np.float32(0.0)), np.eye(2))
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
 def test_quarter_turn_ccw_refuses_vectors_that_are_not_finite(bad):
     with pytest.raises(ValueError, match=r"finite pixel vectors \(x, y\); vector 2 is"):
-        comcore.quarter_turn_ccw([[1.0, 0.0], [0.0, 1.0], [bad, 3.0]])
+        comcore.conventions.quarter_turn_ccw([[1.0, 0.0], [0.0, 1.0], [bad, 3.0]])
     with pytest.raises(ValueError, match=r"shape \(\.\.\., 2\), got \(3,\)"):
-        comcore.quarter_turn_ccw([1.0, 2.0, 3.0])
+        comcore.conventions.quarter_turn_ccw([1.0, 2.0, 3.0])
 
 
 @pytest.mark.parametrize("radius", [0.001, 0.004, 0.01])

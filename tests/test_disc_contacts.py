@@ -11,8 +11,8 @@ HEAD_ON = [(0.0, 20.0, 30.0, 20.0), (25.0, 60.0, 25.0, 30.0), (45.0, 33.0, 20.0,
 
 
 def test_the_grazing_push_is_the_one_the_line_misses_and_the_disc_hits(square_mask):
-    assert not comcore.contacts(square_mask, [GRAZING]).hit[0]
-    assert comcore.disc_contacts(square_mask, [GRAZING], RADIUS).hit[0]
+    assert not comcore.geometry.contacts(square_mask, [GRAZING]).hit[0]
+    assert comcore.geometry.disc_contacts(square_mask, [GRAZING], RADIUS).hit[0]
 
 
 def test_the_posterior_keeps_a_grazing_push_with_the_disc_and_reports_one_that_starts_inside(

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore import outline_field
+from comcore.geometry import outline_field
 from predictors import EllipsoidFit, EllipsoidPredictor
-from predictors._ellipsoid_model import body_twist
-from predictors._ellipsoid_support import (
+from predictors.ellipsoid._model import body_twist
+from predictors.ellipsoid._support import (
     _characteristic_length_sq,
     _tilted_weights,
     characteristic_length_sq,
@@ -54,7 +54,7 @@ def test_oblique_push_through_com_while_sticking_does_not_rotate():
     r = rng.normal(size=(100, 2)) * 10
     normal = -r / np.linalg.norm(r, axis=1, keepdims=True)  # contact facing the CoM
     u = -r / np.linalg.norm(r, axis=1, keepdims=True)  # along the line through the CoM
-    _, omega, sticking = body_twist(r, comcore.rotate_vectors(normal, 0.3), u, 25.0, np.inf)
+    _, omega, sticking = body_twist(r, comcore.conventions.rotate_vectors(normal, 0.3), u, 25.0, np.inf)
     assert sticking.all()
     assert np.abs(omega).max() < 1e-12
 
@@ -65,7 +65,7 @@ def test_sticking_matches_lynch_closed_form():
     n = 200
     r = rng.uniform(-15, 15, (n, 2))
     normal = np.column_stack([np.cos(a := rng.uniform(0, 2 * np.pi, n)), np.sin(a)])
-    u = comcore.rotate_vectors(normal, rng.uniform(-0.6, 0.6, n))
+    u = comcore.conventions.rotate_vectors(normal, rng.uniform(-0.6, 0.6, n))
     c2 = rng.uniform(20, 100, n)
     v, omega, sticking = body_twist(r, normal, u, c2, np.inf)
     assert sticking.all()
@@ -87,8 +87,8 @@ def test_sliding_contact_obeys_coulomb_and_the_normal_constraint():
     rng = np.random.default_rng(2)
     n = 400
     r = rng.uniform(-15, 15, (n, 2))
-    normal = comcore.rotate_vectors([[1.0, 0.0]], rng.uniform(0, 2 * np.pi, n))
-    u = comcore.rotate_vectors(normal, rng.uniform(-1.4, 1.4, n))
+    normal = comcore.conventions.rotate_vectors([[1.0, 0.0]], rng.uniform(0, 2 * np.pi, n))
+    u = comcore.conventions.rotate_vectors(normal, rng.uniform(-1.4, 1.4, n))
     mu = 0.2
     v, omega, sticking = body_twist(r, normal, u, 40.0, mu)
     assert 0.1 < sticking.mean() < 0.9  # both regimes are exercised
@@ -101,12 +101,12 @@ def test_sliding_contact_obeys_coulomb_and_the_normal_constraint():
     cos_f = np.sum(f * normal[slide], axis=1)
     np.testing.assert_allclose(cos_f, 1 / np.hypot(1, mu), atol=1e-9)
     # ... on the side towards which the pusher slips over the object.
-    slip = comcore.ccw_cross(normal[slide], u[slide] - vc[slide])
-    assert np.all(np.sign(slip) == np.sign(comcore.ccw_cross(normal[slide], f)))
+    slip = comcore.conventions.ccw_cross(normal[slide], u[slide] - vc[slide])
+    assert np.all(np.sign(slip) == np.sign(comcore.conventions.ccw_cross(normal[slide], f)))
     # and the rotation follows the ellipsoid: omega / |v| = moment / c^2.
     np.testing.assert_allclose(
         omega[slide] / np.linalg.norm(v[slide], axis=1),
-        comcore.ccw_cross(r[slide], f) / 40.0,
+        comcore.conventions.ccw_cross(r[slide], f) / 40.0,
         atol=1e-9,
     )
 
@@ -115,7 +115,7 @@ def test_sliding_contact_obeys_coulomb_and_the_normal_constraint():
 def test_instantaneous_sense_is_the_voting_theorem(blob, mu):
     rng = np.random.default_rng(3)
     acts = comcore.sample_pushes(blob, 40, cone=0.7, rng=4)
-    con = comcore.contacts(blob, acts)
+    con = comcore.geometry.contacts(blob, acts)
     coms = blob.pixels[rng.choice(blob.area_px, 200, replace=False)]
     c2 = characteristic_length_sq(blob, coms)
     for i in range(len(acts)):
@@ -123,7 +123,7 @@ def test_instantaneous_sense_is_the_voting_theorem(blob, mu):
         _, omega, _ = body_twist(con.point[i] - coms, con.normal[i], push, c2, mu)
         sense = comcore.vt.rotation_sense(coms, con.point[i], con.normal[i], push, mu)
         # CoMs on the push line itself are round-off ties for both.
-        off_line = np.abs(comcore.ccw_cross(con.point[i] - coms, push)) > 1e-9
+        off_line = np.abs(comcore.conventions.ccw_cross(con.point[i] - coms, push)) > 1e-9
         np.testing.assert_array_equal(np.sign(omega)[off_line], sense[off_line])
 
 
@@ -134,20 +134,20 @@ def test_integrated_sense_agrees_with_voting_theorem_away_from_its_lines():
     mu = 0.3
     rng = np.random.default_rng(5)
     acts = comcore.sample_pushes(blob, 40, cone=0.7, rng=6)
-    con = comcore.contacts(blob, acts)
+    con = comcore.geometry.contacts(blob, acts)
     coms = blob.pixels[rng.choice(blob.area_px, 150, replace=False)]
     theta = EllipsoidPredictor().predict_hypotheses(blob, acts, coms, mu)[..., 0]
     agree, total = 0, 0
     for i in range(len(acts)):
         push = acts[i, 2:] - acts[i, :2]
         sense = comcore.vt.rotation_sense(coms, con.point[i], con.normal[i], push, mu)
-        rays = comcore.rotate_vectors(
+        rays = comcore.conventions.rotate_vectors(
             np.tile(con.normal[i], (2, 1)), [np.arctan(mu), -np.arctan(mu)]
         )
         rays = np.vstack([rays, push / np.linalg.norm(push)])
-        margin = np.abs(comcore.ccw_cross((coms - con.point[i])[:, None, :], rays)).min(axis=1)
+        margin = np.abs(comcore.conventions.ccw_cross((coms - con.point[i])[:, None, :], rays)).min(axis=1)
         sel = (margin > 2.0) & (np.abs(theta[:, i]) > np.radians(1.0))
-        agree += int((comcore.rotation_sign(theta[sel, i]) == sense[sel]).sum())
+        agree += int((comcore.conventions.rotation_sign(theta[sel, i]) == sense[sel]).sum())
         total += int(sel.sum())
     assert total > 3000
     assert agree / total >= 0.99
@@ -160,7 +160,7 @@ def test_contact_sticks_to_the_pusher_and_motion_moves_the_area_centroid():
     acts = np.array([[0.0, 14.0, 20.0, 14.0], [0.0, 26.0, 14.0, 22.0], [20.0, 0.0, 24.0, 20.0]])
     out = EllipsoidPredictor(com=com, mu_contact=np.inf, n_steps=200).predict(mask, acts)
     assert np.abs(out[:, 0]).min() > 0.05
-    con = comcore.contacts(mask, acts)
+    con = comcore.geometry.contacts(mask, acts)
     for i in range(len(acts)):
         moved = comcore.apply_motion(con.point[i], out[i, 0], out[i, 1:], mask.centroid)
         assert np.linalg.norm(moved - acts[i, 2:]) < 0.35
@@ -276,7 +276,7 @@ def test_is_a_predictor_and_a_hypothesis_predictor(blob):
     p = EllipsoidPredictor(com=blob.centroid, mu_contact=0.3)
     assert isinstance(p, comcore.Predictor)
     assert isinstance(p, comcore.HypothesisPredictor)
-    out = comcore.predict_motions(p, blob, comcore.sample_pushes(blob, 3, rng=0))
+    out = comcore.motion.predict_motions(p, blob, comcore.sample_pushes(blob, 3, rng=0))
     assert out.shape == (3, 3)
 
 

@@ -1,4 +1,4 @@
-"""comcore.translation_push, comcore.Goal and comcore.GoalSession."""
+"""comcore.goal.translation_push, comcore.Goal and comcore.GoalSession."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ def _plate():
 
 
 def _line_distance(action, point) -> float:
-    return abs(float(comcore.signed_line_distance(np.array([point]), np.array([action]))[0, 0]))
+    return abs(float(comcore.geometry.signed_line_distance(np.array([point]), np.array([action]))[0, 0]))
 
 
 # -- the primitive ------------------------------------------------------------------------
@@ -29,7 +29,7 @@ def _line_distance(action, point) -> float:
 def test_translation_push_passes_near_the_com_and_barely_turns(direction):
     mask = _plate()
     com = (50.0, 48.0)  # 4.5 px left of and 3.5 px below the centroid
-    push = comcore.translation_push(mask, [com], direction, 0.03, n_offsets=11)
+    push = comcore.goal.translation_push(mask, [com], direction, 0.03, n_offsets=11)
     assert _line_distance(push.action, com) < 1.5
     assert abs(push.expected_rotation) < 0.01 and push.rotation_spread < 1e-9
     unit = np.array([math.cos(direction), math.sin(direction)])
@@ -39,9 +39,9 @@ def test_translation_push_passes_near_the_com_and_barely_turns(direction):
 
 def test_translation_push_spread_grows_with_a_wide_posterior():
     mask = _plate()
-    narrow = comcore.translation_push(mask, [(54.0, 46.0)], 0.0, 0.03, n_offsets=9)
+    narrow = comcore.goal.translation_push(mask, [(54.0, 46.0)], 0.0, 0.03, n_offsets=9)
     coms = np.array([(54.0, y) for y in np.linspace(38.0, 54.0, 9)])
-    wide = comcore.translation_push(mask, coms, 0.0, 0.03, n_offsets=9)
+    wide = comcore.goal.translation_push(mask, coms, 0.0, 0.03, n_offsets=9)
     assert wide.rotation_spread > 0.02 > narrow.rotation_spread
     # and the line goes through the middle of the wide posterior, where its spread is least
     assert _line_distance(wide.action, (54.0, 46.0)) < 2.5
@@ -53,7 +53,7 @@ def test_translation_push_takes_an_estimate_and_a_pose():
         mask, [(0, 44, 60, 44), (54, 0, 54, 60)], [(-0.2, 3, 0), (0.2, 0, 3)], model=None
     )
     pose = comcore.Motion(math.pi / 2, 5.0, 0.0)  # the plate turned a quarter turn
-    push = comcore.translation_push(mask, est, 0.0, 0.02, pose=pose, n_offsets=5)
+    push = comcore.goal.translation_push(mask, est, 0.0, 0.02, pose=pose, n_offsets=5)
     assert np.allclose(push.action.direction, (1.0, 0.0))
     # in the object's frame the push runs up the first mask (-y), through the estimate
     moved = comcore.apply_motion([est.com], pose.theta, pose[1:], mask.centroid)[0]
@@ -64,14 +64,14 @@ def test_translation_push_refuses_bad_arguments_and_mutates_nothing():
     mask = _plate()
     coms = np.array([[54.0, 44.0], [55.0, 45.0]])
     kept = coms.copy()
-    comcore.translation_push(mask, coms, 0.0, 0.02, n_offsets=3)
+    comcore.goal.translation_push(mask, coms, 0.0, 0.02, n_offsets=3)
     assert np.array_equal(coms, kept)
     with pytest.raises(ValueError, match="travel 20 m is implausible"):
-        comcore.translation_push(mask, coms, 0.0, 20)
+        comcore.goal.translation_push(mask, coms, 0.0, 20)
     with pytest.raises(ValueError, match="posterior's CoMs must lie in the mask's image"):
-        comcore.translation_push(mask, coms * 1000, 0.0, 0.02)
+        comcore.goal.translation_push(mask, coms * 1000, 0.0, 0.02)
     with pytest.raises(TypeError, match="direction must be a number"):
-        comcore.translation_push(mask, coms, "left", 0.02)
+        comcore.goal.translation_push(mask, coms, "left", 0.02)
 
 
 # -- Goal ---------------------------------------------------------------------------------
@@ -146,7 +146,7 @@ def test_session_reaches_a_pose_goal_with_a_known_com():
     first = robot.camera_mask()
     goal = comcore.Goal(displacement=(-0.05, 0.06), orientation=math.radians(40))
     mu = robot.simulator.mu_contact
-    oracle = comcore.CoMHypotheses(np.array([robot.true_com_px()]), np.array([mu]), np.ones(1))
+    oracle = comcore.goal.CoMHypotheses(np.array([robot.true_com_px()]), np.array([mu]), np.ones(1))
     session = comcore.GoalSession(
         first, goal, max_travel=0.05, max_pushes=20, prior=oracle, learn=False, rng=0
     )
@@ -245,7 +245,7 @@ def test_a_learning_session_starts_from_the_estimates_friction_posterior_too():
     mask = _plate()
     com = (22.0, 15.0)
     actions = comcore.sample_pushes(mask, 8, cone=0.3, rng=2)
-    d = comcore.signed_line_distance([com], actions)[0]
+    d = comcore.geometry.signed_line_distance([com], actions)[0]
     motions = [(0.05 * np.sign(v), 0.0, 0.0) for v in d]
     est = comcore.estimate_posterior(mask, actions, motions, model=None)
     # senses tell little of the friction: say the estimate learnt it was low

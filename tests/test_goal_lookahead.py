@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore import _goal_costs, _goal_planner
-from comcore._goal_translation import line_pushes, planning_model, predict_motions
-from comcore._pose_tracking import IDENTITY
 from comcore._types import Motion
+from comcore.camera._pose_tracking import IDENTITY
+from comcore.goal import _costs as _goal_costs
+from comcore.goal import _planner as _goal_planner
+from comcore.goal._translation import line_pushes, planning_model, predict_motions
 
 simulators = pytest.importorskip("simulators")
 
@@ -60,7 +61,7 @@ def test_the_planner_counts_the_sessions_model_error_scales():
     base = _goal_costs.model_variance(goal, first, actions, com, motions)
     assert (_goal_costs.model_variance(goal, first, actions, com, motions, wide) > base).all()
     # and the session hands its likelihood to the planner
-    hyps = comcore.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
+    hyps = comcore.goal.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
     where = (first, IDENTITY, goal, goal.target_px(first), hyps, planning_model(0.004))
     plans = [
         _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales)
@@ -75,7 +76,7 @@ def test_follow_ups_are_the_least_expected_cost_of_one_more_push():
     first = _plate()
     goal = comcore.Goal(displacement=(0.08, 0.02), orientation=0.3)
     target = goal.target_px(first)
-    hyps = comcore.CoMHypotheses(
+    hyps = comcore.goal.CoMHypotheses(
         np.array([[50.0, 48.0], [58.0, 42.0]]), np.array([0.3, 0.8]), np.array([0.4, 0.6])
     )
     model = planning_model(0.004)
@@ -131,7 +132,7 @@ def _oracle_trial(name, friction, seed=1):
     )
     robot = simulators.SimulatedRobot(sim, camera_margin=0.40, rng=key)
     first = robot.camera_mask()
-    oracle = comcore.CoMHypotheses(
+    oracle = comcore.goal.CoMHypotheses(
         np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
     )
     session = comcore.GoalSession(

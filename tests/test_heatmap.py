@@ -14,7 +14,7 @@ def grid_pushes(lo=10, hi=39, step=2, outside=(0, 50)):
 
 def test_heatmap_is_normalised_and_zero_off_the_object(square_mask):
     acts = grid_pushes()
-    heat = comcore.rotation_heatmap(
+    heat = comcore.paper.rotation_heatmap(
         square_mask, acts, synthetic_motions(square_mask, acts, (20, 30))
     )
     assert heat.shape == square_mask.shape
@@ -27,11 +27,11 @@ def test_heatmap_is_normalised_and_zero_off_the_object(square_mask):
 def test_heatmap_matches_a_per_pixel_reference(l_mask):
     acts = np.array([[0, 12, 45, 14], [8, 0, 10, 39], [0, 38, 45, 20]], float)
     mots = np.array([[0.2, 0, 0], [-0.05, 0, 0], [0.4, 0, 0]])
-    heat = comcore.rotation_heatmap(l_mask, acts, mots, length_scale=3.0)
+    heat = comcore.paper.rotation_heatmap(l_mask, acts, mots, length_scale=3.0)
     ref = np.zeros(l_mask.shape)
     for x, y in l_mask.pixels:
         for a, m in zip(acts, mots):
-            d = abs(comcore.signed_line_distance([[x, y]], [a])[0, 0])
+            d = abs(comcore.geometry.signed_line_distance([[x, y]], [a])[0, 0])
             ref[int(y), int(x)] += np.exp(-d / 3.0) * abs(m[0])
     vals = ref[l_mask.data]
     ref[l_mask.data] = (vals - vals.min()) / (vals.max() - vals.min())
@@ -86,16 +86,16 @@ def test_a_length_scale_that_underflows_float32_is_refused(square_mask, length_s
     with pytest.raises(ValueError, match=r"length_scale must be at least 0.005725 px.*underflows"):
         comcore.estimate_heatmap(square_mask, acts, mots, length_scale=length_scale)
     with pytest.raises(ValueError, match=r"length_scale must be at least 0.005725 px"):
-        comcore.rotation_heatmap(square_mask, acts, mots, length_scale=length_scale)
+        comcore.paper.rotation_heatmap(square_mask, acts, mots, length_scale=length_scale)
 
 
 def test_the_smallest_length_scale_still_sees_lines_between_pixel_centres(square_mask):
-    from comcore._heatmap import MIN_LENGTH_SCALE_PX
+    from comcore.paper._heatmap import MIN_LENGTH_SCALE_PX
 
     # Lines half a pixel from the nearest centres: every weight is exp(-0.5 / length_scale).
     acts = np.array([(0, r + 0.5, 50, r + 0.5) for r in range(10, 39, 2)], float)
     mots = synthetic_motions(square_mask, acts, (20, 30))
-    heat = comcore.rotation_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
+    heat = comcore.paper.rotation_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
     assert heat[square_mask.data].max() == 1.0  # not flat
     est = comcore.estimate_heatmap(square_mask, acts, mots, length_scale=MIN_LENGTH_SCALE_PX)
     assert est.status == "unchecked" and est.com[1] == pytest.approx(30, abs=1)

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 import comcore
-from comcore._image import otsu_threshold
+from comcore.camera._image import otsu_threshold
 from tests import frames
 from tests import strategies as cst
 from tests.extras import require_simulators

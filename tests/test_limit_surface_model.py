@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore._pressure import pressures, support
-from comcore._push_lattice import PushLattice, pressure_table, table_pressures
+from comcore.motion._lattice import PushLattice, pressure_table, table_pressures
+from comcore.motion._pressure import pressures, support
 
 
 def plate(h=20, w=30, pad=10):
@@ -57,7 +57,7 @@ def test_sense_agrees_with_the_voting_theorem():
     mask = notched()
     pushes = comcore.sample_pushes(mask, 8, cone=0.3, rng=3)
     coms = mask.pixels[::7]
-    con = comcore.contacts(mask, pushes)
+    con = comcore.geometry.contacts(mask, pushes)
     agree, total = 0, 0
     for i, action in enumerate(pushes):
         direction = action[2:] - action[:2]
@@ -168,7 +168,7 @@ def test_does_not_mutate_its_inputs():
 
 def _first_push_calls(monkeypatch, hint: bool):
     """Integration batches and motions of a first push asked about three frictions in turn."""
-    import comcore._limit_surface_model as module
+    import comcore.motion._limit_surface as module
 
     calls = []
     real = module.push_motions

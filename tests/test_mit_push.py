@@ -1,4 +1,4 @@
-"""comcore.mit_push: the MIT push dataset's files (small files of the same layout, written here)."""
+"""comcore.recordings.mit_push: the MIT push dataset's files (small files of the same layout, written here)."""
 
 import json
 import sys
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import comcore
-import comcore.mit_push as mp
+import comcore.recordings.mit_push as mp
 
 RECT = "motion_surface=abs_shape=rect1_a=0_v=75_i=2.000_s=0.700_t=-0.349.h5"
 
@@ -64,7 +64,7 @@ def test_h5_and_json_files_load_like_their_pose_streams(tmp_path):
     push = from_h5.pushes[0]
     assert push.motion.theta > 0.1 and push.line_hits and from_h5.com == (25.5, 25.5)
     # The push goes up the screen (the object's +y), right of the CoM: counter-clockwise.
-    con = comcore.contacts(from_h5.mask, [push.action])
+    con = comcore.geometry.contacts(from_h5.mask, [push.action])
     assert push.action.direction == pytest.approx((0.0, -1.0))
     sense = comcore.vt.rotation_sense(
         from_h5.com, con.point[0], con.normal[0], push.action.direction, 0.25
@@ -132,6 +132,6 @@ def test_outlines_are_the_dataset_plates():
 def test_import_comcore_does_not_load_h5py_or_this_module():
     import subprocess
 
-    code = "import sys, comcore; print('h5py' in sys.modules, 'comcore.mit_push' in sys.modules)"
+    code = "import sys, comcore; print('h5py' in sys.modules, 'comcore.recordings.mit_push' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]

@@ -1,4 +1,4 @@
-"""Tests of the active estimator's option groups (comcore/_options.py, _flat_options.py)."""
+"""Tests of the active estimator's option groups (comcore/active/_options.py, _flat_options.py)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore import _options
+from comcore.active import _options
 
 ROOT = Path(__file__).resolve().parents[1]
 GROUPS = (comcore.Likelihood, comcore.StopRule, comcore.PushChoice)
@@ -91,19 +91,19 @@ def test_the_distinctive_defaults_are_written_once_in_comcore():
 
 
 def test_option_groups_lists_every_field_with_its_default():
-    params = inspect.signature(comcore.option_groups).parameters
+    params = inspect.signature(comcore.active.option_groups).parameters
     for cls in GROUPS:
         for f in dataclasses.fields(cls):
             assert params[f.name].default == f.default
 
 
 def test_option_groups_builds_only_the_groups_named():
-    groups = comcore.option_groups(max_pushes=3, pusher_error=0.002)
+    groups = comcore.active.option_groups(max_pushes=3, pusher_error=0.002)
     assert groups == {
         "likelihood": comcore.Likelihood(pusher_error=0.002),
         "stop": comcore.StopRule(max_pushes=3),
     }
-    assert comcore.option_groups() == {}
+    assert comcore.active.option_groups() == {}
 
 
 def test_groups_are_frozen_and_normalised():

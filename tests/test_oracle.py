@@ -21,7 +21,7 @@ def test_is_a_predictor_and_answers_like_the_simulator(sim):
     assert isinstance(oracle, comcore.Predictor)
     assert isinstance(oracle, comcore.HypothesisPredictor)
     actions = comcore.sample_pushes(sim.mask, 5, cone=0.3, rng=2)
-    got = comcore.predict_motions(oracle, sim.mask, actions)
+    got = comcore.motion.predict_motions(oracle, sim.mask, actions)
     assert np.array_equal(got, sim.push_motions(actions))
     priors = [(comcore.Action(*actions[0]), comcore.Motion(*got[0]))]
     assert np.array_equal(oracle.predict(sim.mask, actions, priors), got)

@@ -29,4 +29,4 @@ def test_import_comcore_loads_only_numpy_and_scipy():
 def test_public_names_are_exported():
     for name in comcore.__all__:
         assert hasattr(comcore, name), name
-    assert comcore.vt.region is comcore._voting.region
+    assert comcore.vt.region is comcore.vt._voting.region

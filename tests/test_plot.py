@@ -51,7 +51,7 @@ def behind_start(point, push) -> bool:
 
 
 def toy_push(action):
-    c = comcore.contacts(MASK, action)
+    c = comcore.geometry.contacts(MASK, action)
     sense = comcore.vt.rotation_sense(TRUE_COM, c.point[0], c.normal[0], action.direction, 0.3)
     return comcore.Motion(0.1 * sense, 0.0, 0.0)
 
@@ -202,7 +202,7 @@ def test_push_numbers_sit_off_the_object_and_apart(camera_session):
 def test_every_used_push_is_numbered_for_every_method():
     # Numbers used to stop at 15 pushes: a 40-push recording's posterior had none.
     actions = comcore.sample_pushes(MASK, 40, cone=0.3, rng=0)
-    lever = comcore.signed_line_distance([TRUE_COM], actions)[0]
+    lever = comcore.geometry.signed_line_distance([TRUE_COM], actions)[0]
     motions = np.column_stack([0.01 * lever, np.zeros(40), np.zeros(40)])
     for est in (comcore.estimate_heatmap(MASK, actions, motions),
                 comcore.estimate_posterior(MASK, actions, motions)):  # fmt: skip

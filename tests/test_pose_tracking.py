@@ -5,7 +5,7 @@ import math
 import pytest
 
 import comcore
-from comcore._pose_tracking import measure_pose
+from comcore.camera._pose_tracking import measure_pose
 from tests.extras import require_simulators
 
 
@@ -26,7 +26,7 @@ def test_a_rectangle_turned_past_half_a_turn_keeps_its_rotation():
 
 
 def test_branches_of_a_hexagon_are_its_rotations_within_a_quarter_turn_of_the_pose():
-    from comcore._pose_tracking import PoseReading, symmetric_branches
+    from comcore.camera._pose_tracking import PoseReading, symmetric_branches
 
     reading = PoseReading(comcore.Motion(-0.5, 3.0, 1.0), False, 0.2, 6)
     branches = symmetric_branches(reading, comcore.Motion(0.2, 0.0, 0.0))
@@ -58,7 +58,7 @@ def test_a_small_hexagons_turn_read_to_two_degrees_is_read_not_dropped(radius_px
     Dropping it kept the previous rotation: a hexagon turned by 35 deg was taken as not
     turned, and a robot session stopped ``ok`` 1.4 cm off (benchmark Obj3, no resets).
     """
-    from comcore._pose_tracking import IDENTITY, symmetric_branches
+    from comcore.camera._pose_tracking import IDENTITY, symmetric_branches
 
     first, turned = _hexagon(radius_px, 0.0), _hexagon(radius_px, 0.61, (3.0, 2.0))
     assert comcore.measure_motion(first, turned).ambiguous

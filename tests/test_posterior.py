@@ -1,4 +1,4 @@
-"""Tests of comcore.estimate_posterior (comcore/_active.py): the offline active posterior."""
+"""Tests of comcore.estimate_posterior (comcore/active/_blocking.py): the offline active posterior."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from .records import actions_of, motions_of, outcomes_of
 def test_it_is_the_active_posterior_of_the_same_pushes(model):
     mask = _ell()
     active = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=model, rng=3)
-    session_floor = comcore.Likelihood(systematic_error=comcore.SESSION_SYSTEMATIC_ERROR)
+    session_floor = comcore.Likelihood(systematic_error=comcore.active.SESSION_SYSTEMATIC_ERROR)
     offline = comcore.estimate_posterior(
         mask, actions_of(active), motions_of(active), model=model, likelihood=session_floor,
         bootstrap=0,
@@ -97,7 +97,7 @@ def test_pushes_no_com_explains_are_inconsistent():
 
 
 def _toy_tempered(powers):
-    from comcore._grid import GridPosterior
+    from comcore.active._grid import GridPosterior
 
     pixels = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
     return GridPosterior(pixels, [1 / 3] * 3, [0.3], n_tempers=len(powers))
@@ -174,7 +174,7 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
     mask = comcore.Mask(np.pad(np.ones((30, 40), bool), 6), resolution=0.0025)
     actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
     com = (24.0, 19.0)
-    motions = [(0.05 * np.sign(d), 0.0, 0.0) for d in comcore.signed_line_distance([com], actions)[0]]
+    motions = [(0.05 * np.sign(d), 0.0, 0.0) for d in comcore.geometry.signed_line_distance([com], actions)[0]]
     none = comcore.Likelihood(systematic_error=0.0)
     # the floor alone, on the posterior's own region (bootstrap=0: not bagged)
     plain = comcore.estimate_posterior(
@@ -196,10 +196,10 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
 
 def test_none_is_each_estimators_own_floor_recordings_1_5_mm_sessions_0():
     assert comcore.Likelihood().systematic_error is None
-    assert comcore.RECORDED_SYSTEMATIC_ERROR == 0.0015 and comcore.SESSION_SYSTEMATIC_ERROR == 0.0
+    assert comcore.active.RECORDED_SYSTEMATIC_ERROR == 0.0015 and comcore.active.SESSION_SYSTEMATIC_ERROR == 0.0
     mask = comcore.Mask(np.pad(np.ones((30, 40), bool), 6), resolution=0.0025)
     actions = comcore.sample_pushes(mask, 12, cone=0.3, rng=1)
-    d = comcore.signed_line_distance([(24.0, 19.0)], actions)[0]
+    d = comcore.geometry.signed_line_distance([(24.0, 19.0)], actions)[0]
     motions = [(0.05 * np.sign(v), 0.0, 0.0) for v in d]
 
     def region(systematic_error):
@@ -208,7 +208,7 @@ def test_none_is_each_estimators_own_floor_recordings_1_5_mm_sessions_0():
             mask, actions, motions, model=None, likelihood=likelihood
         ).region
 
-    np.testing.assert_array_equal(region(None), region(comcore.RECORDED_SYSTEMATIC_ERROR))
+    np.testing.assert_array_equal(region(None), region(comcore.active.RECORDED_SYSTEMATIC_ERROR))
     assert region(None).sum() > region(0.0).sum()
     # the session's floor is 0: its region is the unblurred posterior's
     session = comcore.ActiveSession(mask, model=None, candidates=actions, rng=0)

@@ -15,18 +15,18 @@ class Constant:
 
 def test_non_predictors_are_rejected_with_the_protocol_name(square_mask):
     with pytest.raises(TypeError, match="must implement comcore.Predictor"):
-        comcore.predict_motions(object(), square_mask, [(0, 20, 40, 20)])
+        comcore.motion.predict_motions(object(), square_mask, [(0, 20, 40, 20)])
 
 
 def test_invalid_predictions_are_caught(square_mask):
     with pytest.raises(ValueError, match="predictor returned invalid motions"):
-        comcore.predict_motions(Constant(np.full((1, 3), np.nan)), square_mask, [(0, 20, 40, 20)])
+        comcore.motion.predict_motions(Constant(np.full((1, 3), np.nan)), square_mask, [(0, 20, 40, 20)])
     with pytest.raises(ValueError, match="expected 1, got 2"):
-        comcore.predict_motions(Constant(np.zeros((2, 3))), square_mask, [(0, 20, 40, 20)])
+        comcore.motion.predict_motions(Constant(np.zeros((2, 3))), square_mask, [(0, 20, 40, 20)])
 
 
 def test_valid_predictions_pass_through(square_mask):
-    out = comcore.predict_motions(
+    out = comcore.motion.predict_motions(
         Constant([comcore.Motion(0.1, 1, 2)]), square_mask, [(0, 20, 40, 20)]
     )
     assert out.tolist() == [[0.1, 1.0, 2.0]]
@@ -40,19 +40,19 @@ def test_a_predicted_motion_no_push_can_cause_is_refused_naming_the_predictor(sq
         match=r"Constant predicted a motion no push can cause: push 0 "
         r"\(40 px long\) turns the object by 4e\+34 rad, more than half a turn",
     ):
-        comcore.predict_motions(Constant([(4e34, 1.0, 0.0)]), square_mask, push)
+        comcore.motion.predict_motions(Constant([(4e34, 1.0, 0.0)]), square_mask, push)
     with pytest.raises(
         ValueError,
         match=r"moves the object by 401 px, more than 10 times the "
         r"push's length",
     ):
-        comcore.predict_motions(Constant([(0.1, 401.0, 0.0)]), square_mask, push)
-    edge = comcore.predict_motions(Constant([(-np.pi, 400.0, 0.0)]), square_mask, push)
+        comcore.motion.predict_motions(Constant([(0.1, 401.0, 0.0)]), square_mask, push)
+    edge = comcore.motion.predict_motions(Constant([(-np.pi, 400.0, 0.0)]), square_mask, push)
     assert edge.tolist() == [[-np.pi, 400.0, 0.0]]  # half a turn, ten lengths: still possible
 
 
 def test_the_plausibility_check_reads_hypotheses_too():
-    from comcore._predictor import check_plausible_motions
+    from comcore.motion._predictor import check_plausible_motions
 
     pushes = np.array([(0, 0, 10, 0), (0, 5, 0, 25)], float)
     fine = np.zeros((3, 2, 3))

@@ -15,10 +15,10 @@ def random_pushes(mask, n=60, cone=0.0, seed=0):
 
 
 def test_equality_score_laws():
-    assert comcore.equality_score(5, 5) == 1.0
-    assert comcore.equality_score(1, 9) == pytest.approx(0.6)
-    assert comcore.equality_score(0, 0) == 0.0
-    assert comcore.equality_score(3, 7) == comcore.equality_score(7, 3)
+    assert comcore.paper.equality_score(5, 5) == 1.0
+    assert comcore.paper.equality_score(1, 9) == pytest.approx(0.6)
+    assert comcore.paper.equality_score(0, 0) == 0.0
+    assert comcore.paper.equality_score(3, 7) == comcore.paper.equality_score(7, 3)
 
 
 @pytest.mark.parametrize(
@@ -33,7 +33,7 @@ def test_equality_score_laws():
 def test_equality_score_rejects_bad_counts(n1, n2, match):
     # (-1, 5) used to return NaN (the square root of a negative product).
     with pytest.raises(ValueError, match=match):
-        comcore.equality_score(n1, n2)
+        comcore.paper.equality_score(n1, n2)
 
 
 @pytest.mark.parametrize("com", [(20.0, 30.0), (33.0, 14.0), (24.0, 25.0)])
@@ -176,13 +176,13 @@ def test_stops_when_the_best_score_is_zero(square_mask):
 
 
 def test_min_score_pruning_uses_the_scores_from_before_the_cut(square_mask):
-    from comcore._geometry import side_counts
+    from comcore.geometry._contacts import side_counts
 
     acts = np.array([(0, 25, 45, 25), (0, 23, 45, 23), (0, 17, 45, 17)], float)
-    before = comcore.equality_score(*side_counts(square_mask.data, acts, 0.5))
+    before = comcore.paper.equality_score(*side_counts(square_mask.data, acts, 0.5))
     after_first_cut = square_mask.data.copy()
     after_first_cut[26:] = False  # rows 10..25: what the first cut (row 25, CCW) keeps
-    after = comcore.equality_score(*side_counts(after_first_cut, acts, 0.5))
+    after = comcore.paper.equality_score(*side_counts(after_first_cut, acts, 0.5))
     # Push 1 splits evenly before the cut and badly after it; push 2 the other way round.
     assert before[1] >= 0.9 > after[1] and before[2] < 0.9 <= after[2]
     est = comcore.estimate_progressive(square_mask, acts, [CCW] * 3, area_ratio=0.0, min_score=0.9)

@@ -1,4 +1,4 @@
-"""comcore.rasterise_polygon: pixel centres inside a polygon, even-odd rule."""
+"""comcore.geometry.rasterise_polygon: pixel centres inside a polygon, even-odd rule."""
 
 import numpy as np
 import pytest
@@ -22,7 +22,7 @@ def every_pixel(vertices, shape):
 
 
 def test_a_rectangle_holds_the_pixel_centres_strictly_inside_it():
-    img = comcore.rasterise_polygon([(1.5, 0.5), (4.2, 0.5), (4.2, 2.5), (1.5, 2.5)], (4, 6))
+    img = comcore.geometry.rasterise_polygon([(1.5, 0.5), (4.2, 0.5), (4.2, 2.5), (1.5, 2.5)], (4, 6))
     expected = np.zeros((4, 6), bool)
     expected[1:3, 2:5] = True
     assert np.array_equal(img, expected)
@@ -32,7 +32,7 @@ def test_a_rectangle_holds_the_pixel_centres_strictly_inside_it():
 def test_only_the_bounding_box_is_computed_and_nothing_changes(poly, dx, dy):
     shifted = poly + np.array([dx, dy])  # often partly or wholly off the image
     assert np.array_equal(
-        comcore.rasterise_polygon(shifted, (50, 60)), every_pixel(shifted, (50, 60))
+        comcore.geometry.rasterise_polygon(shifted, (50, 60)), every_pixel(shifted, (50, 60))
     )
 
 
@@ -40,7 +40,7 @@ def test_only_the_bounding_box_is_computed_and_nothing_changes(poly, dx, dy):
 def test_the_orientation_of_the_outline_does_not_matter(poly):
     shape = (60, 60)
     assert np.array_equal(
-        comcore.rasterise_polygon(poly, shape), comcore.rasterise_polygon(poly[::-1], shape)
+        comcore.geometry.rasterise_polygon(poly, shape), comcore.geometry.rasterise_polygon(poly[::-1], shape)
     )
 
 
@@ -49,20 +49,20 @@ def test_the_pixel_count_is_the_area_within_the_outline_length(poly):
     x, y = poly[:, 0], poly[:, 1]
     area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
     perimeter = np.linalg.norm(poly - np.roll(poly, -1, axis=0), axis=1).sum()
-    count = comcore.rasterise_polygon(poly, (60, 60)).sum()
+    count = comcore.geometry.rasterise_polygon(poly, (60, 60)).sum()
     assert abs(count - area) <= perimeter
 
 
 def test_a_self_intersecting_outline_follows_the_even_odd_rule():
     # two overlapping squares traced as one outline: the overlap is outside
     bow = [(1, 1), (5, 1), (5, 5), (3, 5), (3, 3), (7, 3), (7, 7), (1, 7)]
-    img = comcore.rasterise_polygon(np.array(bow, float) - 0.25, (8, 8))
+    img = comcore.geometry.rasterise_polygon(np.array(bow, float) - 0.25, (8, 8))
     assert not img[4, 4] and img[2, 2] and img[6, 6]
 
 
 def test_an_empty_image_and_a_polygon_off_the_image():
-    assert comcore.rasterise_polygon([(0, 0), (3, 0), (0, 3)], (0, 5)).shape == (0, 5)
-    off = comcore.rasterise_polygon([(-9, -9), (-5, -9), (-9, -5)], (4, 4))
+    assert comcore.geometry.rasterise_polygon([(0, 0), (3, 0), (0, 3)], (0, 5)).shape == (0, 5)
+    off = comcore.geometry.rasterise_polygon([(-9, -9), (-5, -9), (-9, -5)], (4, 4))
     assert off.shape == (4, 4) and not off.any()
 
 
@@ -79,4 +79,4 @@ def test_an_empty_image_and_a_polygon_off_the_image():
 )
 def test_bad_input_is_refused_with_its_name(vertices, shape, error, match):
     with pytest.raises(error, match=match):
-        comcore.rasterise_polygon(vertices, shape)
+        comcore.geometry.rasterise_polygon(vertices, shape)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore._conventions import object_motion_from_camera
+from comcore.conventions import object_motion_from_camera
 
 SQUARE = [(-0.05, -0.05), (0.05, -0.05), (0.05, 0.05), (-0.05, 0.05)]
 L_SHAPE = [(-0.04, -0.05), (0.05, -0.05), (0.05, -0.01), (0.0, -0.01), (0.0, 0.06), (-0.04, 0.06)]
@@ -78,7 +78,7 @@ def test_frames_and_signs_on_a_hand_made_push():
     assert np.allclose(push.action, (51.5, 15.5, 35.5, 15.5), atol=1e-9)
     assert push.motion.theta > 0.2 and push.motion.tx < -1.0 and abs(push.motion.ty) < 2.0
     # The Voting Theorem, from the true CoM, predicts the sense observed (for every friction).
-    c = comcore.contacts(rec.mask, [push.action])
+    c = comcore.geometry.contacts(rec.mask, [push.action])
     for mu in (0.0, 0.3, np.inf):
         sense = comcore.vt.rotation_sense(
             rec.com, c.point[0], c.normal[0], push.action.direction, mu
@@ -162,8 +162,8 @@ def test_a_grazing_push_is_kept_with_its_leading_line_missing():
     rec = comcore.recording_from_poses(SQUARE, [(obj, pusher)], RADIUS)
     (push,) = rec.pushes
     assert not push.line_hits and rec.line_hits.tolist() == [False]
-    assert comcore.disc_contacts(rec.mask, rec.actions, RADIUS).hit.all()
-    assert not comcore.contacts(rec.mask, rec.actions).hit.any()
+    assert comcore.geometry.disc_contacts(rec.mask, rec.actions, RADIUS).hit.all()
+    assert not comcore.geometry.contacts(rec.mask, rec.actions).hit.any()
     assert "grazing 0" in rec.report()
 
 

@@ -7,14 +7,14 @@ import comcore
 def test_largest_component_takes_a_nested_list_and_leaves_it_alone():
     # A list used to fail with "'list' object has no attribute 'astype'".
     image = [[1, 1, 0, 1], [0, 0, 0, 1], [0, 0, 0, 1]]
-    out = comcore.largest_component(image)
+    out = comcore.geometry.largest_component(image)
     assert out.dtype == bool and out.sum() == 3 and out[:, 3].all()
     assert image == [[1, 1, 0, 1], [0, 0, 0, 1], [0, 0, 0, 1]]
 
 
 def test_largest_component_returns_a_copy():
     image = np.eye(3, dtype=bool)
-    out = comcore.largest_component(image)
+    out = comcore.geometry.largest_component(image)
     out[0, 0] = False
     assert image[0, 0]
 
@@ -32,4 +32,4 @@ def test_largest_component_returns_a_copy():
 )
 def test_largest_component_rejects_bad_images(image, error, match):
     with pytest.raises(error, match=match):
-        comcore.largest_component(image)
+        comcore.geometry.largest_component(image)

@@ -31,9 +31,9 @@ L_SHAPE = CENTRE + np.array([[-25, -8], [25, -8], [25, 6], [-11, 6], [-11, 30], 
 def pair(vertices, theta, shift=(0.0, 0.0), start=0.37):
     """Masks of ``vertices`` turned by ``start`` (off the pixel grid), then moved by (theta, shift)."""
     v0 = comcore.apply_motion(vertices, start, (0.0, 0.0), CENTRE)
-    before = comcore.Mask(comcore.rasterise_polygon(v0, (SIDE, SIDE)))
+    before = comcore.Mask(comcore.geometry.rasterise_polygon(v0, (SIDE, SIDE)))
     v1 = comcore.apply_motion(v0, theta, shift, before.centroid)
-    after = comcore.Mask(comcore.rasterise_polygon(v1, (SIDE, SIDE)))
+    after = comcore.Mask(comcore.geometry.rasterise_polygon(v1, (SIDE, SIDE)))
     return before, after
 
 
@@ -102,8 +102,8 @@ def test_counter_clockwise_on_screen_is_positive():
     bar = rectangle(30, 4) - CENTRE
     c, s = math.cos(0.2), math.sin(0.2)
     turned = np.column_stack([c * bar[:, 0] + s * bar[:, 1], -s * bar[:, 0] + c * bar[:, 1]])
-    before = comcore.Mask(comcore.rasterise_polygon(bar + CENTRE, (SIDE, SIDE)))
-    after = comcore.Mask(comcore.rasterise_polygon(turned + CENTRE, (SIDE, SIDE)))
+    before = comcore.Mask(comcore.geometry.rasterise_polygon(bar + CENTRE, (SIDE, SIDE)))
+    after = comcore.Mask(comcore.geometry.rasterise_polygon(turned + CENTRE, (SIDE, SIDE)))
     right_end = after.pixels[after.pixels[:, 0] > CENTRE[0] + 25]
     assert right_end[:, 1].mean() < CENTRE[1] - 3  # the right end is above the centre now
     assert comcore.measure_motion(before, after).motion.theta == pytest.approx(0.2, abs=0.01)

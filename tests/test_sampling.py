@@ -6,7 +6,7 @@ import comcore
 
 def test_pushes_hit_along_the_normal_with_the_requested_travel(disk_mask):
     pushes = comcore.sample_pushes(disk_mask, 50, cone=0.0, rng=3)
-    con = comcore.contacts(disk_mask, pushes)
+    con = comcore.geometry.contacts(disk_mask, pushes)
     assert con.hit.all()
     direction = pushes[:, 2:] - pushes[:, :2]
     direction /= np.hypot(*direction.T)[:, None]
@@ -17,7 +17,7 @@ def test_pushes_hit_along_the_normal_with_the_requested_travel(disk_mask):
 
 def test_cone_bounds_the_angle_to_the_normal(square_mask):
     pushes = comcore.sample_pushes(square_mask, 200, cone=0.5, rng=1)
-    con = comcore.contacts(square_mask, pushes)
+    con = comcore.geometry.contacts(square_mask, pushes)
     direction = pushes[:, 2:] - pushes[:, :2]
     direction /= np.hypot(*direction.T)[:, None]
     angle = np.arccos(np.clip(np.sum(direction * con.normal, axis=1), -1, 1))

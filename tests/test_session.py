@@ -1,4 +1,4 @@
-"""Tests of comcore.ActiveSession (comcore/_session.py, _choice.py, _pose_tracking.py)."""
+"""Tests of comcore.ActiveSession (comcore/active/_session.py, _choice.py, _pose_tracking.py)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import comcore
-import comcore._pose_tracking as pose_module
-from comcore._pose_tracking import IDENTITY, compose, moved_mask
+import comcore.camera._pose_tracking as pose_module
+from comcore.camera._pose_tracking import IDENTITY, compose, moved_mask
 
 from .records import actions_of, motions_of, outcomes_of
 
@@ -33,7 +33,7 @@ class World:
         return comcore.apply_motion(ends, -self.pose.theta, (0.0, 0.0), self.c0).reshape(4)
 
     def object_motion(self, action_obj):
-        c = comcore.contacts(self.mask, action_obj)
+        c = comcore.geometry.contacts(self.mask, action_obj)
         if not c.hit[0]:
             return np.zeros(3)
         a = comcore.Action(*action_obj)
@@ -42,7 +42,7 @@ class World:
 
     def execute(self, action):
         m = self.object_motion(self.to_object(action))
-        t = comcore.rotate_vectors(m[1:], self.pose.theta)
+        t = comcore.conventions.rotate_vectors(m[1:], self.pose.theta)
         camera = comcore.Motion(m[0], t[0], t[1])
         self.pose = compose(self.pose, camera)
         return camera
@@ -97,7 +97,7 @@ def test_offered_pushes_hit_the_object_where_it_is_now():
     world = World(mask)
     session = comcore.ActiveSession(mask, rng=1, model=None, stop=comcore.StopRule(max_pushes=8, target_radius=1e-4))
     for action, seen in _run(session, world):
-        c = comcore.contacts(seen, action)
+        c = comcore.geometry.contacts(seen, action)
         assert c.hit[0] and not c.starts_inside[0]
     made = actions_of(session.estimate())
     assert len(np.unique(made, axis=0)) == 8  # never repeated (object frame)
@@ -222,7 +222,7 @@ def test_same_seed_same_pushes():
 def test_bad_arguments_are_named(kwargs, error, match):
     own = {k: v for k, v in kwargs.items() if k == "rng"}
     with pytest.raises(error, match=match):
-        grouped = comcore.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        grouped = comcore.active.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
         comcore.ActiveSession(_mask(10), **own, **grouped)
 
 
@@ -248,11 +248,11 @@ def test_the_moved_mask_is_the_first_mask_moved():
 
 def test_object_motion_from_camera_undoes_the_pose():
     """A rotated camera view of a push gives the object's own motion back."""
-    from comcore._conventions import object_motion_from_camera
+    from comcore.conventions import object_motion_from_camera
 
     own = np.array([0.2, 3.0, -1.0])
     for theta in (0.0, 0.7, -2.0):
-        seen = np.r_[own[0], comcore.rotate_vectors(own[1:], theta)]
+        seen = np.r_[own[0], comcore.conventions.rotate_vectors(own[1:], theta)]
         np.testing.assert_allclose(object_motion_from_camera(seen, theta), own, atol=1e-12)
 
 
@@ -272,7 +272,7 @@ class StandIn:
         return m
 
     def __call__(self, first, mask, previous):
-        from comcore._pose_tracking import PoseReading
+        from comcore.camera._pose_tracking import PoseReading
 
         self.calls.append((first, mask))
         pose = self.poses[id(mask)]
@@ -374,7 +374,7 @@ def test_a_mask_of_an_object_leaving_the_view_is_refused_and_changes_nothing():
 
 
 def test_the_registration_residual_widens_the_tracking_noise():
-    from comcore._likelihood import tracking_noise
+    from comcore.active._likelihood import tracking_noise
 
     assert tracking_noise((0.01, 0.2), float("nan"), 10.0) == (0.01, 0.2)
     theta, px = tracking_noise((0.01, 0.2), 0.5, 10.0)
@@ -385,7 +385,7 @@ def test_the_registration_residual_widens_the_tracking_noise():
 
 
 def test_object_from_camera_undo_camera_from_object():
-    from comcore._pose_tracking import camera_from_object, object_from_camera
+    from comcore.camera._pose_tracking import camera_from_object, object_from_camera
 
     actions = np.array([[0.0, 50.0, 40.0, 52.0], [60.0, 0.0, 58.0, 30.0]])
     pose, centroid = comcore.Motion(0.4, 7.0, -3.0), (59.5, 56.5)

@@ -58,7 +58,7 @@ def _vt_agreement(names, cone, n=40):
             sim = simulators.random_simulator(name, friction=friction, rng=k)
             actions = comcore.sample_pushes(sim.mask, n, cone=cone, rng=100 + k)
             com = np.asarray(sim.com_px)
-            far = np.abs(comcore.signed_line_distance([com], actions)[0]) > 2.0
+            far = np.abs(comcore.geometry.signed_line_distance([com], actions)[0]) > 2.0
             for action, res in zip(actions[far], sim.push_many(actions[far], record=True)):
                 if res.contact_px is None:
                     continue

@@ -224,7 +224,7 @@ def test_push_starting_inside_the_object_is_refused():
     with pytest.raises(ValueError, match=r"\[1\] start inside"):
         sim.push_motions([outside, inside])
     # comcore refuses the same action
-    assert comcore.contacts(sim.mask, [inside]).starts_inside[0]
+    assert comcore.geometry.contacts(sim.mask, [inside]).starts_inside[0]
     # the start is judged at the start pose: after a push the object has moved away
     moved = sim.push(outside)
     assert moved.motion.tx > 5
@@ -244,7 +244,7 @@ def test_action_from_world_maps_a_world_push_to_pixels():
     start, end = action[:2], action[2:]
     np.testing.assert_allclose(sim.to_world(np.array([start, end])), [[0.02, 0.03], [0.02, 0.0]])
     assert end[1] > start[1]  # down the world is down the screen: pixel y grows
-    assert comcore.contacts(sim.mask, [action]).hit[0]
+    assert comcore.geometry.contacts(sim.mask, [action]).hit[0]
 
 
 @pytest.mark.parametrize(

@@ -72,9 +72,9 @@ def test_estimate_error_px():
 
 
 def test_batches_accept_namedtuples_and_arrays_alike():
-    a = comcore.check_actions([Action(0, 0, 1, 0), (0, 0, 0, 1)])
+    a = comcore.checks.check_actions([Action(0, 0, 1, 0), (0, 0, 0, 1)])
     assert a.shape == (2, 4) and not a.flags.writeable
-    m = comcore.check_motions(Motion(0.1, 1, 2))
+    m = comcore.checks.check_motions(Motion(0.1, 1, 2))
     assert m.tolist() == [[0.1, 1.0, 2.0]]
 
 

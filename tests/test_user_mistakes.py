@@ -96,7 +96,7 @@ def test_most_pushes_contradicting_the_answer_is_never_ok():
     mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     actions = [(0, 8, 30, 8), (0, 18, 30, 18)] * 5
     est = comcore.estimate_posterior(mask, actions, [(0.2, 3, 0), (-0.2, 3, 0)] * 5, model=None)
-    assert est.extras["excess_nats"] < comcore._likelihood.consistency_threshold(10)
+    assert est.extras["excess_nats"] < comcore.active._likelihood.consistency_threshold(10)
     assert est.status == "inconsistent" and est.extras["senses"].fewest_unexplained == 5
 
 
@@ -225,7 +225,7 @@ def test_a_session_whose_pushes_would_be_under_a_pixel_is_refused_before_any_pus
 
 
 def test_a_lattice_over_the_memory_bound_is_refused_with_the_push(monkeypatch):
-    from comcore import _push_lattice
+    from comcore.motion import _lattice as _push_lattice
 
     mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4), resolution=0.0025)
     lattice = _push_lattice.PushLattice(mask, np.array([0.0, 13.0, 30.0, 13.0]), 0.01)

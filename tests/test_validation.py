@@ -18,27 +18,27 @@ from comcore import Action, Motion
 )
 def test_check_actions_errors(value, error, match):
     with pytest.raises(error, match=match):
-        comcore.check_actions(value)
+        comcore.checks.check_actions(value)
 
 
 def test_check_motions_count_mismatch():
     with pytest.raises(ValueError, match="expected 2, got 3"):
-        comcore.check_motions(np.zeros((3, 3)), n=2)
+        comcore.checks.check_motions(np.zeros((3, 3)), n=2)
 
 
 def test_check_motions_rejects_inf():
     with pytest.raises(ValueError, match="motions must be finite"):
-        comcore.check_motions([[0, np.inf, 0]])
+        comcore.checks.check_motions([[0, np.inf, 0]])
 
 
 def test_check_priors_roundtrip_and_errors():
-    a, m = comcore.check_priors([(Action(0, 0, 1, 0), Motion(0.1, 1, 0))] * 3)
+    a, m = comcore.checks.check_priors([(Action(0, 0, 1, 0), Motion(0.1, 1, 0))] * 3)
     assert a.shape == (3, 4) and m.shape == (3, 3)
-    assert comcore.check_priors(())[0].shape == (0, 4)
+    assert comcore.checks.check_priors(())[0].shape == (0, 4)
     with pytest.raises(TypeError, match="sequence of"):
-        comcore.check_priors(5)
+        comcore.checks.check_priors(5)
     with pytest.raises(ValueError, match=r"priors\[1\]"):
-        comcore.check_priors([(Action(0, 0, 1, 0), Motion(0.1)), ((1, 2), (3,))])
+        comcore.checks.check_priors([(Action(0, 0, 1, 0), Motion(0.1)), ((1, 2), (3,))])
 
 
 @pytest.mark.parametrize(
@@ -47,16 +47,16 @@ def test_check_priors_roundtrip_and_errors():
 )
 def test_check_mu_errors(mu, match):
     with pytest.raises((ValueError, TypeError), match=match):
-        comcore.check_mu(mu)
+        comcore.checks.check_mu(mu)
 
 
 def test_check_mask_requires_a_mask():
     with pytest.raises(TypeError, match=r"mask must be a comcore.Mask, got ndarray \(wrap"):
-        comcore.check_mask(np.ones((3, 3), bool))
+        comcore.checks.check_mask(np.ones((3, 3), bool))
 
 
 def test_validators_do_not_mutate_input():
     arr = np.array([[0.0, 0.0, 1.0, 0.0]])
-    out = comcore.check_actions(arr)
+    out = comcore.checks.check_actions(arr)
     assert arr.flags.writeable and out is not arr
     assert not out.flags.writeable

@@ -20,8 +20,8 @@ def test_normal_push_example():
 
 def test_oblique_push_inside_the_cone_is_decided_by_the_push_direction():
     # Normal +x at the origin, push turned 20 deg towards -y (CCW on screen), mu=1 (45 deg cone).
-    push = comcore.rotate_vectors([[1.0, 0.0]], np.deg2rad(20))[0]
-    com_between = 10 * comcore.rotate_vectors([[1.0, 0.0]], np.deg2rad(10))[0]
+    push = comcore.conventions.rotate_vectors([[1.0, 0.0]], np.deg2rad(20))[0]
+    com_between = 10 * comcore.conventions.rotate_vectors([[1.0, 0.0]], np.deg2rad(10))[0]
     # The CoM lies inside the cone, CCW of the normal but CW of the push line.
     assert vt.rotation_sense(com_between, (0, 0), (1, 0), push, mu=1.0) == -1
     # With almost no friction the cone collapses on the normal and the edges decide.
@@ -30,7 +30,7 @@ def test_oblique_push_inside_the_cone_is_decided_by_the_push_direction():
 
 @given(com=points, normal=unit_vectors, push_turn=st.floats(-1.4, 1.4), mu=friction)
 def test_sense_flips_under_mirror_reflection(com, normal, push_turn, mu):
-    push = comcore.rotate_vectors(normal, push_turn)
+    push = comcore.conventions.rotate_vectors(normal, push_turn)
     contact = np.array([1.0, -2.0])
     s = vt.rotation_sense(com, contact, normal, push, mu)
     s_mirror = vt.rotation_sense(MIRROR @ com, MIRROR @ contact, MIRROR @ normal, MIRROR @ push, mu)
@@ -39,7 +39,7 @@ def test_sense_flips_under_mirror_reflection(com, normal, push_turn, mu):
 
 @given(com=points, normal=unit_vectors, mu1=friction, mu2=friction)
 def test_normal_push_sense_does_not_depend_on_mu(com, normal, mu1, mu2):
-    assume(abs(comcore.ccw_cross(np.zeros(2) - com, normal)) > 1e-6)
+    assume(abs(comcore.conventions.ccw_cross(np.zeros(2) - com, normal)) > 1e-6)
     assert vt.rotation_sense(com, (0, 0), normal, normal, mu1) == vt.rotation_sense(
         com, (0, 0), normal, normal, mu2
     )
@@ -50,7 +50,7 @@ def test_push_line_through_the_com_gives_no_rotation_when_inside_the_cone(t, nor
     assume(
         abs(push_turn) < np.arctan(mu) - 1e-6
     )  # push direction strictly inside the friction cone
-    push = comcore.rotate_vectors(normal, push_turn)
+    push = comcore.conventions.rotate_vectors(normal, push_turn)
     com = np.array([2.0, 3.0]) + t * push
     assert vt.rotation_sense(com, (2.0, 3.0), normal, push, mu, band=1e-6) == 0
 
@@ -70,7 +70,7 @@ def test_true_com_is_in_the_region_with_mu_unknown_or_a_range(mask, seed, mu, co
     rng = np.random.default_rng(seed)
     action = comcore.sample_pushes(mask, 1, cone=cone, rng=rng)[0]
     com = mask.pixels[rng.integers(mask.area_px)]
-    con = comcore.contacts(mask, action)
+    con = comcore.geometry.contacts(mask, action)
     sense = vt.rotation_sense(com, con.point[0], con.normal[0], action[2:] - action[:2], mu)
     row, col = int(com[1]), int(com[0])
     assert vt.region(mask, action, float(sense), mu=None)[row, col]
@@ -90,7 +90,7 @@ def test_region_shrinks_as_the_mu_range_narrows(mask, seed, mu):
 
 def test_normal_push_region_is_the_paper_half_plane(square_mask):
     action = (0, 20, 40, 20)  # push right along row 20, normal to the left edge
-    ccw, cw = comcore.split_by_line(square_mask, action)
+    ccw, cw = comcore.geometry.split_by_line(square_mask, action)
     plus = vt.region(square_mask, action, 0.3)
     assert np.array_equal(plus & ~ccw & ~cw, square_mask.data & ~ccw & ~cw)  # band kept
     assert np.array_equal(plus & (ccw | cw), ccw)

@@ -87,7 +87,7 @@ def _active(ctx: TrialContext, model="default", candidates="own", **options):
         ctx.candidates if candidates == "trial" else None,
         **_model_options(ctx, model),
         rng=ctx.rng,
-        **comcore.option_groups(**options),
+        **comcore.active.option_groups(**options),
     )
 
 
@@ -159,7 +159,7 @@ def _active_robot(
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
     seen = first = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        first, **_model_options(ctx, model), rng=ctx.rng, **comcore.option_groups(**options)
+        first, **_model_options(ctx, model), rng=ctx.rng, **comcore.active.option_groups(**options)
     )
     failures = 0
     while not session.done:

@@ -27,7 +27,7 @@ def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | None]:
     if getattr(spec.run, "__module__", None) != _builtins.__name__:
         return ()
     active = getattr(comcore, "estimate_active", None)
-    groups = comcore.option_groups  # the active estimators' options by name, grouped
+    groups = comcore.active.option_groups  # the active estimators' options by name, grouped
     chains: dict[str, Sequence[Callable | None]] = {
         "_alg1": (comcore.estimate_heatmap,),
         "_alg2": (comcore.estimate_progressive,),

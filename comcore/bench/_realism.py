@@ -117,11 +117,11 @@ class Condition:
                 f"got {self.robot_engine!r}"
             )
         if self.resolution is not None:
-            comcore.check_positive(self.resolution, f"condition {self.name!r}: resolution")
-        comcore.check_positive(
+            comcore.checks.check_positive(self.resolution, f"condition {self.name!r}: resolution")
+        comcore.checks.check_positive(
             self.pusher_error, f"condition {self.name!r}: pusher_error", allow_zero=True
         )
-        comcore.check_probability(
+        comcore.checks.check_probability(
             self.mask_noise, f"condition {self.name!r}: mask_noise", open_high=True
         )
         if self.motion_noise is not None:
@@ -132,10 +132,10 @@ class Condition:
                     f"condition {self.name!r}: motion_noise must be (radians, metres), "
                     f"got {self.motion_noise!r}"
                 ) from e
-            comcore.check_positive(
+            comcore.checks.check_positive(
                 theta, f"condition {self.name!r}: motion_noise[0]", allow_zero=True
             )
-            comcore.check_positive(
+            comcore.checks.check_positive(
                 shift, f"condition {self.name!r}: motion_noise[1]", allow_zero=True
             )
             object.__setattr__(self, "motion_noise", (theta, shift))
@@ -280,7 +280,7 @@ class ConditionWorld:
     def __init__(self, condition: Condition, simulator, rng, mask=None):
         self.condition = condition
         self.base = condition.simulator(simulator)
-        self._rng = comcore.check_rng(rng)
+        self._rng = comcore.checks.check_rng(rng)
         if mask is None:
             import simulators
 
@@ -293,7 +293,7 @@ class ConditionWorld:
         """The same world (same first mask) with its own noise stream."""
         out = ConditionWorld.__new__(ConditionWorld)
         out.condition, out.base, out.mask = self.condition, self.base, self.mask
-        out._rng = comcore.check_rng(rng)
+        out._rng = comcore.checks.check_rng(rng)
         return out
 
     def __getattr__(self, name):
@@ -329,7 +329,7 @@ class ConditionWorld:
 
         if pose is not None:
             raise ValueError("pose: a condition's world pushes only from the initial pose")
-        acts = comcore.check_actions(actions)
+        acts = comcore.checks.check_actions(actions)
         base = self.base
         if self.condition.pusher_error and len(acts):
             offset = self._rng.normal(0.0, self.condition.pusher_error / base.resolution, len(acts))
@@ -346,7 +346,7 @@ class ConditionWorld:
 
     def push(self, action, pose=None, record: bool = False):
         """One push from the initial pose (see :meth:`push_many`)."""
-        acts = comcore.check_actions(action, "action", allow_empty=False)
+        acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action, got {acts.shape[0]}")
         return self.push_many(acts, pose, record)[0]

@@ -228,12 +228,12 @@ def _predictions(spec: TrialSpec, ctx: TrialContext):
             spec.candidates,
             cone=spec.cone,
             rng=rng,
-            respond=lambda a: comcore.predict_motions(model, mask, a, priors),
+            respond=lambda a: comcore.motion.predict_motions(model, mask, a, priors),
         )
         note += f"{rejected} candidate push(es) redrawn; " if rejected else ""
     else:
         cands = comcore.sample_pushes(mask, spec.candidates, cone=spec.cone, rng=rng)
-        motions = comcore.predict_motions(model, mask, cands, priors)
+        motions = comcore.motion.predict_motions(model, mask, cands, priors)
     return replace(ctx, candidates=cands, motions=motions, priors=priors), note
 
 

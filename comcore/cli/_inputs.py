@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 import comcore
-from comcore._disc_contacts import pusher_contacts
+from comcore.geometry._disc_contacts import pusher_contacts
 
 __all__ = [
     "COLUMNS",
@@ -31,8 +31,11 @@ __all__ = [
 #: Columns of the pushes CSV: the pusher's path (pixels) and the observed motion.
 COLUMNS = ("sx", "sy", "ex", "ey", "theta", "tx", "ty")
 #: Plausible camera resolutions (metres per pixel): 10 micrometres to 5 cm a pixel, as
-#: everywhere in comcore (``comcore.PLAUSIBLE["resolution"]``).
-RESOLUTION_RANGE = (comcore.PLAUSIBLE["resolution"].low, comcore.PLAUSIBLE["resolution"].high)
+#: everywhere in comcore (``comcore.conventions.PLAUSIBLE["resolution"]``).
+RESOLUTION_RANGE = (
+    comcore.conventions.PLAUSIBLE["resolution"].low,
+    comcore.conventions.PLAUSIBLE["resolution"].high,
+)
 
 
 class InputError(ValueError):
@@ -55,7 +58,7 @@ class Pushes:
 def check_resolution(value: float) -> float:
     """``value`` (metres per pixel) if it lies in :data:`RESOLUTION_RANGE`, else InputError.
 
-    The message guesses the unit it was typed in (:func:`comcore.check_plausible`).
+    The message guesses the unit it was typed in (:func:`comcore.checks.check_plausible`).
 
     Examples
     --------
@@ -70,7 +73,7 @@ def check_resolution(value: float) -> float:
     if not (math.isfinite(value) and value > 0):
         raise InputError(f"--resolution must be a positive number of metres per pixel, got {value}")
     try:
-        return comcore.check_plausible(value, "--resolution", "resolution")
+        return comcore.checks.check_plausible(value, "--resolution", "resolution")
     except ValueError as e:
         raise InputError(str(e)) from None
 
@@ -203,7 +206,7 @@ def screen_pushes(
 
     A push misses or starts inside the object; either gives no contact to
     reason about. The contact is the estimator's: a round pusher's disc of
-    ``pusher_radius`` metres (the posterior's, :func:`comcore.disc_contacts`:
+    ``pusher_radius`` metres (the posterior's, :func:`comcore.geometry.disc_contacts`:
     a graze past a corner the disc touches is kept), or with 0 the leading
     point's path on the pixels (Alg. 1 and Alg. 2: a graze counts as a
     miss). ``strict``: raise InputError naming them instead.

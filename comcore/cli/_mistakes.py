@@ -97,7 +97,7 @@ def recording_mistakes(mask, recorded, dropped: dict) -> None:
         f"line(s) {line_list(list(dropped))}): the pushes do not look like pushes on this mask"
     )
     swapped = recorded.actions[:, [1, 0, 3, 2]]
-    found = comcore.contacts(mask, swapped)
+    found = comcore.geometry.contacts(mask, swapped)
     hits = int(np.sum(found.hit & ~found.starts_inside))
     if hits > n - len(dropped):
         message += (

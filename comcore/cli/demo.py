@@ -85,7 +85,7 @@ def _run(args) -> int:
     sim = simulators.random_simulator(args.object, friction=args.friction, rng=rng)
     mask = sim.mask
     actions = comcore.sample_pushes(mask, args.pushes, cone=args.cone, rng=rng)
-    motions = comcore.predict_motions(OraclePredictor(sim), mask, actions)
+    motions = comcore.motion.predict_motions(OraclePredictor(sim), mask, actions)
     cm_per_px = 100 * mask.resolution
     print(
         f"{args.object}: {mask.area_m2 * 1e4:.1f} cm^2, mu_contact {sim.mu_contact:.2f}, "

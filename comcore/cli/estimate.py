@@ -5,7 +5,7 @@ the object on a plain table), read through :func:`comcore.mask_from_image`. The 
 per push with the columns ``sx, sy, ex, ey`` (the pusher's path in pixels,
 x = column, y = row down) and ``theta, tx, ty`` (the observed rotation in
 radians, counter-clockwise on screen, and the displacement of the mask's area
-centroid in pixels): the conventions of :mod:`comcore._conventions`. Every
+centroid in pixels): the conventions of :mod:`comcore.conventions`. Every
 push must start from the pose of the mask.
 
 Pushes that miss the object (a graze past a corner included) or start inside
@@ -33,9 +33,10 @@ from pathlib import Path
 import numpy as np
 
 import comcore
-from comcore._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
-from comcore._posterior import MAX_BOOTSTRAP
 from comcore._validation import check_physical
+from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from comcore.active._posterior import MAX_BOOTSTRAP
+from comcore.conventions import DEFAULT_RESOLUTION
 
 from . import _options
 from ._inputs import (
@@ -68,9 +69,9 @@ CREDIBLE = 0.9
 #: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes,
 #: chosen with the bagged region on the MIT push dataset's train plates (docs/realdata.md;
 #: before issue 20, on simulated recordings without bagging: docs/bench.md).
-SYSTEMATIC_ERROR = comcore.RECORDED_SYSTEMATIC_ERROR
+SYSTEMATIC_ERROR = comcore.active.RECORDED_SYSTEMATIC_ERROR
 #: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
-BOOTSTRAP = comcore.RECORDED_BOOTSTRAP
+BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 #: The motion models of ``--model`` (the posterior's), the default first.
@@ -133,9 +134,9 @@ def add_arguments(parser) -> None:
     add(
         "--resolution",
         type=float,
-        default=comcore.DEFAULT_RESOLUTION,
-        help=f"camera resolution in METRES per pixel (default {comcore.DEFAULT_RESOLUTION:g} m "
-        f"= {comcore.DEFAULT_RESOLUTION * 1000:g} mm); values outside [{lo:g}, {hi:g}] are refused",
+        default=comcore.conventions.DEFAULT_RESOLUTION,
+        help=f"camera resolution in METRES per pixel (default {DEFAULT_RESOLUTION:g} m "
+        f"= {DEFAULT_RESOLUTION * 1000:g} mm); values outside [{lo:g}, {hi:g}] are refused",
     )
     add(
         "--method",
@@ -183,7 +184,7 @@ def _add_model_arguments(parser) -> None:
         default=DEFAULT_PUSHER_RADIUS,
         help="radius of the round pusher in METRES, for --model limit-surface (default "
         f"{DEFAULT_PUSHER_RADIUS:g} m); over "
-        f"{comcore.PLAUSIBLE['pusher_radius'].high:g} m is refused",
+        f"{comcore.conventions.PLAUSIBLE['pusher_radius'].high:g} m is refused",
     )
     parser.add_argument(
         "--systematic-error",

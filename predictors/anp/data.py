@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from comcore import Mask, ccw_cross, contacts, rotate_vectors, sample_pushes, vt
+from comcore import Mask, sample_pushes, vt
+from comcore.conventions import ccw_cross, rotate_vectors
+from comcore.geometry import contacts
 
 from .features import object_frame, push_features, targets_from_motions
 from .shapes import random_polygon, rasterise

@@ -3,7 +3,7 @@
 The network never sees pixels. Every object is described in its own frame:
 
 * origin at the mask's area centroid ``c`` (pixels), axes those of the pixel
-  frame (x right, y down: :mod:`comcore._conventions`), unit length ``L``
+  frame (x right, y down: :mod:`comcore.conventions`), unit length ``L``
   pixels, where ``L`` is :data:`CROP_MARGIN` times the largest distance from
   the centroid to an object pixel. A point ``p`` (pixels) has coordinates
   ``u = (p - c) / L``; the whole object lies in the unit disc.
@@ -26,14 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from comcore import (
-    Mask,
-    check_actions,
-    check_mask,
-    check_motions,
-    contacts,
-    signed_line_distance,
-)
+from comcore import Mask
+from comcore.checks import check_actions, check_mask, check_motions
+from comcore.geometry import contacts, signed_line_distance
 
 __all__ = [
     "CROP_MARGIN",
@@ -197,7 +192,7 @@ def dihedral(image, features, targets, k: int, flip: bool, points=None):
     """Apply a symmetry of the square to an episode in the object frame.
 
     The symmetry is ``k`` quarter turns counter-clockwise on screen
-    (:func:`comcore.rotation_matrix`), preceded by a left-right mirror when
+    (:func:`comcore.conventions.rotation_matrix`), preceded by a left-right mirror when
     ``flip``. A mirror reverses the sense of rotation.
 
     Parameters

@@ -246,7 +246,7 @@ class AnpModel(nn.Module):
         d, n = query_features[..., 4:6], query_features[..., 8:10]
         geometry = torch.stack(
             [
-                r[..., 1] * d[..., 0] - r[..., 0] * d[..., 1],  # comcore.ccw_cross(r, d)
+                r[..., 1] * d[..., 0] - r[..., 0] * d[..., 1],  # conventions.ccw_cross(r, d)
                 r[..., 1] * n[..., 0] - r[..., 0] * n[..., 1],
                 (r * d).sum(-1),
                 r.norm(dim=-1),

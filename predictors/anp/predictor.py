@@ -11,13 +11,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from comcore import (
-    check_actions,
-    check_mask,
-    check_plausible_motions,
-    check_priors,
-    check_rng,
-)
+from comcore.checks import check_actions, check_mask, check_priors, check_rng
+from comcore.motion import check_plausible_motions
 
 from .features import (
     T_SCALE,

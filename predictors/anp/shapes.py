@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from comcore import check_rng, rasterise_polygon
+from comcore.checks import check_rng
+from comcore.geometry import rasterise_polygon
 
 __all__ = ["AREA_RANGE_M2", "polygon_area", "random_polygon", "rasterise"]
 
@@ -107,7 +108,7 @@ def rasterise(vertices_m, resolution: float, margin_px: int = 8) -> np.ndarray:
     """Bool image of a polygon (pixel centres inside, even-odd rule), y flipped to rows.
 
     The polygon's bounding box is placed ``margin_px`` pixels from each border;
-    :func:`comcore.rasterise_polygon` fills it. Used by the toy data source; the
+    :func:`comcore.geometry.rasterise_polygon` fills it. Used by the toy data source; the
     simulator has its own rasteriser.
     """
     v = np.asarray(vertices_m, dtype=float) / resolution

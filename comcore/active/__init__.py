@@ -1,0 +1,45 @@
+"""The active estimator: the ask/tell session, its likelihood, push choice and stop rule.
+
+:class:`ActiveSession` chooses each push, reads its outcome and keeps a posterior
+over the CoM (``_grid``) scored by a push's likelihood (``_likelihood``, the motion
+model's term in ``_motion_term``); the push choice (``_choice``), the stop rule
+(``_stop``), what a user sets (:class:`Likelihood`, :class:`StopRule`,
+:class:`PushChoice` in ``_options``), what it records (``_records``) and how it
+reads one push (``_reading``) each have a module. :func:`estimate_active` is its
+blocking form; :func:`estimate_posterior` the same posterior over recorded pushes,
+with its region from the bagged posterior (``_bagging``);
+:func:`calibrate_model_weight` learns the model's power from recordings. May import
+everything below it: the base modules, :mod:`comcore.geometry`, :mod:`comcore.vt`,
+:mod:`comcore.motion` and :mod:`comcore.camera`.
+"""
+
+from ._bagging import RECORDED_BOOTSTRAP
+from ._blocking import estimate_active
+from ._calibrate import PowerCalibration, calibrate_model_weight
+from ._option_groups import option_groups
+from ._options import (
+    RECORDED_SYSTEMATIC_ERROR,
+    SESSION_SYSTEMATIC_ERROR,
+    Likelihood,
+    PushChoice,
+    StopRule,
+)
+from ._posterior import estimate_posterior
+from ._records import credible_level
+from ._session import ActiveSession
+
+__all__ = [
+    "RECORDED_BOOTSTRAP",
+    "RECORDED_SYSTEMATIC_ERROR",
+    "SESSION_SYSTEMATIC_ERROR",
+    "ActiveSession",
+    "Likelihood",
+    "PowerCalibration",
+    "PushChoice",
+    "StopRule",
+    "calibrate_model_weight",
+    "credible_level",
+    "estimate_active",
+    "estimate_posterior",
+    "option_groups",
+]

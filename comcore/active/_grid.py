@@ -1,0 +1,219 @@
+"""The grid posterior of the active estimator: CoM pixels x friction x model.
+
+The state is a joint belief over the CoM (a grid of candidate pixels), the
+contact friction ``mu`` (a grid of cone half-angles) and the motion model (with
+its error-scale factor). Friction is one value for the whole experiment, so it
+is kept jointly with the CoM and marginalised only when the CoM is reported,
+never assumed. What multiplies into it is :mod:`comcore.active._likelihood`'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import ndimage
+from scipy.special import logsumexp
+
+from .._mask import Mask
+from ..conventions import pixel_centres
+
+__all__ = ["GridPosterior", "prior_grid"]
+
+
+def prior_grid(mask: Mask, prior) -> tuple[np.ndarray, np.ndarray]:
+    """Pixels with positive prior weight and their normalised weights."""
+    if prior is None:
+        return mask.pixels, np.full(mask.area_px, 1.0 / mask.area_px)
+    try:
+        weights = np.asarray(prior, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"prior must be an array_like of numbers of shape {mask.shape}") from e
+    if weights.shape != mask.shape:
+        raise ValueError(f"prior must have the mask's shape {mask.shape}, got {weights.shape}")
+    if not np.isfinite(weights).all() or (weights < 0).any() or weights.sum() <= 0:
+        raise ValueError("prior must be finite, non-negative and not all zero")
+    support = weights > 0
+    w = weights[support]
+    return pixel_centres(support), w / w.sum()
+
+
+class GridPosterior:
+    """Joint log-posterior over CoM pixels, friction values and models (internal, mutable).
+
+    ``log_w`` has shape (p, m, k): pixel, friction value, and motion model x
+    model-error scale factor (``k = n_models * n_scales``, model-major; ``k = 1``
+    without a model).
+
+    With ``n_tempers > 1`` it is a mixture of ``n_tempers`` posteriors, each of
+    which raised the motion model's likelihood to its own power (the
+    *learned tempering* of :func:`comcore.estimate_active`'s ``model_weight``),
+    weighted by how well each predicted every push before that push was seen:
+    the weight of member ``e`` is ``exp(S_e) / sum_f exp(S_f)`` with
+    ``S_e = sum_i log sum_h post_e,i-1(h) p(y_i | h)`` the log-probability its
+    posterior before each push gave that push's motion under the untempered
+    likelihood (Grünwald's SafeBayes, with the posterior predictive as the
+    loss: a power that leaves the posterior too narrow for the model's errors
+    predicts the next push badly, one too wide predicts it vaguely).
+    ``log_w`` is the mixture.
+    """
+
+    def __init__(
+        self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1, n_tempers: int = 1,
+        mu_weights=None,
+    ):  # fmt: skip
+        self.pixels = np.asarray(pixels, dtype=float)
+        self.mus = np.asarray(mus, dtype=float)
+        self.n_models, self.n_scales = int(n_models), int(n_scales)
+        log_prior = np.log(np.asarray(prior_weights, dtype=float))[:, None, None]
+        if mu_weights is not None:  # a prior over the friction values too (else uniform)
+            log_prior = log_prior + np.log(np.asarray(mu_weights, dtype=float))[None, :, None]
+        shape = (len(self.pixels), len(self.mus), self.n_models * self.n_scales)
+        self.log_w = np.broadcast_to(log_prior, shape).copy()
+        self._normalise()
+        self.n_tempers = int(n_tempers)
+        #: Each temper's log predictive score S_e (nats) so far.
+        self.temper_scores = np.zeros(self.n_tempers)
+        self._members = np.stack([self.log_w] * self.n_tempers)  # (n_tempers, p, m, k)
+
+    def _normalise(self) -> float:
+        top = self.log_w.max()
+        self.log_w -= top
+        total = np.log(np.exp(self.log_w).sum())
+        self.log_w -= total
+        return float(top + total)
+
+    @property
+    def temper_weights(self) -> np.ndarray:
+        """Weight of each temper in the mixture, shape (n_tempers,), summing to 1."""
+        z = self.temper_scores - self.temper_scores.max()
+        w = np.exp(z)
+        return w / w.sum()
+
+    def _member_predictive(self, full) -> np.ndarray:
+        """Each member's log-probability of an observation of log-likelihood ``full``."""
+        return logsumexp(self._members + full, axis=(1, 2, 3))
+
+    def predictive(self, full) -> float:
+        """Log-probability the posterior gave an observation of log-likelihood ``full``."""
+        return float(logsumexp(self._member_predictive(full), b=self.temper_weights))
+
+    def update(self, log_likelihood, full=None) -> float:
+        """Multiply in a likelihood given as logs, broadcast to (p, m, k).
+
+        With tempers, ``log_likelihood`` has shape (n_tempers, p, m, k), one
+        tempered likelihood per member, and ``full`` (p, m, k) is the
+        untempered one that scores them (without tempers, ``full`` defaults
+        to ``log_likelihood``). Returns the log-probability the posterior
+        before gave the observation under ``full``: its log marginal
+        likelihood.
+        """
+        loglik = np.asarray(log_likelihood, dtype=float)
+        if loglik.ndim < 4:
+            loglik = loglik[None]
+        if full is None:
+            if self.n_tempers > 1:
+                raise ValueError("a tempered posterior needs the untempered likelihood (full)")
+            full = loglik[0]
+        per = self._member_predictive(full)
+        evidence = float(logsumexp(per, b=self.temper_weights))
+        self.temper_scores = self.temper_scores + per
+        members = self._members + loglik
+        self._members = members - logsumexp(members, axis=(1, 2, 3), keepdims=True)
+        weights = self.temper_weights[:, None, None, None]
+        self.log_w = logsumexp(self._members, axis=0, b=np.broadcast_to(weights, members.shape))
+        self._normalise()
+        return evidence
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Joint posterior (p, m, k), summing to 1."""
+        return np.exp(self.log_w)
+
+    @property
+    def sense_weights(self) -> np.ndarray:
+        """Posterior of (pixel, friction), shape (p, m): what the Voting Theorem sees."""
+        return self.weights.sum(axis=2)
+
+    @property
+    def marginal(self) -> np.ndarray:
+        """Posterior of the CoM pixel, shape (p,)."""
+        return self.weights.sum(axis=(1, 2))
+
+    @property
+    def mu_marginal(self) -> np.ndarray:
+        """Posterior of the friction values, shape (m,)."""
+        return self.weights.sum(axis=(0, 2))
+
+    @property
+    def model_marginal(self) -> np.ndarray:
+        """Posterior of the models, shape (n_models,)."""
+        return self.weights.sum(axis=(0, 1)).reshape(self.n_models, self.n_scales).sum(axis=1)
+
+    @property
+    def scale_marginal(self) -> np.ndarray:
+        """Posterior of the model-error scale factors, shape (n_scales,)."""
+        return self.weights.sum(axis=(0, 1)).reshape(self.n_models, self.n_scales).sum(axis=0)
+
+    def mean(self) -> np.ndarray:
+        """Posterior mean of the CoM (x, y) in pixels."""
+        return self.marginal @ self.pixels
+
+    def covariance(self, weights=None) -> np.ndarray:
+        """Posterior covariance (px^2), plus the 1/12 px^2 spread within a pixel.
+
+        With ``weights`` (p,) over the same pixels (a bagged posterior's): their
+        spread about the posterior's mean, the estimate.
+        """
+        w = self.marginal if weights is None else np.asarray(weights, dtype=float)
+        centred = self.pixels - self.mean()
+        return (centred * w[:, None]).T @ centred + np.eye(2) / 12.0
+
+    def entropy_bits(self) -> float:
+        """Entropy of the CoM-pixel posterior in bits."""
+        w = self.marginal
+        w = w[w > 0]
+        return float(-(w * np.log2(w)).sum())
+
+    def region_weights(self, blur_px: float = 0.0, marginal=None) -> np.ndarray:
+        """The pixel weights a credible region is read from, shape (p,), summing to 1.
+
+        The CoM-pixel marginal, or ``marginal`` given over the same pixels (a
+        bagged posterior's, :mod:`comcore.active._bagging`); with ``blur_px`` > 0
+        blurred by a Gaussian of that standard deviation (pixels) over the
+        grid's pixels (mass blurred off them is dropped and the rest
+        renormalised): an error on the CoM that no number of pushes averages
+        away (``Likelihood.systematic_error``). Works on the grid's bounding box
+        (plus four standard deviations), not a whole camera frame.
+        """
+        w = self.marginal if marginal is None else np.asarray(marginal, dtype=float)
+        if blur_px <= 0:
+            return w
+        cols = np.rint(self.pixels[:, 0]).astype(np.int64)
+        rows = np.rint(self.pixels[:, 1]).astype(np.int64)
+        pad = math.ceil(4.0 * blur_px) + 1
+        r0, c0 = rows.min() - pad, cols.min() - pad
+        image = np.zeros((rows.max() - r0 + pad + 1, cols.max() - c0 + pad + 1))
+        np.add.at(image, (rows - r0, cols - c0), w)
+        blurred = ndimage.gaussian_filter(image, blur_px, mode="constant", truncate=4.0)
+        w = np.maximum(blurred[rows - r0, cols - c0], 0.0)
+        return w / w.sum()
+
+    def credible(
+        self, level: float, blur_px: float = 0.0, marginal=None
+    ) -> tuple[np.ndarray, float]:
+        """Highest-posterior pixels holding ``level`` of the mass, and their area (px^2).
+
+        Read from :meth:`region_weights` (``blur_px``, ``marginal``). The area
+        counts the last pixel in proportion to the mass it must contribute, so
+        it varies smoothly as the posterior sharpens.
+        """
+        w = self.region_weights(blur_px, marginal)
+        order = np.argsort(-w, kind="stable")
+        cum = np.cumsum(w[order])
+        k = min(int(np.searchsorted(cum, level * cum[-1])), len(w) - 1)
+        before = cum[k - 1] if k > 0 else 0.0
+        fraction = (level * cum[-1] - before) / w[order[k]] if w[order[k]] > 0 else 1.0
+        chosen = np.zeros(len(w), dtype=bool)
+        chosen[order[: k + 1]] = True
+        return chosen, float(k + min(max(fraction, 0.0), 1.0))

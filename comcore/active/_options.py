@@ -1,0 +1,398 @@
+"""What a user sets for the active estimator, in three groups, each default written once.
+
+:class:`Likelihood` says how a push's observed motion is scored, :class:`StopRule`
+when a session stops, :class:`PushChoice` how the next push is chosen. Each is a
+frozen dataclass checked when it is built (lengths in metres, angles in
+radians), and each default lives on its field and nowhere else. The entry points
+(:func:`comcore.estimate_active`, :class:`comcore.ActiveSession`,
+:func:`comcore.estimate_posterior`, :func:`comcore.calibrate_model_weight`) take
+them as ``likelihood=``, ``stop=`` and ``choice=``; what is not a group's (the
+motion ``model``, ``pusher_radius``, ``prior``, ``credible``, ``rng``,
+``candidates``) stays a keyword of its own.
+
+The flat keywords of earlier releases still work for one release, through the
+one shim in :mod:`comcore.active._option_groups`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import (
+    check_count,
+    check_mu,
+    check_pair,
+    check_physical,
+    check_positive,
+    check_powers,
+    check_probability,
+)
+from ..conventions import ANGLE_EPS, check_plausible
+from ..geometry._sampling import DEFAULT_TRAVEL_M
+from ._motion_term import NEAR_LINE_M, model_error_log_density, theta_scale
+from ._stop import stop_index, stop_reason
+
+__all__ = [
+    "DEFAULT_CREDIBLE",
+    "DEFAULT_MODEL",
+    "DEFAULT_PUSHER_RADIUS",
+    "MAX_CANDIDATES",
+    "MAX_N_MU",
+    "RECORDED_SYSTEMATIC_ERROR",
+    "SELECTIONS",
+    "SESSION_SYSTEMATIC_ERROR",
+    "UNKNOWN_MU_RANGE",
+    "Likelihood",
+    "PushChoice",
+    "StopRule",
+    "mu_grid",
+]
+
+#: Radius (metres) of the pusher assumed when none is given: the simulators' default pusher.
+DEFAULT_PUSHER_RADIUS = 0.004
+#: Mass of the credible region an estimate reports (and the stop rule measures).
+DEFAULT_CREDIBLE = 0.9
+#: ``Likelihood.systematic_error`` (metres) where it is left ``None``, for the sessions
+#: (:class:`comcore.ActiveSession`, :func:`comcore.estimate_active`, :class:`comcore.GoalSession`):
+#: none. They stop at a region of a few millimetres after 4-5 pushes, before an error shared
+#: by the pushes shows; a floor here would keep them pushing (docs/active.md).
+SESSION_SYSTEMATIC_ERROR = 0.0
+#: ... and for :func:`comcore.estimate_posterior` and ``comcore estimate`` (every push of a
+#: recording, its region read from the bagged posterior): 1.5 mm, the least of 1-4 mm with which
+#: the 90 % region held the CoM in at least 90 % of the runs at every k, real and pool-matched, on
+#: the MIT push train plates (docs/realdata.md; reported there on the test plate).
+RECORDED_SYSTEMATIC_ERROR = 0.0015
+#: Ways to choose the next push.
+SELECTIONS = ("sense", "model")
+#: Friction range searched when ``mu`` is unknown (covers common pusher materials).
+UNKNOWN_MU_RANGE = (0.0, 2.0)
+#: Largest cone half-angle used for an unbounded friction range (radians).
+MAX_ALPHA = math.pi / 2 - 1e-3
+#: Most friction values a likelihood marginalises over: the model is integrated once per
+#: value, about 0.04 s per push and value on a 2-core machine (benchmarks/bench_active.py), so
+#: 32 keeps a 5-push session under 10 s; past about 100 it ran over 30 s.
+MAX_N_MU = 32
+#: Most default candidates drawn (:func:`comcore.sample_pushes`): 10,000 cost 3 s a session.
+MAX_CANDIDATES = 20_000
+
+
+class _DefaultModel:
+    """The ``model`` argument's default: ``LimitSurfaceModel(pusher_radius=pusher_radius)``."""
+
+    def __repr__(self) -> str:
+        return "<default: comcore.LimitSurfaceModel(pusher_radius=pusher_radius)>"
+
+    def __reduce__(self):
+        return "DEFAULT_MODEL"
+
+
+#: ``model``'s default (``model=None`` asks for the Voting Theorem alone).
+DEFAULT_MODEL = _DefaultModel()
+
+
+@dataclass(frozen=True)
+class Likelihood:
+    """How an observed push is scored: the Voting Theorem's term, the model's, the noise.
+
+    Lengths are in metres and angles in radians, whatever the camera's
+    resolution: the same object gives the same posterior at any resolution.
+    The defaults were fitted against the simulator or chosen on seed-1
+    benchmark trials (docs/active.md); how each term uses them is in
+    :mod:`comcore.active._likelihood`. Lengths outside ``comcore.conventions.PLAUSIBLE``
+    (``pusher_error`` and the absolute parts of ``translation_error`` and
+    ``motion_noise``: at most 5 cm; the rotation of ``motion_noise``: at most
+    0.5 rad) are refused with a guess at the unit they were typed in.
+
+    Attributes
+    ----------
+    mu : None, float or (float, float)
+        Contact friction: unknown (None, marginalised over ``[0, 2]``), known,
+        or a range (marginalised over it).
+    n_mu : int
+        Number of friction values the unknown friction is marginalised over
+        (at most :data:`MAX_N_MU`).
+    flip_prob : float
+        Probability that an observed sense of rotation is wrong, in (0, 0.5).
+    theta_tol : float
+        Rotations with ``|theta| <= theta_tol`` (radians) carry no sense.
+    theta_noise : (float, float)
+        The model's rotation error scale (radians): everywhere, and extra near
+        the force line (``theta_noise[0] + theta_noise[1] / (1 + (lever /
+        3.75 cm)^2)``).
+    translation_error : (float, float)
+        The model's error on the CoM's displacement: absolute (metres) and
+        relative to the displacement.
+    pusher_error : float
+        Standard deviation (metres) of the pusher's position across its path:
+        how far the executed push line may lie from the one scored.
+    motion_noise : (float, float)
+        Standard deviations of a measured motion's error, rotation (radians)
+        and translation (metres): a camera tracker's 0.5 deg and 0.5 mm.
+    model_weight : float or tuple of float
+        Power in (0, 1] on the model's likelihood: a number fixes it, a
+        sequence of powers is learned per session (their mixture, each
+        weighted by how well it predicted every push before it was seen).
+    model_scales : tuple of float
+        Factors on the model's error scales, one unknown factor per session
+        marginalised like the friction (``(1.0,)``: the scales as given).
+    systematic_error : None or float
+        Standard deviation (metres) of an error on the CoM that more pushes do
+        not average away (a motion model that errs the same way on every push
+        of an object): the credible region, its radius and the stop rule read
+        the posterior blurred by a Gaussian of this size. ``None`` (default):
+        the estimator's own, :data:`SESSION_SYSTEMATIC_ERROR` (0) for the
+        sessions (their pushes stop before it matters) and
+        :data:`RECORDED_SYSTEMATIC_ERROR` (1.5 mm) for
+        :func:`comcore.estimate_posterior` and ``comcore estimate``, which
+        take every push of a recording (chosen on real pushes, docs/realdata.md).
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.Likelihood(pusher_error=0.002).pusher_error
+    0.002
+    >>> comcore.Likelihood(flip_prob=0.7)
+    Traceback (most recent call last):
+    ...
+    ValueError: flip_prob must be in (0, 0.5), got 0.7
+    """
+
+    mu: Any = None
+    n_mu: int = 6
+    flip_prob: float = 0.05
+    theta_tol: float = ANGLE_EPS
+    theta_noise: tuple[float, float] = (0.01, 0.13)
+    translation_error: tuple[float, float] = (0.001, 0.056)
+    pusher_error: float = 0.001
+    motion_noise: tuple[float, float] = (math.radians(0.5), 0.0005)
+    model_weight: Any = (0.25, 0.4, 0.6, 1.0)
+    model_scales: tuple[float, ...] = (1.0,)
+    systematic_error: float | None = None
+
+    def model_error_scales(self, lever_m, displacement_m) -> tuple[np.ndarray, np.ndarray]:
+        """The scales of the model's errors the likelihood assumes, for given pushes.
+
+        ``theta_noise[0] + theta_noise[1] / (1 + (lever / 3.75 cm)^2)`` radians for
+        the rotation (a push whose line passes near the CoM turns the object
+        unpredictably) and ``translation_error[0] + translation_error[1] *
+        displacement`` metres for the CoM's displacement, ``lever_m`` the CoM's
+        distance to the push's force line and ``displacement_m`` the predicted
+        displacement (metres, broadcast).
+        """
+        theta = theta_scale(np.asarray(lever_m, dtype=float), self.theta_noise, NEAR_LINE_M)
+        moved = np.asarray(displacement_m, dtype=float)
+        return theta, self.translation_error[0] + self.translation_error[1] * moved
+
+    def model_error_log_density(
+        self, theta_error, lever_m, displacement_error_m, displacement_m
+    ) -> np.ndarray:
+        """Log-density (up to a constant) of a motion model's errors as the likelihood scores them.
+
+        Per push: Student-t residuals (3 degrees of freedom) of the rotation
+        error ``theta_error`` (radians) and of the CoM displacement's error
+        ``displacement_error_m`` (its norm, metres) with the scales of
+        :meth:`model_error_scales`: the model's term of a push's likelihood
+        without tracking noise or the pusher's offset, for fitting the scales
+        to a model's errors against an engine (benchmarks/eval_motion_model.py).
+        """
+        return model_error_log_density(
+            self.theta_noise, self.translation_error, theta_error, lever_m,
+            displacement_error_m, displacement_m,
+        )  # fmt: skip
+
+    @property
+    def mus(self) -> np.ndarray:
+        """The friction values the likelihood marginalises over (:func:`mu_grid`).
+
+        >>> import comcore
+        >>> comcore.Likelihood(n_mu=2, mu=(0.0, 1.0)).mus.round(3).tolist()
+        [0.199, 0.668]
+        """
+        return mu_grid(self.mu, self.n_mu)
+
+    def __post_init__(self):
+        if self.mu is not None:
+            check_mu(self.mu)
+        _set(self, "n_mu", _bounded_count(self.n_mu, "n_mu", MAX_N_MU, "friction values"))
+        flip_prob = check_probability(self.flip_prob, "flip_prob", open_low=True)
+        if flip_prob >= 0.5:
+            raise ValueError(f"flip_prob must be in (0, 0.5), got {flip_prob}")
+        _set(self, "flip_prob", flip_prob)
+        _set(self, "theta_tol", check_positive(self.theta_tol, "theta_tol", allow_zero=True))
+        _set(self, "theta_noise", check_pair(self.theta_noise, "theta_noise"))
+        translation_error = check_pair(self.translation_error, "translation_error")
+        check_plausible(translation_error[0], "translation_error's absolute part", "length_noise")
+        _set(self, "translation_error", translation_error)
+        pusher_error = check_physical(
+            self.pusher_error, "pusher_error", "length_noise", allow_zero=True
+        )
+        _set(self, "pusher_error", pusher_error)
+        if self.systematic_error is not None:
+            systematic = check_physical(
+                self.systematic_error, "systematic_error", "length_noise", allow_zero=True
+            )
+            _set(self, "systematic_error", systematic)
+        motion_noise = check_pair(self.motion_noise, "motion_noise", allow_zero=True)
+        check_plausible(motion_noise[0], "motion_noise's rotation", "angle_noise")
+        check_plausible(motion_noise[1], "motion_noise's translation", "length_noise")
+        _set(self, "motion_noise", motion_noise)
+        _set(self, "model_weight", check_powers(self.model_weight, "model_weight"))
+        _set(self, "model_scales", _factors(self.model_scales))
+
+
+@dataclass(frozen=True)
+class StopRule:
+    """When a session stops (its status then says why).
+
+    It stops ``"ok"`` when the equivalent-circle radius ``sqrt(area / pi)`` of
+    the credible region is at most ``target_radius`` after at least
+    ``min_pushes`` pushes with evidence; ``"budget"`` when ``max_pushes``
+    pushes are spent; ``"exhausted"`` when no candidate is left;
+    ``"uninformative"`` when none is expected to teach more than
+    ``min_information`` bits; and ``"inconsistent"`` instead of any of these
+    when no hypothesis explains the pushes. The rule itself is
+    :mod:`comcore.active._stop`.
+
+    Attributes
+    ----------
+    max_pushes : int
+        Budget of real pushes (>= 0).
+    min_pushes : int
+        Pushes with evidence before a small region may stop the session
+        ``"ok"`` (0 lets a tight prior stop it before any push): one push
+        cannot check the model, its motion is explained at some CoM however
+        wrong the model is.
+    target_radius : float
+        The credible region's radius (metres) at which the session stops
+        ``"ok"``. A region can be no smaller than a pixel (``0.56 *
+        resolution``); at most 0.5 m.
+    min_information : float
+        Stop when no push is expected to teach more bits than this.
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.StopRule(max_pushes=8).max_pushes
+    8
+    >>> comcore.StopRule(max_pushes=2.5)
+    Traceback (most recent call last):
+    ...
+    TypeError: max_pushes must be an int, got float
+    """
+
+    max_pushes: int = 5
+    min_pushes: int = 2
+    target_radius: float = 0.006
+    min_information: float = 1e-3
+
+    def reason(self, state, resolution: float) -> str | None:
+        """Why a session in ``state`` (a ``SessionState``) stops now, or None.
+
+        The rule itself is :func:`comcore.active._stop.stop_reason`.
+        """
+        return stop_reason(self, state, resolution)
+
+    def stop_index(self, history, resolution: float) -> int:
+        """Where a run through ``history`` (its states, the prior first) would have stopped.
+
+        For evaluating stop rules on recorded runs that did not stop early:
+        see :func:`comcore.active._stop.stop_index`.
+        """
+        return stop_index(self, history, resolution)
+
+    def __post_init__(self):
+        _set(self, "max_pushes", check_count(self.max_pushes, "max_pushes", 0))
+        _set(self, "min_pushes", check_count(self.min_pushes, "min_pushes", 0))
+        target = check_physical(self.target_radius, "target_radius", "target_radius")
+        _set(self, "target_radius", target)
+        info = check_positive(self.min_information, "min_information", allow_zero=True)
+        _set(self, "min_information", info)
+
+
+@dataclass(frozen=True)
+class PushChoice:
+    """How the next push is chosen among the candidates (in :mod:`comcore.active._choice`).
+
+    Attributes
+    ----------
+    selection : {"sense", "model"}
+        ``"sense"``: the candidate whose observed sense of rotation is expected
+        to tell the most about the CoM (exact over the whole posterior).
+        ``"model"``: the candidate whose whole motion, as the motion model
+        predicts it, is expected to tell the most (slower; it steers towards
+        pushes where the model is least right, docs/active.md).
+    n_candidates : int
+        Number of default candidates (:func:`comcore.sample_pushes`), at most
+        :data:`MAX_CANDIDATES`.
+    cone : float
+        Half-angle (radians, in [0, pi/2)) of the default candidates'
+        directions about the inward normal; 0 pushes along the normal, where
+        the contact sticks for any friction.
+    travel : float
+        How far (metres) the default candidates push past first contact: set
+        it from your workspace. Longer pushes tell more per push, and the
+        model errs more on them. At most 0.5 m (``comcore.conventions.PLAUSIBLE``).
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.PushChoice(selection="rotation")
+    Traceback (most recent call last):
+    ...
+    ValueError: selection must be one of ('sense', 'model'), got 'rotation'
+    """
+
+    selection: str = "sense"
+    n_candidates: int = 200
+    cone: float = 0.0
+    travel: float = DEFAULT_TRAVEL_M
+
+    def __post_init__(self):
+        if self.selection not in SELECTIONS:
+            raise ValueError(f"selection must be one of {SELECTIONS}, got {self.selection!r}")
+        n_candidates = _bounded_count(self.n_candidates, "n_candidates", MAX_CANDIDATES, "pushes")
+        _set(self, "n_candidates", n_candidates)
+        cone = check_positive(self.cone, "cone", allow_zero=True)
+        if cone >= math.pi / 2:
+            raise ValueError(f"cone must be a half-angle in [0, pi/2) radians, got {cone}")
+        _set(self, "cone", cone)
+        _set(self, "travel", check_physical(self.travel, "travel", "push_length"))
+
+
+def _set(obj, name: str, value) -> None:
+    object.__setattr__(obj, name, value)
+
+
+def _bounded_count(value, name: str, most: int, what: str) -> int:
+    """A count in ``[1, most]``; above ``most`` a ValueError saying what it would cost."""
+    count = check_count(value, name, 1)
+    if count > most:
+        raise ValueError(
+            f"{name} must be at most {most} ({what}; each one costs time on every push), "
+            f"got {count}"
+        )
+    return count
+
+
+def _factors(value) -> tuple[float, ...]:
+    try:
+        scales = tuple(float(v) for v in value)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"model_scales must be a sequence of numbers, got {value!r}") from e
+    if not scales or not all(math.isfinite(v) and v > 0 for v in scales):
+        raise ValueError(f"model_scales must be positive finite factors, got {value!r}")
+    return scales
+
+
+def mu_grid(mu, n_mu: int) -> np.ndarray:
+    """Friction values at the mid-points of ``n_mu`` equal bins of cone half-angle."""
+    lo, hi = UNKNOWN_MU_RANGE if mu is None else check_mu(mu)
+    a_lo, a_hi = math.atan(lo), min(math.atan(hi), MAX_ALPHA)
+    if a_hi - a_lo < 1e-12:
+        return np.array([lo])
+    alphas = a_lo + (np.arange(n_mu) + 0.5) * (a_hi - a_lo) / n_mu
+    return np.tan(alphas)

@@ -1,0 +1,278 @@
+"""The active estimator's posterior over recorded pushes: :func:`estimate_posterior`.
+
+The same parts as :class:`comcore.ActiveSession` (:mod:`comcore.active._grid`,
+:mod:`comcore.active._likelihood`), over pushes already made: no push is chosen and
+nothing stops. Its region is read from the bagged posterior
+(:mod:`comcore.active._bagging`), because a recording's many pushes make the posterior
+sure of what a model's shared error says.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._checks import check_count
+from .._mask import Mask
+from .._types import Estimate, PushRecord
+from .._validation import (
+    check_actions,
+    check_mask,
+    check_motions,
+    check_per_push,
+    check_rng,
+    check_turns,
+)
+from ..camera._pose_tracking import is_miss
+from ..geometry._disc_contacts import pusher_contacts, usable_pushes
+from ..vt._force_lines import force_line_distances, push_force_lines
+from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
+from ._grid import prior_grid
+from ._likelihood import (
+    SenseTally,
+    gyration_px,
+    push_evidence,
+    sense_flip_prob,
+    tracking_noise,
+)
+from ._option_groups import resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
+from ._records import PushLog
+from ._session import session_setup
+from ._stop import offline_status, sense_check
+
+__all__ = ["estimate_posterior"]
+
+#: Most Bayesian-bootstrap resamplings ``bootstrap`` may ask for (each costs a
+#: multiply-add per push and live hypothesis: 200 take about 0.3 s for 40 pushes).
+MAX_BOOTSTRAP = 10_000
+
+
+def estimate_posterior(
+    mask: Mask,
+    actions=None,
+    motions=None,
+    *,
+    pushes=None,
+    model=DEFAULT_MODEL,
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+    prior=None,
+    credible: float = DEFAULT_CREDIBLE,
+    likelihood=None,
+    rotation_observed=None,
+    residual_px=None,
+    bootstrap: int = RECORDED_BOOTSTRAP,
+    rng=0,
+    **flat,
+) -> Estimate:
+    """The active estimator's posterior over recorded pushes, without choosing any.
+
+    The offline counterpart of :func:`comcore.estimate_active` and
+    :class:`comcore.ActiveSession`: the same prior, likelihood and result,
+    over pushes in ``mask``'s frame: pushes made from the pose of ``mask``
+    (the object reset before each), or a session's records
+    (``pushes=estimate.pushes``, in the first mask's frame however the
+    object moved: with the session's model and options that replays its
+    posterior; its region too with ``systematic_error=0`` and
+    ``bootstrap=0``). A push whose
+    motion is below the noise (it turned by less than 0.01 rad and moved by
+    less than 1 mm: it missed) carries no evidence.
+
+    Parameters
+    ----------
+    mask : Mask
+        The object before the pushes.
+    actions : array_like, shape (n, 4)
+        The pushes in ``mask``'s pixels; each must start outside the object
+        and hit it.
+    motions : array_like, shape (n, 3)
+        Their observed motions ``(theta, tx, ty)`` (radians, pixels), about
+        ``mask``'s centroid.
+    pushes : sequence of PushRecord, optional
+        Instead of ``actions`` and ``motions``: an :class:`Estimate`'s
+        ``pushes`` (failed ones are skipped; each record's
+        ``rotation_observed`` and ``residual_px`` are scored as recorded).
+    model : HypothesisPredictor, sequence of them, or None, optional
+        Motion model of the likelihood. Default: the session's,
+        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
+        tells a recording with the wrong sign of theta from a right one;
+        ``None``: the Voting Theorem alone (about 20 times faster, and its
+        senses checked only as below).
+    pusher_radius : float, optional
+        Radius (metres) of the round pusher, for the default model (default
+        4 mm): set it from your robot.
+    prior, credible, likelihood
+        As for :func:`comcore.estimate_active`, except that a likelihood whose
+        ``systematic_error`` is None (the default) gets
+        ``comcore.active.RECORDED_SYSTEMATIC_ERROR``, not the sessions' 0.
+    rotation_observed : sequence of bool, shape (n,), optional
+        With ``actions``: False for a push whose rotation is unknown (neither
+        its sense nor its size is scored). Default: every rotation observed.
+    residual_px : sequence of float, shape (n,), optional
+        With ``actions``: per push, the RMS outline residual (pixels) of the
+        registration that measured its motion, NaN or None where none did.
+    bootstrap : int, optional
+        Bayesian-bootstrap resamplings of the pushes whose posteriors are
+        averaged for the credible region, its radius and the covariance
+        (default 200; 0: the posterior's own). With every push of a recording
+        the posterior narrows to a few pixels while a motion model's error on
+        a real object, shared by pushes made alike, does not average away;
+        the bagged posterior widens where the pushes disagree
+        (:mod:`comcore.active._bagging`, docs/realdata.md). The estimate ``com`` is
+        the posterior's mean either way, and ``extras["history"]`` holds the
+        posterior's own states (push by push, not bagged).
+    rng : None, int or numpy.random.Generator, optional
+        Seed of the resamplings (default 0: the same region every call).
+    **flat
+        Deprecated: :class:`comcore.Likelihood`'s options by name; options that
+        choose pushes or stop are refused.
+
+    Returns
+    -------
+    Estimate
+        As :func:`comcore.estimate_active`'s; ``used`` the pushes that carried
+        evidence; ``extras["bootstrap"]`` the resamplings averaged (0 with
+        fewer than two pushes of evidence: the posterior's own);
+        ``extras["senses"]`` the check of the observed senses
+        (:class:`comcore.active._stop.SenseCheck`: how many pushes the best CoM leaves
+        unexplained, against what ``flip_prob`` allows). ``status`` is
+        ``"ok"``, ``"inconsistent"`` when no hypothesis explains the pushes
+        well or the senses fail their check (most contradict the estimate, or
+        no CoM leaves as few unexplained as ``flip_prob`` allows), or
+        ``"no_evidence"`` when no push carried any
+        (:func:`comcore.active._stop.offline_status`).
+
+    Raises
+    ------
+    TypeError, ValueError
+        On invalid arguments (each named).
+
+    Examples
+    --------
+    Four pushes across a plate and the senses they turned it in, scored by
+    the Voting Theorem alone (the motions are made up, not physical): the
+    CoM is between rows 8 and 13 and columns 8 and 13 (each sense may be
+    wrong with probability ``flip_prob``, so the 90 % region still reaches
+    outside):
+
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+    >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
+    >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
+    >>> est.status, np.round(est.com, 1).tolist(), round(est.extras["credible_radius_px"], 1)
+    ('ok', [11.1, 11.1], 9.0)
+    >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
+    True
+
+    Ten pushes that no CoM explains: five say it is above row 8, five below
+    row 18. Every CoM leaves at least five unexplained, where ``flip_prob``
+    allows 0.7 on average:
+
+    >>> est = comcore.estimate_posterior(
+    ...     mask, [(0, 8, 30, 8), (0, 18, 30, 18)] * 5, [(0.2, 3, 0), (-0.2, 3, 0)] * 5,
+    ...     model=None)
+    >>> est.status, est.extras["senses"].fewest_unexplained
+    ('inconsistent', 5)
+    """
+    mask = check_mask(mask)
+    bootstrap = check_count(bootstrap, "bootstrap")
+    if bootstrap > MAX_BOOTSTRAP:
+        raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
+    rng = check_rng(rng)
+    scoring, credible = session_setup(
+        mask, model, pusher_radius, credible,
+        resolve_groups("estimate_posterior", {"likelihood": likelihood}, flat)["likelihood"],
+        RECORDED_FLOOR,
+    )  # fmt: skip
+    given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
+    records = [record for _, record in given]
+    acts = check_actions([r.action for r in records], "actions", allow_empty=False)
+    pixels, prior_weights = prior_grid(mask, prior)
+    con = pusher_contacts(mask, acts, scoring.pusher_radius)
+    usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
+    lines = push_force_lines(con, acts, scoring.mus)
+    post = scoring.posterior(pixels, prior_weights)
+    log = PushLog(post, credible, scoring.systematic_px)
+    kept = PushLikelihoods(post, int(sum(usable))) if bootstrap else None
+    senses = SenseTally(post.log_w.shape[:2])
+    gyration = gyration_px(mask)
+    for i, record in enumerate(records):
+        if not usable[i]:
+            continue
+        if record.outcome == "miss":
+            log.add(record, post)
+            continue
+        tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
+        loglik, excess = push_evidence(
+            post, scoring, mask, acts[i], lines[i], record.motion,
+            rotation_observed=record.rotation_observed, tracking=tracking,
+        )  # fmt: skip
+        log.add(record, post, loglik, excess)
+        if kept is not None:
+            kept.add(loglik.tempered)
+        _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
+    used = [i for (i, r), ok in zip(given, usable) if ok and r.outcome == "evidence"]
+    skipped = tuple(s._replace(index=given[s.index][0]) for s in skipped)
+    check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
+    status = offline_status(log.state, check)
+    bagged = None  # one push is its own bag: the posterior's region
+    if kept is not None and len(kept) > 1:
+        bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
+    extras = {"senses": check, "skipped": skipped, "bootstrap": 0 if bagged is None else bootstrap}
+    return log.estimate(mask, post, used, status, extras, marginal=bagged)
+
+
+def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
+    """Count the push's observed sense against every hypothesis (:class:`SenseTally`)."""
+    theta = float(record.motion[0])
+    if not record.rotation_observed or abs(theta) <= scoring.theta_tol:
+        return
+    flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
+    distances = force_line_distances(pixels, lines)  # (p, m)
+    tally.add(distances, 1 if theta > 0 else -1, flip, scoring.line_scale_px)
+
+
+def _nearest_pixel(pixels, point) -> int:
+    """Index of the grid pixel nearest ``point``."""
+    return int(np.argmin(np.sum((pixels - np.asarray(point)) ** 2, axis=1)))
+
+
+def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> list:
+    """``(position, record)`` of the pushes to score: given, or made from the arrays.
+
+    Failed records are skipped (their positions too); a push made from the
+    arrays is a miss when its motion is below the noise.
+    """
+    if pushes is not None:
+        if actions is not None or motions is not None:
+            raise TypeError("estimate_posterior takes actions and motions, or pushes, not both")
+        if rotation_observed is not None or residual_px is not None:
+            raise TypeError("pushes carry rotation_observed and residual_px: do not pass them too")
+        if isinstance(pushes, PushRecord) or not all(isinstance(p, PushRecord) for p in pushes):
+            raise TypeError(
+                "pushes must be a sequence of comcore.PushRecord (an Estimate's pushes)"
+            )
+        records = [(i, p) for i, p in enumerate(pushes) if p.outcome != "failed"]
+        if not records:
+            raise ValueError("pushes must hold at least one executed push (none failed)")
+        return records
+    if actions is None or motions is None:
+        raise TypeError("estimate_posterior needs actions and motions (or pushes=...)")
+    acts = check_actions(actions, "actions", allow_empty=False)
+    moves = check_turns(check_motions(motions, n=len(acts), name="motions"))
+    observed = check_per_push(rotation_observed, len(acts), "rotation_observed", True)
+    residuals = check_per_push(residual_px, len(acts), "residual_px", float("nan"))
+    return [
+        (i, PushRecord(
+            action=acts[i],
+            motion=moves[i],
+            outcome="miss" if is_miss(moves[i], mask.resolution) else "evidence",
+            index=i,
+            rotation_observed=observed[i],
+            residual_px=None if math.isnan(residuals[i]) else residuals[i],
+        ))
+        for i in range(len(acts))
+    ]  # fmt: skip

@@ -1,0 +1,137 @@
+"""What one push tells a session: its record, its evidence, and the object's new pose.
+
+:func:`read_push` is the step between the robot's report (a mask or a motion, an executed
+path, or a failure) and the posterior: it reads the pose (:mod:`comcore.camera._pose_tracking`),
+decides miss or evidence, chooses among a symmetric outline's readings the one the
+posterior explains best, and scores it (:func:`comcore.active._likelihood.push_evidence`). It
+validates everything and changes nothing: the session applies the result. Any session on a
+moving object (``ActiveSession``, a goal-pushing loop) reads its pushes here.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._mask import Mask
+from .._types import Motion, PushRecord
+from ..camera._pose_tracking import (
+    PoseReading,
+    executed_in_object,
+    is_miss,
+    read_pose,
+    relative,
+    symmetric_branches,
+)
+from ..conventions import object_motion_from_camera
+from ._grid import GridPosterior
+from ._likelihood import Scoring, push_evidence, tracking_noise
+
+__all__ = ["PushContext", "best_branch", "object_motion", "push_record", "read_push"]
+
+
+class PushContext(NamedTuple):
+    """What reading a push needs of the session's state (nothing here is changed)."""
+
+    first: Mask
+    """The first mask: the object's frame."""
+    pose: Motion
+    """The object's pose before the push, relative to the first mask."""
+    posterior: GridPosterior
+    """The posterior before the push."""
+    scoring: Scoring
+    """The likelihood in pixels of the first mask."""
+    gyration_px: float
+    """The first mask's radius of gyration (pixels), for the registration's rotation noise."""
+
+
+def object_motion(pose: Motion, reading: PoseReading) -> np.ndarray:
+    """The motion from ``pose`` to the reading's pose, in the object's frame at ``pose``."""
+    return object_motion_from_camera(relative(pose, reading.pose), pose.theta)
+
+
+def push_record(base: dict, pose: Motion, action, reading: PoseReading, outcome: str):
+    """A :class:`comcore.PushRecord` of a push read as ``reading`` (``base``: the plan's fields)."""
+    residual = reading.residual_px
+    return PushRecord(
+        action=action,
+        motion=tuple(float(v) for v in object_motion(pose, reading)),
+        outcome=outcome,
+        camera_motion=relative(pose, reading.pose),
+        rotation_observed=not reading.ambiguous,
+        residual_px=residual if math.isfinite(residual) else None,
+        symmetry=reading.symmetry,
+        **base,
+    )
+
+
+def best_branch(ctx: PushContext, branches, action, lines):
+    """Of the rotations the masks allow, the one the posterior explains best.
+
+    A symmetric outline (a hexagon) turned by more than half its symmetry
+    angle looks like a smaller turn the other way: the reading kept is the
+    one of highest marginal likelihood, not merely the nearest. Returns
+    ``(branch, loglik, excess)``.
+    """
+    best = None
+    for branch in branches:
+        loglik, excess = push_evidence(
+            ctx.posterior,
+            ctx.scoring,
+            ctx.first,
+            action,
+            lines,
+            object_motion(ctx.pose, branch),
+            rotation_observed=not branch.ambiguous,
+            tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
+        )
+        evidence = ctx.posterior.predictive(loglik.full)
+        if best is None or evidence > best[0]:
+            best = (evidence, branch, loglik, excess)
+    return best[1:]
+
+
+def read_push(ctx: PushContext, candidates, index: int, mask, motion, failed: bool, executed):
+    """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
+
+    ``candidates`` (:class:`comcore.active._choice.Candidates`) and ``index``: the push
+    planned; ``mask`` or ``motion``: what the camera or the tracker saw;
+    ``failed``: the push could not be made; ``executed``: the path the pusher
+    took (camera pixels) or None. Validates everything; changes nothing.
+    """
+    planned = candidates.actions[index]
+    done_as = None
+    if executed is not None:
+        scoring = ctx.scoring
+        done_as = executed_in_object(
+            ctx.first, ctx.pose, executed, scoring.mus, scoring.pusher_radius
+        )
+    # an executed path that misses the object is kept as planned: a miss carries no
+    # evidence, and a replay (estimate_posterior) needs pushes that hit the first mask
+    scored = planned if done_as is None or done_as[1] is None else done_as[0]
+    base = {
+        "index": index,
+        "planned": planned,
+        "camera_action": candidates.in_pose(ctx.pose, [index])[0],
+        "pose_before": ctx.pose,
+    }
+    if failed:
+        return PushRecord(action=planned, motion=None, outcome="failed", **base), (), None
+    reading = read_pose(ctx.first, ctx.pose, mask, motion)
+    branches = symmetric_branches(reading, ctx.pose)
+    if is_miss(relative(ctx.pose, branches[0].pose), ctx.first.resolution):
+        return push_record(base, ctx.pose, scored, branches[0], "miss"), (), branches[0].pose
+    action, lines = planned, candidates.lines[index]
+    if done_as is not None:
+        action, lines = done_as
+        if lines is None:
+            raise ValueError(
+                f"executed {np.asarray(executed, float).ravel().tolist()} misses the "
+                "object as the session sees it, but the object moved: pass the path the "
+                "pusher took, in camera pixels"
+            )
+    branch, loglik, excess = best_branch(ctx, branches, action, lines)
+    record = push_record(base, ctx.pose, scored, branch, "evidence")
+    return record, (loglik, excess), branch.pose

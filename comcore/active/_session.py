@@ -1,0 +1,395 @@
+"""`comcore.ActiveSession`: the active estimator as an ask/tell loop on an object that moves.
+
+The session holds the state and the order of calls; what it does at each step
+lives in a file of its own: the likelihood of a push (:mod:`comcore.active._likelihood`),
+the push choice (:mod:`comcore.active._choice`), the stop rule (:mod:`comcore.active._stop`),
+the pose tracking (:mod:`comcore.camera._pose_tracking`), reading a push
+(:mod:`comcore.active._reading`) and the records
+(:mod:`comcore.active._records`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._errors import SessionError
+from .._mask import Mask
+from .._types import Action, Estimate, Motion, PushRecord, SkippedPush
+from .._validation import check_mask, check_motions, check_physical, check_probability, check_rng
+from ..camera._pose_tracking import IDENTITY, moved_mask
+from ..conventions import apply_motion
+from ..motion._limit_surface import check_push_lengths
+from ._choice import Candidates
+from ._grid import prior_grid
+from ._likelihood import Scoring, check_models, gyration_px
+from ._option_groups import resolve_groups
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
+from ._reading import PushContext, read_push
+from ._records import PushLog, SessionState
+from ._stop import choice_status, stop_reason
+
+__all__ = ["ActiveSession", "session_setup"]
+
+
+def session_setup(
+    mask: Mask, model, pusher_radius, credible, likelihood, systematic_floor=SESSION_FLOOR
+) -> tuple:
+    """``(Scoring, credible)`` of an active estimator's arguments, each checked and named.
+
+    ``systematic_floor`` is the estimator's ``systematic_error`` where the likelihood leaves it
+    None.
+    """
+    pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
+    models = check_models(model, pusher_radius)
+    credible = check_probability(credible, "credible", open_low=True, open_high=True)
+    scoring = Scoring.build(likelihood, mask, models, pusher_radius, systematic_floor)
+    return scoring, credible
+
+
+class ActiveSession:
+    """Find the CoM by pushing, one push at a time, driven by the caller's loop.
+
+    The ask/tell form of :func:`comcore.estimate_active` (same posterior,
+    likelihood, push choice and stop rule; see there), for a robot that
+    cannot reset the object and sees it through a camera::
+
+        session = comcore.ActiveSession(first_mask, pusher_radius=0.004, rng=0)
+        while not session.done:
+            action = session.next_push()   # camera frame, on the object as it is now
+            robot.execute(action)
+            session.observe(camera_mask())  # or observe(motion=...), observe(failed=True)
+        estimate = session.estimate()       # .com in the first mask's frame
+
+    **Frames.** The posterior lives on the object, in the first mask's frame.
+    The session tracks the object's :attr:`pose` relative to the first mask:
+    from each observed mask, registered against the FIRST mask with
+    :func:`comcore.measure_motion` (so tracking errors do not pile up), or
+    from each motion the caller's tracker reports (camera frame, about the
+    object's current centroid). Candidates are drawn once on the first mask
+    and move with the object: :meth:`next_push` offers only pushes that, in
+    the current pose, start and end in the image, start outside the object
+    and hit it (checked on the last observed mask, or on the first mask moved
+    to the pose). A push is never offered twice.
+
+    **Pushes without evidence.** A push after which the object turned by
+    less than 0.01 rad and moved by less than 1 mm
+    (:data:`comcore.camera._pose_tracking.MISS_ROTATION`, ``MISS_TRANSLATION_M``) is a
+    miss: recorded, counted in the budget, no evidence. ``observe(failed=True)``
+    (the robot could not execute it): not counted, no evidence. A mask whose
+    registration is ``ambiguous`` (a disc: the rotation cannot be seen) gives
+    the translation only.
+
+    **State.** After every call that changes it (construction, :meth:`observe`,
+    :meth:`reset_pose`) the session applies the stop rule and, if it goes on,
+    chooses the next push; reading :attr:`done`, :attr:`status` or
+    :attr:`history` computes nothing.
+
+    Parameters
+    ----------
+    mask : Mask
+        The object as the camera sees it before the first push.
+    candidates : array_like, shape (n, 4), optional
+        Pushes in the first mask's frame; default ``comcore.sample_pushes``
+        with ``choice``'s ``n_candidates``, ``cone`` and ``travel``.
+    model, pusher_radius, prior, credible, rng, likelihood, stop, choice
+        As for :func:`comcore.estimate_active`.
+    **flat
+        Deprecated: the options of the groups by name (``max_pushes=3``);
+        they warn and say which group to pass.
+
+    Attributes
+    ----------
+    done : bool
+    status : str
+        ``"waiting_push"`` (call :meth:`next_push`), ``"waiting_observation"``
+        (call :meth:`observe`), or final: ``"ok"``, ``"budget"``,
+        ``"exhausted"`` (no candidate left that can be pushed in this pose),
+        ``"uninformative"``, or ``"inconsistent"`` (instead of any of them)
+        when no hypothesis explains the motions well (:attr:`consistent`).
+    pose : Motion
+        The object's pose now relative to the first mask.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On invalid arguments (each named).
+
+    Examples
+    --------
+    The object turns 0.1 rad in the Voting Theorem's sense and stays put (no
+    physics: the Voting Theorem alone, ``model=None``):
+
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    >>> true_com = np.array([17.0, 20.0])
+    >>> stop = comcore.StopRule(max_pushes=3)
+    >>> session = comcore.ActiveSession(mask, model=None, stop=stop, rng=0)
+    >>> while not session.done:
+    ...     action = session.next_push()
+    ...     c = comcore.geometry.contacts(mask, action)
+    ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+    ...     session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0), reset=True)
+    >>> session.status, len(session.actions)
+    ('budget', 3)
+    """
+
+    def __init__(
+        self,
+        mask: Mask,
+        *,
+        candidates=None,
+        model=DEFAULT_MODEL,
+        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+        prior=None,
+        credible: float = DEFAULT_CREDIBLE,
+        rng=None,
+        likelihood=None,
+        stop=None,
+        choice=None,
+        **flat,
+    ):
+        self._first = check_mask(mask)
+        groups = resolve_groups(
+            "ActiveSession", {"likelihood": likelihood, "stop": stop, "choice": choice}, flat
+        )
+        self._stop_rule, self._choice = groups["stop"], groups["choice"]
+        self._scoring, credible = session_setup(
+            self._first, model, pusher_radius, credible, groups["likelihood"]
+        )
+        if self._choice.selection == "model" and not self._scoring.models:
+            raise ValueError("selection='model' needs a model")
+        pixels, prior_weights = prior_grid(self._first, prior)
+        self._candidates = Candidates(
+            self._first, candidates, self._choice, self._scoring.mus, check_rng(rng),
+            pusher_radius=self._scoring.pusher_radius,
+        )  # fmt: skip
+        check_push_lengths(self._first, self._candidates.actions, "candidates")
+        self._posterior = self._scoring.posterior(pixels, prior_weights)
+        self._gyration_px = gyration_px(self._first)
+        self._pose = IDENTITY
+        self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
+        self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
+        self._handed_out = False
+        self._plan()
+
+    # -- state ---------------------------------------------------------------------------
+
+    @property
+    def excess_nats(self) -> float:
+        """How much more the pushes surprise the best hypothesis than its own motions would.
+
+        The minimum over (CoM, friction, model) hypotheses of the summed
+        excess surprise ``-log p(y | h) + E_h log p(Y | h)`` of the pushes
+        with evidence: about 0 or below when some hypothesis explains the
+        data, large when none does (0 before the first push).
+        """
+        return self._log.excess_nats
+
+    @property
+    def consistent(self) -> bool:
+        """False when no hypothesis explains the pushes well (status ``"inconsistent"``).
+
+        The :attr:`excess_nats` of the best hypothesis is above
+        ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
+        quantile of its distribution under the likelihood).
+        """
+        return self._log.state.consistent
+
+    def _plan(self) -> None:
+        """Apply the stop rule to the latest state; if it goes on, choose the next push."""
+        self._pending = None
+        self._log.set_gain(None)
+        state = self._log.state
+        self._final = stop_reason(self._stop_rule, state, self._first.resolution)
+        if self._final is not None:
+            return
+        offered = self._candidates.offerable(self._pose, self._current_mask())
+        index, gain = self._candidates.choose(
+            self._posterior, offered, self._scoring, self._choice.selection
+        )
+        self._final = choice_status(self._stop_rule, state, gain)
+        if self._final is None:
+            self._pending = index
+            self._log.set_gain(gain)
+
+    def _current_mask(self) -> Mask | None:
+        if self._mask_now is not None:
+            return self._mask_now
+        return moved_mask(self._first, self._pose)
+
+    @property
+    def done(self) -> bool:
+        """True once the session has stopped (see :attr:`status`)."""
+        return self._final is not None
+
+    @property
+    def status(self) -> str:
+        """What the session waits for, or why it stopped."""
+        if self._final is not None:
+            return self._final
+        return "waiting_observation" if self._handed_out else "waiting_push"
+
+    @property
+    def pose(self) -> Motion:
+        """The object's pose now, relative to the first mask (about its centroid)."""
+        return self._pose
+
+    @property
+    def pushes(self) -> tuple[PushRecord, ...]:
+        """Every push reported so far (misses and failed pushes included), in order."""
+        return tuple(self._log.records)
+
+    @property
+    def actions(self) -> np.ndarray:
+        """Pushes executed (misses included), camera frame as handed out, shape (k, 4)."""
+        return np.array([r.camera_action for r in self._log.executed], float).reshape(-1, 4)
+
+    @property
+    def motions(self) -> np.ndarray:
+        """Their motions, camera frame (about the centroid at the time), shape (k, 3)."""
+        return np.array([r.camera_motion for r in self._log.executed], float).reshape(-1, 3)
+
+    @property
+    def skipped_candidates(self) -> tuple[SkippedPush, ...]:
+        """The given candidates never offered: they start inside the first mask or miss it."""
+        return self._candidates.skipped
+
+    @property
+    def history(self) -> tuple[SessionState, ...]:
+        """One :class:`SessionState` per posterior (the prior first)."""
+        return tuple(self._log.history)
+
+    # -- ask / tell ---------------------------------------------------------------------
+
+    def next_push(self) -> Action:
+        """The next push, in the current camera frame, on the object as it is now.
+
+        Calling it again before :meth:`observe` returns the same push.
+
+        Raises
+        ------
+        SessionError
+            If the session is done.
+        """
+        if self.done:
+            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
+        self._handed_out = True
+        return Action(*self._candidates.in_pose(self._pose, [self._pending])[0])
+
+    def observe(
+        self,
+        mask: Mask | None = None,
+        *,
+        motion=None,
+        failed: bool = False,
+        executed=None,
+        reset: bool = False,
+    ) -> None:
+        """Report what the push from :meth:`next_push` did: exactly one of the three.
+
+        Parameters
+        ----------
+        mask : Mask, optional
+            The camera's mask after the push (same shape and resolution as
+            the first mask). The pose is measured against the first mask.
+        motion : Motion or (theta, tx, ty), optional
+            The push's motion in the camera frame, about the object's centroid
+            before the push (``measure_motion(mask_before, mask_after)``).
+        failed : bool, optional
+            True: the push could not be executed (no evidence, not counted).
+        executed : Action or (x0, y0, x1, y1), optional
+            The pusher's path as it really went (camera pixels, the object where
+            :meth:`next_push` found it), where the robot knows it better than
+            it commands it: the pusher tracked in the camera, or the arm's
+            measured path. The push is then scored as executed instead of as
+            planned; set ``Likelihood(pusher_error=...)`` to how well you know
+            this path, not how well the arm follows a command. Default: as
+            planned.
+        reset : bool, optional
+            True: the object was put back in the first pose after the push (a
+            robot that resets it, as :func:`comcore.estimate_active`'s ``push``
+            does); the next push is planned there. The same as calling
+            :meth:`reset_pose` next, without planning twice.
+
+        Raises
+        ------
+        SessionError
+            If no push is waiting for its observation.
+        TypeError, ValueError
+            On invalid arguments (named); the session is then unchanged and
+            waits for the observation still. A ``mask`` that is not the first
+            mask's object moved is refused so (its area changed by more than
+            25 %, or its outline lies more than 1.5 px RMS from the first
+            mask's after the best rigid motion: a single pixel, another
+            object; :func:`comcore.camera._pose_tracking.read_pose`).
+        """
+        if self.done or not self._handed_out:
+            what = f"the session is done (status {self._final!r})" if self.done else "no push"
+            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
+        for name, value in (("failed", failed), ("reset", reset)):
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
+        given = [name for name, v in (("mask", mask), ("motion", motion)) if v is not None]
+        if failed:
+            given.append("failed")
+        if len(given) != 1:
+            raise TypeError(
+                f"observe() takes exactly one of mask, motion or failed=True, got {given}"
+            )
+        if failed and executed is not None:
+            raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
+        record, evidence, pose = self._reading(mask, motion, failed, executed)
+        self._log.add(record, self._posterior, *evidence)
+        self._candidates.made(self._pending)
+        if record.outcome != "failed":
+            self._mask_now = mask  # None after a motion: the first mask moved to the new pose
+            self._pose = pose
+        self._handed_out = False
+        if reset:
+            self._pose, self._mask_now = IDENTITY, self._first
+        self._plan()
+
+    def _reading(self, mask, motion, failed: bool, executed):
+        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
+        return read_push(
+            PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
+            self._candidates, self._pending, mask, motion, failed, executed,
+        )  # fmt: skip
+
+    def reset_pose(self, pose=None) -> None:
+        """Tell the session the object was put back in the first pose (or moved to ``pose``).
+
+        Raises
+        ------
+        SessionError
+            If a push is waiting for its observation.
+        """
+        if self._handed_out:
+            raise SessionError("reset_pose() while a push waits for observe()")
+        new = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
+        self._pose = new
+        self._mask_now = self._first if new == IDENTITY else None
+        self._plan()  # a session that found nothing to push in the old pose may go on
+
+    # -- results ------------------------------------------------------------------------
+
+    def estimate(self) -> Estimate:
+        """The estimate so far; ``com`` in the first mask's frame.
+
+        ``used`` indexes the candidates of the executed pushes (misses
+        included), in order; ``pushes`` holds every reported push's
+        :class:`comcore.PushRecord` (failed ones included). ``extras`` as
+        :func:`comcore.estimate_active`'s, plus ``"pose"``.
+        """
+        used = [r.index for r in self._log.executed]
+        return self._log.estimate(
+            self._first, self._posterior, used, self.status, {"pose": self._pose}
+        )
+
+    def com_in_camera(self) -> tuple[float, float]:
+        """The CoM estimate where it is now, in the camera frame (pixels)."""
+        com = self._posterior.mean()
+        p = self._pose
+        moved = apply_motion(com, p.theta, (p.tx, p.ty), self._first.centroid)
+        return float(moved[0]), float(moved[1])

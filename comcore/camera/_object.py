@@ -1,0 +1,307 @@
+"""The object against the table's fitted light: ``mask_from_image``'s default (``"auto"``).
+
+On ``values``, a window of the grey image, or of its difference from an image
+of the empty table:
+
+1. **The table's light** (:mod:`comcore.camera._light`): a quadratic surface
+   fitted on a coarse grid from the window's rim in, then what it leaves
+   smoothed from the table around. Regions that differ from it and stay off
+   the window's border are left out of that smoothing (the table surrounds
+   the object); regions that reach the border (a shadow, the table's edge)
+   are the table's and are smoothed. An object inside a shadow comes off the
+   border once the shadow is smoothed, so this is done again, at most
+   :data:`SMOOTH_ROUNDS` times.
+2. **Candidates**: cells differing from that light by more than
+   :data:`DETECT_SIGMAS` times the table's noise (the robust spread of the
+   table cells: noise and texture), less what is thinner than 3 cells (a
+   cutting mat's lines, a seam: they would join the object to the border).
+   Their 8-connected regions, per side (brighter or darker), ranked by their
+   summed difference from the table, give the object: the first region off
+   the border, else the first; and the checks (nothing at all, speckled,
+   several objects).
+3. **At full resolution, in the object's neighbourhood only**: each pixel's
+   share of object, ``alpha = (image - under) / (object - under)``, with
+   ``under`` the table under it (the fitted light, plus the image of the
+   empty table if there is one) and ``object`` the object's grey level; the
+   mask is the region where ``alpha >= 1/2`` (the middle of a blurred edge,
+   whatever the table's light or pattern there) over the candidates.
+
+The thresholds were tuned on generated frames (``tests/frames.py``, seed 0):
+``python benchmarks/bench_mask_from_image.py --seed 0``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy import ndimage
+
+from .._errors import ImageError
+from ..geometry._regions import EIGHT_CONNECTED
+from ._light import SMOOTH_SHARE, Grid, Quadratic, smooth_leftover, spread
+
+__all__ = ["Found", "find_object"]
+
+#: Candidates differ from the table's light by more than this many times its noise.
+DETECT_SIGMAS = 5.0
+#: Unless the table's rim is exactly flat, the least difference seen is this many times half
+#: the image's step (1.5 grey levels for integer images): a noise-free light rounded to grey
+#: levels (a drawn image) leaves steps of a level, two where a colour map skips one.
+QUANTISED_STEPS = 3.0
+#: At most this many rounds of leaving the object out and smoothing the table's leftovers.
+SMOOTH_ROUNDS = 3
+#: Speckled: the first region holds less than this share of its side's summed difference.
+MIN_LARGEST_SHARE = 0.5
+#: Several objects: the second region's summed difference is at least this share of the first's.
+MAX_SECOND_RATIO = 0.5
+
+
+class Found(NamedTuple):
+    """The object found in a window."""
+
+    region: np.ndarray
+    """The object's pixels, bool, the window's shape."""
+    side: str
+    """``"bright"`` or ``"dark"``: brighter or darker than the table."""
+    contrast: float
+    """The object's typical difference from the table (grey levels, > 0)."""
+
+
+class _Regions(NamedTuple):
+    """The candidate regions of one side, by summed difference from the table, first first."""
+
+    labels: np.ndarray
+    ids: np.ndarray
+    sizes: np.ndarray
+    """Cells."""
+    masses: np.ndarray
+    """Summed absolute difference from the table."""
+    off: np.ndarray
+    """Whether the region stays off the rim (the table surrounds it)."""
+
+    def rank(self) -> tuple[bool, float]:
+        """Has it a region off the rim, and the largest mass among those (else among all)."""
+        if not len(self.ids):
+            return (False, -1.0)
+        inner = self.masses[self.off]
+        return (bool(inner.size), float(inner.max() if inner.size else self.masses.max()))
+
+    def objects(self) -> _Regions:
+        """The regions that may be the object: those off the rim if there are any."""
+        if not self.off.any():
+            return self
+        k = self.off
+        return _Regions(self.labels, self.ids[k], self.sizes[k], self.masses[k], k[k])
+
+
+def _regions(candidates: np.ndarray, rim: np.ndarray, weight: np.ndarray) -> _Regions:
+    """8-connected regions, by summed ``weight``, first first."""
+    labels, n = ndimage.label(candidates, structure=EIGHT_CONNECTED)
+    ids = np.arange(1, n + 1)
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)[1:]
+    masses = np.bincount(labels.ravel(), weights=weight.ravel(), minlength=n + 1)[1:]
+    hit = np.zeros(n + 1, bool)
+    hit[labels[rim & candidates]] = True
+    order = np.argsort(-masses, kind="stable")
+    return _Regions(labels, ids[order], sizes[order], masses[order], ~hit[ids[order]])
+
+
+def _beyond(beyond: np.ndarray, grid: Grid) -> np.ndarray:
+    """Candidate cells; on a coarse grid, less what is thinner than 3 cells (lines, seams)."""
+    out = grid.cells & beyond
+    if grid.f > 1:
+        out = ndimage.binary_opening(out, structure=EIGHT_CONNECTED)
+    return out
+
+
+def _inner(residual: np.ndarray, limit: float, grid: Grid) -> np.ndarray:
+    """Cells of the candidate regions (either side, each on its own) off the rim."""
+    out = np.zeros_like(grid.cells)
+    for beyond in (residual > limit, residual < -limit):
+        candidates = _beyond(beyond, grid)
+        labels, n = ndimage.label(candidates, structure=EIGHT_CONNECTED)
+        hit = np.zeros(n + 1, bool)
+        hit[labels[grid.rim & candidates]] = True
+        hit[0] = True
+        out |= ~hit[labels]
+    return out
+
+
+class _Light(NamedTuple):
+    model: Quadratic
+    leftover: np.ndarray
+    residual: np.ndarray
+    """The coarse means less the light."""
+    noise: float
+    limit: float
+    """Candidates differ by more than this."""
+    floored: bool
+    """Whether the limit is the least step believed, not the noise."""
+
+
+def _fit_light(grid: Grid, floor: float, frame_side: int) -> _Light:
+    """The table's light on the grid, and what differs from it."""
+    means, cells, rim = grid.means, grid.cells, grid.rim
+    if np.ptp(means[rim]) > 0:
+        floor = QUANTISED_STEPS * floor  # a smooth light rounded to grey levels leaves steps
+    noise_floor = floor / DETECT_SIGMAS
+    model = Quadratic(grid.shape)
+    noise = model.fit(grid.x[rim], grid.y[rim], means[rim], noise_floor)
+    residual = means - model.at(grid.x, grid.y)
+    table = cells & (np.abs(residual) <= DETECT_SIGMAS * noise)
+    noise = model.fit(grid.x[table], grid.y[table], means[table], noise_floor)
+    residual = means - model.at(grid.x, grid.y)
+    leftover, smoothed = np.zeros_like(residual), residual
+    exclude = np.zeros_like(cells)
+    for round_ in range(SMOOTH_ROUNDS):
+        inner = _inner(smoothed, DETECT_SIGMAS * noise, grid)
+        if round_ and not (inner & ~exclude).any():
+            break
+        exclude |= inner
+        table = cells & ~ndimage.binary_dilation(exclude, structure=EIGHT_CONNECTED)
+        leftover = smooth_leftover(residual, table, SMOOTH_SHARE * frame_side / grid.f)
+        smoothed = residual - leftover
+        noise = spread(smoothed[table], noise_floor)
+    return _Light(model, leftover, smoothed, noise, DETECT_SIGMAS * noise, noise <= noise_floor)
+
+
+def find_object(
+    values: np.ndarray,
+    valid: np.ndarray | None,
+    side: str,
+    *,
+    floor: float,
+    frame_side: int | None = None,
+    reference: np.ndarray | None = None,
+) -> Found:
+    """The object in ``values`` (a window of the grey image, or of its difference).
+
+    ``valid``: the pixels to look at (the region of interest; None: all);
+    ``side``: ``"auto"``, ``"bright"`` or ``"dark"``; ``floor``: half the
+    image's step (half a grey level for integer images), the least difference
+    believed on a flat table (:data:`QUANTISED_STEPS` times it otherwise);
+    ``frame_side``: the short side of the whole frame (default: of the
+    window), which sets the grid and the smoothing; ``reference``: the same
+    window of the image of the empty table, when ``values`` is the difference
+    from it.
+    """
+    table = "the table" if reference is None else "the background image (the empty table)"
+    grid = Grid(values, valid, min(values.shape) if frame_side is None else frame_side)
+    light = _fit_light(grid, floor, min(values.shape) if frame_side is None else frame_side)
+    residual, limit = light.residual, light.limit
+    names = ("bright", "dark") if side == "auto" else (side,)
+    found = {
+        name: _regions(
+            _beyond(residual > limit if name == "bright" else residual < -limit, grid),
+            grid.rim, np.abs(residual),
+        )
+        for name in names
+    }  # fmt: skip
+    if not any(len(regions.ids) for regions in found.values()):
+        cells = grid.cells
+        largest = float(np.abs(residual[cells]).max()) if cells.any() else 0.0
+        region = f"region {3 * grid.f} pixels across or more" if grid.f > 1 else "pixel"
+        words = {"auto": "", "bright": "brighter ", "dark": "darker "}[side]
+        why = "the least step believed" if light.floored else f"{DETECT_SIGMAS:g} times its noise"
+        raise ImageError(
+            f"no object: the image matches {table} (no {words}{region} differs from it by more "
+            f"than {limit:.3g} grey levels, {why}; the largest difference is {largest:.3g}): "
+            "check that the object is in view, or give threshold= a grey level"
+        )
+    side = max(found, key=lambda name: found[name].rank())
+    regions = found[side].objects()
+    _check_regions(regions, side, grid.f, table, reference is not None)
+    core = regions.labels == regions.ids[0]
+    return _refine(values, valid, grid, core, side, light, table, reference)
+
+
+def _check_regions(regions: _Regions, side: str, f: int, table: str, background: bool) -> None:
+    """ImageError for a speckled side or several objects of similar size."""
+    sizes, masses = regions.sizes * f * f, regions.masses
+    about = "" if f == 1 else "about "
+    if masses[0] < MIN_LARGEST_SHARE * masses.sum():
+        fix = "roi= (where to look)"
+        if not background:
+            fix = "background= (an image of the empty table) or " + fix
+        raise ImageError(
+            f"speckled result: the {side} side differs from {table} in {len(sizes)} regions, the "
+            f"largest only {about}{sizes[0]} of their {sizes.sum()} pixels "
+            f"({100 * masses[0] / masses.sum():.0f} % of the difference); a textured or "
+            f"patterned table? give {fix}"
+        )
+    if len(sizes) > 1 and masses[1] >= MAX_SECOND_RATIO * masses[0]:
+        raise ImageError(
+            f"several objects of similar size on the {side} side: the largest regions have "
+            f"{about}{sizes[0]} and {sizes[1]} pixels; show one object at a time, or give roi= "
+            "(where to look)"
+        )
+
+
+def _object_level(differences: np.ndarray) -> float:
+    """The object's typical difference from the table: the median of the pixels past half of it.
+
+    Started from the 90th percentile of the candidates' pixels, so that a
+    shadow or a blurred edge beside the object (weaker than half its
+    contrast) does not pull it down.
+    """
+    level = float(np.percentile(differences, 90))
+    for _ in range(3):
+        strong = differences[differences >= 0.5 * level]
+        if not strong.size:
+            break
+        level = float(np.median(strong))
+    return level
+
+
+def _refine(values, valid, grid: Grid, core, side, light: _Light, table, reference) -> Found:
+    """The object at full resolution in the neighbourhood of its candidate cells."""
+    h, w = grid.shape
+    f = grid.f
+    rows, cols = np.nonzero(core)
+    sign = 1.0 if side == "bright" else -1.0
+    pad = 2 * f + 4
+    while True:
+        box = (
+            slice(max(rows.min() * f - pad, 0), min((rows.max() + 1) * f + pad, h)),
+            slice(max(cols.min() * f - pad, 0), min((cols.max() + 1) * f + pad, w)),
+        )
+        yy, xx = np.mgrid[box]
+        under = light.model.at(xx, yy)
+        if light.leftover.any():
+            under = under + grid.at_pixels(light.leftover, *box)
+        ok = np.ones(under.shape, bool) if valid is None else valid[box]
+        inside = grid.pixels(core, *box)
+        around = ok & ~ndimage.binary_dilation(inside, iterations=f + 1)
+        if around.sum() >= 16:  # the table's level right around the object
+            under = under + float(np.median((values[box] - under)[around]))
+        diff = values[box] - under
+        if reference is not None:
+            under = under + reference[box]
+        level = _object_level(sign * diff[inside & ok])
+        strong = inside & ok & (sign * diff >= 0.5 * level)
+        # the object's grey level, and its contrast with the table under each pixel
+        contrast = sign * (float(np.median((diff + under)[strong])) - under) if strong.any() else 0
+        seen = contrast >= 0.25 * level  # else the object hardly differs from the table there
+        share = sign * diff / np.where(seen, contrast, level)
+        foreground = ok & (share >= 0.5)
+        labels, n = ndimage.label(foreground, structure=EIGHT_CONNECTED)
+        overlap = np.bincount(labels[inside & foreground], minlength=n + 1)
+        if not level > 0 or not overlap[1:].any():
+            raise ImageError(
+                f"no object: the image matches {table} at full resolution (what differed from "
+                "it on the coarse grid does not, pixel by pixel): check the lighting, or give "
+                "threshold= a grey level"
+            )
+        region = labels == int(np.argmax(overlap[1:])) + 1
+        rows_cut = (region[0].any() and box[0].start > 0) or (region[-1].any() and box[0].stop < h)
+        cols_cut = (region[:, 0].any() and box[1].start > 0) or (
+            region[:, -1].any() and box[1].stop < w
+        )
+        cut = rows_cut or cols_cut
+        if not cut:
+            break
+        pad *= 2  # the object reaches further than its candidates: a larger neighbourhood
+    full = np.zeros((h, w), bool)
+    full[box] = region
+    return Found(full, side, level)

@@ -1,0 +1,284 @@
+"""The goal planner: one push, chosen by its predicted outcome over the CoM posterior.
+
+A lookahead of two pushes. The candidates are pushes along
+:data:`N_DIRECTIONS` camera directions (and the direction from the object to
+the goal, fanned by :data:`GOAL_FAN`: an object pushed on a slanted edge moves
+at an angle to the push), at offsets across the object (evenly spaced, and at
+the hypotheses' mean CoM and +-1 standard deviation of it), each for a few
+lengths up to the travel the user allows (:data:`LENGTH_FRACTIONS` of it,
+those of at least 2 px, and :data:`LEFT_FRACTIONS` of the distance left to
+the goal). The motion model predicts every candidate for every (CoM,
+friction) particle (:func:`comcore.goal._translation.predict_motions`), and
+each candidate is scored by the **expected remaining pose error** over the
+particles (:mod:`comcore.goal._costs`)::
+
+    cost = (position error / position tolerance)^2
+         + (orientation error / orientation tolerance)^2
+         + the motion model's own error variance, in the same units
+
+each term only where the goal sets it: the characteristic length that weighs
+a rotation against a displacement is the ratio of the two tolerances. The
+expectation of a square is the squared mean plus the variance, so the spread
+of a push's outcome under the posterior counts as much as its bias: a push
+through the most likely CoM that may turn the object 10 degrees either way
+loses to a shorter or longer one that surely does not. The model's own error
+counts too (:func:`comcore.goal._costs.model_variance`): with the true CoM
+a 5 cm push whose line passes by the CoM turns the object a median 4 degrees
+away from its prediction, a 2.5 cm one 1 degree, so near a tight orientation
+tolerance the planner makes shorter or more predictable pushes.
+
+**Two steps.** The best :data:`LOOKAHEAD` pushes and the best push of each
+length are scored again by what they lead to: the least expected cost of one
+more push (:func:`comcore.goal._costs.follow_ups`) from where each coarse
+particle says the push leaves the object, averaged over the particles (half
+with the mixture's prediction, half with the particle's own, as if the push
+had taught the posterior); a push's value is the least of its own cost and
+that. A push that turns the object on the way but leads to the goal beats a
+creep that gets closer by a millimetre; a turn that only the next push can
+take back is seen. The candidate of least value is chosen if it is expected
+to bring the object closer than it is now (by at least :data:`MIN_GAIN` of
+the cost). Where none is (a wide posterior: every push may turn the object a
+lot) a **probe** is made: the push of least expected cost among those at
+least a tenth of the allowed travel long after contact
+(:data:`PROBE_LENGTH`) that bring the object closer under at least a quarter
+of the posterior's mass (:data:`PROBE_CHANCE`); it is evidence, and the next
+plan is made on a narrower posterior. Where no push is even that, there is
+none (the session says ``"stuck"``: the goal needs a pull, or the model sees
+no push that helps). To keep a step fast, every candidate is first scored
+over :data:`COARSE_PARTICLES` particles, and the best :data:`KEPT` and the
+best of each length again over all of them; the follow-ups are pushes along
+directions of the object's own frame, whose predictions serve every pose
+(with ``push_directions``, those directions as the object lies now).
+Candidates that would start or end outside the image, or would carry the
+object's bounding disc out of it (mean prediction), or that most particles
+say would not move the object measurably (a miss, as
+:func:`comcore.camera._pose_tracking.is_miss` reads one), are not offered; after a
+miss the session asks for twice its travel at least.
+
+Measured (benchmarks/goal_bench.py --timing, docs/goal.md; seed 0, the exact
+engine, the four strategies): one step takes a median 86-117 ms on the
+benchmark's masks (90 %: 138-166 ms), against 125-131 ms for the one-step
+planner.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._mask import Mask
+from .._types import Action, Motion
+from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
+from ._costs import (
+    _SCALES,
+    FOLLOW_DIRECTIONS,
+    N_OFFSETS,
+    follow_ups,
+    model_variance,
+    pose_cost,
+    reached,
+    spread_picks,
+)
+from ._translation import (
+    STANDOFF_M,
+    _cross_offsets,
+    camera_motions,
+    line_pushes,
+    predict_motions,
+)
+from ._types import CoMHypotheses, Goal, _systematic
+
+__all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost", "reached"]
+
+#: Camera directions tried at every step (evenly spaced), besides the goal's direction.
+N_DIRECTIONS = 8
+#: Directions about the goal's (radians): an object on a slanted edge moves at an angle to
+#: the push.
+GOAL_FAN = np.radians([-30.0, 0.0, 30.0])
+#: Fractions of the distance left to the goal tried as lengths (the object often moves
+#: less than the pusher: it slides along the contact).
+LEFT_FRACTIONS = (0.5, 1.0, 1.5)
+#: Fractions of the allowed travel tried (the distance left to the goal is added).
+LENGTH_FRACTIONS = (1.0, 0.5, 0.25, 0.1, 0.04)
+#: Particles of the first, coarse pass over every candidate, and the candidates it keeps
+#: for the full pass over all particles.
+COARSE_PARTICLES, KEPT = 6, 12
+#: A push is only worth making if it is expected to cut the cost by this share ...
+MIN_GAIN = 0.02
+#: ... or, where none is, if the posterior gives it at least this chance of bringing the
+#: object closer (a probe; it is evidence too).
+PROBE_CHANCE = 0.25
+#: A probe travels at least this share of the allowed travel after contact (a shorter one
+#: teaches little, and the model's small motions are its least accurate).
+PROBE_LENGTH = 0.1
+#: Two-step lookahead: the best pushes of the full pass whose follow-up is sought, and the
+#: weight of the follow-up's expected cost (1: trusted as the push's own).
+LOOKAHEAD, LOOKAHEAD_WEIGHT = 4, 1.0
+
+
+class Plan(NamedTuple):
+    """The push the planner chose and what it expects (internal)."""
+
+    action: np.ndarray  # (4,) first mask's frame
+    camera_action: Action
+    expected_cost: float
+    cost_now: float
+    expected_pose: Motion  # the particles' mean pose after the push
+
+
+def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_radius, allowed):
+    if allowed is not None:
+        directions = np.asarray(allowed, float)
+    else:
+        directions = np.linspace(0, 2 * np.pi, N_DIRECTIONS, endpoint=False)
+        if goal_angle is not None:
+            directions = np.append(directions, goal_angle + GOAL_FAN)
+    offsets = np.stack(
+        [_cross_offsets(first, a + pose.theta, hyps, N_OFFSETS, halves=False) for a in directions]
+    )
+    lengths = [f * max_travel_px for f in LENGTH_FRACTIONS]
+    if left_px is not None:
+        lengths += [f * left_px for f in LEFT_FRACTIONS if f * left_px < max_travel_px]
+    lengths = np.unique(np.round([v for v in lengths if v >= 2.0], 6))
+    return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
+
+
+def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales):
+    """Expected cost of each candidate (inf: it would carry the object out of view), poses."""
+    raw = predict_motions(model, first, actions, hyps)
+    motions = camera_motions(raw, pose)  # (n_h, a, 3)
+    theta = pose.theta + motions[..., 0]
+    tx, ty = pose.tx + motions[..., 1], pose.ty + motions[..., 2]
+    weights = hyps.weights[:, None]
+    each = pose_cost(goal, target_px, first.resolution, theta, tx, ty)
+    each = each + model_variance(goal, first, actions, hyps.coms, raw, scales)
+    cost = (weights * each).sum(axis=0)
+    h, w = first.shape
+    cx = first.centroid[0] + (weights * tx).sum(axis=0)
+    cy = first.centroid[1] + (weights * ty).sum(axis=0)
+    keeps_view = (cx - reach_px > 0) & (cx + reach_px < w - 1)
+    keeps_view &= (cy - reach_px > 0) & (cy + reach_px < h - 1)
+    # a push the model says moves the object less than the camera can tell is a miss
+    moves = np.hypot(motions[..., 1], motions[..., 2]) * first.resolution >= MISS_TRANSLATION_M
+    moves |= np.abs(motions[..., 0]) >= MISS_ROTATION
+    keeps_view &= (weights * moves).sum(axis=0) >= 0.5
+    return np.where(keeps_view, cost, np.inf), (theta, tx, ty, each)
+
+
+def _coarse(
+    first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least, scales
+):
+    """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None)."""
+    goal_angle = left = None
+    if target_px is not None:
+        dx, dy = target_px[0] - pose.tx, target_px[1] - pose.ty
+        left = math.hypot(dx, dy)
+        goal_angle = math.atan2(dy, dx) if left > 0.5 else None
+    actions, _ = _candidates(first, pose, goal_angle, hyps, travel_px, left, radius, allowed)
+    if len(actions) == 0:
+        return None
+    cam_actions = camera_from_object(actions, pose, first.centroid)
+    h, w = first.shape
+    x, y = cam_actions[:, 0::2], cam_actions[:, 1::2]
+    in_view = ((x >= 0) & (x <= w - 1) & (y >= 0) & (y <= h - 1)).all(axis=1)
+    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
+    in_view &= travel >= least - 1e-6
+    actions, cam_actions = actions[in_view], cam_actions[in_view]
+    if len(actions) == 0:
+        return None
+    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales)
+    return actions, cam_actions, cost
+
+
+def plan_push(
+    first: Mask,
+    pose: Motion,
+    goal: Goal,
+    target_px,
+    hyps: CoMHypotheses,
+    model,
+    max_travel_px: float,
+    pusher_radius: float,
+    reach_px: float,
+    allowed=None,
+    min_travel_px: float = 0.0,
+    scales=_SCALES,
+) -> Plan | None:
+    """The push of least expected remaining pose error, or None when none gets closer.
+
+    ``target_px`` is the goal's ``(tx, ty)`` (None: free); ``reach_px`` the
+    object's radius about its centroid (to keep it in view); ``allowed`` the
+    camera directions (radians) the robot may push along (None: any);
+    ``min_travel_px`` the least travel after contact (the session raises it
+    after a push that did not move the object); ``scales`` the session's
+    :class:`comcore.Likelihood`, whose model-error scales the cost counts
+    (default ``Likelihood()``'s).
+    """
+    res = first.resolution
+    cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
+    # a coarse pass over every candidate with a few particles, then the best few again
+    index, share = _systematic(hyps.weights, COARSE_PARTICLES)
+    coarse = CoMHypotheses(hyps.coms[index], hyps.mus[index], share)
+    options = (model, max_travel_px, pusher_radius, reach_px, allowed)
+    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px, scales)
+    if found is None:
+        return None
+    actions, cam_actions, cost = found
+    keep = spread_picks(cost, np.hypot(*(actions[:, 2:] - actions[:, :2]).T), KEPT)
+    if len(keep) == 0:
+        return None
+    actions, cam_actions = actions[keep], cam_actions[keep]
+    cost, (theta, tx, ty, each) = _expected(
+        first, pose, goal, target_px, hyps, model, actions, reach_px, scales
+    )
+    weights = hyps.weights[:, None]
+    means = [(weights * v).sum(axis=0) for v in (theta, tx, ty)]
+    # two steps: the best few pushes again, each followed by the best push from where it is
+    # expected to leave the object (coarse particles); a push is worth what it leads to
+    # the closed-loop value of a push: the expected cost after the best follow-up from where
+    # each particle says it leaves the object, for the best few pushes and the best of each
+    # length (a long push a wide posterior spreads may still lead closer than a creep)
+    value = cost.copy()
+    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
+    order = spread_picks(cost, travel, LOOKAHEAD) if LOOKAHEAD else []
+    if len(order):
+        after = tuple(v[index][:, order].ravel() for v in (theta, tx, ty))
+        owner = np.repeat(np.arange(len(index)), len(order))
+        if allowed is None:
+            directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
+        else:  # the robot's directions, in the object's frame as it is now
+            directions = np.asarray(allowed, float) + pose.theta
+        follow = follow_ups(
+            first,
+            after,
+            goal,
+            target_px,
+            coarse,
+            model,
+            max_travel_px,
+            pusher_radius,
+            directions,
+            owner,
+            scales,
+        ).reshape(len(index), len(order))
+        closed = share @ follow
+        value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
+    best = int(np.argmin(value))
+    if not np.isfinite(value[best]) or value[best] > cost_now * (1.0 - MIN_GAIN):
+        # a probe: no push is expected to help on average (a wide posterior), but one the
+        # posterior gives a fair chance to help is made (and teaches it)
+        likely = (weights * (each < cost_now)).sum(axis=0) >= PROBE_CHANCE
+        travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / res
+        likely &= travel >= PROBE_LENGTH * max_travel_px - 1e-6
+        if not (likely & np.isfinite(cost)).any():
+            return None
+        best = int(np.argmin(np.where(likely, cost, np.inf)))
+    return Plan(
+        actions[best].copy(),
+        Action(*cam_actions[best]),
+        float(cost[best]),
+        cost_now,
+        Motion(*(float(v[best]) for v in means)),
+    )

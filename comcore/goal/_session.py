@@ -1,0 +1,369 @@
+"""`comcore.GoalSession`: push an object to a goal pose, learning its CoM on the way.
+
+The ask/tell loop of :class:`comcore.ActiveSession` with another aim: each
+push is chosen to bring the object to the goal (:mod:`comcore.goal._planner`),
+and each push's motion is also evidence for the CoM posterior, scored by the
+same likelihood (:func:`comcore.active._likelihood.push_evidence`) into the same grid
+(:mod:`comcore.active._grid`) and records (:mod:`comcore.active._records`); the pose is
+tracked as the active session tracks it (:mod:`comcore.camera._pose_tracking`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._errors import SessionError
+from .._mask import Mask
+from .._types import Action, Estimate, Motion, PushRecord
+from .._validation import check_count, check_mask, check_physical, check_rng
+from ..active._likelihood import gyration_px
+from ..active._option_groups import resolve_groups
+from ..active._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ..active._reading import PushContext, best_branch, push_record
+from ..active._records import PushLog
+from ..active._session import ActiveSession, session_setup
+from ..camera._pose_tracking import (
+    IDENTITY,
+    executed_in_object,
+    is_miss,
+    read_pose,
+    relative,
+    symmetric_branches,
+)
+from ._planner import plan_push, reached
+from ._prior import prior_particles, touches_border
+from ._translation import STANDOFF_M, planning_model
+from ._types import PLANNING_PARTICLES, Goal, hypotheses_from
+
+__all__ = ["GOAL_STATUSES", "GoalSession"]
+
+#: The session says ``"reached"`` when the pose it reads is within the goal's tolerances less
+#: this share of the camera's reading error (:attr:`comcore.Likelihood.motion_noise`: 0.5
+#: degrees and 0.5 mm by default), so that the true pose is within them.
+READING_MARGIN = 0.5
+#: What :attr:`GoalSession.status` can say.
+GOAL_STATUSES = ("running", "reached", "budget", "stuck", "lost")
+
+
+class GoalSession:
+    """Push an object to a goal pose, one push at a time, driven by the caller's loop.
+
+    ::
+
+        session = comcore.GoalSession(first_mask, goal=comcore.Goal(displacement=(0.2, 0)),
+                                      pusher_radius=0.004, max_travel=0.05, rng=0)
+        while not session.done:
+            robot.execute(session.next_push())   # camera pixels
+            session.observe(camera_mask())       # or observe(motion=...)
+        print(session.status, session.pose)
+
+    Each push is planned by predicting its outcome with the motion model
+    over particles of the CoM posterior (:mod:`comcore.goal._planner`: the
+    push of least expected remaining pose error, in tolerances, up to
+    ``max_travel`` after contact). With ``learn=True`` (default) every push
+    is also evidence: the posterior is updated as :class:`comcore.ActiveSession`
+    updates it, and the next push is planned on it.
+
+    **Statuses.** ``"running"``; ``"reached"``: the pose is within the goal's
+    tolerances (the pose as read, within them less half the reading error
+    the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
+    default); ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
+    candidate push is expected to bring the object closer (the goal needs a
+    pull, or a push the object's outline does not allow); ``"lost"``: the
+    object left the camera's view (a mask that touches the image border, or
+    ``observe(out_of_view=True)``). Reading :attr:`done`, :attr:`status` or
+    :attr:`pose` computes nothing: the session checks the goal and plans the
+    next push when its state changes (construction, :meth:`observe`).
+
+    Parameters
+    ----------
+    first_mask : Mask
+        The object as the camera sees it before the first push.
+    goal : Goal
+        The pose wanted, relative to ``first_mask`` (:class:`comcore.Goal`).
+    pusher_radius : float, optional
+        Metres (default 4 mm).
+    max_travel : float, optional
+        Metres the pusher may travel after contact in one push (default 5 cm).
+    max_pushes : int, optional
+        Budget (default 30).
+    prior : None, Estimate, ActiveSession or CoM hypotheses, optional
+        What is known of the CoM: None (uniform over the mask), an active
+        estimator's :class:`comcore.Estimate` of ``first_mask`` (its
+        posterior image and friction posterior: a learning session starts
+        from both, where its likelihood has the estimate's friction values),
+        an :class:`ActiveSession` on ``first_mask`` (its estimate now; the
+        goal session starts at its :attr:`~ActiveSession.pose`, where its
+        pushes left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
+    learn : bool, optional
+        Update the posterior with every push (default True); False plans on
+        the prior, fixed.
+    model : optional
+        The likelihood's motion model(s), as for :class:`ActiveSession`.
+    planner_model : HypothesisPredictor, optional
+        The model that predicts candidates (default
+        :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
+    n_particles : int, optional
+        Posterior particles a push is planned over (default 32).
+    push_directions : array_like, optional
+        The only camera directions (radians; 0: +x, pi/2: +y down the screen)
+        the robot may push along, where its workspace allows no others
+        (default: 8 evenly spaced, and the direction to the goal).
+    likelihood : Likelihood, optional
+        As for :class:`ActiveSession`.
+    rng : None, int or numpy.random.Generator, optional
+        Checked and kept for the ActiveSession's shape; the planner draws
+        nothing at random (its particles are a systematic draw), so a session
+        is reproducible whatever the seed.
+
+    Raises
+    ------
+    TypeError, ValueError
+        On invalid arguments (named); e.g. a goal outside the camera's view.
+
+    Examples
+    --------
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 40))
+    >>> session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.03, 0.0)),
+    ...                               max_travel=0.02, model=None, rng=0)
+    >>> session.status, session.next_push().ex > session.next_push().sx
+    ('running', True)
+    >>> session.observe(motion=(0.0, 12.0, 0.0))  # 3 cm to the right
+    >>> session.status, session.done
+    ('reached', True)
+    """
+
+    def __init__(
+        self,
+        first_mask: Mask,
+        goal: Goal,
+        *,
+        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+        max_travel: float = 0.05,
+        max_pushes: int = 30,
+        prior=None,
+        learn: bool = True,
+        model=DEFAULT_MODEL,
+        planner_model=None,
+        n_particles: int = PLANNING_PARTICLES,
+        push_directions=None,
+        likelihood=None,
+        rng=None,
+    ):
+        self._first = check_mask(first_mask, "first_mask")
+        if not isinstance(goal, Goal):
+            raise TypeError(f"goal must be a comcore.Goal, got {type(goal).__name__}")
+        if not isinstance(learn, (bool, np.bool_)):
+            raise TypeError(f"learn must be a bool, got {type(learn).__name__}")
+        self._goal, self._learn = goal, bool(learn)
+        self._max_travel_px = check_physical(max_travel, "max_travel", "push_length")
+        self._max_travel_px /= self._first.resolution
+        if self._max_travel_px < 2:
+            raise ValueError(f"max_travel {max_travel} m is under two pixels of the mask")
+        self._max_pushes = check_count(max_pushes, "max_pushes", 1)
+        self._n_particles = check_count(n_particles, "n_particles", 1)
+        self._allowed = None
+        if push_directions is not None:
+            allowed = np.atleast_1d(np.asarray(push_directions, dtype=float))
+            if allowed.ndim != 1 or len(allowed) == 0 or not np.isfinite(allowed).all():
+                raise ValueError(
+                    f"push_directions must be finite angles (radians), got {push_directions!r}"
+                )
+            self._allowed = allowed
+        check_rng(rng)
+        self._radius = check_physical(
+            pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
+        )
+        likelihood = resolve_groups("GoalSession", {"likelihood": likelihood}, {})["likelihood"]
+        # the pose is read by the camera: "reached" keeps a margin of its reading error
+        self._margin = tuple(READING_MARGIN * v for v in likelihood.motion_noise)
+        self._likelihood = likelihood  # its model-error scales: the planner's caution too
+        self._scoring, credible = session_setup(
+            self._first, model, pusher_radius, DEFAULT_CREDIBLE, likelihood
+        )
+        self._planner = planning_model(self._radius) if planner_model is None else planner_model
+        self._target = goal.target_px(self._first)
+        self._check_goal_in_view()
+        start = IDENTITY
+        if isinstance(prior, ActiveSession):  # go on from where its pushes left the object
+            start = prior.pose
+            if prior.estimate().region.shape != self._first.shape:
+                raise ValueError("prior's ActiveSession runs on a mask of another shape")
+        pixels, weights, mu_weights, fixed = prior_particles(
+            self._first, prior, self._n_particles, self._scoring.mus
+        )
+        self._posterior = self._scoring.posterior(pixels, weights, mu_weights)
+        self._fixed = fixed if not self._learn else None  # fixed planning particles
+        self._reach = float(np.hypot(*(self._first.pixels - self._first.centroid).T).max()) + 1
+        self._gyration = gyration_px(self._first)
+        self._pose = start
+        self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
+        self._n_pushes, self._final, self._plan, self._handed_out = 0, None, None, False
+        self._min_travel = 0.0  # after a push that did not move the object: a longer one
+        self._update()
+
+    def _check_goal_in_view(self) -> None:
+        if self._target is None:
+            return
+        h, w = self._first.shape
+        x = self._first.centroid[0] + self._target[0]
+        y = self._first.centroid[1] + self._target[1]
+        if not (0 <= x <= w - 1 and 0 <= y <= h - 1):
+            raise ValueError(
+                f"goal puts the object's centroid at ({x:.0f}, {y:.0f}) px, outside the camera's "
+                f"{w} x {h} px view: metres given as pixels (units='px')?"
+            )
+
+    # -- state ---------------------------------------------------------------------------
+
+    def _update(self) -> None:
+        """Check the goal and the budget; if it goes on, plan the next push."""
+        self._plan = None
+        if reached(self._goal, self._target, self._first.resolution, self._pose, self._margin):
+            self._final = "reached"
+            return
+        if self._n_pushes >= self._max_pushes:
+            self._final = "budget"
+            return
+        hyps = self._fixed or hypotheses_from(self._posterior, self._first, self._n_particles)
+        self._plan = plan_push(
+            self._first, self._pose, self._goal, self._target, hyps, self._planner,
+            self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
+            self._likelihood,
+        )  # fmt: skip
+        if self._plan is None:
+            self._final = "stuck"
+
+    @property
+    def done(self) -> bool:
+        """True once the session has stopped (see :attr:`status`)."""
+        return self._final is not None
+
+    @property
+    def status(self) -> str:
+        """``"running"``, or why it stopped: reached, budget, stuck or lost."""
+        return "running" if self._final is None else self._final
+
+    @property
+    def pose(self) -> Motion:
+        """The object's pose now, relative to the first mask (as :attr:`ActiveSession.pose`)."""
+        return self._pose
+
+    @property
+    def goal(self) -> Goal:
+        """The goal."""
+        return self._goal
+
+    @property
+    def pushes(self) -> tuple[PushRecord, ...]:
+        """Every push reported so far, in order."""
+        return tuple(self._log.records)
+
+    @property
+    def expected_cost(self) -> float | None:
+        """The planned push's expected squared pose error, in tolerances (None: none planned)."""
+        return None if self._plan is None else self._plan.expected_cost
+
+    def estimate(self) -> Estimate:
+        """The CoM posterior now (as :meth:`ActiveSession.estimate`); ``com`` in the first mask."""
+        used = list(range(len(self._log.executed)))
+        return self._log.estimate(
+            self._first, self._posterior, used, self.status, {"pose": self._pose}
+        )
+
+    # -- ask / tell ---------------------------------------------------------------------
+
+    def next_push(self) -> Action:
+        """The next push, camera pixels, on the object where it is now (the same until observed).
+
+        Raises
+        ------
+        SessionError
+            If the session is done.
+        """
+        if self.done:
+            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
+        self._handed_out = True
+        return self._plan.camera_action
+
+    def observe(self, mask: Mask | None = None, *, motion=None, out_of_view: bool = False):
+        """Report what the push from :meth:`next_push` did: exactly one of the three.
+
+        Parameters
+        ----------
+        mask : Mask, optional
+            The camera's mask after the push. One that touches the image border
+            means the object left the view: status ``"lost"``.
+        motion : Motion or (theta, tx, ty), optional
+            The push's motion, camera frame, about the object's centroid before it.
+        out_of_view : bool, optional
+            True: the camera lost the object (status ``"lost"``).
+
+        Raises
+        ------
+        SessionError
+            If no push is waiting for its observation.
+        TypeError, ValueError
+            On invalid arguments (named); the session is then unchanged.
+        """
+        if self.done or not self._handed_out:
+            what = f"the session is done (status {self._final!r})" if self.done else "no push"
+            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
+        if not isinstance(out_of_view, (bool, np.bool_)):
+            raise TypeError(f"out_of_view must be a bool, got {type(out_of_view).__name__}")
+        given = [k for k, v in (("mask", mask), ("motion", motion)) if v is not None]
+        given += ["out_of_view"] if out_of_view else []
+        if len(given) != 1:
+            raise TypeError(
+                f"observe() takes exactly one of mask, motion or out_of_view=True, got {given}"
+            )
+        if mask is not None:
+            mask = check_mask(mask)
+            if mask.shape != self._first.shape or mask.resolution != self._first.resolution:
+                raise ValueError(
+                    f"mask must have the first mask's shape {self._first.shape} and resolution "
+                    f"{self._first.resolution:g} m/px, got {mask.shape} at {mask.resolution:g}"
+                )
+        if out_of_view or (mask is not None and touches_border(mask)):
+            self._n_pushes += 1
+            self._handed_out, self._plan, self._final = False, None, "lost"
+            return
+        record, evidence, pose = self._reading(mask, motion)
+        self._log.add(record, self._posterior, *evidence)
+        self._n_pushes += 1
+        if record.outcome == "miss":  # the same push again would not move it either
+            travel = np.hypot(*np.subtract(record.action.end, record.action.start))
+            self._min_travel = 2 * (travel - STANDOFF_M / self._first.resolution)
+        else:
+            self._min_travel = 0.0
+        self._pose, self._handed_out = pose, False
+        self._update()
+
+    def _reading(self, mask, motion):
+        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
+        plan = self._plan
+        reading = read_pose(self._first, self._pose, mask, motion)  # validates
+        base = {
+            "index": len(self._log.records),
+            "planned": plan.action,
+            "camera_action": plan.camera_action,
+            "pose_before": self._pose,
+        }
+        # a symmetric outline's rotation is read to a symmetry angle: the reading nearest the
+        # planned push's predicted rotation first (with learning, the best explained is kept)
+        branches = symmetric_branches(reading, self._pose)
+        branches.sort(key=lambda r: abs(r.pose.theta - plan.expected_pose.theta))
+        _, lines = executed_in_object(
+            self._first, IDENTITY, plan.action, self._scoring.mus, self._scoring.pusher_radius
+        )
+        moved = not is_miss(relative(self._pose, branches[0].pose), self._first.resolution)
+        if not moved or lines is None or not self._learn:
+            outcome = "evidence" if moved else "miss"
+            return self._record(base, branches[0], outcome), (), branches[0].pose
+        ctx = PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration)
+        branch, loglik, excess = best_branch(ctx, branches, plan.action, lines)
+        return self._record(base, branch, "evidence"), (loglik, excess), branch.pose
+
+    def _record(self, base: dict, reading, outcome: str) -> PushRecord:
+        return push_record(base, self._pose, base["planned"], reading, outcome)

@@ -1,0 +1,378 @@
+"""The :class:`MujocoRobot`: a MuJoCo scene playing the robot and its camera.
+
+Same shape as :class:`~simulators.SimulatedRobot`: :meth:`~MujocoRobot.camera_mask`
+(or the raw :meth:`~MujocoRobot.camera_frame`) out, :meth:`~MujocoRobot.execute`
+in, the object never reset. Actions are in pixels of the robot's top-down metric
+grid (:attr:`MujocoRobot.simulator`'s frame, ``resolution`` metres per pixel);
+masks are made from rendered frames warped onto that grid with the camera's
+homography and cut out by :func:`comcore.mask_from_image`, as a user's would be.
+MuJoCo's contact solver moves the object; :attr:`MujocoRobot.simulator` is used
+only for its grid (pixels <-> table metres) and its polygon masks.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+import comcore
+from comcore import Action, Motion
+
+from .._deps import require_shapely
+from .._robot import DEFAULT_CAMERA_MARGIN, camera_frame_margin
+from .._simulator import PushSimulator
+from ._camera import CameraSettings, CameraSetup, homography_table_to_image, warp_to_grid
+from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco
+
+__all__ = ["MujocoPush", "MujocoRobot"]
+
+#: A start whose disc would overlap the object is moved back along the push by this (m).
+RETREAT_STEP_M = 0.001
+#: After a push the pusher backs off along its path by this much (m), then is parked.
+BACK_OFF_M = 0.005
+#: Seconds the pusher holds the path's end before backing off (the servo's lag caught up).
+HOLD_S = 0.05
+
+
+class MujocoPush(NamedTuple):
+    """What :meth:`MujocoRobot.execute` did."""
+
+    commanded: Action
+    """The action asked for (grid pixels)."""
+    motion: Motion
+    """The object's motion in grid pixels about its outline's area centroid before the push."""
+    pose: Motion
+    """The pose after the push relative to the first frame (:attr:`MujocoRobot.pose`)."""
+    hit: bool
+    """Whether the pusher touched the object."""
+    world_pose: tuple
+    """CoM ``(x, y)`` (table metres) and angle after the push."""
+    lag_m: float
+    """Largest distance between the pusher and its commanded point during the push (m)."""
+
+
+def _yaw(quat) -> float:
+    w, x, y, z = quat
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+class MujocoRobot:
+    """A MuJoCo scene of a :class:`~simulators.PushSimulator`'s object as a robot with a camera.
+
+    The trial's shape, mass distribution (hence CoM), ``mu_contact``, ``mu_floor``
+    and pusher radius are built into a MuJoCo model (:mod:`simulators.mujoco._scene`);
+    the pusher follows each commanded path at ``settings.speed`` on slide joints,
+    backs off 5 mm, is parked out of view, and the scene settles ``settings.settle``
+    seconds before the next frame. Frames: a top-down perspective camera
+    (``camera``), rendered offscreen (``MUJOCO_GL=egl``, set if unset).
+
+    Parameters
+    ----------
+    simulator : PushSimulator
+        The trial. Not modified.
+    settings : MujocoSettings, optional
+    camera : CameraSettings, optional
+    camera_margin : float, optional
+        Metres of table around the object's bounding disc on the grid, as
+        :class:`~simulators.SimulatedRobot` (default :data:`DEFAULT_CAMERA_MARGIN`).
+    resolution : float, optional
+        Metres per grid pixel (the masks' resolution); default the simulator's.
+
+    Examples
+    --------
+    >>> import comcore, simulators
+    >>> sim = simulators.random_simulator("Obj3", friction="high", rng=1)
+    >>> robot = simulators.MujocoRobot(sim, camera=simulators.CameraSettings((160, 120)))
+    >>> first = robot.camera_mask()
+    >>> push = robot.execute(comcore.sample_pushes(first, 1, rng=0)[0])
+    >>> push.hit, robot.pushes
+    (True, 1)
+    """
+
+    def __init__(
+        self,
+        simulator: PushSimulator,
+        *,
+        settings: MujocoSettings | None = None,
+        camera: CameraSettings | None = None,
+        camera_margin: float = DEFAULT_CAMERA_MARGIN,
+        resolution: float | None = None,
+    ):
+        if not isinstance(simulator, PushSimulator):
+            raise TypeError(
+                f"simulator must be a simulators.PushSimulator, got {type(simulator).__name__}"
+            )
+        self.settings = MujocoSettings() if settings is None else settings
+        self.camera = CameraSettings() if camera is None else camera
+        for value, cls, name in ((self.settings, MujocoSettings, "settings"),
+                                 (self.camera, CameraSettings, "camera")):  # fmt: skip
+            if not isinstance(value, cls):
+                raise TypeError(f"{name} must be a simulators.{cls.__name__}, got {value!r}")
+        margin = camera_frame_margin(
+            simulator.shape, comcore.checks.check_positive(camera_margin, "camera_margin"),
+            simulator.com_m,
+        )  # fmt: skip
+        res = simulator.resolution if resolution is None else resolution
+        self.simulator = PushSimulator(
+            simulator.shape, simulator.mass, mu_contact=simulator.mu_contact,
+            resolution=comcore.checks.check_positive(res, "resolution"), margin=margin,
+            pusher_radius=simulator.pusher_radius, mu_floor=simulator.mu_floor,
+        )  # fmt: skip
+        mujoco = require_mujoco()
+        self._mj = mujoco
+        grid = self.simulator
+        h, w = grid.image_shape
+        corners = grid.to_world([[-0.5, -0.5], [w - 0.5, h - 0.5]])
+        bounds = (*corners.min(axis=0), *corners.max(axis=0))
+        top = 2 * self.settings.foot_radius + self.settings.thickness
+        self.camera_setup = CameraSetup.above(self.camera, bounds, top)
+        self.model = mujoco.MjModel.from_xml_string(
+            build_scene_xml(grid, self.settings, self.camera_setup)
+        )
+        self.data = mujoco.MjData(self.model)
+        self._body = self.model.body("object").id
+        self._pusher_geom = self.model.geom("pusher").id
+        self._renderer = None
+        mujoco.mj_forward(self.model, self.data)
+        self._settle()
+        self._start_qpos = self.data.qpos[:7].copy()
+        x, y, a = self._body_pose()
+        self._centroid_body = self._to_body(grid.to_world(grid.mask.centroid)[0], (x, y, a))
+        self._initial = self.world_pose
+        self.history: list[MujocoPush] = []
+
+    # -- state --------------------------------------------------------------------
+    @property
+    def resolution(self) -> float:
+        """Metres per grid pixel."""
+        return self.simulator.resolution
+
+    @property
+    def pushes(self) -> int:
+        """Pushes executed."""
+        return len(self.history)
+
+    @property
+    def com_body(self) -> np.ndarray:
+        """MuJoCo's centre of mass of the object in its body frame (= the trial's frame)."""
+        return self.model.body_ipos[self._body][:2].copy()
+
+    def _body_pose(self) -> tuple[float, float, float]:
+        q = self.data.qpos
+        return (float(q[0]), float(q[1]), _yaw(q[3:7]))
+
+    @property
+    def world_pose(self) -> tuple[float, float, float]:
+        """The object's CoM ``(x, y)`` in table metres and its angle (CCW) now."""
+        x, y, a = self._body_pose()
+        c = self._to_world(self.com_body, (x, y, a))
+        return (float(c[0]), float(c[1]), a)
+
+    @staticmethod
+    def _to_world(p, pose) -> np.ndarray:
+        x, y, a = pose
+        c, s = math.cos(a), math.sin(a)
+        return np.array([x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]])
+
+    @staticmethod
+    def _to_body(p, pose) -> np.ndarray:
+        x, y, a = pose
+        c, s = math.cos(a), math.sin(a)
+        d = np.asarray(p, float) - (x, y)
+        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+
+    def outline_m(self) -> np.ndarray:
+        """The object's outline now, table metres, (k, 2)."""
+        pose = self._body_pose()
+        v = self.simulator.shape.vertices_m
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        return v @ np.array([[c, s], [-s, c]]) + pose[:2]
+
+    def true_com_px(self) -> tuple[float, float]:
+        """MuJoCo's CoM in the FIRST frame's grid pixels: what an estimate is scored on."""
+        c = self.simulator.to_pixels(self._initial[:2])[0]
+        return (float(c[0]), float(c[1]))
+
+    def com_in_camera(self) -> tuple[float, float]:
+        """Where the CoM is on the grid now (pixels)."""
+        c = self.simulator.to_pixels(self.world_pose[:2])[0]
+        return (float(c[0]), float(c[1]))
+
+    def _motion_between(self, body_point, before, after) -> Motion:
+        p0 = self.simulator.to_pixels(self._to_world(body_point, before))[0]
+        p1 = self.simulator.to_pixels(self._to_world(body_point, after))[0]
+        return Motion(after[2] - before[2], float(p1[0] - p0[0]), float(p1[1] - p0[1]))
+
+    @property
+    def pose(self) -> Motion:
+        """The pose now relative to the first frame (as :attr:`comcore.ActiveSession.pose`)."""
+        first = self._start_pose
+        return self._motion_between(self._centroid_body, first, self._body_pose())
+
+    @property
+    def _start_pose(self):
+        q = self._start_qpos
+        return (float(q[0]), float(q[1]), _yaw(q[3:7]))
+
+    # -- camera -------------------------------------------------------------------
+    def homography_table_to_image(self) -> np.ndarray:
+        """3x3 homography from table metres (the top face's plane) to frame pixels."""
+        cam = self.model.camera("top").id
+        setup = self.camera_setup
+        return homography_table_to_image(
+            self.data.cam_xpos[cam], self.data.cam_xmat[cam].reshape(3, 3), setup.focal_px,
+            setup.image_size, setup.plane_z,
+        )  # fmt: skip
+
+    def homography_grid_to_image(self) -> np.ndarray:
+        """3x3 homography from grid pixels to frame pixels."""
+        g = self.simulator
+        o, ex, ey = g.to_world([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+        grid_to_table = np.column_stack([ex - o, ey - o, o])
+        grid_to_table = np.vstack([grid_to_table, [0.0, 0.0, 1.0]])
+        return self.homography_table_to_image() @ grid_to_table
+
+    def camera_frame(self) -> np.ndarray:
+        """A rendered RGB frame now, uint8 (height, width, 3)."""
+        mujoco = self._mj
+        if self._renderer is None:
+            w, h = self.camera.image_size
+            try:
+                self._renderer = mujoco.Renderer(self.model, height=h, width=w)
+            except Exception as e:  # GLFW without a display, EGL missing, ...
+                raise RuntimeError(
+                    f"MuJoCo cannot render offscreen here ({e}); set MUJOCO_GL=egl and "
+                    "EGL_PLATFORM=surfaceless before mujoco is first "
+                    "imported (docs/mujoco.md)"
+                ) from e
+        self._renderer.update_scene(self.data, camera="top")
+        return self._renderer.render().copy()
+
+    def grid_image(self, frame=None) -> np.ndarray:
+        """``frame`` (default a new one) warped onto the grid, float RGB (rows, cols, 3)."""
+        frame = self.camera_frame() if frame is None else frame
+        return warp_to_grid(frame, self.homography_grid_to_image(), self.simulator.image_shape)
+
+    def camera_mask(self, **options) -> comcore.Mask:
+        """The object's mask from a new frame, warped to the grid: :func:`comcore.mask_from_image`.
+
+        ``options`` go to :func:`comcore.mask_from_image` (its ValueError when it
+        refuses the frame propagates; the robot is unchanged).
+        """
+        return comcore.mask_from_image(self.grid_image(), resolution=self.resolution, **options)
+
+    # -- the arm ------------------------------------------------------------------
+    def _settle(self, seconds: float | None = None) -> None:
+        t = self.settings.settle if seconds is None else seconds
+        steps = round(t / self.model.opt.timestep)
+        if steps:
+            self._mj.mj_step(self.model, self.data, nstep=steps)
+
+    def _set_pusher(self, centre) -> None:
+        q = np.asarray(centre, float) - PARK_XY
+        self.data.qpos[7:9] = q
+        self.data.qvel[6:8] = 0.0
+        self.data.ctrl[:] = q
+        self._mj.mj_forward(self.model, self.data)
+
+    def execute(self, action, frames: int = 0, *, retract: bool = True) -> MujocoPush:
+        """Push the object from where it is now along ``action`` (grid pixels).
+
+        The pusher's centre is lowered ``pusher_radius`` behind the path's start
+        (farther back, 1 mm at a time, if its disc would overlap the object), follows
+        the line at ``settings.speed`` to the end, backs off 5 mm and is parked out of
+        view; the scene settles ``settings.settle`` s. ``retract=False`` leaves the
+        pusher where the path ended, touching the object, in the next frames (what a
+        camera sees of an arm that does not move away). ``frames`` is there for
+        ``SimulatedRobot.execute``'s callers: only 0 (no frames during the push).
+
+        Raises
+        ------
+        ValueError
+            If ``action`` is not one finite, non-zero-length action, or it starts inside
+            the object as it is now, or ``frames`` is not 0 (the robot is unchanged then).
+        """
+        if frames:
+            raise ValueError(
+                f"frames={frames!r}: the MuJoCo robot renders no frames during a push (take "
+                "camera_mask() after it; simulators.SimulatedRobot records frames)"
+            )
+        acts = comcore.checks.check_actions(action, "action", allow_empty=False)
+        if acts.shape[0] != 1:
+            raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
+        shapely = require_shapely()
+        outline = shapely.Polygon(self.outline_m())
+        start, end = self.simulator.to_world(acts[0].reshape(2, 2))
+        if shapely.contains_xy(outline, *start):
+            raise ValueError(
+                f"action must start outside the object as it is now; {acts[0].tolist()} starts "
+                "inside its outline"
+            )
+        r = self.simulator.pusher_radius
+        d = (end - start) / np.linalg.norm(end - start)
+        c0, c1 = start - r * d, end - r * d
+        for _ in range(int(0.5 / RETREAT_STEP_M)):
+            if shapely.distance(outline, shapely.Point(*c0)) > r:
+                break
+            c0 = c0 - RETREAT_STEP_M * d
+        before = self._body_pose()
+        centroid = self._to_body(np.asarray(outline.centroid.coords[0]), before)
+        mj, model, data = self._mj, self.model, self.data
+        dt = model.opt.timestep
+        length = float(np.dot(c1 - c0, d))
+        self._set_pusher(c0)
+        lag, hit = 0.0, False
+        step = self.settings.speed * dt
+        for travel in (length, -BACK_OFF_M) if retract else (length,):
+            origin = data.qpos[7:9].copy()
+            n = max(1, math.ceil(abs(travel) / step))
+            for k in range(1, n + 1):
+                data.ctrl[:] = origin + (travel * k / n) * d
+                mj.mj_step(model, data)
+                if not hit and data.ncon:
+                    hit = bool(np.any(data.contact.geom[: data.ncon] == self._pusher_geom))
+                lag = max(lag, float(np.hypot(*(data.qpos[7:9] - data.ctrl))))
+            if travel > 0:  # hold the end point until the servo has caught up
+                mj.mj_step(model, data, nstep=max(1, round(HOLD_S / dt)))
+        if retract:
+            self._set_pusher(PARK_XY)
+        self._settle()
+        after = self._body_pose()
+        record = MujocoPush(
+            Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
+            self.world_pose, lag,
+        )  # fmt: skip
+        self.history.append(record)
+        return record
+
+    def place(self, pose=None) -> None:
+        """Put the object at ``pose`` (CoM ``(x, y)`` table metres, angle); default the start.
+
+        What a person does between trials; not a push (not counted). The scene then settles.
+        """
+        if pose is None:
+            self.data.qpos[:7] = self._start_qpos
+        else:
+            try:
+                x, y, a = (float(v) for v in pose)
+            except (TypeError, ValueError) as e:
+                raise TypeError(f"pose must be three numbers (x, y, angle), got {pose!r}") from e
+            if not all(map(math.isfinite, (x, y, a))):
+                raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
+            origin = np.array([x, y]) - self._to_world(self.com_body, (0.0, 0.0, a))
+            self.data.qpos[:7] = [*origin, self._start_qpos[2], math.cos(a / 2), 0, 0,
+                                  math.sin(a / 2)]  # fmt: skip
+        self.data.qvel[:6] = 0.0
+        self._set_pusher(PARK_XY)
+        self._settle(min(self.settings.settle, 0.05))
+
+    def close(self) -> None:
+        """Free the renderer's GL context (also done when the robot is garbage-collected)."""
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __repr__(self) -> str:
+        return f"MujocoRobot({self.simulator.shape!r}, pushes={self.pushes})"
