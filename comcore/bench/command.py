@@ -174,7 +174,6 @@ def run(args) -> int:
     try:
         import simulators  # noqa: F401
 
-        from ._outputs import save_benchmark
         from ._runner import BenchInterrupted, check_available, finished_rows, run_benchmark
     except ImportError as e:
         print(
@@ -246,6 +245,13 @@ def run(args) -> int:
         except (ImportError, OSError) as e:
             print(f"comcore bench: {e}", file=sys.stderr)
             return 2
+    return _save(args, result, out, partial)
+
+
+def _save(args, result, out: Path, partial: Path) -> int:
+    """Write the finished run's results and report, print its summary; the exit status."""
+    from ._outputs import save_benchmark
+
     command = "comcore bench " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["bench"] else ""
     try:
         paths = save_benchmark(

@@ -238,25 +238,12 @@ def push_motions(
         if slide.any():
             j = np.flatnonzero(slide)
             attached[live[j]] = False  # from here on it moves on its own
-            sa = np.where(f_t[j] >= 0, sin_a[live[j]], -sin_a[live[j]])
-            ex = cos_a[live[j]] * nx[j] + sa * ny[j]
-            ey = -sa * nx[j] + cos_a[live[j]] * ny[j]
-            wrench = np.column_stack([ex, ey, ex * ccy[j] - ey * ccx[j]])
-            iters = SLIDE_ITERATIONS[0 if k == 1 else 1]
-            start = xi_slide[live[j]]
-            fresh = ~start.any(axis=1)  # no earlier sliding: start from the sticking twist
-            if fresh.any():
-                start[fresh] = _ellipsoid_twist(p[j[fresh]], rx, ry, wrench[fresh])
-            xi = slide_twist(p[j], rx, ry, wrench, start, eps2, iters, length, k == 1)
-            xi_slide[live[j]] = xi
-            cvx, cvy = xi[:, 0] + xi[:, 2] * ccy[j], xi[:, 1] - xi[:, 2] * ccx[j]
-            normal = cvx * nx[j] + cvy * ny[j]
-            # The contact must move into the pusher's way: a solve that is not there
-            # (unconverged, or a pusher grazing a corner) keeps the sticking twist.
-            good = np.isfinite(xi).all(axis=1) & (normal > MIN_NORMAL_FRACTION * np.hypot(cvx, cvy))
-            scale = -gap[j] / np.where(good, normal, 1.0)
-            j, xi, scale = j[good], xi[good], scale[good]
-            vx[j], vy[j], om[j] = (xi * scale[:, None]).T
+            rows_j = live[j]
+            j, twist = _sliding_twists(
+                j, p[j], rx, ry, nx[j], ny[j], ccx[j], ccy[j], gap[j], f_t[j],
+                cos_a[rows_j], sin_a[rows_j], xi_slide, rows_j, eps2, length, k,
+            )  # fmt: skip
+            vx[j], vy[j], om[j] = twist.T
         # A quasi-static step turns the object by about its length over the distance from
         # the contact to the centre of rotation: cap it where a degenerate pressure (all
         # on a few points) or an unconverged solve would make it blow up.
@@ -270,3 +257,34 @@ def push_motions(
         theta[live] += om
     out = np.stack([theta, X - cx0, Y - cy0], axis=-1)
     return out.reshape(n_p, n_a, 3)
+
+
+def _sliding_twists(
+    j, p, rx, ry, nx, ny, ccx, ccy, gap, f_t, cos_a, sin_a, xi_slide, rows, eps2, length, k
+):
+    """The step of the contacts ``j`` that slide: ``(kept j, (n, 3) twists)``.
+
+    The force lies on the friction cone's edge against the tangential force
+    ``f_t``; the twist solves the limit surface from the row's last sliding
+    twist (``xi_slide[rows]``, updated in place) or, on a first slide, from the
+    ellipsoid's. Solves whose contact does not move into the pusher's way are
+    dropped: those rows keep their sticking twist.
+    """
+    sa = np.where(f_t >= 0, sin_a, -sin_a)
+    ex = cos_a * nx + sa * ny
+    ey = -sa * nx + cos_a * ny
+    wrench = np.column_stack([ex, ey, ex * ccy - ey * ccx])
+    iters = SLIDE_ITERATIONS[0 if k == 1 else 1]
+    start = xi_slide[rows]
+    fresh = ~start.any(axis=1)  # no earlier sliding: start from the sticking twist
+    if fresh.any():
+        start[fresh] = _ellipsoid_twist(p[fresh], rx, ry, wrench[fresh])
+    xi = slide_twist(p, rx, ry, wrench, start, eps2, iters, length, k == 1)
+    xi_slide[rows] = xi
+    cvx, cvy = xi[:, 0] + xi[:, 2] * ccy, xi[:, 1] - xi[:, 2] * ccx
+    normal = cvx * nx + cvy * ny
+    # The contact must move into the pusher's way: a solve that is not there
+    # (unconverged, or a pusher grazing a corner) keeps the sticking twist.
+    good = np.isfinite(xi).all(axis=1) & (normal > MIN_NORMAL_FRACTION * np.hypot(cvx, cvy))
+    scale = -gap / np.where(good, normal, 1.0)
+    return j[good], xi[good] * scale[good][:, None]

@@ -221,9 +221,7 @@ def estimate_progressive(
     check_mu(mu)
     if selection not in SELECTIONS:
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
-    pusher_radius = check_physical(
-        pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
-    )
+    pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     n_actions = acts.shape[0]
     skipped: tuple = ()
     usable = np.ones(n_actions, dtype=bool)
@@ -249,7 +247,8 @@ def estimate_progressive(
     sizes = [mask.area_px]
     direction = acts[:, 2:] - acts[:, :2]
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
-    a_lo, a_hi = (float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
+    cone = tuple(float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
+    a_lo, a_hi = cone
     sense = np.sign(theta).astype(int)
 
     while sizes[-1] > target and keep.any():
@@ -275,6 +274,24 @@ def estimate_progressive(
         used.append(chosen)
         sizes.append(int(allowed.sum()))
 
+    region = _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band)
+    return estimate_from_region(
+        mask,
+        region,
+        used=used,
+        status="contradiction" if contradicted else "ok",
+        extras={"region_sizes": sizes, "contradicted": contradicted, "skipped": skipped},
+    )
+
+
+def _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band):
+    """The part of the cut region ``current`` the data point to; ``contradicted`` grows.
+
+    Left-out informative pushes that no pixel of the returned region explains
+    are appended to ``contradicted``; the parts of a disconnected region are
+    ranked as :func:`estimate_progressive` says.
+    """
+    a_lo, a_hi = cone
     # Which of the left-out informative pushes a CoM at each region pixel explains (the
     # applied ones explain every region pixel by construction, the skipped ones none).
     done = set(used) | set(contradicted)
@@ -306,13 +323,7 @@ def estimate_progressive(
         unsettled = left_out[~explained(left_out, probes).any(axis=1)]
         explains = explained(unsettled, pts)
         contradicted += [int(i) for i, row in zip(unsettled, explains) if not row.any()]
-    return estimate_from_region(
-        mask,
-        region,
-        used=used,
-        status="contradiction" if contradicted else "ok",
-        extras={"region_sizes": sizes, "contradicted": contradicted, "skipped": skipped},
-    )
+    return region
 
 
 def _evidence(part, n_parts, explains, pts, hardly_turning) -> np.ndarray:

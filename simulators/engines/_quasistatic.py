@@ -108,6 +108,7 @@ class QuasiStaticEngine:
         hit = np.isfinite(t_hit)
         contact = np.full((n, 2), np.nan)
         normal = np.full((n, 2), np.nan)
+        first_vertex = np.zeros(0, bool)
         if hit.any():
             cb = centre_body[hit] + t_hit[hit, None] * dir_body[hit]
             q, _, first_vertex = closest_points(self.outline, cb, with_vertex=True)
@@ -116,18 +117,37 @@ class QuasiStaticEngine:
             contact[hit] = (x[hit] + to_world(q, ch, sh)) * L
             normal[hit] = to_world(nb, ch, sh)
         idx = np.flatnonzero(hit)
-        remaining = total[idx] - t_hit[idx]
+        xs, angs, traj = self._follow(
+            x[idx], ang[idx], centre0[idx] + t_hit[idx, None] * d[idx], d[idx],
+            total[idx] - t_hit[idx], first_vertex, record,
+        )  # fmt: skip
+        out = poses.copy()
+        out[idx, :2] = xs * L
+        out[idx, 2] = angs
+        trajectories = None
+        if record:
+            trajectories = [poses[i : i + 1].copy() for i in range(n)]
+            for j, i in enumerate(idx):
+                trajectories[i] = np.vstack([poses[i : i + 1], np.array(traj[j]).reshape(-1, 3)])
+        return BatchOutcome(out, hit, contact, normal, blocked, trajectories)
+
+    def _follow(self, xs, angs, c0, d0, remaining, first_vertex, record):
+        """Step the pushers from their first contacts ``c0`` along ``d0`` by ``remaining``.
+
+        ``xs`` (n, 2) and ``angs`` (n,) are the objects' poses (normalised
+        lengths), updated in place and returned with the recorded trajectories
+        (``None`` unless ``record``).
+        """
+        L = self.length
         # Each push advances by its own steps, so its result does not depend on the
         # other pushes of the batch; steps are refined while the pusher is on a
         # vertex, where the contact normal turns quickly.
         n_steps = np.maximum(np.ceil(remaining / self.step - 1e-9), 1)
         base = remaining / n_steps
-        xs, angs = x[idx], ang[idx]
-        state = np.zeros((len(idx), 5))  # sticking omega, sliding twist, mode
-        c0, d0 = centre0[idx] + t_hit[idx, None] * d[idx], d[idx]
-        progress = np.zeros(len(idx))
-        on_vertex = first_vertex.copy() if len(idx) else np.zeros(0, bool)
-        traj = [[] for _ in idx] if record else None
+        state = np.zeros((len(xs), 5))  # sticking omega, sliding twist, mode
+        progress = np.zeros(len(xs))
+        on_vertex = first_vertex.copy()
+        traj = [[] for _ in range(len(xs))] if record else None
         while True:
             run = np.flatnonzero(progress < remaining)
             if not len(run):
@@ -167,12 +187,4 @@ class QuasiStaticEngine:
             if record:
                 for j in run:
                     traj[j].append((xs[j, 0] * L, xs[j, 1] * L, angs[j]))
-        out = poses.copy()
-        out[idx, :2] = xs * L
-        out[idx, 2] = angs
-        trajectories = None
-        if record:
-            trajectories = [poses[i : i + 1].copy() for i in range(n)]
-            for j, i in enumerate(idx):
-                trajectories[i] = np.vstack([poses[i : i + 1], np.array(traj[j]).reshape(-1, 3)])
-        return BatchOutcome(out, hit, contact, normal, blocked, trajectories)
+        return xs, angs, traj
