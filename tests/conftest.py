@@ -10,6 +10,12 @@ from hypothesis import settings
 
 import comcore
 
+# MuJoCo picks its GL backend at its first import, which any test module may do (an
+# importorskip at collection): offscreen EGL unless the environment chose one.
+os.environ.setdefault("MUJOCO_GL", "egl")
+if os.environ["MUJOCO_GL"] == "egl":
+    os.environ.setdefault("EGL_PLATFORM", "surfaceless")
+
 # No per-example deadline (the machine may be busy); CI replays a fixed set of examples.
 settings.register_profile("default", deadline=None)
 settings.register_profile("ci", deadline=None, derandomize=True)

@@ -1,7 +1,7 @@
 """Camera frames of one object on a table as a fixed camera gives them, with the true mask.
 
-One generator for the tests (tests/test_image.py) and the benchmark
-(benchmarks/bench_mask_from_image.py). A frame is rendered in grey levels:
+One generator for the tests (tests/camera/test_image.py) and the benchmark
+(benchmarks/accuracy/bench_mask_from_image.py). A frame is rendered in grey levels:
 
     image = illumination * (coverage * object + (1 - coverage) * table * cast_shadow) + noise
 

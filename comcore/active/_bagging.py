@@ -11,7 +11,7 @@ Bayesian bootstrap (Rubin 1981): the pushes' log-likelihoods weighted by
 ``n`` Dirichlet(1, ..., 1) weights, so a push counts 0 to a few times. Where the
 pushes agree the bagged posterior is about the posterior (at most about twice
 its variance, where the pushes scatter as much as the likelihood says; 7 %
-wider in radius on the agreeing pushes of tests/test_bagging.py, whose model
+wider in radius on the agreeing pushes of tests/active/test_bagging.py, whose model
 is exact); where some pushes pull the CoM one way and others another, it
 spreads over both. It widens by what the
 data show, with no constant to tune: on the MIT push dataset's test plate it

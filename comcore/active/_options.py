@@ -73,8 +73,7 @@ UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
-#: value, about 0.04 s per push and value on a 2-core machine (benchmarks/bench_active.py), so
-#: 32 keeps a 5-push session under 10 s; past about 100 it ran over 30 s.
+#: value, so the cost of a push grows with it (benchmarks/timing/bench_active.py times it).
 MAX_N_MU = 32
 #: Most default candidates drawn (:func:`comcore.sample_pushes`): 10,000 cost 3 s a session.
 MAX_CANDIDATES = 20_000
@@ -197,7 +196,7 @@ class Likelihood:
         ``displacement_error_m`` (its norm, metres) with the scales of
         :meth:`model_error_scales`: the model's term of a push's likelihood
         without tracking noise or the pusher's offset, for fitting the scales
-        to a model's errors against an engine (benchmarks/eval_motion_model.py).
+        to a model's errors against an engine (benchmarks/accuracy/eval_motion_model.py).
         """
         return model_error_log_density(
             self.theta_noise, self.translation_error, theta_error, lever_m,

@@ -27,7 +27,7 @@ of the empty table:
    whatever the table's light or pattern there) over the candidates.
 
 The thresholds were tuned on generated frames (``tests/frames.py``, seed 0):
-``python benchmarks/bench_mask_from_image.py --seed 0``.
+``python benchmarks/accuracy/bench_mask_from_image.py --seed 0``.
 """
 
 from __future__ import annotations

@@ -58,7 +58,7 @@ IDENTITY = Motion(0.0, 0.0, 0.0)
 #: object moved. Exact masks give at most 0.4 px; the benchmark's noisy camera masks
 #: (``SimulatedRobot(mask_noise=0.5)``, seed 1: 96 masks of the 20 objects, observed by
 #: sessions) at most 1.11 px, median 0.76 px; every other benchmark object's mask put in the
-#: object's place is refused (``python benchmarks/observe_refusal.py --seed 1``; seed 0 in
+#: object's place is refused (``python benchmarks/accuracy/observe_refusal.py --seed 1``; seed 0 in
 #: docs/robot.md).
 MAX_RESIDUAL_PX = 1.5
 #: A mask whose area differs from the first mask's by more than this share is not the

@@ -78,7 +78,7 @@ SPACING_TOLERANCE = math.radians(3.0)
 MIN_ROTATION_VISIBILITY = 0.2
 #: Effective independent error (px) of one outline point of a binary mask, calibrated so
 #: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std
-#: (``python benchmarks/bench_measure_motion.py --calibrate 290 --seed 0``).
+#: (``python benchmarks/accuracy/bench_measure_motion.py --calibrate 290 --seed 0``).
 OUTLINE_NOISE_PX = 0.365
 #: The 90th percentile of ``residual_px`` over those exact rigid motions: a fit whose residual
 #: is larger (mask noise) has its outline noise, and the predicted theta std, scaled up.

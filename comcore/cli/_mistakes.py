@@ -27,7 +27,7 @@ __all__ = [
 #: theta's sign flipped has its sign flipped (a Bayes factor of 20). Of 180 benchmark
 #: recordings (20 objects x seeds 0-2, 0, 1 or 3 senses flipped at random) none is flagged,
 #: of the same 60 with every sign flipped all are
-#: (``benchmarks/estimate_methods.py --flips 0,1,3,all``; docs/bench.md).
+#: (``benchmarks/accuracy/estimate_methods.py --flips 0,1,3,all``; docs/bench.md).
 SIGN_FLIP_NATS = 3.0
 #: More than this share of the pushes dropped (missing the object or starting inside it)
 #: means the pushes are not in the mask's pixel frame: refused.

@@ -50,7 +50,7 @@ from ._inputs import (
     screen_pushes,
 )
 from ._mistakes import (
-    SIGN_FLIP_NATS as SIGN_FLIP_NATS,  # re-exported (benchmarks/estimate_methods.py)
+    SIGN_FLIP_NATS as SIGN_FLIP_NATS,  # re-exported (benchmarks/accuracy/estimate_methods.py)
 )
 from ._mistakes import (
     object_size_m,

@@ -12,7 +12,7 @@
   radians, the likelihood's ``0.01 + 0.13 / (1 + (lever / 3.75 cm)^2)`` at 5 cm;
   a 5 cm push through the CoM (its line within 2.5 mm) errs by a median 4.3
   degrees (80 %: 13.8), a 2.5 cm one by 0.8 (2.3):
-  ``PYTHONPATH=. python benchmarks/goal_model_error.py --seed 1 --objects Obj1
+  ``PYTHONPATH=. python benchmarks/accuracy/goal_model_error.py --seed 1 --objects Obj1
   Obj5 Obj8 Obj11 Obj14 Obj15 Obj3 Obj18``.
 * :func:`follow_ups`: the least expected cost of one more push from many poses
   at once (the planner's two-step lookahead), and :func:`spread_picks`.

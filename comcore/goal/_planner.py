@@ -55,7 +55,7 @@ say would not move the object measurably (a miss, as
 :func:`comcore.camera._pose_tracking.is_miss` reads one), are not offered; after a
 miss the session asks for twice its travel at least.
 
-Measured (benchmarks/goal_bench.py --timing, docs/goal.md; seed 0, the exact
+Measured (benchmarks/accuracy/goal_bench.py --timing, docs/goal.md; seed 0, the exact
 engine, the four strategies): one step takes a median 86-117 ms on the
 benchmark's masks (90 %: 138-166 ms), against 125-131 ms for the one-step
 planner.

@@ -138,7 +138,7 @@ def estimate_progressive(
       explained by a CoM mirrored through the centroid when the pushes' lines
       pass near it: of 60 benchmark recordings of 40 pushes with every sign
       flipped, 58 say ``"contradiction"`` and 2 say ``"ok"``, 5.3 and 11.9 cm
-      off (``benchmarks/estimate_methods.py --flips 0,all``). The senses cannot
+      off (``benchmarks/accuracy/estimate_methods.py --flips 0,all``). The senses cannot
       tell those two; the motions' sizes can: ``comcore estimate`` checks every
       recording's sign for every method, and :func:`comcore.estimate_posterior`
       with its default model calls such a recording ``"inconsistent"``.

@@ -1,0 +1,239 @@
+"""What the CoM estimate is worth in a task: pushing benchmark objects to goal poses.
+
+Four strategies on the same trials, the same planner (comcore.GoalSession),
+the object never reset:
+
+* ``centroid``: the CoM fixed at the first mask's centroid (what a user
+  without comcore would assume), frictions unknown, nothing learned;
+* ``estimate-first``: a comcore.ActiveSession to its stop, then the planner on
+  its posterior, fixed (its pushes counted apart);
+* ``learn``: the planner from no estimate, learning from every push;
+* ``oracle``: the true CoM and contact friction, fixed.
+
+Goals are drawn with the seed: ``translation`` (20 cm in a random direction,
+the orientation held: within 2 degrees at the end) and ``pose`` (10-30 cm
+away, an orientation change of 0-90 degrees either way). Success: the true
+pose within 1 cm and 3 degrees (2 degrees for ``translation``, counted apart).
+One JSON line per (trial, strategy) goes to ``--out``; a table to stdout.
+
+Example::
+
+    PYTHONPATH=. python benchmarks/accuracy/goal_bench.py --seed 0 --trials 1 --out runs/goal.jsonl
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+import comcore
+import comcore.goal._session as goal_session  # to time the planner's step alone
+import simulators
+
+STRATEGIES = ("centroid", "estimate-first", "learn", "oracle")
+KINDS = ("translation", "pose")
+MAX_TRAVEL = 0.05
+PLAN_TIMES: list[float] = []
+
+
+def _timed(plan):
+    def wrapper(*args, **kwargs):
+        start = time.perf_counter()
+        out = plan(*args, **kwargs)
+        PLAN_TIMES.append(time.perf_counter() - start)
+        return out
+
+    return wrapper
+
+
+goal_session.plan_push = _timed(goal_session.plan_push)
+
+
+def draw_goal(kind: str, rng: np.random.Generator) -> tuple[comcore.Goal, float]:
+    """A goal of ``kind`` and its distance (metres)."""
+    angle = rng.uniform(0, 2 * math.pi)
+    if kind == "translation":
+        dist, theta, tol = 0.20, 0.0, math.radians(2.0)
+    else:
+        dist = rng.uniform(0.10, 0.30)
+        theta = float(rng.choice([-1.0, 1.0]) * rng.uniform(0, math.pi / 2))
+        tol = math.radians(3.0)
+    goal = comcore.Goal(
+        displacement=(dist * math.cos(angle), dist * math.sin(angle)),
+        orientation=theta,
+        orientation_tolerance=tol,
+    )
+    return goal, dist
+
+
+def _camera(robot):
+    try:
+        return robot.camera_mask()
+    except ValueError:  # the object left the camera's view
+        return None
+
+
+def _drive(robot, session, loop_limit=200) -> bool:
+    """Run a session (goal or active) on the robot; False when the object left the view."""
+    for _ in range(loop_limit):
+        if session.done:
+            return True
+        robot.execute(session.next_push())
+        mask = _camera(robot)
+        if mask is None:
+            if isinstance(session, comcore.GoalSession):
+                session.observe(out_of_view=True)
+            return False
+        session.observe(mask)
+    return True
+
+
+def run_strategy(strategy, sim, goal, args, robot_seed):
+    """One trial of one strategy: a JSON-able row."""
+    robot = simulators.SimulatedRobot(
+        sim,
+        camera_margin=args.margin,
+        pusher_error=args.pusher_offset,
+        engine="quasistatic" if args.engine == "exact" else args.engine,
+        rng=robot_seed,
+    )
+    first = robot.camera_mask()
+    options = {"max_travel": MAX_TRAVEL, "max_pushes": args.max_pushes, "rng": 0}
+    options["pusher_radius"] = sim.pusher_radius
+    est_pushes, status_est = 0, None
+    if strategy == "centroid":
+        prior = [first.centroid]
+    elif strategy == "oracle":
+        prior = comcore.goal.CoMHypotheses(
+            np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
+        )
+    elif strategy == "estimate-first":
+        active = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0)
+        in_view = _drive(robot, active)
+        est_pushes, status_est = len(active.actions), active.status
+        prior = active if in_view else None
+    else:
+        prior = None
+    start_rotations = len(robot.history)
+    if strategy == "estimate-first" and prior is None:
+        status, pushes = "lost", 0
+    else:
+        session = comcore.GoalSession(
+            first, goal, prior=prior, learn=strategy == "learn", **options
+        )
+        _drive(robot, session)
+        status, pushes = session.status, len(session.pushes) + (session.status == "lost")
+    truth = robot.pose
+    target = goal.target_px(first)
+    pos_err = math.hypot(truth.tx - target[0], truth.ty - target[1]) * first.resolution
+    ang_err = abs(truth.theta - goal.orientation)
+    turned = sum(abs(p.motion.theta) for p in robot.history[start_rotations:])
+    return {
+        "strategy": strategy,
+        "status": status,
+        "pushes": pushes,
+        "estimate_pushes": est_pushes,
+        "estimate_status": status_est,
+        "pos_err_cm": 100 * pos_err,
+        "ang_err_deg": math.degrees(ang_err),
+        "success": bool(pos_err <= 0.01 and ang_err <= math.radians(3)),
+        "success_2deg": bool(pos_err <= 0.01 and ang_err <= math.radians(2)),
+        "turned_deg": math.degrees(turned),
+    }
+
+
+def summary(rows) -> str:
+    """The markdown table of the rows, per goal kind and strategy."""
+    lines = [
+        "| goals | strategy | trials | success (1 cm, 3 deg) | success (1 cm, 2 deg) | pushes "
+        "(median) | pushes / lower bound | pushes / oracle's | final error cm (median) | "
+        "final error deg (median) | rotation on the way deg (median) | estimation pushes "
+        "(median) |",
+        "|" + "---|" * 12,
+    ]
+    for kind in KINDS:
+        oracle = {
+            r["trial_id"]: r["pushes"]
+            for r in rows
+            if r["kind"] == kind and r["strategy"] == "oracle"
+        }
+        for strategy in STRATEGIES:
+            mine = [r for r in rows if r["kind"] == kind and r["strategy"] == strategy]
+            if not mine:
+                continue
+            pushes = np.array([r["pushes"] for r in mine], float)
+            bound = np.array([r["lower_bound"] for r in mine], float)
+            paired = [(r["pushes"], oracle[r["trial_id"]]) for r in mine if r["trial_id"] in oracle]
+            ratio = sum(p for p, _ in paired) / max(sum(o for _, o in paired), 1)
+            lines.append(
+                f"| {kind} | {strategy} | {len(mine)} | "
+                f"{100 * np.mean([r['success'] for r in mine]):.0f} % | "
+                f"{100 * np.mean([r['success_2deg'] for r in mine]):.0f} % | "
+                f"{np.median(pushes):.0f} | {pushes.sum() / bound.sum():.2f} | {ratio:.2f} | "
+                f"{np.median([r['pos_err_cm'] for r in mine]):.2f} | "
+                f"{np.median([r['ang_err_deg'] for r in mine]):.1f} | "
+                f"{np.median([r['turned_deg'] for r in mine]):.0f} | "
+                f"{np.median([r['estimate_pushes'] for r in mine]):.0f} |"
+            )
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--objects", nargs="+", default=list(simulators.BENCHMARK_OBJECTS))
+    parser.add_argument("--friction", nargs="+", default=["low", "high"])
+    parser.add_argument("--trials", type=int, default=1, help="trials per object, class, kind")
+    parser.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
+    parser.add_argument("--strategies", nargs="+", default=list(STRATEGIES), choices=STRATEGIES)
+    parser.add_argument("--engine", default="exact", choices=["exact", "pymunk"])
+    parser.add_argument("--pusher-offset", type=float, default=0.0, help="std, metres")
+    parser.add_argument("--max-pushes", type=int, default=30)
+    parser.add_argument("--margin", type=float, default=0.40, help="camera margin, metres")
+    parser.add_argument("--timing", action="store_true", help="print the planner's step times")
+    parser.add_argument("--out", default=None, help="JSON lines, one per trial and strategy")
+    args = parser.parse_args(argv)
+
+    rows = []
+    out = open(args.out, "w") if args.out else None
+    for name in args.objects:
+        for j, friction in enumerate(args.friction):
+            for trial in range(args.trials):
+                for k, kind in enumerate(KINDS):
+                    if kind not in args.kinds:
+                        continue
+                    key = [args.seed, simulators.BENCHMARK_OBJECTS.index(name), j, trial, k]
+                    sim = simulators.accepted_random_simulator(
+                        name, friction, rng=lambda attempt, key=key: [*key, attempt]
+                    )
+                    goal, dist = draw_goal(kind, np.random.default_rng([*key, 99]))
+                    for strategy in args.strategies:
+                        start = time.perf_counter()
+                        row = run_strategy(strategy, sim, goal, args, robot_seed=key)
+                        row.update(
+                            object=name, friction=friction, trial=trial, kind=kind,
+                            trial_id=f"{name}/{friction}/{trial}/{kind}",
+                            lower_bound=math.ceil(dist / MAX_TRAVEL),
+                            seconds=time.perf_counter() - start,
+                        )  # fmt: skip
+                        rows.append(row)
+                        if out:
+                            out.write(json.dumps(row) + "\n")
+                            out.flush()
+    if out:
+        out.close()
+    print(summary(rows))
+    if args.timing and PLAN_TIMES:
+        times = 1e3 * np.array(PLAN_TIMES)
+        print(
+            f"planning step: median {np.median(times):.0f} ms, 90 % {np.quantile(times, 0.9):.0f} "
+            f"ms over {len(times)} steps"
+        )
+
+
+if __name__ == "__main__":
+    main()
