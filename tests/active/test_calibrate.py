@@ -130,6 +130,7 @@ def test_the_power_is_recovered_full_for_a_right_model_and_low_for_one_that_errs
         ([(MASK, [(0, 15, 30, 15)], [(0.1, 0, 0)], (15.0, 15.0), "extra")], {}, TypeError,
          r"records\[0\] must be a \(mask, estimate, true_com\) or \(mask, actions, motions, true_com\)"),
         ([7], {}, TypeError, r"records\[0\] must be a"),
+        ([(MASK, "not an estimate", (15.0, 15.0))], {}, TypeError, r"records\[0\] must be a"),
         ([(MASK, [(0, 15, 30, 15)], [(0.1, 0, 0)], (15.0, np.nan))], {}, ValueError,
          r"records\[0\] true_com"),
         ([(MASK, [(0, 15, 30, 15)], [(0.1, 0, 0)], (1.0, 2.0, 3.0))], {}, ValueError,

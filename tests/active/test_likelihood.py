@@ -151,6 +151,18 @@ def test_the_true_com_scores_higher_than_its_mirror_across_the_push(com, with_mo
     assert excess[i].min() < excess[j].min()
 
 
+def test_the_senses_are_a_distribution_and_their_excess_is_zero_on_average():
+    """Without a model: P(+ | h) + P(- | h) = 1, and the excess averages 0 under h itself."""
+    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4, flip_prob=0.1))
+    plus, ex_plus = push_evidence(post, scoring, PLATE, PUSH, lines[0], (0.1, 0.0, 0.0))
+    minus, ex_minus = push_evidence(post, scoring, PLATE, PUSH, lines[0], (-0.1, 0.0, 0.0))
+    q_plus, q_minus = np.exp(plus.full), np.exp(minus.full)
+    np.testing.assert_allclose(q_plus + q_minus, 1.0, atol=1e-12)
+    np.testing.assert_allclose(q_plus * ex_plus + q_minus * ex_minus, 0.0, atol=1e-12)
+    # the sense a hypothesis makes less likely surprises it more
+    assert ((q_plus < q_minus) == (ex_plus > ex_minus)).all()
+
+
 def test_the_tempered_rows_weaken_the_model_s_term():
     scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [LeverModel()])
     ev, _ = push_evidence(post, scoring, PLATE, PUSH, lines[0], _true_motion((12.0, 10.0)))
