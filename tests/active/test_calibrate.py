@@ -152,10 +152,16 @@ def test_bad_records_and_options_are_named(records, kwargs, error, match):
         comcore.calibrate_model_weight(records, **kwargs)
 
 
-@pytest.mark.xfail(strict=True, reason="a record's mask is checked without its record's name: "
-                   "'mask must be a comcore.Mask', not records[1]'s (the true_com is named)")  # fmt: skip
-def test_a_bad_mask_is_named_by_its_record():
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason="a record's mask, actions and motions are checked without "
+                   "the record's name ('mask must be a comcore.Mask', 'motions must have one row per "
+                   "action'), though the docstring says each is named and true_com is")  # fmt: skip
+@pytest.mark.parametrize("part", ["mask", "motions"])
+def test_a_bad_mask_or_motions_is_named_by_its_record(part):
     objects = _objects()
-    objects[1] = (MASK.data, *objects[1][1:])
-    with pytest.raises(TypeError, match=r"records\[1\]"):
+    mask, actions, motions, com = objects[1]
+    if part == "mask":
+        objects[1] = (mask.data, actions, motions, com)
+    else:
+        objects[1] = (mask, actions, motions[:-1], com)
+    with pytest.raises((TypeError, ValueError), match=r"records\[1\]"):
         comcore.calibrate_model_weight(objects, model=None, powers=(1.0,))
