@@ -38,7 +38,7 @@ def _inconsistent(**kw):
 # -- stop_reason -----------------------------------------------------------------------------
 
 
-@settings(max_examples=200)
+@settings(max_examples=100)
 @given(
     radius_px=st.floats(0.0, 20.0),
     n_pushes=st.integers(0, 12),
