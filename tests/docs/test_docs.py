@@ -1,4 +1,4 @@
-"""Every ```python block in docs/*.md and README.md runs ON ITS OWN, in a fresh namespace.
+"""Every ```python block in docs/**/*.md and README.md runs ON ITS OWN, in a fresh namespace.
 
 A reader copies one block; it must carry its own imports and data. A block that needs an
 optional extra which is not installed is skipped, never one with a bad import.
@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-PAGES = [*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md"]
+PAGES = [*sorted((ROOT / "docs").rglob("*.md")), ROOT / "README.md"]
 BLOCK = re.compile(r"```python\n(.*?)```", re.S)
 
 #: Top-level modules of the optional extras in pyproject.toml ([sim], [anp], [plot], [bench]).
@@ -84,7 +84,7 @@ def run_blocks(code: list[str], name: str) -> None:
 
 def all_blocks():
     return [
-        pytest.param(page, i, id=f"{page.name}[{i}]")
+        pytest.param(page, i, id=f"{page.relative_to(ROOT).as_posix()}[{i}]")
         for page in PAGES
         if page.exists()
         for i in range(len(blocks(page)))
