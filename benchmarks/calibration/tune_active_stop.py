@@ -8,7 +8,7 @@ the 90 % credible radius. The choice of pushes does not depend on the stopping
 rule, so every rule "stop at the first k with radius <= r, or at k = max" is
 evaluated on the same trajectories. Prints mean error and mean pushes per
 friction class for each (max, r) pair, and marks the pairs that meet the
-issue's goal (mean error <= 0.3 cm with <= 4 pushes in both classes).
+goal set for the stop rule (mean error <= 0.3 cm with <= 4 pushes in both classes).
 
 The shipped defaults (5 pushes, 4.5 mm) were chosen with::
 
