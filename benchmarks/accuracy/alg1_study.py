@@ -7,7 +7,8 @@ for every n and parameter setting. Two heat maps: the paper's sum
 line-density-normalised mean ``S / sum_a exp(-d/l)`` (``alg1-mean``; not in
 comcore). Prints mean / median error in cm and writes them as JSON.
 
-    PYTHONPATH=. nice -n 10 python benchmarks/accuracy/alg1_study.py --trials 4 --out alg1_study.json
+    PYTHONPATH=. nice -n 10 python benchmarks/accuracy/alg1_study.py --trials 4 \\
+        --out alg1_study.json
 """
 
 from __future__ import annotations

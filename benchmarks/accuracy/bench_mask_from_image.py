@@ -4,15 +4,15 @@ Run: ``python benchmarks/accuracy/bench_mask_from_image.py [--frames 20] [--seed
 [--conditions "even,gradient 60"] [--options default,otsu,background,roi]
 [--iou 0.9] [--width 1280 --height 720] [--failures]``.
 
-Frames come from ``tests/frames.py`` (one generator for the tests and this
+Frames come from ``simulators/frames.py`` (one generator for the tests and this
 script): one object of ``--share`` of the frame (0.2 % of 1280 x 720 by
 default), dark on a light table or bright on a dark one, blurred, under
-each condition of ``tests.frames.CONDITIONS`` (even light, a gradient of 60
+each condition of ``simulators.frames.CONDITIONS`` (even light, a gradient of 60
 or 100 grey levels across the frame, vignetting, a shadow over one side of
 the frame, the object's cast shadow, a textured table, strong noise, all at
 once, and the empty table). Frame ``i`` of condition ``c`` is drawn from
 ``numpy.random.default_rng([seed, c, i])``; the thresholds of
-``comcore/_image_table.py`` were tuned on seed 0, the figures in
+``comcore/camera/_object.py`` were tuned on seed 0, the figures in
 docs/camera.md are for seed 1.
 
 A frame with an object counts as found when the mask's intersection over
@@ -35,17 +35,13 @@ frame of an option, and its CPU time (``time.process_time``).
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from collections import Counter
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests/frames.py
-
 import comcore
-from tests.frames import CONDITIONS, iou, make_frame
+from simulators.frames import CONDITIONS, iou, make_frame
 
 OPTIONS = {
     "default": lambda frame: {},

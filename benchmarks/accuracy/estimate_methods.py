@@ -7,11 +7,12 @@ their rotation's sign flipped (a tracking error). Every method of ``comcore esti
 on the same recording (as ``comcore.cli.estimate.estimate`` calls it); the table gives the
 CoM error (cm) and, for the posterior, how often the true CoM lies in its 90 % credible
 region. ``--model`` is the posterior's motion model (``comcore estimate --model``): the
-default ``limit-surface``, or ``none`` (the Voting Theorem alone, the default before issue 21).
+default ``limit-surface``, or ``none`` (the Voting Theorem alone: ``comcore estimate``'s
+default before its posterior took the active session's motion model).
 
-    python benchmarks/accuracy/estimate_methods.py                    # 20 objects x seeds 0, 1, 2
-    python benchmarks/accuracy/estimate_methods.py --model none       # the posterior without the model
-    python benchmarks/accuracy/estimate_methods.py --objects Obj3 --seeds 0 --flips 0   # a quick look
+    python benchmarks/accuracy/estimate_methods.py               # 20 objects x seeds 0, 1, 2
+    python benchmarks/accuracy/estimate_methods.py --model none  # the posterior without the model
+    python benchmarks/accuracy/estimate_methods.py --objects Obj3 --seeds 0 --flips 0  # quick look
     python benchmarks/accuracy/estimate_methods.py --flips 0,all --model none  # every sign flipped
 
 ``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the

@@ -1,4 +1,4 @@
-"""How well motion models predict a push, told the true CoM and friction (issue 12, section 2).
+"""How well motion models predict a push, told the true CoM and friction.
 
 For every benchmark object and friction class, ``--trials`` random trials
 (``simulators.random_simulator``: random mass distribution, CoM and contact

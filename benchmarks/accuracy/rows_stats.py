@@ -1,6 +1,7 @@
 """Head-to-head shares from a ``comcore bench`` result file, per friction class.
 
-Run: ``python benchmarks/accuracy/rows_stats.py bench-out/full/results.jsonl [--pair alg2:centroid ...]``.
+Run: ``python benchmarks/accuracy/rows_stats.py bench-out/full/results.jsonl
+[--pair alg2:centroid ...]``.
 
 For each pair ``A:B`` it matches the rows of the two estimators on the same
 trial (object, friction, trial number) and prints, per friction class and for

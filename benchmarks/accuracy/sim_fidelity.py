@@ -13,7 +13,7 @@ measured values printed instead of pass/fail:
 * Mirror symmetry, orientation independence, determinism, rotation growing with
   the lever arm, and the instantaneous rotation against a brute-force limit surface.
 
-    python benchmarks/accuracy/sim_fidelity.py                       # the doc's figures (~2 min)
+    python benchmarks/accuracy/sim_fidelity.py                       # the doc's figures (< 1 min)
     python benchmarks/accuracy/sim_fidelity.py --pushes 3 --objects Obj1 --engines quasistatic
 """
 

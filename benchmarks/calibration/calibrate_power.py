@@ -1,4 +1,4 @@
-"""Choose a fixed model power per condition from runs with a known CoM (issue 12).
+"""Choose a fixed model power per condition from runs with a known CoM.
 
 Loads the runs ``benchmarks/calibration/tune_active.py --keep-pushes`` recorded and, per
 condition, scores their pushes again under fixed powers of the model's
@@ -10,8 +10,8 @@ measure the recommended powers on seed 0 (docs/active.md).
 
 Usage::
 
-    PYTHONPATH=. python benchmarks/calibration/tune_active.py --seed 1 --trials 2 --conditions exact,pymunk \\
-        --estimators active --keep-pushes runs.pkl
+    PYTHONPATH=. python benchmarks/calibration/tune_active.py --seed 1 --trials 2 \\
+        --conditions exact,pymunk --estimators active --keep-pushes runs.pkl
     PYTHONPATH=. python benchmarks/calibration/calibrate_power.py runs.pkl
 """
 

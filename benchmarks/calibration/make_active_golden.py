@@ -1,7 +1,7 @@
 """Record estimate_active's outputs on a few fixed cases (tests/data/active_golden.json).
 
 The refactor of estimate_active onto comcore.ActiveSession must reproduce these
-(tests/active/test_session.py::test_estimate_active_matches_the_golden_record). Run once,
+(tests/active/test_blocking.py::test_estimate_active_reproduces_the_golden_record). Run once,
 before a change that is meant to keep the results, and commit the JSON::
 
     PYTHONPATH=. python benchmarks/calibration/make_active_golden.py            # write

@@ -1,4 +1,4 @@
-"""Score recorded pushes again under other likelihood options (issue 12's calibration).
+"""Score recorded pushes again under other likelihood options (the active likelihood's calibration).
 
 ``benchmarks/calibration/tune_active.py --keep-pushes runs.pkl`` records every run's mask
 and evidence pushes; this script scores them again with

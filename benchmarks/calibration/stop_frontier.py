@@ -1,4 +1,4 @@
-"""Push count against error for every stop radius, per realism condition, offline (issue 12).
+"""Push count against error for every stop radius, per realism condition, offline.
 
 Records runs that never stop early with ``tune_active.py --keep-pushes`` (the
 label ``active(target_radius=1e-6,min_information=0.0)``: the defaults, all 5
@@ -17,7 +17,8 @@ Usage::
         --conditions exact,pymunk,pusher-error \\
         --estimators "active(target_radius=1e-6,min_information=0.0)" --keep-pushes full.pkl
     PYTHONPATH=. python benchmarks/calibration/stop_frontier.py full.pkl --radii 5,6,7,8,9,10
-    PYTHONPATH=. python benchmarks/calibration/stop_frontier.py full.pkl --options '{"model_weight": 1.0}'
+    PYTHONPATH=. python benchmarks/calibration/stop_frontier.py full.pkl \\
+        --options '{"model_weight": 1.0}'
 
 ``--options`` scores the same pushes under other likelihood options (those of
 :func:`comcore.estimate_posterior`), e.g. the model untempered.

@@ -1,4 +1,4 @@
-"""Tune the active estimator's defaults under the realism conditions (issue 12).
+"""Tune the active estimator's defaults under the realism conditions.
 
 Runs benchmark trials (:func:`comcore.bench.run_trial`, the same trials and
 conditions as ``comcore bench --conditions``) for a few ``active`` estimator
@@ -249,9 +249,8 @@ def main(argv=None):
     print(summarise(rows))
     print(f"{len(specs)} trials, seed {args.seed}, {time.time() - start:.0f} s")
     if args.markdown:
-        command = "PYTHONPATH=. nice -n 10 python benchmarks/calibration/tune_active.py " + " ".join(
-            shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv)
-        )
+        command = "PYTHONPATH=. nice -n 10 python benchmarks/calibration/tune_active.py "
+        command += " ".join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
         with open(args.markdown, "w") as f:
             f.write(markdown(rows, command))
     if args.keep_pushes:

@@ -19,7 +19,8 @@ same objects, masses, friction and session seed. A frame ``mask_from_image`` ref
 is counted and reported to the session as a failed push (``observe(failed=True)``).
 
     PYTHONPATH=. python benchmarks/mujoco/mujoco_active.py --trials 1            # docs' table
-    PYTHONPATH=. python benchmarks/mujoco/mujoco_active.py --objects Obj1 --trials 1 --engines mujoco
+    PYTHONPATH=. python benchmarks/mujoco/mujoco_active.py --objects Obj1 --trials 1 \\
+        --engines mujoco
 """
 
 from __future__ import annotations

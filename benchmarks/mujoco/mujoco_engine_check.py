@@ -16,7 +16,8 @@ with ``rng=[seed, k]``), each push from the start pose (the object reset with
 * pushes per second (MuJoCo, wall time of ``execute`` incl. the 0.3 s settle).
 
     PYTHONPATH=. python benchmarks/mujoco/mujoco_engine_check.py                 # docs' figures
-    PYTHONPATH=. python benchmarks/mujoco/mujoco_engine_check.py --objects Obj1 --pushes 2 --no-sweep
+    PYTHONPATH=. python benchmarks/mujoco/mujoco_engine_check.py --objects Obj1 --pushes 2 \\
+        --no-sweep
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The runs of benchmarks/realdata/real_pushes.py: recorded pushes, their simulated twins, the estimators.
+"""The runs of real_pushes.py: recorded pushes, their simulated twins, the estimators.
 
 One object at a time: its recorded pushes (``comcore.recordings.mit_push``), the same pushes
 through our simulators (the exact quasi-static engine and pymunk; uniform
@@ -23,7 +23,7 @@ import comcore.recordings.mit_push as mp
 
 #: Rotation (rad) below which a push did not turn the object (the sessions' miss threshold).
 TURNING = 0.01
-#: The dataset's splits (issue 20): choose on train, report on test.
+#: The dataset's splits: choose a candidate model on train, report on test.
 SPLITS = {"train": ("rect1", "ellip1", "ellip3", "hex"), "test": ("butter",)}
 
 
@@ -58,7 +58,8 @@ def use_contacts(kind: str) -> None:
 
     The estimators take the disc's contact for ``pusher_radius`` > 0 (every push the disc
     touches, grazing ones too) and the leading line's for ``pusher_radius=0``; ``"line"``
-    is what they did before issue 20 (and the paper's point pusher), kept for comparison.
+    is what they did before they scored the disc's contact (and the paper's point pusher),
+    kept for comparison.
     """
     global _contact_radius
     _contact_radius = {"disc": mp.PUSHER_RADIUS, "line": 0.0}[kind]

@@ -15,7 +15,7 @@ contact friction ``--mu-contact``. Per world and motion model:
 * Alg. 2 (``comcore.estimate_progressive``) on the same pushes and subsets.
 
 Models (``--models``): ``vt`` (the Voting Theorem alone, ``model=None``), ``lsm``
-(``comcore.LimitSurfaceModel(pusher_radius=0.00475)``), and the candidates of issue 20
+(``comcore.LimitSurfaceModel(pusher_radius=0.00475)``), and the candidate models
 (``family``, ``family3``, ``peaked``, ``scales``, ``family+scales``, ...: see
 ``MODELS``). Only pushes whose leading line enters the mask are scored (the
 estimators refuse the others today); the grazing ones are counted and the Voting
@@ -26,7 +26,7 @@ The prior is uniform over the mask everywhere (every plate's CoM is its centroid
 
 Usage::
 
-    PYTHONPATH=. nice -n 10 python benchmarks/realdata/real_pushes.py /work/shared/realdata/mit-push \\
+    PYTHONPATH=. nice -n 10 python benchmarks/realdata/real_pushes.py /path/to/mit-push \\
         --out real-out
 """
 
@@ -84,8 +84,8 @@ MODELS = {
 }
 # a floor on the CoM's error that more pushes do not average away (Likelihood.systematic_error;
 # estimate_posterior's default is comcore.active.RECORDED_SYSTEMATIC_ERROR, the sessions' 0):
-# sys0 is
-# estimate_posterior before issue 20 chose that default on the train plates with these
+# sys0 is estimate_posterior before it had the floor; that default was chosen on the train
+# plates with these
 MODELS.update(
     {
         f"sys{mm:g}": (_lsm, {"likelihood": comcore.Likelihood(systematic_error=mm / 1e3)})
@@ -94,7 +94,7 @@ MODELS.update(
 )
 # estimate_posterior's region from the posterior itself, not the bagged one
 # (comcore.active._bagging):
-# before is the default before bagging (a 2 mm floor alone), sys0-nobag before issue 20
+# before is the default before bagging (a 2 mm floor alone), sys0-nobag before both
 MODELS.update(
     {
         "nobag": (_lsm, {"bootstrap": 0}),
@@ -166,7 +166,8 @@ def _all_cell(x: dict) -> str:
 
 
 def issue_table(results: dict, objects, model: str) -> list[str]:
-    """The issue's table, re-measured (same rows)."""
+    """The report's first table: per plate, the pushes kept, the Voting Theorem's agreement,
+    and the active session's and the posterior's error on real and simulated pushes."""
     head = "| | " + " | ".join(objects) + " |"
     rows = [head, "|---" * (len(objects) + 1) + "|"]
 

@@ -1,6 +1,6 @@
 """Timing of comcore.estimate_active: choosing a push, a run without a model, a default step.
 
-The issue's budget: choosing from 200 candidates on a 5,000-pixel mask takes
+The budget: choosing from 200 candidates on a 5,000-pixel mask takes
 under 50 ms (median). The choice is the expected information gain of every
 candidate over the whole (pixel x friction) posterior; it is timed on the
 uniform prior (every pixel alive: the worst case) and after a few pushes.

@@ -1,6 +1,7 @@
 """Time EllipsoidPredictor.fit: the CoM and mu_contact fitted to prior pushes, CPU.
 
-Run: ``python benchmarks/timing/bench_ellipsoid_fit.py [--object Obj19] [--priors 12] [--repeats 10]``.
+Run: ``python benchmarks/timing/bench_ellipsoid_fit.py [--object Obj19] [--priors 12]
+[--repeats 10]``.
 
 The priors are simulated pushes on a benchmark object (Obj19: about 2,000
 mask pixels). Prints the median and the 10th/90th percentile wall time of one

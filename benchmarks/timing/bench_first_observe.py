@@ -3,7 +3,7 @@
 Run: ``python benchmarks/timing/bench_first_observe.py [--objects 5] [--repeats 1] [--seed 1]
 [--width 1280 --height 720] [--share 0.002] [--resolution 0.001] [--crop PAD]``.
 
-For each of ``--objects`` random star-shaped objects (``tests/frames.py``,
+For each of ``--objects`` random star-shaped objects (``simulators/frames.py``,
 ``--share`` of the frame: 0.2 % of 1280 x 720 at 1 mm per pixel is a 4 cm
 object), the first mask is the object at a random place and turn, the second
 the same object turned by 0.05 rad and moved by (3, -2) px (a push's worth).
@@ -22,16 +22,12 @@ The machine's load shows in the wall times: compare wall with CPU.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests/frames.py
-
 import comcore
-from tests.frames import star_polygon
+from simulators.frames import star_polygon
 
 #: The second mask: the first turned by this (radians) about its centroid and moved (px).
 TURN, SHIFT = 0.05, (3.0, -2.0)

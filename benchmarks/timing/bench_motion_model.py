@@ -1,4 +1,4 @@
-"""Timing of comcore.LimitSurfaceModel in one active step (issue 12: under 100 ms).
+"""Timing of comcore.LimitSurfaceModel in one active step (the budget: under 100 ms).
 
 One active step asks the model about ONE push for every live CoM hypothesis
 and every friction value: here every pixel of a benchmark mask (all alive:

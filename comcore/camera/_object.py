@@ -26,7 +26,7 @@ of the empty table:
    mask is the region where ``alpha >= 1/2`` (the middle of a blurred edge,
    whatever the table's light or pattern there) over the candidates.
 
-The thresholds were tuned on generated frames (``tests/frames.py``, seed 0):
+The thresholds were tuned on generated frames (``simulators/frames.py``, seed 0):
 ``python benchmarks/accuracy/bench_mask_from_image.py --seed 0``.
 """
 

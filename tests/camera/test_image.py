@@ -12,7 +12,7 @@ from scipy import ndimage
 
 import comcore
 from comcore.camera._image import otsu_threshold
-from tests import frames
+from simulators import frames
 from tests import strategies as cst
 from tests.extras import require_simulators
 
@@ -219,7 +219,7 @@ def test_images_to_motion():
     assert not m.ambiguous and abs(m.motion.theta - res.motion.theta) < np.radians(1.0)
 
 
-# -- camera frames as they are (tests/frames.py) --------------------------------------------
+# -- camera frames as they are (simulators/frames.py) ---------------------------------------
 # Seed 2 here: the thresholds were tuned on seed 0, the benchmark reports seed 1.
 FOUND_IOU = 0.9
 

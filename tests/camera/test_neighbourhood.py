@@ -21,7 +21,7 @@ from comcore.geometry._outline_field import FIELD_PAD_PX, SDF_SMOOTHING_PX, Outl
 from comcore.motion._lattice import PushLattice, _memo, _table_step, pressure_table, table_pressures
 from comcore.motion._limit_surface import _on_object
 from comcore.motion._pressure import pressures, support
-from tests.frames import star_polygon
+from simulators.frames import star_polygon
 
 
 def wide_mask(seed, shape=(300, 520), share=0.004, resolution=0.001, corner=False):

@@ -1,7 +1,8 @@
 """Camera frames of one object on a table as a fixed camera gives them, with the true mask.
 
-One generator for the tests (tests/camera/test_image.py) and the benchmark
-(benchmarks/accuracy/bench_mask_from_image.py). A frame is rendered in grey levels:
+One generator for the tests (tests/camera/test_image.py) and the benchmarks
+(benchmarks/accuracy/bench_mask_from_image.py, benchmarks/timing/bench_first_observe.py).
+A frame is rendered in grey levels:
 
     image = illumination * (coverage * object + (1 - coverage) * table * cast_shadow) + noise
 
@@ -21,10 +22,11 @@ One generator for the tests (tests/camera/test_image.py) and the benchmark
 * ``noise``: sensor noise (Gaussian, grey levels), then clipped and rounded
   to uint8.
 
-The truth is the polygon rasterised at pixel centres (``comcore.geometry.rasterise_polygon``). The reference image
-of the empty table has the same table and lighting but no object, no cast
-shadow and no frame shadow (taken with the arm away), fresh noise and an
-exposure differing by up to 2 %. Every draw takes a seed or Generator.
+The truth is the polygon rasterised at pixel centres
+(``comcore.geometry.rasterise_polygon``). The reference image of the empty
+table has the same table and lighting but no object, no cast shadow and no
+frame shadow (taken with the arm away), fresh noise and an exposure differing
+by up to 2 %. Every draw takes a seed or Generator.
 """
 
 from __future__ import annotations
@@ -118,7 +120,9 @@ def _illumination(rng, shape, gradient, table, vignetting) -> np.ndarray:
         u = (u - u.min()) / (u.max() - u.min())
         light *= 1 + gradient / table * (u - 0.5)
     if vignetting:
-        r2 = ((xx - (w - 1) / 2) ** 2 + (yy - (h - 1) / 2) ** 2) / (((w - 1) / 2) ** 2 + ((h - 1) / 2) ** 2)
+        r2 = ((xx - (w - 1) / 2) ** 2 + (yy - (h - 1) / 2) ** 2) / (
+            ((w - 1) / 2) ** 2 + ((h - 1) / 2) ** 2
+        )
         focal2 = 1 / ((1 - vignetting) ** -0.5 - 1)  # corners (r2 = 1) get 1 - vignetting
         light *= (1 + r2 / focal2) ** -2
     return light
@@ -135,6 +139,24 @@ def _frame_shadow(rng, shape, depth) -> np.ndarray:
     soft = 0.03 * length
     profile = 1 - depth / (1 + np.exp((coord - 0.25 * length) / soft))
     return profile[None, :] if side < 2 else profile[:, None]
+
+
+def _add_clutter(rng, table, share, centre, radius, blur, object_level) -> None:
+    """Draw another thing of the object's side and size on ``table`` (in place), away from it."""
+    h, w = table.shape
+    while True:
+        other = star_polygon(rng, rng.uniform(1.0, 2.0) * share * h * w)
+        reach = np.hypot(other[:, 0], other[:, 1]).max()
+        spot = rng.uniform([reach + 3, reach + 3], [w - reach - 3, h - reach - 3])
+        if np.hypot(*(spot - centre)) > reach + radius + 0.05 * min(h, w):
+            break
+    other = other + spot
+    cbox = (
+        slice(max(int(other[:, 1].min()) - 2, 0), min(int(other[:, 1].max()) + 3, h)),
+        slice(max(int(other[:, 0].min()) - 2, 0), min(int(other[:, 0].max()) + 3, w)),
+    )
+    cover = ndimage.gaussian_filter(_coverage(other, cbox), blur)
+    table[cbox] = cover * object_level + (1 - cover) * table[cbox]
 
 
 def make_frame(
@@ -175,7 +197,9 @@ def make_frame(
         object_level = table_level - contrast if dark else table_level + contrast
     table = np.full(shape, table_level)
     if texture:
-        table += texture * (0.7 * _smooth_field(rng, shape, 1.5) + 0.3 * _smooth_field(rng, shape, 12))
+        table += texture * (
+            0.7 * _smooth_field(rng, shape, 1.5) + 0.3 * _smooth_field(rng, shape, 12)
+        )
     light = _illumination(rng, shape, gradient, table_level, vignetting)
     while True:  # a polygon that fits in the frame with a margin
         poly = star_polygon(rng, share * h * w)
@@ -191,19 +215,7 @@ def make_frame(
         lines = ((xs - ox) % 64 < 2) | ((ys - oy) % 64 < 2)
         table = table - grid * lines
     if clutter:  # as big as the object, elsewhere, and part of the scene
-        while True:
-            other = star_polygon(rng, rng.uniform(1.0, 2.0) * share * h * w)
-            reach = np.hypot(other[:, 0], other[:, 1]).max()
-            spot = rng.uniform([reach + 3, reach + 3], [w - reach - 3, h - reach - 3])
-            if np.hypot(*(spot - centre)) > reach + radius + 0.05 * min(h, w):
-                break
-        other = other + spot
-        cbox = (
-            slice(max(int(other[:, 1].min()) - 2, 0), min(int(other[:, 1].max()) + 3, h)),
-            slice(max(int(other[:, 0].min()) - 2, 0), min(int(other[:, 0].max()) + 3, w)),
-        )
-        cover = ndimage.gaussian_filter(_coverage(other, cbox), blur)
-        table[cbox] = cover * object_level + (1 - cover) * table[cbox]
+        _add_clutter(rng, table, share, centre, radius, blur, object_level)
     pad = int(np.ceil(3 * blur)) + 2
     x0, y0 = np.floor(poly.min(axis=0)).astype(int) - pad
     x1, y1 = np.ceil(poly.max(axis=0)).astype(int) + pad + 1
@@ -217,7 +229,10 @@ def make_frame(
     if cast_shadow and not empty:
         offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
         grow = int(np.ceil(radius * 0.6))
-        sbox = (slice(max(y0 - grow, 0), min(y1 + grow, h)), slice(max(x0 - grow, 0), min(x1 + grow, w)))
+        sbox = (
+            slice(max(y0 - grow, 0), min(y1 + grow, h)),
+            slice(max(x0 - grow, 0), min(x1 + grow, w)),
+        )
         silhouette = _coverage(poly + offset, sbox, samples=1)
         shade[sbox] = 1 - cast_shadow * ndimage.gaussian_filter(silhouette, 0.12 * radius)
     side_shade = _frame_shadow(rng, shape, frame_shadow) if frame_shadow else 1.0
