@@ -50,7 +50,7 @@ def _caption(outcome: TrialOutcome, estimate) -> str:
 def figure_heatmap(outcome: TrialOutcome, path, estimator: str = "alg1") -> Path:
     """Fig. 5: the normalised heat map S of Alg. 1 for one trial, with both CoMs."""
     est = outcome.estimates[estimator]
-    heat = np.asarray(est.extras["heatmap"], float)
+    heat = np.asarray(est.heatmap.image, float)
     data = outcome.context.mask.data
     window = _crop(data)
     aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
@@ -76,7 +76,7 @@ def figure_segmentation(outcome: TrialOutcome, path, estimator: str = "alg1") ->
     aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
     fig = _figure(5.5, 2 * 5.0 * aspect + 1.8)
     layers = (
-        ("segmented points", est.extras["segmented"]),
+        ("segmented points", est.heatmap.segmented),
         ("largest connected region", est.region),
     )
     for k, (title, chosen) in enumerate(layers):
