@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import enum
+import sys
 
 __all__ = ["Status"]
 
-try:
+if sys.version_info >= (3, 11):
     from enum import StrEnum as _StrEnum
-except ImportError:  # Python 3.10
+else:  # Python 3.10
 
-    class _StrEnum(str, enum.Enum):  # type: ignore[no-redef]
+    class _StrEnum(str, enum.Enum):
         """``enum.StrEnum`` of Python 3.11: members are their strings, printed as such."""
 
         __str__ = str.__str__

@@ -144,7 +144,7 @@ def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> st
         if "unknown option" not in str(e):
             return str(e)
     known = sorted(takes | set(_GROUP_OF))
-    hints = ""
+    guesses = ""
     for k in unknown:
         close = difflib.get_close_matches(k, known, n=1)
         if close:
@@ -152,5 +152,5 @@ def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> st
             if guess not in takes:
                 keyword = _GROUP_OF[guess]
                 guess = f"{keyword}=comcore.{GROUPS[keyword].__name__}({guess}=...)"
-            hints += f"; {k}: did you mean {guess}?"
-    return f"{name}() got unexpected keyword argument(s) {unknown}{hints}"
+            guesses += f"; {k}: did you mean {guess}?"
+    return f"{name}() got unexpected keyword argument(s) {unknown}{guesses}"

@@ -283,7 +283,7 @@ def estimate_progressive(
         region,
         used=used,
         status=Status.INCONSISTENT if contradicted else Status.OK,
-        progressive=ProgressiveDetails(region_sizes=sizes, contradicted=contradicted),
+        progressive=ProgressiveDetails(tuple(sizes), tuple(contradicted)),
         skipped=skipped,
     )
 
