@@ -51,13 +51,17 @@ __all__ = ["GOAL_STATUSES", "GoalSession"]
 #: degrees and 0.5 mm by default), so that the true pose is within them.
 READING_MARGIN = 0.5
 #: The goal session's options where its ``stop`` and ``choice`` are left None: 30 pushes of
-#: up to 5 cm each after contact (an :class:`comcore.ActiveSession` stops at 5 of 3 cm).
+#: up to 5 cm each after contact (an :class:`comcore.ActiveSession`'s are 5 pushes of 3 cm).
 DEFAULT_STOP = StopRule(max_pushes=30)
 DEFAULT_CHOICE = PushChoice(travel=0.05)
 #: What :attr:`GoalSession.status` can say.
 GOAL_STATUSES = (
-    Status.WAITING_PUSH, Status.WAITING_OBSERVATION, Status.REACHED, Status.BUDGET,
-    Status.STUCK, Status.LOST,
+    Status.WAITING_PUSH,
+    Status.WAITING_OBSERVATION,
+    Status.REACHED,
+    Status.BUDGET,
+    Status.STUCK,
+    Status.LOST,
 )
 
 
@@ -320,9 +324,7 @@ class GoalSession:
     def estimate(self) -> Estimate:
         """The CoM posterior now (as :meth:`ActiveSession.estimate`); ``com`` in the first mask."""
         used = list(range(len(self._log.executed)))
-        return self._log.estimate(
-            self._first, self._posterior, used, self.status, pose=self._pose
-        )
+        return self._log.estimate(self._first, self._posterior, used, self.status, pose=self._pose)
 
     # -- ask / tell ---------------------------------------------------------------------
 

@@ -36,7 +36,9 @@ def _status_literals(source: str) -> list[int]:
             values = node.comparators
         else:
             continue
-        found += [v.lineno for v in values if isinstance(v, ast.Constant) and isinstance(v.value, str)]
+        found += [
+            v.lineno for v in values if isinstance(v, ast.Constant) and isinstance(v.value, str)
+        ]
     return found
 
 
