@@ -128,24 +128,34 @@ def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> st
     refused = [k for k in grouped if (k if k in GROUPS else _GROUP_OF[k]) not in takes]
     if refused:
         return f"{name} chooses no pushes: option(s) {refused} do not apply"
-    if grouped:
-        hints = []
-        for keyword, cls in GROUPS.items():
-            mine = ", ".join(f"{k}={kwargs[k]!r}" for k in grouped if _GROUP_OF.get(k) == keyword)
-            if mine:
-                hints.append(f"{keyword}=comcore.{cls.__name__}({mine})")
-        return (
-            f"{name}() takes its options in groups: pass {', '.join(hints)} instead of "
-            + ", ".join(f"{k}={kwargs[k]!r}" for k in grouped)
-        )
+    others = [k for k in unknown if k not in grouped]
+    parts = [_in_groups(name, grouped, kwargs)] if grouped else []
+    if others:
+        parts.append(_unexpected(name, others, kwargs, takes))
+    return "; and ".join(parts)
+
+
+def _in_groups(name: str, grouped: list[str], kwargs: dict) -> str:
+    """The group each flat option belongs in, as the call to make."""
+    hints = []
+    for keyword, cls in GROUPS.items():
+        mine = ", ".join(f"{k}={kwargs[k]!r}" for k in grouped if _GROUP_OF.get(k) == keyword)
+        if mine:
+            hints.append(f"{keyword}=comcore.{cls.__name__}({mine})")
+    flat = ", ".join(f"{k}={kwargs[k]!r}" for k in grouped)
+    return f"{name}() takes its options in groups: pass {', '.join(hints)} instead of {flat}"
+
+
+def _unexpected(name: str, others: list[str], kwargs: dict, takes: set[str]) -> str:
+    """Keywords of no group: option_groups' message for a removed one, else the closest names."""
     try:
-        option_groups(**{k: kwargs[k] for k in unknown})  # its messages for removed options
+        option_groups(**{k: kwargs[k] for k in others})  # its messages for removed options
     except TypeError as e:
         if "unknown option" not in str(e):
             return str(e)
     known = sorted(takes | set(_GROUP_OF))
     guesses = ""
-    for k in unknown:
+    for k in others:
         close = difflib.get_close_matches(k, known, n=1)
         if close:
             guess = close[0]
@@ -153,4 +163,4 @@ def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> st
                 keyword = _GROUP_OF[guess]
                 guess = f"{keyword}=comcore.{GROUPS[keyword].__name__}({guess}=...)"
             guesses += f"; {k}: did you mean {guess}?"
-    return f"{name}() got unexpected keyword argument(s) {unknown}{guesses}"
+    return f"{name}() got unexpected keyword argument(s) {others}{guesses}"

@@ -285,3 +285,15 @@ def test_sessions_are_reproducible():
         _run(robot, session)
         pushes.append([p.camera_action for p in session.pushes])
     assert pushes[0] == pushes[1]
+
+
+def test_the_earlier_keywords_say_which_group_to_pass():
+    first = _plate()
+    goal = comcore.Goal(displacement=(0.03, 0.0))
+    with pytest.raises(TypeError, match=r"stop=comcore\.StopRule\(max_pushes=12\).*max_travel: "
+                       r"did you mean choice=comcore\.PushChoice\(travel=\.\.\.\)"):  # fmt: skip
+        comcore.GoalSession(first, goal, max_travel=0.05, max_pushes=12)
+    with pytest.raises(ValueError, match=r"reads only StopRule.max_pushes .*\['target_radius'\]"):
+        comcore.GoalSession(first, goal, stop=comcore.StopRule(target_radius=0.01), model=None)
+    with pytest.raises(ValueError, match=r"reads only PushChoice.travel .*\['cone'\]"):
+        comcore.GoalSession(first, goal, choice=comcore.PushChoice(cone=0.2), model=None)
