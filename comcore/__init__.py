@@ -1,7 +1,8 @@
 """comcore: find the centre of mass of an unknown flat object by pushing it.
 
 The top level holds what a robot stack uses: the value types (:class:`Mask`,
-:class:`Action`, :class:`Motion`, :class:`Estimate`, :class:`PushRecord`), the
+:class:`Action`, :class:`Motion`, :class:`Estimate`, :class:`PushRecord`,
+:class:`Status`), the
 errors, the active session and its option groups, the posterior over recorded
 pushes, the paper's estimators, the goal session, camera frames to masks and
 motions, recordings, and the :class:`Predictor` protocol. Everything else is public
@@ -45,6 +46,7 @@ from . import recordings as recordings
 from . import vt as vt
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._mask import Mask
+from ._status import Status
 from ._types import Action, Estimate, Motion, PushRecord
 from .active import (
     ActiveSession,
@@ -90,6 +92,7 @@ __all__ = [
     "Recording",
     "SessionError",
     "SkippedPush",
+    "Status",
     "StopRule",
     "__version__",
     "apply_motion",

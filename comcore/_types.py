@@ -1,4 +1,4 @@
-"""Immutable value types: Action, Motion, PushRecord and Estimate."""
+"""Immutable value types: Action, Motion, PushRecord, Estimate and what an estimator attaches."""
 
 from __future__ import annotations
 
@@ -10,7 +10,19 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["OUTCOMES", "Action", "Estimate", "Motion", "PushRecord", "SkippedPush"]
+from ._status import Status
+
+__all__ = [
+    "OUTCOMES",
+    "Action",
+    "Estimate",
+    "HeatmapDetails",
+    "Motion",
+    "PosteriorDetails",
+    "ProgressiveDetails",
+    "PushRecord",
+    "SkippedPush",
+]
 
 
 def _finite_float(value, name: str, owner: str) -> float:
@@ -270,6 +282,124 @@ def _check_region(region) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class HeatmapDetails:
+    """What Alg. 1 (:func:`comcore.estimate_heatmap`) computed: :attr:`Estimate.heatmap`.
+
+    Attributes
+    ----------
+    image : numpy.ndarray of float, shape (H, W)
+        The heat map ``S``: each pixel's distance-weighted rotation (read-only).
+    segmented : numpy.ndarray of bool, shape (H, W)
+        The object's pixels below the threshold, before the connected-component
+        step (read-only).
+    """
+
+    image: np.ndarray
+    segmented: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "image", _readonly(np.asarray(self.image, float)))
+        object.__setattr__(self, "segmented", _readonly(np.asarray(self.segmented, bool)))
+
+
+@dataclass(frozen=True)
+class ProgressiveDetails:
+    """How Alg. 2 (:func:`comcore.estimate_progressive`) cut: :attr:`Estimate.progressive`.
+
+    Attributes
+    ----------
+    region_sizes : tuple of int
+        The region's size in pixels after each applied cut, the object's first.
+    contradicted : tuple of int
+        The pushes whose sense no pixel of the region explains (skipped ones
+        first, in the order met); when any, the status is ``"inconsistent"``
+        and the estimate rests on the others.
+    """
+
+    region_sizes: tuple[int, ...] = ()
+    contradicted: tuple[int, ...] = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "region_sizes", tuple(int(v) for v in self.region_sizes))
+        object.__setattr__(self, "contradicted", tuple(int(v) for v in self.contradicted))
+
+
+@dataclass(frozen=True)
+class PosteriorDetails:
+    """The posterior behind an active estimate: :attr:`Estimate.posterior`.
+
+    Set by :func:`comcore.estimate_posterior`, :func:`comcore.estimate_active`,
+    :meth:`comcore.ActiveSession.estimate` and :meth:`comcore.GoalSession.estimate`.
+    Arrays are read-only; lengths are in pixels of the first mask.
+
+    Attributes
+    ----------
+    image : numpy.ndarray of float, shape (H, W)
+        The posterior probability of each pixel being the CoM (sums to 1).
+    region_image : numpy.ndarray of float, shape (H, W)
+        What the credible region was read from: ``image``, blurred by the
+        likelihood's systematic error or bagged where the estimator did so
+        (:func:`comcore.credible_level` reads it).
+    credible_radius_px : float
+        Equivalent-circle radius ``sqrt(area / pi)`` of the credible region.
+    mu_grid : numpy.ndarray, shape (m,)
+        The contact friction values marginalised over.
+    mu_posterior : numpy.ndarray, shape (m,)
+        Their posterior.
+    model_posterior : numpy.ndarray, shape (k,)
+        The posterior over the predictor's motion models.
+    scale_posterior : numpy.ndarray
+        The posterior over ``Likelihood.model_scales``.
+    model_weight_posterior : numpy.ndarray
+        The posterior over the powers of ``Likelihood.model_weight``.
+    log_evidence : float
+        Log marginal likelihood of the motions (nats).
+    excess_nats : float
+        The best hypothesis' excess surprise (above ``10 + 6 sqrt(n)``: the
+        status is ``"inconsistent"``).
+    history : tuple of SessionState
+        The state of every posterior, the prior first
+        (:class:`comcore.active.SessionState`: mean, entropy, credible radius,
+        evidence, counts).
+    senses : SenseCheck or None
+        :func:`comcore.estimate_posterior`'s check of the observed senses
+        (:class:`comcore.active.SenseCheck`); None for the sessions.
+    bootstrap : int
+        Resamplings the region was bagged over (0: the posterior's own region).
+    pose : Motion or None
+        The object's pose when a session made the estimate, relative to the
+        first mask; None for :func:`comcore.estimate_posterior`.
+    """
+
+    image: np.ndarray
+    region_image: np.ndarray
+    credible_radius_px: float
+    mu_grid: np.ndarray
+    mu_posterior: np.ndarray
+    model_posterior: np.ndarray
+    scale_posterior: np.ndarray
+    model_weight_posterior: np.ndarray
+    log_evidence: float
+    excess_nats: float
+    history: tuple = ()
+    senses: Any = None
+    bootstrap: int = 0
+    pose: Motion | None = None
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        for name in ("image", "region_image", "mu_grid", "mu_posterior", "model_posterior",
+                     "scale_posterior", "model_weight_posterior"):  # fmt: skip
+            set_(self, name, _readonly(np.asarray(getattr(self, name), float)))
+        for name in ("credible_radius_px", "log_evidence", "excess_nats"):
+            set_(self, name, float(getattr(self, name)))
+        set_(self, "history", tuple(self.history))
+        set_(self, "bootstrap", int(self.bootstrap))
+        if self.pose is not None:
+            set_(self, "pose", Motion(*self.pose))
+
+
+@dataclass(frozen=True)
 class Estimate:
     """The result of every estimator.
 
@@ -289,21 +419,27 @@ class Estimate:
         of the mask's shape, booleans (or the numbers 0 and 1).
     used : tuple of int
         Indices of the actions the estimator used, in the order it used them.
-    status : str
-        ``"ok"`` (the data were consistent and the answer is as good as it
-        says) or a short reason: ``"unchecked"`` (Alg. 1: an answer whose
-        evidence no test checked), ``"no_actions"``, ``"flat_heatmap"``,
-        ``"contradiction"`` (Alg. 2), ``"budget"``, ``"exhausted"``,
-        ``"uninformative"``, ``"inconsistent"``, ``"no_evidence"`` (the active
-        estimator and the posterior; docs/robot.md says what each means on a
-        robot) ...
+    status : Status
+        ``Status.OK`` (``"ok"``: the data were consistent and the answer is as
+        good as it says) or why not; :class:`comcore.Status` says what each
+        member means. A string is taken if it is a member's.
     covariance : numpy.ndarray, shape (2, 2), or None
         Covariance of the CoM in pixels squared, where the estimator has one.
     extras : Mapping[str, Any]
-        Estimator-specific outputs (Alg. 1's ``"heatmap"``, ...), read-only.
+        Free-form information a caller attached (``comcore bench`` notes the
+        robot's pose there), read-only; nothing in comcore reads it.
     pushes : tuple of PushRecord
         The active estimators' pushes, in order (misses and failed pushes
         included); empty for the others.
+    skipped : tuple of SkippedPush
+        The pushes an estimator could not use, and why (Alg. 2 and
+        :func:`comcore.estimate_posterior` with a round pusher).
+    heatmap : HeatmapDetails or None
+        Alg. 1's heat map (:func:`comcore.estimate_heatmap`).
+    progressive : ProgressiveDetails or None
+        Alg. 2's cuts (:func:`comcore.estimate_progressive`).
+    posterior : PosteriorDetails or None
+        The posterior of the active estimators and :func:`comcore.estimate_posterior`.
 
     Examples
     --------
@@ -321,10 +457,14 @@ class Estimate:
     com_m: tuple[float, float]
     region: np.ndarray
     used: tuple[int, ...] = ()
-    status: str = "ok"
+    status: Status = Status.OK
     covariance: np.ndarray | None = None
     extras: Mapping[str, Any] = field(default_factory=dict)
     pushes: tuple = ()
+    skipped: tuple = ()
+    heatmap: HeatmapDetails | None = None
+    progressive: ProgressiveDetails | None = None
+    posterior: PosteriorDetails | None = None
 
     def __post_init__(self):
         com = tuple(float(v) for v in self.com)
@@ -335,6 +475,7 @@ class Estimate:
         object.__setattr__(self, "com_m", com_m)
         object.__setattr__(self, "region", _readonly(_check_region(self.region)))
         object.__setattr__(self, "used", tuple(int(i) for i in self.used))
+        object.__setattr__(self, "status", Status.check(self.status, "Estimate.status"))
         if self.covariance is not None:
             object.__setattr__(self, "covariance", _readonly(np.asarray(self.covariance, float)))
         extras = {}
@@ -345,11 +486,22 @@ class Estimate:
         if not all(isinstance(p, PushRecord) for p in pushes):
             raise TypeError("Estimate.pushes must hold comcore.PushRecord values")
         object.__setattr__(self, "pushes", pushes)
+        skipped = tuple(self.skipped)
+        if not all(isinstance(p, SkippedPush) for p in skipped):
+            raise TypeError("Estimate.skipped must hold comcore.SkippedPush values")
+        object.__setattr__(self, "skipped", skipped)
+        for name, kind in (("heatmap", HeatmapDetails), ("progressive", ProgressiveDetails),
+                           ("posterior", PosteriorDetails)):  # fmt: skip
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, kind):
+                raise TypeError(
+                    f"Estimate.{name} must be a {kind.__name__} or None, got {type(value).__name__}"
+                )
 
     @property
     def ok(self) -> bool:
         """``True`` when the estimator worked as intended (``status == "ok"``)."""
-        return self.status == "ok"
+        return self.status is Status.OK
 
     def error_px(self, true_com) -> float:
         """Euclidean distance in pixels from ``com`` to ``true_com`` ``(x, y)``."""

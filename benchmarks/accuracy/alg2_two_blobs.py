@@ -63,7 +63,7 @@ def trial(seed: int, n_pushes: int, cone: float):
     final = mask.data.copy()
     if used:
         final &= comcore.vt.region(mask, actions[used], motions[used]).all(axis=0)
-    assert final.sum() == est.extras["region_sizes"][-1]
+    assert final.sum() == est.progressive.region_sizes[-1]
 
     def wrong(region):
         rows, cols = np.nonzero(region)

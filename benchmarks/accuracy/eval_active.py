@@ -103,13 +103,13 @@ def run_trial(name, friction, seed, args, model):
         "pushes": len(est.used),
         "flips": int(sum(flips)),
         "status": est.status,
-        "radius_cm": est.extras["credible_radius_px"] * cm,
+        "radius_cm": est.posterior.credible_radius_px * cm,
         "in_region": bool(est.region[round(sim.com_px[1]), round(sim.com_px[0])]),
         "seconds": time.perf_counter() - start,
         "history_error_cm": [
-            float(np.hypot(*np.subtract(h.com, sim.com_px))) * cm for h in est.extras["history"]
+            float(np.hypot(*np.subtract(h.com, sim.com_px))) * cm for h in est.posterior.history
         ],
-        "history_radius_cm": [h.credible_radius_px * cm for h in est.extras["history"]],
+        "history_radius_cm": [h.credible_radius_px * cm for h in est.posterior.history],
     }
 
 
@@ -136,7 +136,7 @@ def plot_posterior(name, friction, seed, args, model, path):
     for k, ax in enumerate(np.atleast_1d(axes)):
         kwargs["stop"] = comcore.StopRule(max_pushes=k)
         est = comcore.estimate_active(sim.mask, lambda a: sim.push(a).motion, cands, **kwargs)
-        post = np.ma.masked_where(~sim.mask.data, est.extras["posterior"])
+        post = np.ma.masked_where(~sim.mask.data, est.posterior.image)
         ax.imshow(sim.mask.data, cmap="Greys", alpha=0.25)
         ax.imshow(post, cmap="viridis")
         ax.contour(est.region, levels=[0.5], colors="w", linewidths=0.8)
@@ -145,7 +145,7 @@ def plot_posterior(name, friction, seed, args, model, path):
         ax.plot(*sim.com_px, "r+", ms=10, mew=1.5)
         ax.plot(*est.com, "wx", ms=7, mew=1.5)
         err = est.error_px(sim.com_px) * sim.mask.resolution * 100
-        radius = est.extras["credible_radius_px"] * sim.mask.resolution * 100
+        radius = est.posterior.credible_radius_px * sim.mask.resolution * 100
         ax.set_title(f"{k} pushes\nerr {err:.2f} cm, r90 {radius:.2f} cm", fontsize=8)
         ax.set_xlim(box[0], box[1])
         ax.set_ylim(box[2], box[3])

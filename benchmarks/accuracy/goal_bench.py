@@ -102,7 +102,8 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         rng=robot_seed,
     )
     first = robot.camera_mask()
-    options = {"max_travel": MAX_TRAVEL, "max_pushes": args.max_pushes, "rng": 0}
+    options = {"choice": comcore.PushChoice(travel=MAX_TRAVEL), "rng": 0}
+    options["stop"] = comcore.StopRule(max_pushes=args.max_pushes)
     options["pusher_radius"] = sim.pusher_radius
     est_pushes, status_est = 0, None
     if strategy == "centroid":

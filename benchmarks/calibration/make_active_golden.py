@@ -73,8 +73,8 @@ def summary(est) -> dict:
         "com": list(est.com),
         "used": list(est.used),
         "status": est.status,
-        "credible_radius_px": est.extras["credible_radius_px"],
-        "entropies": [h.entropy_bits for h in est.extras["history"]],
+        "credible_radius_px": est.posterior.credible_radius_px,
+        "entropies": [h.entropy_bits for h in est.posterior.history],
         "motions": [list(p.motion) for p in est.pushes if p.outcome != "failed"],
     }
 

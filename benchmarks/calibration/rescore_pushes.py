@@ -51,9 +51,9 @@ def _score(job) -> list[tuple]:
         for k in ks:
             est = replay(kept, options, k)
             err = float(np.hypot(*(np.asarray(est.com) - kept["true_px"]))) * resolution
-            radius_mm = est.extras["credible_radius_px"] * resolution * 1000
-            scale = float(np.exp(est.extras["scale_posterior"] @ np.log(factors)))
-            weights = est.extras["model_weight_posterior"]
+            radius_mm = est.posterior.credible_radius_px * resolution * 1000
+            scale = float(np.exp(est.posterior.scale_posterior @ np.log(factors)))
+            weights = est.posterior.model_weight_posterior
             power = float(weights @ powers) if options["model"] else float("nan")
             level = comcore.credible_level(est, kept["true_px"])
             out.append((name, k, 100 * err, level, radius_mm, scale, power))

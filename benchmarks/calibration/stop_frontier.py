@@ -54,7 +54,7 @@ def _prefixes(job):
         est = full if k == n else replay(kept, options, k)
         errors.append(100 * est.error_px(kept["true_px"]) * kept["resolution"])
         holds.append(est.region_holds(kept["true_px"]))
-    return cond, np.array(errors), np.array(holds), full.extras["history"], kept["resolution"]
+    return cond, np.array(errors), np.array(holds), full.posterior.history, kept["resolution"]
 
 
 def main(argv=None):

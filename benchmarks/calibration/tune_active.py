@@ -47,7 +47,7 @@ MAX_K = 6
 
 def _level(est, true_px) -> float:
     """The truth's credible level (HPD rank; NaN for an estimate without a posterior)."""
-    if est is None or "posterior" not in est.extras:
+    if est is None or est.posterior is None:
         return float("nan")
     return comcore.credible_level(est, true_px)
 
@@ -76,7 +76,7 @@ def _one(spec: TrialSpec, variants=None, keep_pushes=False) -> list[dict]:
         res = out.context.mask.resolution * 100
         errs = []
         if est is not None:
-            for h in est.extras.get("history", ()):
+            for h in est.posterior.history if est.posterior is not None else ():
                 errs.append(float(np.hypot(*(np.asarray(h.com) - true_px))) * res)
         rows.append(
             {

@@ -52,7 +52,7 @@ def trajectory(job):
         **options,
     )  # fmt: skip
     cm = 100 * ctx.mask.resolution
-    history = est.extras["history"]
+    history = est.posterior.history
     errors = [float(np.hypot(*np.subtract(h.com, sim.com_px))) * cm for h in history]
     return spec.friction, errors, history, ctx.mask.resolution
 

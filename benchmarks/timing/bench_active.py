@@ -79,7 +79,7 @@ def main(argv=None):
         return comcore.Motion(0.1 * sense, 0.0, 0.0)
 
     est = comcore.estimate_active(mask, push, cands, stop=comcore.StopRule(max_pushes=3))
-    post.update(np.log(est.extras["posterior"][mask.data] + 1e-300)[:, None, None])
+    post.update(np.log(est.posterior.image[mask.data] + 1e-300)[:, None, None])
     print(f"choose a push, after 3 pushes:  {median_ms(choose, args.repeats):6.1f} ms (median)")
 
     def run():

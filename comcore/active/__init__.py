@@ -4,8 +4,9 @@
 over the CoM (``_grid``) scored by a push's likelihood (``_likelihood``, the motion
 model's term in ``_motion_term``); the push choice (``_choice``), the stop rule
 (``_stop``), what a user sets (:class:`Likelihood`, :class:`StopRule`,
-:class:`PushChoice` in ``_options``), what it records (``_records``) and how it
-reads one push (``_reading``) each have a module. :func:`estimate_active` is its
+:class:`PushChoice` in ``_options``), what it records (``_records``: :class:`SessionState`, and the
+:class:`PosteriorDetails` an estimate carries) and how it reads one push (``_reading``)
+each have a module. :func:`estimate_active` is its
 blocking form; :func:`estimate_posterior` the same posterior over recorded pushes,
 with its region from the bagged posterior (``_bagging``);
 :func:`calibrate_model_weight` learns the model's power from recordings. May import
@@ -13,6 +14,7 @@ everything below it: the base modules, :mod:`comcore.geometry`, :mod:`comcore.vt
 :mod:`comcore.motion` and :mod:`comcore.camera`.
 """
 
+from .._types import PosteriorDetails
 from ._bagging import RECORDED_BOOTSTRAP
 from ._blocking import estimate_active
 from ._calibrate import PowerCalibration, calibrate_model_weight
@@ -25,8 +27,9 @@ from ._options import (
     StopRule,
 )
 from ._posterior import estimate_posterior
-from ._records import credible_level
+from ._records import SessionState, credible_level
 from ._session import ActiveSession
+from ._stop import SenseCheck
 
 __all__ = [
     "RECORDED_BOOTSTRAP",
@@ -34,8 +37,11 @@ __all__ = [
     "SESSION_SYSTEMATIC_ERROR",
     "ActiveSession",
     "Likelihood",
+    "PosteriorDetails",
     "PowerCalibration",
     "PushChoice",
+    "SenseCheck",
+    "SessionState",
     "StopRule",
     "calibrate_model_weight",
     "credible_level",

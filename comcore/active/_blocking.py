@@ -13,15 +13,17 @@ import dataclasses
 
 from .._errors import PushFailedError
 from .._mask import Mask
+from .._status import Status
 from .._types import Estimate, Motion
 from .._validation import check_mask, check_motions
-from ._option_groups import resolve_groups
+from ._option_groups import check_groups, names_the_group
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._session import ActiveSession
 
 __all__ = ["estimate_active"]
 
 
+@names_the_group
 def estimate_active(
     mask: Mask,
     push,
@@ -35,7 +37,6 @@ def estimate_active(
     likelihood=None,
     stop=None,
     choice=None,
-    **flat,
 ) -> Estimate:
     """Find the CoM by pushing the real object, choosing each push from what was seen.
 
@@ -89,8 +90,6 @@ def estimate_active(
         When to stop; default ``comcore.StopRule()`` (5 pushes, 6 mm).
     choice : PushChoice, optional
         How pushes are chosen; default ``comcore.PushChoice()``.
-    **flat
-        Deprecated: the groups' options by name (``max_pushes=3``); they warn.
 
     Returns
     -------
@@ -100,11 +99,10 @@ def estimate_active(
         ``candidates`` in execution order, ``pushes`` one
         :class:`comcore.PushRecord` per push (pass them to
         :func:`comcore.estimate_posterior` to replay the posterior).
-        ``extras``: ``"posterior"`` (H, W), ``"credible_radius_px"``,
-        ``"mu_grid"`` and ``"mu_posterior"``, ``"model_posterior"``,
-        ``"scale_posterior"``, ``"model_weight_posterior"``,
-        ``"log_evidence"``, ``"excess_nats"``, and ``"history"``: one
-        ``SessionState`` per posterior (the prior first).
+        ``posterior`` (:class:`comcore.active.PosteriorDetails`): the
+        posterior image (H, W), the credible radius, the friction, model,
+        scale and model-weight posteriors, the evidence and the ``history``,
+        one :class:`comcore.active.SessionState` per posterior (the prior first).
 
     Raises
     ------
@@ -138,9 +136,7 @@ def estimate_active(
         raise TypeError(
             f"push must be callable as push(action) -> Motion, got {type(push).__name__}"
         )
-    groups = resolve_groups(
-        "estimate_active", {"likelihood": likelihood, "stop": stop, "choice": choice}, flat
-    )
+    groups = check_groups(likelihood=likelihood, stop=stop, choice=choice)
     session = ActiveSession(
         mask, candidates=candidates, model=model, pusher_radius=pusher_radius, prior=prior,
         credible=credible, rng=rng, **groups,
@@ -167,7 +163,7 @@ def _push_failed(session: ActiveSession, action, error: Exception) -> PushFailed
         f"push {n_done} ({tuple(action)}) failed: {type(error).__name__}: {error}",
         index=n_done,
         action=action,
-        partial=dataclasses.replace(session.estimate(), status="push_failed"),
+        partial=dataclasses.replace(session.estimate(), status=Status.PUSH_FAILED),
     )
 
 

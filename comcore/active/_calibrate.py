@@ -23,7 +23,7 @@ import numpy as np
 from .._types import Estimate
 from .._validation import check_mask, check_point, check_powers
 from ._likelihood import check_models
-from ._option_groups import resolve_groups
+from ._option_groups import check_groups, names_the_group
 from ._options import (
     DEFAULT_CREDIBLE,
     DEFAULT_MODEL,
@@ -76,6 +76,7 @@ class PowerCalibration:
     recommended: float
 
 
+@names_the_group
 def calibrate_model_weight(
     records,
     *,
@@ -84,7 +85,6 @@ def calibrate_model_weight(
     powers=CALIBRATION_POWERS,
     credible: float = DEFAULT_CREDIBLE,
     likelihood=None,
-    **flat,
 ) -> PowerCalibration:
     """Score pushes of objects with a measured CoM under fixed powers of the model's likelihood.
 
@@ -119,8 +119,6 @@ def calibrate_model_weight(
         ``motion_noise``, ``mu``, ...); its ``model_weight`` is replaced by
         each power, and a ``systematic_error`` left None is the sessions' (0),
         not ``estimate_posterior``'s own for recordings.
-    **flat
-        Deprecated: the likelihood's options by name.
 
     Returns
     -------
@@ -148,9 +146,7 @@ def calibrate_model_weight(
     (2, [1.0, 1.0], 1.0)
     """
     models = check_models(model, pusher_radius)
-    likelihood = resolve_groups(
-        "calibrate_model_weight", {"likelihood": likelihood}, flat
-    )["likelihood"]
+    likelihood = check_groups(likelihood=likelihood)["likelihood"]
     if likelihood.systematic_error is None:  # scored as the sessions score them
         likelihood = dataclasses.replace(likelihood, systematic_error=SESSION_SYSTEMATIC_ERROR)
     if isinstance(powers, str) or np.ndim(powers) != 1:
@@ -182,7 +178,7 @@ def calibrate_model_weight(
                 bootstrap=0,  # the sessions' region: the posterior's own, not bagged
             )
             hits[i, j] = est.region_holds(truth)
-            radius[i, j] = est.extras["credible_radius_px"] * mask.resolution
+            radius[i, j] = est.posterior.credible_radius_px * mask.resolution
             error[i, j] = est.error_px(truth) * mask.resolution
     coverage = hits.mean(axis=0)
     good = [p for p, c in zip(grid, coverage) if c >= credible - 1e-12]

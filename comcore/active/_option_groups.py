@@ -1,22 +1,25 @@
-"""The option groups from flat names: :func:`option_groups`, and the one shim for old keywords.
+"""The option groups: built from flat names, checked where an entry point takes them.
 
-``estimate_active(mask, push, max_pushes=3)`` (the flat keywords of earlier
-releases) still works for one release: :func:`resolve_groups` is the one shim
-that accepts them, with a :class:`DeprecationWarning` saying which group to pass
-instead. :func:`option_groups` builds the groups from flat names without a
-warning, for configuration files and command lines (``comcore bench`` labels).
+The entry points take their options in groups
+(``estimate_active(mask, push, stop=comcore.StopRule(max_pushes=3))``).
+:func:`option_groups` builds the groups from flat names, for configuration files
+and command lines (``comcore bench`` labels); :func:`check_groups` gives an entry
+point the groups it was passed (the defaults for None); :func:`names_the_group`
+turns a flat option passed to an entry point (``max_pushes=3``, as the paper
+names it) into a TypeError that says which group to pass instead.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import difflib
+import functools
 import inspect
-import warnings
 from typing import Any
 
 from ._options import Likelihood, PushChoice, StopRule
 
-__all__ = ["GROUPS", "option_groups", "resolve_groups"]
+__all__ = ["GROUPS", "check_groups", "names_the_group", "option_groups"]
 
 #: The groups and the keyword each is passed as.
 GROUPS = {"likelihood": Likelihood, "stop": StopRule, "choice": PushChoice}
@@ -24,11 +27,6 @@ GROUPS = {"likelihood": Likelihood, "stop": StopRule, "choice": PushChoice}
 _GROUP_OF = {
     f.name: keyword for keyword, cls in GROUPS.items() for f in dataclasses.fields(cls)
 }
-
-
-def _group_of(name: str) -> str:
-    """The group keyword a flat name belongs to (a group keyword is its own)."""
-    return name if name in GROUPS else _GROUP_OF[name]
 
 
 def option_groups(**flat) -> dict[str, Any]:
@@ -71,31 +69,25 @@ def option_groups(**flat) -> dict[str, Any]:
     return out
 
 
-def _group_signature() -> inspect.Signature:
-    """``option_groups``'s signature: every group's fields, keyword-only, with their defaults."""
-    return inspect.Signature(
-        [
-            inspect.Parameter(f.name, inspect.Parameter.KEYWORD_ONLY, default=f.default)
-            for cls in GROUPS.values()
-            for f in dataclasses.fields(cls)
-        ]
-    )
+def check_groups(**groups) -> dict[str, Any]:
+    """The option groups an entry point runs with: each as passed, or its defaults for None.
 
+    ``groups`` maps each keyword the entry point takes (``likelihood``, ``stop``,
+    ``choice``) to what the user passed.
 
-option_groups.__signature__ = _group_signature()  # type: ignore[attr-defined]
+    Raises
+    ------
+    TypeError
+        On a value that is neither its group nor None.
 
-
-def resolve_groups(
-    caller: str, groups: dict[str, Any], flat: dict[str, Any], *, stacklevel: int = 3
-) -> dict[str, Any]:
-    """The option groups an entry point runs with: the one shim for flat keywords.
-
-    ``groups`` maps each keyword the caller takes (``"likelihood"``, ``"stop"``,
-    ``"choice"``) to what the user passed (a group or None: the defaults).
-    ``flat`` holds the flat keywords of earlier releases: each replaces its
-    field in its group (the group the user passed, or the defaults), with a
-    :class:`DeprecationWarning` naming the group to pass instead. A flat name of
-    a group the caller does not take, or of none, is a TypeError.
+    Examples
+    --------
+    >>> check_groups(stop=None)["stop"].max_pushes
+    5
+    >>> check_groups(stop={"max_pushes": 3})
+    Traceback (most recent call last):
+    ...
+    TypeError: stop must be a comcore.StopRule or None, got dict
     """
     out = {}
     for keyword, given in groups.items():
@@ -105,24 +97,70 @@ def resolve_groups(
                 f"{keyword} must be a comcore.{cls.__name__} or None, got {type(given).__name__}"
             )
         out[keyword] = cls() if given is None else given
-    if not flat:
-        return out
-    refused = sorted(
-        k for k in flat if (GROUPS.get(k) or _GROUP_OF.get(k)) and _group_of(k) not in groups
-    )
-    if refused:
-        raise TypeError(f"{caller} chooses no pushes: option(s) {refused} do not apply")
-    parsed = option_groups(**flat)
-    hints = []
-    for keyword, group in parsed.items():
-        mine = {k: v for k, v in flat.items() if _GROUP_OF[k] == keyword}
-        out[keyword] = dataclasses.replace(out[keyword], **mine)
-        args = ", ".join(f"{k}={v!r}" for k, v in mine.items())
-        hints.append(f"{keyword}=comcore.{type(group).__name__}({args})")
-    warnings.warn(
-        f"{caller}: flat options {sorted(flat)} are deprecated and will be removed: "
-        f"pass {', '.join(hints)}",
-        DeprecationWarning,
-        stacklevel=stacklevel,
-    )
     return out
+
+
+def names_the_group(entry):
+    """Make a flat option passed to ``entry`` a TypeError naming the group to pass instead.
+
+    ``entry`` (a function, or a class's ``__init__``) keeps its signature and takes
+    no ``**kwargs``: only a call with a keyword it does not take is checked, and
+    refused with a message that helps (the group and the call to make, or why the
+    group does not apply); any other unknown keyword is refused as Python refuses it,
+    with the closest option named.
+    """
+    takes = set(inspect.signature(entry).parameters)
+    name = entry.__qualname__.removesuffix(".__init__")
+
+    @functools.wraps(entry)
+    def checked(*args, **kwargs):
+        unknown = sorted(set(kwargs) - takes)
+        if unknown:
+            raise TypeError(_refusal(name, unknown, kwargs, takes))
+        return entry(*args, **kwargs)
+
+    return checked
+
+
+def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> str:
+    """What :func:`names_the_group` says of the keywords ``unknown`` passed to ``name``."""
+    grouped = [k for k in unknown if k in GROUPS or k in _GROUP_OF]
+    refused = [k for k in grouped if (k if k in GROUPS else _GROUP_OF[k]) not in takes]
+    if refused:
+        return f"{name} chooses no pushes: option(s) {refused} do not apply"
+    others = [k for k in unknown if k not in grouped]
+    parts = [_in_groups(name, grouped, kwargs)] if grouped else []
+    if others:
+        parts.append(_unexpected(name, others, kwargs, takes))
+    return "; and ".join(parts)
+
+
+def _in_groups(name: str, grouped: list[str], kwargs: dict) -> str:
+    """The group each flat option belongs in, as the call to make."""
+    hints = []
+    for keyword, cls in GROUPS.items():
+        mine = ", ".join(f"{k}={kwargs[k]!r}" for k in grouped if _GROUP_OF.get(k) == keyword)
+        if mine:
+            hints.append(f"{keyword}=comcore.{cls.__name__}({mine})")
+    flat = ", ".join(f"{k}={kwargs[k]!r}" for k in grouped)
+    return f"{name}() takes its options in groups: pass {', '.join(hints)} instead of {flat}"
+
+
+def _unexpected(name: str, others: list[str], kwargs: dict, takes: set[str]) -> str:
+    """Keywords of no group: option_groups' message for a removed one, else the closest names."""
+    try:
+        option_groups(**{k: kwargs[k] for k in others})  # its messages for removed options
+    except TypeError as e:
+        if "unknown option" not in str(e):
+            return str(e)
+    known = sorted(takes | set(_GROUP_OF))
+    guesses = ""
+    for k in others:
+        close = difflib.get_close_matches(k, known, n=1)
+        if close:
+            guess = close[0]
+            if guess not in takes:
+                keyword = _GROUP_OF[guess]
+                guess = f"{keyword}=comcore.{GROUPS[keyword].__name__}({guess}=...)"
+            guesses += f"; {k}: did you mean {guess}?"
+    return f"{name}() got unexpected keyword argument(s) {others}{guesses}"

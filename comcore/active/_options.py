@@ -10,8 +10,8 @@ them as ``likelihood=``, ``stop=`` and ``choice=``; what is not a group's (the
 motion ``model``, ``pusher_radius``, ``prior``, ``credible``, ``rng``,
 ``candidates``) stays a keyword of its own.
 
-The flat keywords of earlier releases still work for one release, through the
-one shim in :mod:`comcore.active._option_groups`.
+A flat option passed to an entry point (``max_pushes=3``) is a TypeError naming
+the group to pass instead (:mod:`comcore.active._option_groups`).
 """
 
 from __future__ import annotations

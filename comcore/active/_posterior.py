@@ -36,7 +36,7 @@ from ._likelihood import (
     sense_flip_prob,
     tracking_noise,
 )
-from ._option_groups import resolve_groups
+from ._option_groups import check_groups, names_the_group
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._records import PushLog
@@ -50,6 +50,7 @@ __all__ = ["estimate_posterior"]
 MAX_BOOTSTRAP = 10_000
 
 
+@names_the_group
 def estimate_posterior(
     mask: Mask,
     actions=None,
@@ -65,7 +66,6 @@ def estimate_posterior(
     residual_px=None,
     bootstrap: int = RECORDED_BOOTSTRAP,
     rng=0,
-    **flat,
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
 
@@ -121,21 +121,18 @@ def estimate_posterior(
         a real object, shared by pushes made alike, does not average away;
         the bagged posterior widens where the pushes disagree
         (:mod:`comcore.active._bagging`, docs/realdata.md). The estimate ``com`` is
-        the posterior's mean either way, and ``extras["history"]`` holds the
+        the posterior's mean either way, and ``posterior.history`` holds the
         posterior's own states (push by push, not bagged).
     rng : None, int or numpy.random.Generator, optional
         Seed of the resamplings (default 0: the same region every call).
-    **flat
-        Deprecated: :class:`comcore.Likelihood`'s options by name; options that
-        choose pushes or stop are refused.
 
     Returns
     -------
     Estimate
         As :func:`comcore.estimate_active`'s; ``used`` the pushes that carried
-        evidence; ``extras["bootstrap"]`` the resamplings averaged (0 with
+        evidence; ``posterior.bootstrap`` the resamplings averaged (0 with
         fewer than two pushes of evidence: the posterior's own);
-        ``extras["senses"]`` the check of the observed senses
+        ``posterior.senses`` the check of the observed senses
         (:class:`comcore.active._stop.SenseCheck`: how many pushes the best CoM leaves
         unexplained, against what ``flip_prob`` allows). ``status`` is
         ``"ok"``, ``"inconsistent"`` when no hypothesis explains the pushes
@@ -162,7 +159,7 @@ def estimate_posterior(
     >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
     >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
     >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
-    >>> est.status, np.round(est.com, 1).tolist(), round(est.extras["credible_radius_px"], 1)
+    >>> est.status, np.round(est.com, 1).tolist(), round(est.posterior.credible_radius_px, 1)
     ('ok', [11.1, 11.1], 9.0)
     >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
     True
@@ -174,7 +171,7 @@ def estimate_posterior(
     >>> est = comcore.estimate_posterior(
     ...     mask, [(0, 8, 30, 8), (0, 18, 30, 18)] * 5, [(0.2, 3, 0), (-0.2, 3, 0)] * 5,
     ...     model=None)
-    >>> est.status, est.extras["senses"].fewest_unexplained
+    >>> est.status, est.posterior.senses.fewest_unexplained
     ('inconsistent', 5)
     """
     mask = check_mask(mask)
@@ -184,7 +181,7 @@ def estimate_posterior(
     rng = check_rng(rng)
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible,
-        resolve_groups("estimate_posterior", {"likelihood": likelihood}, flat)["likelihood"],
+        check_groups(likelihood=likelihood)["likelihood"],
         RECORDED_FLOOR,
     )  # fmt: skip
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
@@ -221,8 +218,10 @@ def estimate_posterior(
     bagged = None  # one push is its own bag: the posterior's region
     if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
-    extras = {"senses": check, "skipped": skipped, "bootstrap": 0 if bagged is None else bootstrap}
-    return log.estimate(mask, post, used, status, extras, marginal=bagged)
+    n_bags = 0 if bagged is None else bootstrap
+    return log.estimate(
+        mask, post, used, status, marginal=bagged, skipped=skipped, senses=check, bootstrap=n_bags
+    )
 
 
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:

@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._mask import Mask
-from .._types import Estimate, PushRecord
+from .._types import Estimate, PosteriorDetails, PushRecord
 from ._grid import GridPosterior
 from ._likelihood import consistency_threshold
 
@@ -113,7 +113,7 @@ class PushLog:
         return float(self.excess.min()) if self.n_evidence else 0.0
 
     def estimate(
-        self, mask: Mask, post: GridPosterior, used, status: str, extras=None, marginal=None
+        self, mask: Mask, post: GridPosterior, used, status, marginal=None, skipped=(), **details
     ) -> Estimate:
         """The :class:`Estimate` of the posterior: mean, covariance, credible region, records.
 
@@ -121,13 +121,8 @@ class PushLog:
         posterior's marginal, or ``marginal`` (p,) where given (a bagged
         posterior's, :mod:`comcore.active._bagging`; the covariance is then its spread
         about the posterior's mean), blurred by the systematic error.
-        ``extras`` are added to the posterior's own: ``"posterior"`` (H, W),
-        ``"region_posterior"`` (H, W: what the region was read from),
-        ``"credible_radius_px"``, ``"mu_grid"``, ``"mu_posterior"``,
-        ``"model_posterior"``, ``"scale_posterior"``,
-        ``"model_weight_posterior"``, ``"log_evidence"``, ``"excess_nats"`` and
-        ``"history"`` (the :class:`SessionState` of every posterior, the prior
-        first).
+        ``details`` (``senses``, ``bootstrap``, ``pose``) go to the estimate's
+        :class:`comcore.active.PosteriorDetails` with the posterior's own.
         """
         weights = post.region_weights(self.blur_px, marginal)
         region_idx, area = post.credible(self.credible, marginal=weights)
@@ -145,21 +140,22 @@ class PushLog:
             used=tuple(used),
             status=status,
             covariance=post.covariance(marginal),
-            extras={
-                **(extras or {}),
-                "posterior": image,
-                "region_posterior": region_image,
-                "credible_radius_px": math.sqrt(area / math.pi),
-                "mu_grid": post.mus.copy(),
-                "mu_posterior": post.mu_marginal,
-                "model_posterior": post.model_marginal,
-                "scale_posterior": post.scale_marginal,
-                "model_weight_posterior": post.temper_weights,
-                "log_evidence": self.log_evidence,
-                "excess_nats": self.excess_nats,
-                "history": tuple(self.history),
-            },
             pushes=tuple(self.records),
+            skipped=skipped,
+            posterior=PosteriorDetails(
+                image=image,
+                region_image=region_image,
+                credible_radius_px=math.sqrt(area / math.pi),
+                mu_grid=post.mus.copy(),
+                mu_posterior=post.mu_marginal,
+                model_posterior=post.model_marginal,
+                scale_posterior=post.scale_marginal,
+                model_weight_posterior=post.temper_weights,
+                log_evidence=self.log_evidence,
+                excess_nats=self.excess_nats,
+                history=tuple(self.history),
+                **details,
+            ),
         )
 
 
@@ -169,7 +165,7 @@ def credible_level(estimate: Estimate, point) -> float:
 
     The mass of the pixels more probable than the pixel under ``point``
     ``(x, y)`` (the highest-posterior-density rank) in what the credible
-    region was read from (``extras["region_posterior"]``: the posterior,
+    region was read from (``posterior.region_image``: the posterior,
     blurred by a systematic error or bagged where the estimator did so, so
     that a point inside the 90 % region is below 0.9). For an honest
     posterior it is uniform on [0, 1] over many runs: the share of runs below
@@ -180,8 +176,7 @@ def credible_level(estimate: Estimate, point) -> float:
     Parameters
     ----------
     estimate : Estimate
-        An active estimator's (``extras["region_posterior"]`` or
-        ``extras["posterior"]`` holds its posterior).
+        An active estimator's (its ``posterior`` holds the posterior).
     point : array_like, shape (2,)
 
     Raises
@@ -198,9 +193,9 @@ def credible_level(estimate: Estimate, point) -> float:
     >>> comcore.credible_level(est, (8.0, 8.0)) < 0.5 < comcore.credible_level(est, (20.0, 20.0))
     True
     """
-    post = estimate.extras.get("region_posterior", estimate.extras.get("posterior"))
-    if post is None:
+    if estimate.posterior is None:
         raise ValueError("estimate must carry a posterior (an active estimator's Estimate)")
+    post = estimate.posterior.region_image
     col, row = (round(float(v)) for v in np.asarray(point, dtype=float).reshape(2))
     h, w = post.shape
     if not (0 <= row < h and 0 <= col < w):

@@ -14,6 +14,7 @@ import numpy as np
 
 from .._errors import SessionError
 from .._mask import Mask
+from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord, SkippedPush
 from .._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 from ..camera._pose_tracking import IDENTITY, moved_mask
@@ -22,7 +23,7 @@ from ..motion._limit_surface import check_push_lengths
 from ._choice import Candidates
 from ._grid import prior_grid
 from ._likelihood import Scoring, check_models, gyration_px
-from ._option_groups import resolve_groups
+from ._option_groups import check_groups, names_the_group
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
 from ._reading import PushContext, read_push
@@ -94,14 +95,11 @@ class ActiveSession:
         with ``choice``'s ``n_candidates``, ``cone`` and ``travel``.
     model, pusher_radius, prior, credible, rng, likelihood, stop, choice
         As for :func:`comcore.estimate_active`.
-    **flat
-        Deprecated: the options of the groups by name (``max_pushes=3``);
-        they warn and say which group to pass.
 
     Attributes
     ----------
     done : bool
-    status : str
+    status : Status
         ``"waiting_push"`` (call :meth:`next_push`), ``"waiting_observation"``
         (call :meth:`observe`), or final: ``"ok"``, ``"budget"``,
         ``"exhausted"`` (no candidate left that can be pushed in this pose),
@@ -134,6 +132,7 @@ class ActiveSession:
     ('budget', 3)
     """
 
+    @names_the_group
     def __init__(
         self,
         mask: Mask,
@@ -147,12 +146,9 @@ class ActiveSession:
         likelihood=None,
         stop=None,
         choice=None,
-        **flat,
     ):
         self._first = check_mask(mask)
-        groups = resolve_groups(
-            "ActiveSession", {"likelihood": likelihood, "stop": stop, "choice": choice}, flat
-        )
+        groups = check_groups(likelihood=likelihood, stop=stop, choice=choice)
         self._stop_rule, self._choice = groups["stop"], groups["choice"]
         self._scoring, credible = session_setup(
             self._first, model, pusher_radius, credible, groups["likelihood"]
@@ -224,11 +220,11 @@ class ActiveSession:
         return self._final is not None
 
     @property
-    def status(self) -> str:
+    def status(self) -> Status:
         """What the session waits for, or why it stopped."""
         if self._final is not None:
             return self._final
-        return "waiting_observation" if self._handed_out else "waiting_push"
+        return Status.WAITING_OBSERVATION if self._handed_out else Status.WAITING_PUSH
 
     @property
     def pose(self) -> Motion:
@@ -379,12 +375,12 @@ class ActiveSession:
 
         ``used`` indexes the candidates of the executed pushes (misses
         included), in order; ``pushes`` holds every reported push's
-        :class:`comcore.PushRecord` (failed ones included). ``extras`` as
-        :func:`comcore.estimate_active`'s, plus ``"pose"``.
+        :class:`comcore.PushRecord` (failed ones included). ``posterior`` as
+        :func:`comcore.estimate_active`'s, with the session's ``pose``.
         """
         used = [r.index for r in self._log.executed]
         return self._log.estimate(
-            self._first, self._posterior, used, self.status, {"pose": self._pose}
+            self._first, self._posterior, used, self.status, pose=self._pose
         )
 
     def com_in_camera(self) -> tuple[float, float]:

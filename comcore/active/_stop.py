@@ -39,6 +39,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._status import Status
+
 __all__ = [
     "SENSE_ALPHA",
     "STATUSES",
@@ -51,7 +53,7 @@ __all__ = [
 ]
 
 #: Every status a session can stop with.
-STATUSES = ("ok", "budget", "exhausted", "uninformative", "inconsistent")
+STATUSES = (Status.OK, Status.BUDGET, Status.EXHAUSTED, Status.UNINFORMATIVE, Status.INCONSISTENT)
 #: The senses are inconsistent when even the hypothesis that explains most of them leaves
 #: so many unexplained that, had it made them, so many or more would occur with less than
 #: this probability (before the minimum over hypotheses lowers the count further).
@@ -59,7 +61,7 @@ SENSE_ALPHA = 1e-3
 
 
 class SenseCheck(NamedTuple):
-    """The check of a recording's observed senses (``extras["senses"]`` of an offline posterior)."""
+    """The check of a recording's observed senses (``posterior.senses`` of an offline posterior)."""
 
     n_pushes: int
     """Pushes whose sense of rotation was observed (counted)."""
@@ -78,7 +80,7 @@ class SenseCheck(NamedTuple):
         return self.p_value >= SENSE_ALPHA and 2 * self.unexplained_at_estimate <= self.n_pushes
 
 
-def stop_reason(rule, state, resolution: float) -> str | None:
+def stop_reason(rule, state, resolution: float) -> Status | None:
     """Why a session in ``state`` stops before choosing a push, or None to go on.
 
     Parameters
@@ -92,7 +94,7 @@ def stop_reason(rule, state, resolution: float) -> str | None:
 
     Returns
     -------
-    str or None
+    Status or None
         ``"ok"``, ``"budget"`` or ``"inconsistent"`` (either, when no
         hypothesis explains the pushes), or None.
 
@@ -108,15 +110,15 @@ def stop_reason(rule, state, resolution: float) -> str | None:
     """
     small = state.credible_radius_px <= rule.target_radius / resolution
     if small and state.n_evidence >= rule.min_pushes:
-        reason = "ok"
+        reason = Status.OK
     elif state.n_pushes >= rule.max_pushes:
-        reason = "budget"
+        reason = Status.BUDGET
     else:
         return None
-    return reason if state.consistent else "inconsistent"
+    return reason if state.consistent else Status.INCONSISTENT
 
 
-def choice_status(rule, state, gain: float | None) -> str | None:
+def choice_status(rule, state, gain: float | None) -> Status | None:
     """The status after choosing a push of expected ``gain`` bits (None: none was offered).
 
     None when the push is worth making; else ``"exhausted"`` (nothing offered)
@@ -124,15 +126,15 @@ def choice_status(rule, state, gain: float | None) -> str | None:
     ``"inconsistent"`` when no hypothesis explains the pushes.
     """
     if gain is None:
-        reason = "exhausted"
+        reason = Status.EXHAUSTED
     elif not gain > rule.min_information:
-        reason = "uninformative"
+        reason = Status.UNINFORMATIVE
     else:
         return None
-    return reason if state.consistent else "inconsistent"
+    return reason if state.consistent else Status.INCONSISTENT
 
 
-def offline_status(state, senses: SenseCheck | None = None) -> str:
+def offline_status(state, senses: SenseCheck | None = None) -> Status:
     """The status of a posterior over recorded pushes (it chooses none, so it has no budget).
 
     ``"no_evidence"`` when no push carried any, ``"inconsistent"`` when no
@@ -140,10 +142,10 @@ def offline_status(state, senses: SenseCheck | None = None) -> str:
     ``"ok"``.
     """
     if state.n_evidence == 0:
-        return "no_evidence"
+        return Status.NO_EVIDENCE
     if senses is not None and not senses.consistent:
-        return "inconsistent"
-    return "ok" if state.consistent else "inconsistent"
+        return Status.INCONSISTENT
+    return Status.OK if state.consistent else Status.INCONSISTENT
 
 
 def sense_check(tally, estimate_index: int) -> SenseCheck:

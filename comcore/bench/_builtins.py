@@ -141,9 +141,10 @@ def _active_robot(
     ``pusher_error`` (metres), ``mask_noise`` (flip probability) and
     ``camera_margin`` (metres) override the trial condition's.
     A push the robot refuses is reported with ``observe(failed=True)``;
-    ``extras["push_failures"]`` counts them. ``executed=True`` also tells the
-    session the pusher's real path (``observe(..., executed=push.executed)``: a
-    pusher tracked in the camera), so the pusher's error is measured, not guessed.
+    its :class:`comcore.PushRecord` (outcome ``"failed"``) counts it.
+    ``executed=True`` also tells the session the pusher's real path
+    (``observe(..., executed=push.executed)``: a pusher tracked in the camera), so
+    the pusher's error is measured, not guessed.
     """
     condition = ctx.condition
     if observe is None:
@@ -190,9 +191,8 @@ def _active_robot(
     est = session.estimate()
     extras = {
         **est.extras,
-        "push_failures": failures,
         "robot_pose": tuple(robot.pose),
-        "first_mask": first,  # the frame of the extras' pushes (a replay scores them on it)
+        "first_mask": first,  # the frame of the estimate's pushes (a replay scores them on it)
     }
     return dataclasses.replace(est, extras=extras)
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+from .._status import Status
 from ._realism import CONDITIONS, Condition, parse_condition
 from ._registry import parse_estimator, split_estimators
 from ._runner import BenchConfig, BenchResult, run_benchmark
@@ -109,8 +110,8 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
             pushes = np.array([r["total_pushes"] for r in rows], float)
             credible = [r for r in rows if r["credible_radius_cm"] is not None]
             cover = np.mean([bool(r["covered"]) for r in credible]) if credible else None
-            bad_ok = np.mean([r["status"] == "ok" and r["error_cm"] > 1.0 for r in rows])
-            failed = sum(r["status"] == "error" or (r["push_failures"] or 0) > 0 for r in rows)
+            bad_ok = np.mean([r["status"] == Status.OK and r["error_cm"] > 1.0 for r in rows])
+            failed = sum(r["status"] == Status.ERROR or (r["push_failures"] or 0) > 0 for r in rows)
             lines.append(
                 f"| `{label}` | {len(rows)} | {err.mean():.3f} | {np.median(err):.3f} | "
                 f"{pushes.mean():.2f} | "
@@ -256,8 +257,8 @@ def friction_table(rows, baseline: str | None = None) -> str:
                 mean += f" ({err.mean() / base[0]:.2f} x)"
                 push += f" ({pushes.mean() - base[1]:+.2f})"
             cover = np.mean([bool(r["covered"]) for r in sel])
-            bad = np.mean([r["status"] == "ok" and r["error_cm"] > 1.0 for r in sel])
-            failed = sum(r["status"] == "error" or (r["push_failures"] or 0) > 0 for r in sel)
+            bad = np.mean([r["status"] == Status.OK and r["error_cm"] > 1.0 for r in sel])
+            failed = sum(r["status"] == Status.ERROR or (r["push_failures"] or 0) > 0 for r in sel)
             lines.append(
                 f"| `{label}` | {friction} | {mean} | {np.median(err):.3f} | {err.max():.2f} | "
                 f"{push} | {100 * cover:.0f} % | {100 * bad:.1f} % | {failed} |"

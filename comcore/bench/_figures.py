@@ -47,10 +47,18 @@ def _caption(outcome: TrialOutcome, estimate) -> str:
     return f"{trial}: error {err:.2f} px = {cm:.2f} cm"
 
 
+def _heatmap_of(outcome: TrialOutcome, estimator: str):
+    """The estimator's estimate and its :class:`comcore.paper.HeatmapDetails` (Alg. 1's)."""
+    est = outcome.estimates[estimator]
+    if est.heatmap is None:
+        raise ValueError(f"estimator {estimator!r} has no heat map (Alg. 1's, 'alg1', has)")
+    return est, est.heatmap
+
+
 def figure_heatmap(outcome: TrialOutcome, path, estimator: str = "alg1") -> Path:
     """Fig. 5: the normalised heat map S of Alg. 1 for one trial, with both CoMs."""
-    est = outcome.estimates[estimator]
-    heat = np.asarray(est.extras["heatmap"], float)
+    est, details = _heatmap_of(outcome, estimator)
+    heat = np.asarray(details.image, float)
     data = outcome.context.mask.data
     window = _crop(data)
     aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
@@ -70,13 +78,13 @@ def figure_heatmap(outcome: TrialOutcome, path, estimator: str = "alg1") -> Path
 
 def figure_segmentation(outcome: TrialOutcome, path, estimator: str = "alg1") -> Path:
     """Fig. 6: the thresholded pixels (top) and the largest connected region (bottom)."""
-    est = outcome.estimates[estimator]
+    est, details = _heatmap_of(outcome, estimator)
     data = outcome.context.mask.data
     window = _crop(data)
     aspect = (window[0].stop - window[0].start) / (window[1].stop - window[1].start)
     fig = _figure(5.5, 2 * 5.0 * aspect + 1.8)
     layers = (
-        ("segmented points", est.extras["segmented"]),
+        ("segmented points", details.segmented),
         ("largest connected region", est.region),
     )
     for k, (title, chosen) in enumerate(layers):

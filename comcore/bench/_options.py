@@ -3,8 +3,9 @@
 ``"alg2(min_scor=0.5)"`` must fail at once, not as an error row in every trial.
 A registered ``run(ctx, k=2)`` is checked against its own parameters; one that
 takes ``**options`` and hands them on (the built-ins do) is checked against the
-parameters of the function they reach. Where the chain ends in a ``**options``
-nobody can resolve, the options are accepted as they are.
+parameters of the function they reach (the active estimators': the fields of the
+option groups, which :func:`comcore.active.option_groups` builds). Where the chain
+ends in a ``**options`` nobody can resolve, the options are accepted as they are.
 """
 
 from __future__ import annotations
@@ -18,29 +19,38 @@ from ._registry import EstimatorSpec, parse_estimator
 __all__ = ["accepted_options", "check_estimator_options"]
 
 
-def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | None]:
-    """The functions a built-in estimator hands its ``**options`` to, in order."""
+def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
+    """The functions a built-in estimator hands its ``**options`` to, in order.
+
+    A tuple of callables stands for one step whose options are any of theirs (the
+    option groups: ``option_groups(**options)`` builds one group of each).
+    """
     import comcore
+    from comcore.active._option_groups import GROUPS
 
     from . import _builtins
 
     if getattr(spec.run, "__module__", None) != _builtins.__name__:
         return ()
-    active = getattr(comcore, "estimate_active", None)
-    groups = comcore.active.option_groups  # the active estimators' options by name, grouped
-    chains: dict[str, Sequence[Callable | None]] = {
+    groups = tuple(GROUPS.values())  # option_groups(**options): the fields of the groups
+    chains: dict[str, Sequence[Callable | tuple | None]] = {
         "_alg1": (comcore.estimate_heatmap,),
         "_alg2": (comcore.estimate_progressive,),
         "_alg2_rotation": (comcore.estimate_progressive,),
-        "_active": (active, groups),
-        "_active_vt": (getattr(_builtins, "_active", None), active, groups),
-        "_active_robot": (getattr(comcore, "ActiveSession", None), groups),
+        "_active": (groups,),
+        "_active_vt": (getattr(_builtins, "_active", None), groups),
+        "_active_robot": (groups,),
     }
     return chains.get(getattr(spec.run, "__name__", ""), ())
 
 
-def _parameters(func: Callable, skip_first: bool) -> tuple[set[str], bool] | None:
+def _parameters(func: Callable | tuple, skip_first: bool) -> tuple[set[str], bool] | None:
     """Keyword parameters with defaults (or all after the first), and whether ``**`` is taken."""
+    if isinstance(func, tuple):  # one step, any of their options
+        found = [_parameters(f, skip_first) for f in func]
+        if any(f is None for f in found):
+            return None
+        return set().union(*(f[0] for f in found)), any(f[1] for f in found)  # type: ignore[index]
     try:
         params = list(inspect.signature(func).parameters.values())
     except (TypeError, ValueError):  # a builtin or C function without a signature

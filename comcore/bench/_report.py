@@ -7,6 +7,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
+from .._status import Status
 from ._io import paper_table
 
 __all__ = [
@@ -44,15 +45,15 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     for key, members in groups.items():
         err = np.array([r["error_cm"] for r in members], float)
         pushes = np.array([r["pushes_used"] for r in members], float)
-        not_ok = Counter(r["status"] for r in members if r["status"] != "ok")
+        not_ok = Counter(r["status"] for r in members if r["status"] != Status.OK)
         out[key] = {
             "n": len(members),
             "error": _describe(err),
             "pushes": _describe(pushes),
             "total_pushes": int(sum(r["total_pushes"] for r in members)),
-            "not_ok": sum(r["status"] != "ok" for r in members),
+            "not_ok": sum(r["status"] != Status.OK for r in members),
             "statuses": dict(not_ok.most_common()),
-            "errors": sum(r["status"] == "error" for r in members),
+            "errors": sum(r["status"] == Status.ERROR for r in members),
         }
     return out
 
@@ -237,7 +238,7 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
     redrawn = {(r["object"], r["friction"], r["trial"]) for r in rows if "draw" in r["message"]}
     if redrawn:
         notes.append(f"- {len(redrawn)} trial(s) redrew the random simulator after a failed draw.")
-    failed = [r for r in rows if r["status"] == "error"]
+    failed = [r for r in rows if r["status"] == Status.ERROR]
     notes += [
         f"- error in {r['object']} {r['friction']} trial {r['trial']} `{r['estimator']}`: "
         f"{r['message']}"

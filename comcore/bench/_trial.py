@@ -171,7 +171,7 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
     if robot is not None:  # scored in the frame of the camera the estimator saw
         truth, resolution = robot.true_com_px(), robot.resolution
     error_px = est.error_px(truth)
-    radius = est.extras.get("credible_radius_px")
+    radius = None if est.posterior is None else est.posterior.credible_radius_px
     condition = spec.condition.name if spec.condition is not None else "exact"
     row: dict[str, Any] = {
         "object": spec.object,
@@ -195,7 +195,7 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
         "condition": condition,
         "covered": est.region_holds(truth),
         "credible_radius_cm": None if radius is None else float(radius) * resolution * 100.0,
-        "push_failures": int(est.extras.get("push_failures", 0)),
+        "push_failures": sum(p.outcome == "failed" for p in est.pushes),
     }
     row.update(values)
     row["total_pushes"] = row["pushes_used"] + row["prior_pushes"]
@@ -307,7 +307,9 @@ def run_trial(spec: TrialSpec, *, keep: bool = False):
         except Exception as e:  # one bad trial must not end a long benchmark
             message = f"{note}{type(e).__name__}: {e}"
             seen = robots.robots[-1].simulator.mask if robots.robots else mask  # its frame
-            est = comcore.Estimate(seen.centroid, seen.centroid_m, seen.data, status="error")
+            est = comcore.Estimate(
+                seen.centroid, seen.centroid_m, seen.data, status=comcore.Status.ERROR
+            )
         if est_spec.uses_motions:
             used, prior = len(est.used), prior_count
         else:

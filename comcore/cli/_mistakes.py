@@ -57,7 +57,7 @@ def sign_flip_nats(mask: comcore.Mask, actions, motions) -> float:
     motions = np.asarray(motions, dtype=float)
     flipped = motions * np.array([-1.0, 1.0, 1.0])
     evidence = [
-        comcore.estimate_posterior(mask, actions, m, model=None).extras["log_evidence"]
+        comcore.estimate_posterior(mask, actions, m, model=None).posterior.log_evidence
         for m in (motions, flipped)
     ]
     return float(evidence[1] - evidence[0])

@@ -5,19 +5,19 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
+from comcore import Status
 
 __all__ = ["STATUS_MEANINGS", "print_text", "region_summary"]
 
 #: What a status other than ``ok`` means for the user's recording (a warning on stderr).
 STATUS_MEANINGS = {
-    "inconsistent": "no CoM explains the observed motions well: check the pixel frame, the "
-    "sign of theta (counter-clockwise on screen is positive) and that every push started "
-    "from the pose of the mask",
-    "contradiction": "some pushes contradict the others (a sense observed the wrong way?); "
-    "the estimate rests on the consistent ones",
-    "no_evidence": "no push moved the object measurably: the estimate is the prior's mean",
-    "no_actions": "no push turned the object enough to use: the estimate is the centroid",
-    "flat_heatmap": "the pushes do not single out a region: the estimate is the centroid",
+    Status.INCONSISTENT: "no CoM explains the observed motions well (Alg. 2: some pushes "
+    "contradict the others, and the estimate rests on the consistent ones): check the pixel "
+    "frame, the sign of theta (counter-clockwise on screen is positive) and that every push "
+    "started from the pose of the mask",
+    Status.NO_EVIDENCE: "no push moved the object measurably: the estimate is the prior's mean",
+    Status.NO_ACTIONS: "no push turned the object enough to use: the estimate is the centroid",
+    Status.FLAT_HEATMAP: "the pushes do not single out a region: the estimate is the centroid",
 }
 
 
@@ -29,10 +29,10 @@ def region_summary(est: comcore.Estimate, resolution: float, credible: float) ->
     if area:
         rows, cols = np.nonzero(region)
         out["bbox_px"] = [int(cols.min()), int(rows.min()), int(cols.max()), int(rows.max())]
-    if "credible_radius_px" in est.extras:
-        out["credible_radius_px"] = float(est.extras["credible_radius_px"])
+    if est.posterior is not None:
+        out["credible_radius_px"] = float(est.posterior.credible_radius_px)
         out["credible"] = credible
-        out["bootstrap"] = int(est.extras.get("bootstrap", 0))  # 0: the posterior's own region
+        out["bootstrap"] = est.posterior.bootstrap  # 0: the posterior's own region
     out["radius_m"] = out.get("credible_radius_px", out["radius_px"]) * resolution
     return out
 

@@ -26,11 +26,11 @@ HELP = (
 STATUS_NOTES = {
     "baseline": "the mask's area centroid: no push, no evidence",
     "unchecked": "Alg. 1 has no test of its evidence: its answer is never checked, never ok",
-    "contradiction": "some pushes contradict the others; the estimate rests on the rest",
     "budget": "the active estimator spent its pushes (max_pushes) before its region was small",
     "exhausted": "no candidate push was left to make",
     "uninformative": "no push left was expected to teach anything",
-    "inconsistent": "no CoM explains the observed motions well",
+    "inconsistent": "no CoM explains the observed motions well (Alg. 2: some pushes contradict "
+    "the others; the estimate rests on the rest)",
     "no_actions": "no push turned the object enough to use",
     "flat_heatmap": "the pushes did not single out a region",
 }
@@ -95,24 +95,23 @@ def _run(args) -> int:
     active = comcore.estimate_active(  # the object put back before each of its pushes
         mask, lambda action: sim.push(action).motion, pusher_radius=sim.pusher_radius, rng=rng
     )
-    baseline = comcore.Estimate(
-        com=mask.centroid, com_m=mask.centroid_m, region=mask.data, status="baseline"
-    )
+    baseline = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
     heatmap = comcore.estimate_heatmap(mask, actions, motions)
     progressive = comcore.estimate_progressive(mask, actions, motions)
-    rows = [  # (name, estimate, the pushes it rests on)
-        ("centroid (baseline)", baseline, 0),
-        ("Alg. 1 heat map", heatmap, len(heatmap.used)),
-        ("Alg. 2 progressive", progressive, len(progressive.used)),
-        ("active (its own pushes)", active, sum(p.outcome != "failed" for p in active.pushes)),
-    ]
-    for name, est, pushes in rows:
+    rows = [  # (name, estimate, the pushes it rests on, the status shown)
+        ("centroid (baseline)", baseline, 0, "baseline"),
+        ("Alg. 1 heat map", heatmap, len(heatmap.used), heatmap.status),
+        ("Alg. 2 progressive", progressive, len(progressive.used), progressive.status),
+        ("active (its own pushes)", active, sum(p.outcome != "failed" for p in active.pushes),
+         active.status),
+    ]  # fmt: skip
+    for name, est, pushes, status in rows:
         print(
             f"  {name:23s} CoM ({est.com[0]:6.1f}, {est.com[1]:6.1f}) px  "
             f"error {est.error_px(sim.com_px) * cm_per_px:5.2f} cm  "
-            f"pushes {pushes:3d}  status {est.status}"
+            f"pushes {pushes:3d}  status {status}"
         )
-    for status in dict.fromkeys(est.status for _, est, _ in rows):
+    for status in dict.fromkeys(status for *_, status in rows):
         if status in STATUS_NOTES:
             print(f"  status {status}: {STATUS_NOTES[status]}")
     print(

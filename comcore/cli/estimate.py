@@ -298,7 +298,7 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
         "com_m": list(est.com_m),
         "method": args.method,
         "model": args.model if args.method == "posterior" else None,
-        "status": "inconsistent" if mistake else est.status,
+        "status": comcore.Status.INCONSISTENT if mistake else est.status,
         "estimator_status": est.status,
         "mistake": mistake,
         "used_lines": [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)],
@@ -390,7 +390,7 @@ def run(args) -> int:
         meaning = STATUS_MEANINGS.get(est.status, "the estimator could not do its job fully")
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake)
-    shown = dataclasses.replace(est, status="inconsistent") if mistake else est
+    shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
     code = _overlay(args, mask, pushes, shown, result)
     if code:
         return code

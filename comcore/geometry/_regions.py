@@ -6,6 +6,7 @@ import numpy as np
 from scipy import ndimage
 
 from .._mask import Mask
+from .._status import Status
 from .._types import Estimate
 
 __all__ = [
@@ -152,7 +153,7 @@ def estimate_from_region(mask: Mask, region: np.ndarray, **fields) -> Estimate:
     ``status`` set to ``"empty_region"`` unless the caller gave a status.
     """
     if not region.any():
-        fields.setdefault("status", "empty_region")
+        fields.setdefault("status", Status.EMPTY_REGION)
         region = mask.data
     rows, cols = np.nonzero(region)
     com = (float(cols.mean()), float(rows.mean()))

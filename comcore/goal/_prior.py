@@ -41,8 +41,8 @@ def prior_particles(
     if prior is None:
         pixels, weights = prior_grid(first, None)
         return pixels, weights, None, None
-    if isinstance(prior, Estimate) and prior.extras.get("posterior") is not None:
-        image = np.asarray(prior.extras["posterior"], float)
+    if isinstance(prior, Estimate) and prior.posterior is not None:
+        image = np.asarray(prior.posterior.image, float)
     else:
         hyps = hypotheses_from(prior, first, n)  # validates; an estimate without an image
         image = np.zeros(first.shape)

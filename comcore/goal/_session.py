@@ -10,15 +10,24 @@ tracked as the active session tracks it (:mod:`comcore.camera._pose_tracking`).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from .._errors import SessionError
 from .._mask import Mask
+from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
 from .._validation import check_count, check_mask, check_physical, check_rng
 from ..active._likelihood import gyration_px
-from ..active._option_groups import resolve_groups
-from ..active._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ..active._option_groups import check_groups, names_the_group
+from ..active._options import (
+    DEFAULT_CREDIBLE,
+    DEFAULT_MODEL,
+    DEFAULT_PUSHER_RADIUS,
+    PushChoice,
+    StopRule,
+)
 from ..active._reading import PushContext, best_branch, push_record
 from ..active._records import PushLog
 from ..active._session import ActiveSession, session_setup
@@ -41,8 +50,41 @@ __all__ = ["GOAL_STATUSES", "GoalSession"]
 #: this share of the camera's reading error (:attr:`comcore.Likelihood.motion_noise`: 0.5
 #: degrees and 0.5 mm by default), so that the true pose is within them.
 READING_MARGIN = 0.5
+#: The goal session's options where its ``stop`` and ``choice`` are left None: 30 pushes of
+#: up to 5 cm each after contact (an :class:`comcore.ActiveSession`'s are 5 pushes of 3 cm).
+DEFAULT_STOP = StopRule(max_pushes=30)
+DEFAULT_CHOICE = PushChoice(travel=0.05)
 #: What :attr:`GoalSession.status` can say.
-GOAL_STATUSES = ("running", "reached", "budget", "stuck", "lost")
+GOAL_STATUSES = (
+    Status.WAITING_PUSH,
+    Status.WAITING_OBSERVATION,
+    Status.REACHED,
+    Status.BUDGET,
+    Status.STUCK,
+    Status.LOST,
+)
+
+
+def _goal_options(groups, resolution: float) -> tuple[float, int]:
+    """The push length (pixels) and budget a goal session reads from its ``choice`` and ``stop``."""
+    stop, choice = groups["stop"], groups["choice"]
+    read_only = ((stop, StopRule(), "max_pushes"), (choice, PushChoice(), "travel"))
+    for group, default, read in read_only:
+        other = [
+            f.name for f in dataclasses.fields(group)
+            if f.name != read and getattr(group, f.name) != getattr(default, f.name)
+        ]  # fmt: skip
+        if other:
+            raise ValueError(
+                f"a GoalSession reads only {type(group).__name__}.{read} (it plans its own "
+                f"pushes and stops at the goal): {other} do not apply"
+            )
+    if stop.max_pushes < 1:
+        raise ValueError("stop.max_pushes must be at least 1 for a GoalSession, got 0")
+    travel_px = choice.travel / resolution
+    if travel_px < 2:
+        raise ValueError(f"choice.travel {choice.travel} m is under two pixels of the mask")
+    return travel_px, stop.max_pushes
 
 
 class GoalSession:
@@ -50,8 +92,9 @@ class GoalSession:
 
     ::
 
-        session = comcore.GoalSession(first_mask, goal=comcore.Goal(displacement=(0.2, 0)),
-                                      pusher_radius=0.004, max_travel=0.05, rng=0)
+        session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.2, 0)),
+                                      pusher_radius=0.004, rng=0,
+                                      choice=comcore.PushChoice(travel=0.05))
         while not session.done:
             robot.execute(session.next_push())   # camera pixels
             session.observe(camera_mask())       # or observe(motion=...)
@@ -60,14 +103,16 @@ class GoalSession:
     Each push is planned by predicting its outcome with the motion model
     over particles of the CoM posterior (:mod:`comcore.goal._planner`: the
     push of least expected remaining pose error, in tolerances, up to
-    ``max_travel`` after contact). With ``learn=True`` (default) every push
+    ``choice.travel`` after contact). With ``learn=True`` (default) every push
     is also evidence: the posterior is updated as :class:`comcore.ActiveSession`
     updates it, and the next push is planned on it.
 
-    **Statuses.** ``"running"``; ``"reached"``: the pose is within the goal's
+    **Statuses.** ``"waiting_push"`` (call :meth:`next_push`) and
+    ``"waiting_observation"`` (call :meth:`observe`), as an
+    :class:`ActiveSession`'s; ``"reached"``: the pose is within the goal's
     tolerances (the pose as read, within them less half the reading error
     the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
-    default); ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
+    default); ``"budget"``: ``stop.max_pushes`` pushes made; ``"stuck"``: no
     candidate push is expected to bring the object closer (the goal needs a
     pull, or a push the object's outline does not allow); ``"lost"``: the
     object left the camera's view (a mask that touches the image border, or
@@ -77,29 +122,42 @@ class GoalSession:
 
     Parameters
     ----------
-    first_mask : Mask
+    mask : Mask
         The object as the camera sees it before the first push.
     goal : Goal
-        The pose wanted, relative to ``first_mask`` (:class:`comcore.Goal`).
+        The pose wanted, relative to ``mask`` (:class:`comcore.Goal`).
+    model : optional
+        The likelihood's motion model(s), as for :class:`ActiveSession`.
     pusher_radius : float, optional
         Metres (default 4 mm).
-    max_travel : float, optional
-        Metres the pusher may travel after contact in one push (default 5 cm).
-    max_pushes : int, optional
-        Budget (default 30).
     prior : None, Estimate, ActiveSession or CoM hypotheses, optional
         What is known of the CoM: None (uniform over the mask), an active
-        estimator's :class:`comcore.Estimate` of ``first_mask`` (its
-        posterior image and friction posterior: a learning session starts
-        from both, where its likelihood has the estimate's friction values),
-        an :class:`ActiveSession` on ``first_mask`` (its estimate now; the
-        goal session starts at its :attr:`~ActiveSession.pose`, where its
-        pushes left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
+        estimator's :class:`comcore.Estimate` of ``mask`` (its posterior
+        image and friction posterior: a learning session starts from both,
+        where its likelihood has the estimate's friction values), an
+        :class:`ActiveSession` on ``mask`` (its estimate now; the goal
+        session starts at its :attr:`~ActiveSession.pose`, where its pushes
+        left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
+    rng : None, int or numpy.random.Generator, optional
+        Checked and kept for the ActiveSession's shape; the planner draws
+        nothing at random (its particles are a systematic draw), so a session
+        is reproducible whatever the seed.
+    likelihood : Likelihood, optional
+        As for :class:`ActiveSession`.
+    stop : StopRule, optional
+        Its ``max_pushes`` is the budget (at least 1; default
+        ``StopRule(max_pushes=30)``, :data:`DEFAULT_STOP`). The session stops
+        at the goal: a rule with another ``target_radius``, ``min_pushes`` or
+        ``min_information`` than the defaults is refused.
+    choice : PushChoice, optional
+        Its ``travel`` is how far (metres) the pusher may travel after contact
+        in one push (default ``PushChoice(travel=0.05)``,
+        :data:`DEFAULT_CHOICE`). The planner chooses the pushes: a choice with
+        another ``selection``, ``n_candidates`` or ``cone`` than the defaults
+        is refused.
     learn : bool, optional
         Update the posterior with every push (default True); False plans on
         the prior, fixed.
-    model : optional
-        The likelihood's motion model(s), as for :class:`ActiveSession`.
     planner_model : HypothesisPredictor, optional
         The model that predicts candidates (default
         :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
@@ -109,12 +167,6 @@ class GoalSession:
         The only camera directions (radians; 0: +x, pi/2: +y down the screen)
         the robot may push along, where its workspace allows no others
         (default: 8 evenly spaced, and the direction to the goal).
-    likelihood : Likelihood, optional
-        As for :class:`ActiveSession`.
-    rng : None, int or numpy.random.Generator, optional
-        Checked and kept for the ActiveSession's shape; the planner draws
-        nothing at random (its particles are a systematic draw), so a session
-        is reproducible whatever the seed.
 
     Raises
     ------
@@ -126,42 +178,44 @@ class GoalSession:
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 40))
     >>> session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.03, 0.0)),
-    ...                               max_travel=0.02, model=None, rng=0)
+    ...                               choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
     >>> session.status, session.next_push().ex > session.next_push().sx
-    ('running', True)
+    ('waiting_push', True)
     >>> session.observe(motion=(0.0, 12.0, 0.0))  # 3 cm to the right
     >>> session.status, session.done
     ('reached', True)
     """
 
+    @names_the_group
     def __init__(
         self,
-        first_mask: Mask,
+        mask: Mask,
         goal: Goal,
         *,
-        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
-        max_travel: float = 0.05,
-        max_pushes: int = 30,
-        prior=None,
-        learn: bool = True,
         model=DEFAULT_MODEL,
+        pusher_radius: float = DEFAULT_PUSHER_RADIUS,
+        prior=None,
+        rng=None,
+        likelihood=None,
+        stop=None,
+        choice=None,
+        learn: bool = True,
         planner_model=None,
         n_particles: int = PLANNING_PARTICLES,
         push_directions=None,
-        likelihood=None,
-        rng=None,
     ):
-        self._first = check_mask(first_mask, "first_mask")
+        self._first = check_mask(mask)
         if not isinstance(goal, Goal):
             raise TypeError(f"goal must be a comcore.Goal, got {type(goal).__name__}")
         if not isinstance(learn, (bool, np.bool_)):
             raise TypeError(f"learn must be a bool, got {type(learn).__name__}")
         self._goal, self._learn = goal, bool(learn)
-        self._max_travel_px = check_physical(max_travel, "max_travel", "push_length")
-        self._max_travel_px /= self._first.resolution
-        if self._max_travel_px < 2:
-            raise ValueError(f"max_travel {max_travel} m is under two pixels of the mask")
-        self._max_pushes = check_count(max_pushes, "max_pushes", 1)
+        groups = check_groups(
+            likelihood=likelihood,
+            stop=DEFAULT_STOP if stop is None else stop,
+            choice=DEFAULT_CHOICE if choice is None else choice,
+        )
+        self._max_travel_px, self._max_pushes = _goal_options(groups, self._first.resolution)
         self._n_particles = check_count(n_particles, "n_particles", 1)
         self._allowed = None
         if push_directions is not None:
@@ -175,7 +229,7 @@ class GoalSession:
         self._radius = check_physical(
             pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
         )
-        likelihood = resolve_groups("GoalSession", {"likelihood": likelihood}, {})["likelihood"]
+        likelihood = groups["likelihood"]
         # the pose is read by the camera: "reached" keeps a margin of its reading error
         self._margin = tuple(READING_MARGIN * v for v in likelihood.motion_noise)
         self._likelihood = likelihood  # its model-error scales: the planner's caution too
@@ -221,10 +275,10 @@ class GoalSession:
         """Check the goal and the budget; if it goes on, plan the next push."""
         self._plan = None
         if reached(self._goal, self._target, self._first.resolution, self._pose, self._margin):
-            self._final = "reached"
+            self._final = Status.REACHED
             return
         if self._n_pushes >= self._max_pushes:
-            self._final = "budget"
+            self._final = Status.BUDGET
             return
         hyps = self._fixed or hypotheses_from(self._posterior, self._first, self._n_particles)
         self._plan = plan_push(
@@ -233,7 +287,7 @@ class GoalSession:
             self._likelihood,
         )  # fmt: skip
         if self._plan is None:
-            self._final = "stuck"
+            self._final = Status.STUCK
 
     @property
     def done(self) -> bool:
@@ -241,9 +295,11 @@ class GoalSession:
         return self._final is not None
 
     @property
-    def status(self) -> str:
-        """``"running"``, or why it stopped: reached, budget, stuck or lost."""
-        return "running" if self._final is None else self._final
+    def status(self) -> Status:
+        """What the session waits for, or why it stopped: reached, budget, stuck or lost."""
+        if self._final is not None:
+            return self._final
+        return Status.WAITING_OBSERVATION if self._handed_out else Status.WAITING_PUSH
 
     @property
     def pose(self) -> Motion:
@@ -268,9 +324,7 @@ class GoalSession:
     def estimate(self) -> Estimate:
         """The CoM posterior now (as :meth:`ActiveSession.estimate`); ``com`` in the first mask."""
         used = list(range(len(self._log.executed)))
-        return self._log.estimate(
-            self._first, self._posterior, used, self.status, {"pose": self._pose}
-        )
+        return self._log.estimate(self._first, self._posterior, used, self.status, pose=self._pose)
 
     # -- ask / tell ---------------------------------------------------------------------
 
@@ -327,7 +381,7 @@ class GoalSession:
                 )
         if out_of_view or (mask is not None and touches_border(mask)):
             self._n_pushes += 1
-            self._handed_out, self._plan, self._final = False, None, "lost"
+            self._handed_out, self._plan, self._final = False, None, Status.LOST
             return
         record, evidence, pose = self._reading(mask, motion)
         self._log.add(record, self._posterior, *evidence)

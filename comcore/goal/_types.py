@@ -179,8 +179,8 @@ def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None
     """``n`` particles of a posterior over the CoM (and the friction where it has one).
 
     Accepted: a :class:`comcore.Estimate` of an active estimator (its
-    ``extras["posterior"]`` image, ``"mu_grid"`` and ``"mu_posterior"``; an
-    estimate without a posterior image is its ``com`` alone), a
+    ``posterior``'s ``image``, ``mu_grid`` and ``mu_posterior``; an estimate
+    without a posterior is its ``com`` alone), a
     :class:`CoMHypotheses`, the session's grid posterior, an array of CoMs
     ``(k, 2)`` (equal weights) or a pair ``(coms (k, 2), weights (k,))``.
     Frictions unknown to the posterior are ``mus`` (default: the
@@ -194,7 +194,7 @@ def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None
         p, m = np.unravel_index(index, joint.shape)
         return CoMHypotheses(posterior.pixels[p], posterior.mus[m], w)
     if isinstance(posterior, Estimate):
-        image = posterior.extras.get("posterior")
+        image = None if posterior.posterior is None else posterior.posterior.image
         if image is None:
             coms, cw = np.array([posterior.com], float), np.ones(1)
         else:
@@ -217,17 +217,17 @@ def hypotheses_from(posterior, mask: Mask, n: int = PLANNING_PARTICLES, mus=None
 
 def estimate_frictions(estimate: Estimate) -> tuple[np.ndarray, np.ndarray] | None:
     """An estimate's friction values and their posterior (summing to 1), or None if it has none."""
-    grid, weights = estimate.extras.get("mu_grid"), estimate.extras.get("mu_posterior")
-    if grid is None or weights is None:
+    if estimate.posterior is None:
         return None
+    grid, weights = estimate.posterior.mu_grid, estimate.posterior.mu_posterior
     grid, weights = np.asarray(grid, float).ravel(), np.asarray(weights, float).ravel()
     if grid.shape != weights.shape or not (np.isfinite(weights).all() and (weights >= 0).all()):
         raise ValueError(
-            "the estimate's extras['mu_posterior'] must be non-negative weights, one per "
-            f"extras['mu_grid'] value ({len(grid)}), got {weights.tolist()}"
+            "the estimate's posterior.mu_posterior must be non-negative weights, one per "
+            f"posterior.mu_grid value ({len(grid)}), got {weights.tolist()}"
         )
     if weights.sum() <= 0:
-        raise ValueError("the estimate's extras['mu_posterior'] must not be all zero")
+        raise ValueError("the estimate's posterior.mu_posterior must not be all zero")
     return grid, weights / weights.sum()
 
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._mask import Mask
-from .._types import Estimate
+from .._status import Status
+from .._types import Estimate, HeatmapDetails
 from .._validation import (
     check_actions,
     check_mask,
@@ -20,7 +21,7 @@ __all__ = ["estimate_heatmap", "rotation_heatmap"]
 
 #: Alg. 1's status when it found a region: the heat map has no test of the motions
 #: (any motions give a calm region), so its answer is never ``"ok"``.
-UNCHECKED = "unchecked"
+UNCHECKED = Status.UNCHECKED
 
 #: Smallest ``length_scale`` (pixels): below it the weight ``exp(-d / length_scale)`` of a
 #: pixel half a pixel from a push line underflows float32 (is below its smallest normal
@@ -120,7 +121,7 @@ def estimate_heatmap(
     therefore never ``"ok"``: ``"unchecked"`` says the answer is the paper's,
     unverified. Where you need an answer that says when the motions
     contradict it, use :func:`comcore.estimate_progressive` (Alg. 2:
-    ``"contradiction"``) or :func:`comcore.estimate_posterior`
+    ``"inconsistent"``) or :func:`comcore.estimate_posterior`
     (``"inconsistent"``).
 
     Returns
@@ -130,8 +131,8 @@ def estimate_heatmap(
         evidence not tested (``ok`` is ``False``). With no actions, or a heat
         map that is flat over the object, the result is the mask's centroid
         with ``status`` ``"no_actions"`` or ``"flat_heatmap"``.
-        ``extras["heatmap"]`` holds ``S`` (H, W); ``extras["segmented"]`` the
-        thresholded pixels before the connected-component step.
+        ``heatmap`` (:class:`comcore.paper.HeatmapDetails`) holds ``S`` (H, W)
+        and the thresholded pixels before the connected-component step.
 
     Examples
     --------
@@ -153,18 +154,18 @@ def estimate_heatmap(
     threshold = check_probability(threshold, "threshold")
     length_scale = _check_length_scale(length_scale)
     if acts.shape[0] == 0:
-        return estimate_from_region(mask, mask.data, status="no_actions")
+        return estimate_from_region(mask, mask.data, status=Status.NO_ACTIONS)
     contacts(mask, acts).require_hits("actions")
     heat = rotation_heatmap(mask, acts, mots, length_scale)
     segmented = mask.data & (heat < threshold)
     status = UNCHECKED
     if not heat.any():
-        status, segmented = "flat_heatmap", mask.data
+        status, segmented = Status.FLAT_HEATMAP, mask.data
     region = largest_component(segmented)
     return estimate_from_region(
         mask,
         region,
         used=range(acts.shape[0]),
         status=status,
-        extras={"heatmap": heat, "segmented": segmented},
+        heatmap=HeatmapDetails(image=heat, segmented=segmented),
     )

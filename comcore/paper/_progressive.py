@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._mask import Mask
-from .._types import Estimate
+from .._status import Status
+from .._types import Estimate, ProgressiveDetails
 from .._validation import (
     check_actions,
     check_mask,
@@ -124,8 +125,8 @@ def estimate_progressive(
       one that is chosen is then skipped instead of applied (its allowed part
       misses the current region); one that is pruned (low score) or never
       reached is checked against the final region. Either way it is listed in
-      ``extras["contradicted"]`` (skipped ones first, in the order met) and
-      ``status`` is ``"contradiction"``. The fallback estimate is the one the
+      ``progressive.contradicted`` (skipped ones first, in the order met) and
+      ``status`` is ``"inconsistent"``. The fallback estimate is the one the
       other actions give, exactly as if the contradicting ones had not been
       recorded: the region the applied cuts leave and its mean, never a NaN.
       Dropping an action is not in itself a contradiction: a pruned or
@@ -137,7 +138,7 @@ def estimate_progressive(
       theta's sign flipped (theta counter-clockwise with the y axis up) are
       explained by a CoM mirrored through the centroid when the pushes' lines
       pass near it: of 60 benchmark recordings of 40 pushes with every sign
-      flipped, 58 say ``"contradiction"`` and 2 say ``"ok"``, 5.3 and 11.9 cm
+      flipped, 58 say ``"inconsistent"`` and 2 say ``"ok"``, 5.3 and 11.9 cm
       off (``benchmarks/accuracy/estimate_methods.py --flips 0,all``). The senses cannot
       tell those two; the motions' sizes can: ``comcore estimate`` checks every
       recording's sign for every method, and :func:`comcore.estimate_posterior`
@@ -181,15 +182,16 @@ def estimate_progressive(
         grazing push whose leading line misses the mask is still scored. The
         default 0 is the paper's point pusher on the leading line. Pushes
         that start inside the object or never touch it are left out and
-        reported in ``extras["skipped"]``; a ValueError if more than half are.
+        reported in ``skipped``; a ValueError if more than half are.
 
     Returns
     -------
     Estimate
-        ``used`` lists the applied actions in order; ``extras`` holds
-        ``"region_sizes"`` (pixels after each cut, starting with the object)
-        and ``"contradicted"`` (the contradicting actions). ``status`` is
-        ``"ok"``, ``"contradiction"`` or ``"no_actions"``.
+        ``used`` lists the applied actions in order; ``progressive``
+        (:class:`comcore.paper.ProgressiveDetails`) holds ``region_sizes``
+        (pixels after each cut, starting with the object) and ``contradicted``
+        (the contradicting actions). ``status`` is
+        ``"ok"``, ``"inconsistent"`` or ``"no_actions"``.
 
     Examples
     --------
@@ -208,8 +210,8 @@ def estimate_progressive(
     reported; the estimate is push 1's half:
 
     >>> e = estimate_progressive(m, [(0, 8, 30, 8), (0, 18, 30, 18)], [(0.2, 3, 0), (-0.2, 3, 0)])
-    >>> e.status, e.used, e.extras["contradicted"], e.com
-    ('contradiction', (1,), [0], (13.5, 20.5))
+    >>> e.status, e.used, e.progressive.contradicted, e.com
+    ('inconsistent', (1,), (0,), (13.5, 20.5))
     """
     mask = check_mask(mask)
     acts = check_actions(actions)
@@ -235,8 +237,9 @@ def estimate_progressive(
         return estimate_from_region(
             mask,
             mask.data,
-            status="no_actions",
-            extras={"region_sizes": [mask.area_px], "contradicted": [], "skipped": skipped},
+            status=Status.NO_ACTIONS,
+            progressive=ProgressiveDetails(region_sizes=(mask.area_px,)),
+            skipped=skipped,
         )
 
     current = mask.data.copy()  # the feasible region, as an image
@@ -279,8 +282,9 @@ def estimate_progressive(
         mask,
         region,
         used=used,
-        status="contradiction" if contradicted else "ok",
-        extras={"region_sizes": sizes, "contradicted": contradicted, "skipped": skipped},
+        status=Status.INCONSISTENT if contradicted else Status.OK,
+        progressive=ProgressiveDetails(tuple(sizes), tuple(contradicted)),
+        skipped=skipped,
     )
 
 

@@ -139,8 +139,8 @@ def plot_estimate(
     mask : Mask
         The mask the estimate was computed on (for an active estimate, the first mask).
     estimate : Estimate
-        Any estimator's result. The object is coloured by ``extras["posterior"]``
-        (active and offline posterior, on a log scale) or ``extras["heatmap"]``
+        Any estimator's result. The object is coloured by ``posterior.image``
+        (active and offline posterior, on a log scale) or ``heatmap.image``
         (Alg. 1) where present; otherwise the region is filled. The region is
         outlined in every case (for a posterior: its credible region).
     actions : array_like, shape (n, 4), optional

@@ -85,7 +85,7 @@ def evidence_of(estimate: Estimate, n_executed: int) -> np.ndarray:
 
 def is_active(estimate: Estimate) -> bool:
     """An active run (it chose and executed its pushes), not the offline posterior."""
-    return "pose" in estimate.extras
+    return estimate.posterior is not None and estimate.posterior.pose is not None
 
 
 def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:
@@ -97,9 +97,10 @@ def belief_of(estimate: Estimate) -> tuple[str, np.ndarray | None]:
     >>> belief_of(comcore.Estimate((1.0, 1.0), (0.0, 0.0), np.ones((3, 3), bool)))
     ('region', None)
     """
-    for key in ("posterior", "heatmap"):
-        if key in estimate.extras:
-            return key, np.asarray(estimate.extras[key], float)
+    if estimate.posterior is not None:
+        return "posterior", np.asarray(estimate.posterior.image, float)
+    if estimate.heatmap is not None:
+        return "heatmap", np.asarray(estimate.heatmap.image, float)
     return "region", None
 
 

@@ -37,8 +37,8 @@ def test_pushes_that_disagree_widen_the_region_over_both(separation):
     # the bagged region holds both, the estimate is the posterior's mean all the same
     assert bagged.region_holds(a) and bagged.region_holds(b)
     assert bagged.com == plain.com
-    np.testing.assert_array_equal(bagged.extras["posterior"], plain.extras["posterior"])
-    assert bagged.extras["bootstrap"] == 200 and plain.extras["bootstrap"] == 0
+    np.testing.assert_array_equal(bagged.posterior.image, plain.posterior.image)
+    assert bagged.posterior.bootstrap == 200 and plain.posterior.bootstrap == 0
     # the covariance is the bagged spread about the estimate: wider than the posterior's
     assert np.trace(bagged.covariance) > 1.2 * np.trace(plain.covariance)
 
@@ -48,7 +48,7 @@ def test_pushes_that_agree_leave_the_region_about_as_it_is():
     kw = {"model": ToyModel(), "likelihood": NO_FLOOR}
     plain = comcore.estimate_posterior(mask, actions, motions, bootstrap=0, **kw)
     bagged = comcore.estimate_posterior(mask, actions, motions, **kw)
-    radii = [e.extras["credible_radius_px"] for e in (plain, bagged)]
+    radii = [e.posterior.credible_radius_px for e in (plain, bagged)]
     assert plain.region_holds(a) and bagged.region_holds(a)
     # at most sqrt(2) wider (twice the variance where the model is right); here 7 %
     assert radii[0] <= radii[1] <= 1.2 * radii[0]
@@ -61,9 +61,7 @@ def test_the_region_is_seeded_and_the_seed_matters_little():
     again = comcore.estimate_posterior(mask, actions, motions, rng=1, **kw)
     np.testing.assert_array_equal(one.region, again.region)
     radii = [
-        comcore.estimate_posterior(mask, actions, motions, rng=seed, **kw).extras[
-            "credible_radius_px"
-        ]
+        comcore.estimate_posterior(mask, actions, motions, rng=seed, **kw).posterior.credible_radius_px
         for seed in range(4)
     ]
     assert np.ptp(radii) < 0.1 * np.mean(radii)
@@ -79,7 +77,7 @@ def test_one_push_is_its_own_bag():
     plain = comcore.estimate_posterior(mask, actions, motions, bootstrap=0, **kw)
     bagged = comcore.estimate_posterior(mask, actions, motions, **kw)
     np.testing.assert_array_equal(plain.region, bagged.region)
-    assert bagged.extras["bootstrap"] == 0
+    assert bagged.posterior.bootstrap == 0
 
 
 def test_the_bag_of_equal_weights_is_the_posterior_tempers_and_pruning_included():
@@ -150,7 +148,7 @@ def test_a_bag_too_big_to_keep_is_refused_before_any_push_is_scored(monkeypatch)
     with pytest.raises(ValueError, match="bootstrap would keep .* pass bootstrap=0"):
         comcore.estimate_posterior(mask, actions, motions, model=None)
     est = comcore.estimate_posterior(mask, actions, motions, model=None, bootstrap=0)
-    assert est.extras["bootstrap"] == 0
+    assert est.posterior.bootstrap == 0
 
 
 def test_the_bagging_benchmark_runs():

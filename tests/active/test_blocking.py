@@ -72,7 +72,7 @@ def _robot(mask, com, mu, model=None, flips=()):
 
 
 def _posterior_at(estimate, com):
-    return estimate.extras["posterior"][round(com[1]), round(com[0])]
+    return estimate.posterior.image[round(com[1]), round(com[0])]
 
 
 # -- the force-line form of the Voting Theorem -------------------------------------------
@@ -173,7 +173,7 @@ def test_noise_free_senses_keep_the_true_com_at_the_top(row, col, mu, seed):
     # Per push the true CoM scores eps + (1 - 2 eps) side(|d|); no pixel scores above 1 - eps.
     eps = 0.05
     allowed = np.prod((eps + (1 - 2 * eps) * side_probability(distance)) / (1 - eps))
-    post = est.extras["posterior"]
+    post = est.posterior.image
     assert _posterior_at(est, com) >= allowed * post.max() * (1 - 1e-9)
 
 
@@ -207,8 +207,8 @@ def test_several_models_are_weighed_by_the_data():
         # the likelihood untempered: what the data say of each model
         likelihood=comcore.Likelihood(model_weight=1.0),
     )
-    assert est.extras["model_posterior"].shape == (2,)
-    assert est.extras["model_posterior"][1] > 0.99
+    assert est.posterior.model_posterior.shape == (2,)
+    assert est.posterior.model_posterior[1] > 0.99
     assert est.error_px(com) < 1.5
 
 
@@ -221,7 +221,7 @@ def test_same_seed_same_result():
     ]
     assert runs[0].used == runs[1].used
     assert runs[0].com == runs[1].com
-    np.testing.assert_array_equal(runs[0].extras["posterior"], runs[1].extras["posterior"])
+    np.testing.assert_array_equal(runs[0].posterior.image, runs[1].posterior.image)
     other = comcore.estimate_active(mask, _robot(mask, com, 0.3), rng=12, model=None, stop=comcore.StopRule(max_pushes=4))
     assert other.used != runs[0].used
 
@@ -235,17 +235,17 @@ def test_result_fields_and_history():
     motions, actions = motions_of(est), actions_of(est)
     assert motions.shape == (3, 3) and actions.shape == (3, 4)
     np.testing.assert_array_equal(actions, np.array([tuple(a) for a in push.calls]))
-    assert est.extras["posterior"].sum() == pytest.approx(1.0)
-    assert not est.extras["posterior"][~mask.data].any()
+    assert est.posterior.image.sum() == pytest.approx(1.0)
+    assert not est.posterior.image[~mask.data].any()
     assert est.covariance.shape == (2, 2)
     assert np.all(np.linalg.eigvalsh(est.covariance) > 0)
-    history = est.extras["history"]
+    history = est.posterior.history
     assert len(history) == 4 and history[-1].expected_gain_bits is None
     entropies = [h.entropy_bits for h in history]
     assert entropies[0] == pytest.approx(np.log2(mask.area_px))
     assert entropies[-1] < entropies[0] - 1.0  # about 0.5 bit per noisy, blurred sense
-    assert history[-1].credible_radius_px == pytest.approx(est.extras["credible_radius_px"])
-    assert est.extras["mu_posterior"].sum() == pytest.approx(1.0)
+    assert history[-1].credible_radius_px == pytest.approx(est.posterior.credible_radius_px)
+    assert est.posterior.mu_posterior.sum() == pytest.approx(1.0)
 
 
 def test_stops_when_the_credible_region_is_small_enough():
@@ -257,9 +257,9 @@ def test_stops_when_the_credible_region_is_small_enough():
         model=ToyModel(),
         rng=1, stop=comcore.StopRule(max_pushes=30, target_radius=0.004), choice=comcore.PushChoice(selection="sense"))
     assert est.status == "ok"
-    assert est.extras["credible_radius_px"] * mask.resolution <= 0.004
+    assert est.posterior.credible_radius_px * mask.resolution <= 0.004
     assert len(est.used) < 30
-    radii = [h.credible_radius_px for h in est.extras["history"]]
+    radii = [h.credible_radius_px for h in est.posterior.history]
     assert radii[-2] * mask.resolution > 0.004  # it did not push once more than needed
 
 
@@ -350,7 +350,7 @@ def test_a_prior_off_the_object_is_allowed():
         model=ToyModel(),
         rng=0, stop=comcore.StopRule(max_pushes=8), choice=comcore.PushChoice(selection="sense"))
     assert est.error_px(com) < 2.0
-    assert not mask.data[20, 18] and est.extras["posterior"][20, 18] > 0
+    assert not mask.data[20, 18] and est.posterior.image[20, 18] > 0
 
 
 @pytest.mark.parametrize(
@@ -514,7 +514,7 @@ def test_a_tiny_flip_prob_keeps_the_gains_finite(flip_prob):
         mask, _robot(mask, (20.0, 15.0), 0.3), cands, model=None,
         likelihood=comcore.Likelihood(flip_prob=flip_prob), stop=comcore.StopRule(max_pushes=3))
     assert est.used != (0, 1, 2)
-    assert all(np.isfinite(h.expected_gain_bits) for h in est.extras["history"][:-1])
+    assert all(np.isfinite(h.expected_gain_bits) for h in est.posterior.history[:-1])
 
 
 # -- noise in physical units -------------------------------------------------------------
@@ -564,7 +564,7 @@ def test_the_credible_radius_in_metres_does_not_depend_on_the_resolution():
             est = comcore.estimate_active(
                 mask, push, pushes_m / resolution, model=model,
                 stop=comcore.StopRule(max_pushes=4, target_radius=1e-5))
-            radii.append(est.extras["credible_radius_px"] * resolution)
+            radii.append(est.posterior.credible_radius_px * resolution)
         ratios.append(radii[1] / radii[0])
     # With the scales in pixels (translation_noise, the 1.2 px line) it was 0.74 (0.62-0.91).
     assert 0.85 < np.mean(ratios) < 1.18
@@ -582,27 +582,15 @@ def test_default_candidates_push_travel_metres_past_first_contact():
         comcore.estimate_posterior(mask, actions, [(0.1, 1.0, 1.0)], travel=0.05)
 
 
-def test_flat_options_still_work_for_a_release_and_say_which_group_to_pass():
+def test_a_flat_option_is_a_type_error_that_says_which_group_to_pass():
     mask = _plate()
     push = _robot(mask, (20.0, 15.0), 0.3)
-    grouped = comcore.estimate_active(
-        mask, push, rng=0, model=ToyModel(), stop=comcore.StopRule(max_pushes=2),
-        likelihood=comcore.Likelihood(pusher_error=0.002),
-    )  # fmt: skip
-    with pytest.warns(DeprecationWarning, match=r"stop=comcore\.StopRule\(max_pushes=2\)"):
-        flat = comcore.estimate_active(
-            mask, push, rng=0, model=ToyModel(), max_pushes=2,
-            likelihood=comcore.Likelihood(pusher_error=0.002),
-        )  # fmt: skip
-    assert flat.com == grouped.com and flat.used == grouped.used
-    np.testing.assert_array_equal(flat.extras["posterior"], grouped.extras["posterior"])
-    # a flat option replaces its field in the group passed, keeping the group's other fields
-    with pytest.warns(DeprecationWarning, match="pusher_error"):
-        both = comcore.estimate_active(
-            mask, push, rng=0, model=ToyModel(), stop=comcore.StopRule(max_pushes=2),
-            likelihood=comcore.Likelihood(flip_prob=0.2), pusher_error=0.002,
-        )  # fmt: skip
-    assert both.com != grouped.com  # flip_prob=0.2 kept: a different posterior
+    with pytest.raises(TypeError, match=r"pass stop=comcore\.StopRule\(max_pushes=2\) instead"):
+        comcore.estimate_active(mask, push, rng=0, model=ToyModel(), max_pushes=2)
+    with pytest.raises(TypeError, match=r"likelihood=comcore\.Likelihood\(pusher_error=0\.002\)"):
+        comcore.ActiveSession(mask, stop=comcore.StopRule(max_pushes=2), pusher_error=0.002)
+    with pytest.raises(TypeError, match=r"stop=comcore\.StopRule\(max_pushes=3\)"):
+        comcore.GoalSession(mask, comcore.Goal(displacement=(0.01, 0.0)), max_pushes=3)
 
 
 def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
@@ -610,7 +598,7 @@ def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
     push = _robot(mask, (20.0, 15.0), 0.3)
     with pytest.raises(TypeError, match=r"stop must be a comcore\.StopRule or None, got dict"):
         comcore.estimate_active(mask, push, stop={"max_pushes": 2})
-    with pytest.raises(TypeError, match=r"unknown option\(s\) \['max_push'\]"):
+    with pytest.raises(TypeError, match=r"\['max_push'\]; max_push: did you mean stop=comcore"):
         comcore.estimate_active(mask, push, max_push=2)
     with pytest.raises(TypeError, match="chooses no pushes"):
         comcore.estimate_posterior(mask, [(0, 13, 60, 13)], [(0.1, 1, 0)], stop=comcore.StopRule())
@@ -625,7 +613,7 @@ def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
         est = comcore.estimate_posterior(
             mask, action, [(0.01, 0.0, 0.0)], model=None,  # the sense's term alone
             likelihood=comcore.Likelihood(motion_noise=(noise, 0.0)))
-        history = est.extras["history"]
+        history = est.posterior.history
         drops[noise] = history[0].entropy_bits - history[1].entropy_bits
     assert 0 < drops[0.05] < 0.5 * drops[0.0]
 
@@ -641,8 +629,8 @@ def test_the_default_model_is_the_limit_surface_with_the_pusher_radius():
         mask, push, rng=0, model=comcore.LimitSurfaceModel(pusher_radius=0.002), pusher_radius=0.002,
         stop=comcore.StopRule(max_pushes=1))
     other = comcore.estimate_active(mask, push, rng=0, pusher_radius=0.006, stop=comcore.StopRule(max_pushes=1))
-    np.testing.assert_allclose(default.extras["posterior"], explicit.extras["posterior"])
-    assert np.abs(default.extras["posterior"] - other.extras["posterior"]).max() > 1e-6
+    np.testing.assert_allclose(default.posterior.image, explicit.posterior.image)
+    assert np.abs(default.posterior.image - other.posterior.image).max() > 1e-6
 
 
 def test_model_none_is_the_voting_theorem_alone():
@@ -650,8 +638,8 @@ def test_model_none_is_the_voting_theorem_alone():
     push = _robot(mask, (14.0, 12.0), 0.4)
     vt = comcore.estimate_active(mask, push, rng=0, model=None, stop=comcore.StopRule(max_pushes=2))
     default = comcore.estimate_active(mask, push, rng=0, stop=comcore.StopRule(max_pushes=2))
-    assert vt.extras["model_posterior"].shape == (1,)
-    assert np.abs(vt.extras["posterior"] - default.extras["posterior"]).max() > 1e-3
+    assert vt.posterior.model_posterior.shape == (1,)
+    assert np.abs(vt.posterior.image - default.posterior.image).max() > 1e-3
 
 
 def test_the_pusher_offset_nodes_straddle_the_planned_push():
@@ -691,7 +679,7 @@ def test_a_pusher_off_its_path_is_explained_better_when_its_error_is_known():
         err: comcore.estimate_posterior(
             mask, actions, motions, model=model,
             likelihood=comcore.Likelihood(pusher_error=err * mask.resolution, **sharp),
-        ).extras["log_evidence"]
+        ).posterior.log_evidence
         for err in (0.0, sigma)
     }  # fmt: skip
     assert evidence[sigma] > evidence[0.0] + 5
@@ -706,8 +694,8 @@ def test_a_model_erring_more_than_its_scales_say_is_recognised():
     kwargs = {"model": model, "likelihood": comcore.Likelihood(mu=0.4, model_scales=(1.0, 2.0))}
     honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
     erring = comcore.estimate_posterior(mask, actions, np.add(clean, noise), **kwargs)
-    assert honest.extras["scale_posterior"][0] > 0.9
-    assert erring.extras["scale_posterior"][1] > 0.9
+    assert honest.posterior.scale_posterior[0] > 0.9
+    assert erring.posterior.scale_posterior[1] > 0.9
 
 
 def test_one_power_as_a_sequence_is_the_fixed_power():
@@ -716,8 +704,8 @@ def test_one_power_as_a_sequence_is_the_fixed_power():
     motions = [model.predict_hypotheses(mask, [a], [(30.0, 24.0)], 0.4)[0, 0] for a in actions]
     fixed = comcore.estimate_posterior(mask, actions, motions, model=model, likelihood=comcore.Likelihood(model_weight=0.6))
     one = comcore.estimate_posterior(mask, actions, motions, model=model, likelihood=comcore.Likelihood(model_weight=[0.6]))
-    np.testing.assert_array_equal(fixed.extras["posterior"], one.extras["posterior"])
-    assert one.extras["model_weight_posterior"].tolist() == [1.0]
+    np.testing.assert_array_equal(fixed.posterior.image, one.posterior.image)
+    assert one.posterior.model_weight_posterior.tolist() == [1.0]
 
 
 def test_learned_tempering_lowers_the_power_for_a_model_that_errs():
@@ -732,9 +720,9 @@ def test_learned_tempering_lowers_the_power_for_a_model_that_errs():
     kwargs = {"model": model, "likelihood": comcore.Likelihood(mu=0.4, model_weight=powers)}
     honest = comcore.estimate_posterior(mask, actions, clean, **kwargs)
     erring = comcore.estimate_posterior(mask, actions, biased, **kwargs)
-    mean = {k: e.extras["model_weight_posterior"] @ powers for k, e in (("h", honest), ("e", erring))}
+    mean = {k: e.posterior.model_weight_posterior @ powers for k, e in (("h", honest), ("e", erring))}
     assert mean["h"] > mean["e"] + 0.2
-    assert honest.extras["model_weight_posterior"].sum() == pytest.approx(1.0)
+    assert honest.posterior.model_weight_posterior.sum() == pytest.approx(1.0)
 
 
 def _calibration_objects(robot):

@@ -1,4 +1,4 @@
-"""Tests of the active estimator's option groups (comcore/active/_options.py, _flat_options.py)."""
+"""Tests of the active estimator's option groups (comcore/active/_options.py, _option_groups.py)."""
 
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ ENTRY_POINTS = (
     comcore.ActiveSession,
     comcore.estimate_posterior,
     comcore.calibrate_model_weight,
+    comcore.GoalSession,
 )
 #: The modules of the active estimator: options reach them as groups, never as defaults.
 ACTIVE_MODULES = (
@@ -34,7 +35,20 @@ ACTIVE_MODULES = (
 def test_no_entry_point_spells_out_a_grouped_option(entry):
     params = inspect.signature(entry).parameters
     assert not FIELDS & set(params), "a grouped option is a keyword of its own again"
-    assert any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())  # the shim
+    assert not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())
+
+
+@pytest.mark.parametrize("entry", ENTRY_POINTS, ids=lambda f: f.__name__)
+def test_a_flat_option_passed_to_an_entry_point_names_its_group(entry):
+    """A paper-style flat call (``max_pushes=3``) is refused before anything runs."""
+    takes = inspect.signature(entry).parameters
+    call, match = ({"max_pushes": 3}, r"stop=comcore\.StopRule\(max_pushes=3\)")
+    if "stop" not in takes:
+        match = r"chooses no pushes: option\(s\) \['max_pushes'\] do not apply"
+    with pytest.raises(TypeError, match=match):
+        entry(None, **call)
+    with pytest.raises(TypeError, match=r"likelihood=comcore\.Likelihood\(flip_prob=0\.1\)"):
+        entry(None, flip_prob=0.1)
 
 
 @pytest.mark.parametrize(
@@ -93,11 +107,12 @@ def test_the_distinctive_defaults_are_written_once_in_comcore():
         assert not found, f"{path.relative_to(ROOT)} repeats the default(s) {found}"
 
 
-def test_option_groups_lists_every_field_with_its_default():
-    params = inspect.signature(comcore.active.option_groups).parameters
-    for cls in GROUPS:
+def test_option_groups_takes_every_field_and_refuses_another_listing_them():
+    for keyword, cls in zip(("likelihood", "stop", "choice"), GROUPS):
         for f in dataclasses.fields(cls):
-            assert params[f.name].default == f.default
+            assert comcore.active.option_groups(**{f.name: f.default}) == {keyword: cls()}
+    with pytest.raises(TypeError, match=r"unknown option\(s\) \['max_push'\]; the options are"):
+        comcore.active.option_groups(max_push=3)
 
 
 def test_option_groups_builds_only_the_groups_named():

@@ -20,13 +20,13 @@ def test_it_is_the_active_posterior_of_the_same_pushes(model):
         bootstrap=0,
     )  # fmt: skip
     assert offline.status == "ok" and offline.used == tuple(range(len(active.used)))
-    np.testing.assert_allclose(offline.extras["posterior"], active.extras["posterior"], atol=1e-12)
+    np.testing.assert_allclose(offline.posterior.image, active.posterior.image, atol=1e-12)
     np.testing.assert_array_equal(offline.region, active.region)
     assert offline.com == pytest.approx(active.com, abs=1e-9)
     # by default the offline posterior's region is the bagged posterior's, blurred by the
     # recordings' floor: the same posterior and estimate, a wider region
     default = comcore.estimate_posterior(mask, actions_of(active), motions_of(active), model=model)
-    np.testing.assert_allclose(default.extras["posterior"], active.extras["posterior"], atol=1e-12)
+    np.testing.assert_allclose(default.posterior.image, active.posterior.image, atol=1e-12)
     assert default.com == pytest.approx(active.com, abs=1e-9)
     assert default.region.sum() > active.region.sum()
 
@@ -40,7 +40,7 @@ def test_the_order_of_the_pushes_does_not_matter():
     motions = [push(comcore.Action(*a)) for a in actions]
     one = comcore.estimate_posterior(mask, actions, motions, model=None)
     other = comcore.estimate_posterior(mask, actions[::-1], motions[::-1], model=None)
-    np.testing.assert_allclose(one.extras["posterior"], other.extras["posterior"], atol=1e-12)
+    np.testing.assert_allclose(one.posterior.image, other.posterior.image, atol=1e-12)
 
 
 def test_a_push_that_did_not_move_the_object_carries_no_evidence():
@@ -52,7 +52,7 @@ def test_a_push_that_did_not_move_the_object_carries_no_evidence():
     without = comcore.estimate_posterior(mask, actions[[0, 2]], [motions[0], motions[2]])
     assert outcomes_of(with_miss) == ("evidence", "miss", "evidence")
     assert with_miss.used == (0, 2)
-    np.testing.assert_allclose(with_miss.extras["posterior"], without.extras["posterior"])
+    np.testing.assert_allclose(with_miss.posterior.image, without.posterior.image)
     only_misses = comcore.estimate_posterior(mask, actions[:1], [(0.0, 0.0, 0.0)])
     assert only_misses.status == "no_evidence" and only_misses.com == pytest.approx(mask.centroid)
 
@@ -67,7 +67,7 @@ _ONE = ([(0, 20, 20, 20)], [(0.1, 0, 0)])
         (([(0, 20, 20, 20)], [(0.1, 0, 0)] * 2), {}, ValueError, "motions"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"max_pushes": 3}, TypeError, "chooses no pushes"),
         (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"min_pushes": 1}, TypeError, "chooses no pushes"),
-        (([(0, 20, 20, 20)], [(0.1, 0, 0)]), {"flip_prob": 0.7}, ValueError, "flip_prob"),
+        (_ONE, {"flip_prob": 0.1}, TypeError, r"pass likelihood=comcore\.Likelihood\(flip_prob=0\.1\)"),
         (([], []), {}, ValueError, "actions"),
         (_ONE, {"rotation_observed": [True, False]}, ValueError, r"rotation_observed .* \(1\)"),
         (_ONE, {"rotation_observed": [1]}, TypeError, "rotation_observed must hold bools"),
@@ -89,7 +89,7 @@ def test_pushes_no_com_explains_are_inconsistent():
     assert comcore.estimate_posterior(mask, actions, honest, **kwargs).status == "ok"
     liar = [(0.1, 0.0, 0.0)] * 5
     est = comcore.estimate_posterior(mask, actions, liar, **kwargs)
-    assert est.status == "inconsistent" and est.extras["excess_nats"] > 30
+    assert est.status == "inconsistent" and est.posterior.excess_nats > 30
 
 
 # -- learned tempering (model_weight as a set of powers) --------------------------------
@@ -160,10 +160,10 @@ def test_an_unobserved_rotation_and_a_registration_residual_tell_less():
     blurred = comcore.estimate_posterior(mask, actions, motions, residual_px=[3.0] * 3, **kwargs)
     assert [p.residual_px for p in blurred.pushes] == [3.0] * 3
     for wider in (unseen, blurred):
-        assert wider.extras["credible_radius_px"] > plain.extras["credible_radius_px"]
+        assert wider.posterior.credible_radius_px > plain.posterior.credible_radius_px
         # the records carry the readings: a replay of them is the same posterior
         again = comcore.estimate_posterior(mask, pushes=wider.pushes, **kwargs)
-        np.testing.assert_array_equal(again.extras["posterior"], wider.extras["posterior"])
+        np.testing.assert_array_equal(again.posterior.image, wider.posterior.image)
 
 
 # -- an error that more pushes do not average away -------------------------------------------
@@ -183,11 +183,11 @@ def test_systematic_error_widens_the_region_and_leaves_the_posterior_as_it_is():
         mask, actions, motions, model=None,
         likelihood=comcore.Likelihood(systematic_error=0.005), bootstrap=0,
     )  # fmt: skip
-    np.testing.assert_array_equal(plain.extras["posterior"], floored.extras["posterior"])
+    np.testing.assert_array_equal(plain.posterior.image, floored.posterior.image)
     assert plain.com == floored.com
     assert floored.region.sum() > plain.region.sum()
     assert (floored.region | ~plain.region).all()  # it grows around the plain region
-    radii = [e.extras["credible_radius_px"] for e in (plain, floored)]
+    radii = [e.posterior.credible_radius_px for e in (plain, floored)]
     # a 2 px (5 mm) blur adds about its 90 % radius (2.15 std) in quadrature, give or take a pixel
     assert radii[1] > np.hypot(radii[0], 2.15 * 2.0) - 1.0
     assert not floored.region[~mask.data].any()  # only the object's pixels
@@ -235,4 +235,4 @@ def test_the_benchmarks_replay_scores_a_sessions_pushes_with_the_sessions_floor(
     kept = replay.kept_pushes(active, mask, (30.0, 24.0))
     again = replay.replay(kept, replay.posterior_options({"model": None}))
     np.testing.assert_array_equal(again.region, active.region)
-    assert again.extras["credible_radius_px"] == active.extras["credible_radius_px"]
+    assert again.posterior.credible_radius_px == active.posterior.credible_radius_px

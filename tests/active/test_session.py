@@ -74,7 +74,7 @@ def test_estimate_active_is_the_session_with_resets():
         session.reset_pose()
     again = session.estimate()
     assert again.used == est.used and again.status == est.status
-    np.testing.assert_array_equal(again.extras["posterior"], est.extras["posterior"])
+    np.testing.assert_array_equal(again.posterior.image, est.posterior.image)
 
 
 def test_without_resets_the_pose_follows_the_object_and_the_com_is_found():
@@ -116,7 +116,7 @@ def test_motions_are_scored_in_the_object_frame():
         reset.reset_pose()
     assert len(reset.estimate().used) == 5
     np.testing.assert_allclose(
-        reset.estimate().extras["posterior"], est.extras["posterior"], atol=1e-12
+        reset.estimate().posterior.image, est.posterior.image, atol=1e-12
     )
 
 
@@ -180,7 +180,7 @@ def test_bad_observations_are_named_and_change_nothing(call, error, match):
     with pytest.raises(error, match=match):
         call(session, mask)
     assert session.next_push() == first
-    np.testing.assert_array_equal(session.estimate().extras["posterior"], est.extras["posterior"])
+    np.testing.assert_array_equal(session.estimate().posterior.image, est.posterior.image)
 
 
 def test_observe_before_the_first_push_and_after_the_end():
@@ -316,9 +316,9 @@ def test_a_robot_no_com_explains_is_reported_inconsistent():
     mask = _ell()
     est = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), model=ToyModel())
     assert est.status == "inconsistent" and not est.ok
-    assert est.extras["excess_nats"] > 30
+    assert est.posterior.excess_nats > 30
     honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), model=ToyModel(), rng=0)
-    assert honest.status != "inconsistent" and honest.extras["excess_nats"] < 0
+    assert honest.status != "inconsistent" and honest.posterior.excess_nats < 0
 
 
 def test_the_evidence_falls_with_surprising_pushes():
@@ -329,7 +329,7 @@ def test_the_evidence_falls_with_surprising_pushes():
     kwargs["likelihood"] = comcore.Likelihood(model_weight=1.0)  # the untempered evidence
     honest = comcore.estimate_active(mask, _robot(mask, (30.0, 24.0), 0.4), **kwargs)
     liar = comcore.estimate_active(mask, lambda a: comcore.Motion(0.1, 0.0, 0.0), **kwargs)
-    assert liar.extras["log_evidence"] < honest.extras["log_evidence"] - 20
+    assert liar.posterior.log_evidence < honest.posterior.log_evidence - 20
 
 
 def test_without_a_reset_a_push_that_misses_carries_no_evidence():
@@ -342,7 +342,7 @@ def test_without_a_reset_a_push_that_misses_carries_no_evidence():
         session.observe(motion=world.execute(session.next_push()))
     est = session.estimate()
     assert "miss" in outcomes_of(est)
-    entropies = [h.entropy_bits for h in est.extras["history"]]
+    entropies = [h.entropy_bits for h in est.posterior.history]
     for k, outcome in enumerate(outcomes_of(est)):
         if outcome == "miss":
             assert entropies[k + 1] == pytest.approx(entropies[k], abs=1e-12)
@@ -410,7 +410,7 @@ def _executed_run(observe_executed, shift_px=0.0):
 def test_a_push_executed_as_planned_is_scored_as_planned():
     told, _ = _executed_run(observe_executed=True)
     plain, _ = _executed_run(observe_executed=False)
-    np.testing.assert_allclose(told.extras["posterior"], plain.extras["posterior"], atol=1e-12)
+    np.testing.assert_allclose(told.posterior.image, plain.posterior.image, atol=1e-12)
 
 
 def test_a_push_executed_off_its_path_is_scored_where_it_went():
@@ -445,7 +445,7 @@ def test_a_bad_executed_push_is_named_and_changes_nothing(executed, failed, erro
     with pytest.raises(error, match=match):
         session.observe(executed=executed, **kwargs)
     assert session.next_push() == first and session.status == "waiting_observation"
-    np.testing.assert_array_equal(session.estimate().extras["posterior"], est.extras["posterior"])
+    np.testing.assert_array_equal(session.estimate().posterior.image, est.posterior.image)
 
 
 def _beside(action, shift_px):
@@ -471,7 +471,7 @@ def test_estimate_active_scores_the_path_its_push_returns():
         motion, real = push(session.next_push())
         session.observe(motion=motion, executed=real)
         session.reset_pose()  # the same as observe(..., reset=True)
-    np.testing.assert_array_equal(told.extras["posterior"], session.estimate().extras["posterior"])
+    np.testing.assert_array_equal(told.posterior.image, session.estimate().posterior.image)
     assert [p.action for p in told.pushes] == [p.action for p in session.estimate().pushes]
 
 
@@ -481,7 +481,7 @@ def test_estimate_active_names_a_bad_executed_path_as_the_push_failing():
         comcore.estimate_active(
             mask, lambda a: ((0.1, 3.0, 0.0), (0.0, 5.0, 10.0, 5.0)), model=None, rng=0
         )
-    assert info.value.index == 0 and info.value.partial.extras["posterior"].sum() > 0
+    assert info.value.index == 0 and info.value.partial.posterior.image.sum() > 0
     with pytest.raises(comcore.PushFailedError, match="push result's motion"):
         comcore.estimate_active(mask, lambda a: ((0.1, 3.0), tuple(a)), model=None, rng=0)
 

@@ -73,7 +73,7 @@ def test_trial_is_reproducible_and_keeps_its_estimates():
     outcome = run_trial(spec, keep=True)
     assert outcome.rows == run_trial(spec)
     est = outcome.estimates["alg1"]
-    assert est.extras["heatmap"].shape == outcome.context.mask.shape
+    assert est.heatmap.image.shape == outcome.context.mask.shape
     assert outcome.rows[0]["est_x_px"] == est.com[0]
 
 

@@ -306,7 +306,7 @@ def test_session_on_a_wide_frame_is_the_whole_frames(monkeypatch):
     assert pushes == pushes_w
     np.testing.assert_allclose(est.com, est_w.com, rtol=0, atol=1e-9)
     np.testing.assert_array_equal(est.region, est_w.region)
-    np.testing.assert_allclose(est.extras["posterior"], est_w.extras["posterior"], atol=1e-12)
+    np.testing.assert_allclose(est.posterior.image, est_w.posterior.image, atol=1e-12)
 
 
 def points_at_the_edges(window, pad, seed, n=600):

@@ -342,7 +342,7 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
     assert result["com_px"] == pytest.approx(expected.com)
     assert result["region"]["area_px"] == int(expected.region.sum())
     assert result["region"]["credible_radius_px"] == pytest.approx(
-        expected.extras["credible_radius_px"]
+        expected.posterior.credible_radius_px
     )
     assert result["region"]["bootstrap"] == comcore.active.RECORDED_BOOTSTRAP == 200
     # --bootstrap 0: the posterior's own region, not the bagged one (estimate_posterior's)
@@ -391,8 +391,9 @@ def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys)
     # (CoM above row 8) and the lower one clockwise (CoM below row 18): no CoM is both.
     pushes.write_text(HEADER + "0,8,30,8,0.2,3,0\n0,18,30,18,-0.2,3,0\n")
     code, result, err = estimate_json(capsys, mask, pushes)
-    assert code == 0 and result["status"] == "contradiction"
-    assert "warning: status contradiction: some pushes contradict the others" in err
+    assert code == 0 and result["status"] == "inconsistent"
+    assert "warning: status inconsistent: no CoM explains the observed motions well" in err
+    assert "(Alg. 2: some pushes contradict the others" in err
     pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES))
     code, result, err = estimate_json(capsys, mask, pushes)
     assert code == 0 and result["status"] == "ok" and err == ""

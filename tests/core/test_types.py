@@ -68,7 +68,7 @@ def test_estimate_rejects_nan_com():
 def test_estimate_error_px():
     e = Estimate(com=(3, 4), com_m=(0, 0), region=np.ones((1, 1)))
     assert e.error_px((0, 0)) == 5.0
-    assert e.ok and Estimate(com=(0, 0), com_m=(0, 0), region=[[1]], status="x").ok is False
+    assert e.ok and Estimate(com=(0, 0), com_m=(0, 0), region=[[1]], status="budget").ok is False
 
 
 def test_batches_accept_namedtuples_and_arrays_alike():
@@ -100,3 +100,23 @@ def test_estimate_refuses_a_region_that_is_not_an_image(region, error, match):
 def test_estimate_takes_a_region_of_numbers_zero_and_one():
     e = Estimate(com=(0, 0), com_m=(0, 0), region=np.array([[1, 0], [0, 1]], np.uint8))
     assert e.region.dtype == bool and e.region.tolist() == [[True, False], [False, True]]
+
+
+def test_each_estimator_attaches_its_typed_details_read_only():
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+    motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
+    heat = comcore.estimate_heatmap(mask, actions, motions)
+    cuts = comcore.estimate_progressive(mask, actions, motions)
+    post = comcore.estimate_posterior(mask, actions, motions, model=None)
+    assert isinstance(heat.heatmap, comcore.paper.HeatmapDetails) and heat.posterior is None
+    assert isinstance(cuts.progressive, comcore.paper.ProgressiveDetails) and cuts.heatmap is None
+    assert cuts.progressive.region_sizes[0] == mask.area_px and cuts.skipped == ()
+    assert isinstance(post.posterior, comcore.active.PosteriorDetails) and post.progressive is None
+    assert post.posterior.image.shape == mask.shape and post.posterior.pose is None
+    for array in (heat.heatmap.image, post.posterior.image, post.posterior.mu_posterior):
+        assert not array.flags.writeable
+    with pytest.raises(TypeError, match="Estimate.posterior must be a PosteriorDetails or None"):
+        Estimate(com=(1, 2), com_m=(0.1, 0.2), region=np.ones((2, 2)), posterior={"image": 1})
+    with pytest.raises(TypeError, match="Estimate.skipped must hold comcore.SkippedPush"):
+        Estimate(com=(1, 2), com_m=(0.1, 0.2), region=np.ones((2, 2)), skipped=[(0, "", "", "")])

@@ -85,7 +85,7 @@ def test_theta_with_the_y_up_sign_is_not_ok_with_the_voting_theorem_alone():
     motions = user_model.predict_hypotheses(mask, actions, [(32.5, 58.5)], 0.4)[0]
     assert comcore.estimate_posterior(mask, actions, motions, model=None).status == "ok"
     est = comcore.estimate_posterior(mask, actions, motions * [-1, 1, 1], model=None)
-    senses = est.extras["senses"]
+    senses = est.posterior.senses
     assert est.status == "inconsistent"
     assert senses.fewest_unexplained > 3 * senses.expected and senses.p_value < 1e-3
 
@@ -96,8 +96,8 @@ def test_most_pushes_contradicting_the_answer_is_never_ok():
     mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     actions = [(0, 8, 30, 8), (0, 18, 30, 18)] * 5
     est = comcore.estimate_posterior(mask, actions, [(0.2, 3, 0), (-0.2, 3, 0)] * 5, model=None)
-    assert est.extras["excess_nats"] < comcore.active._likelihood.consistency_threshold(10)
-    assert est.status == "inconsistent" and est.extras["senses"].fewest_unexplained == 5
+    assert est.posterior.excess_nats < comcore.active._likelihood.consistency_threshold(10)
+    assert est.status == "inconsistent" and est.posterior.senses.fewest_unexplained == 5
 
 
 @pytest.mark.parametrize("extra", [(), ("--model", "none"), ("--method", "alg2")])
@@ -325,10 +325,10 @@ def test_a_motion_given_rather_than_measured_shows_no_nan():
     mask, session, _ = _session_waiting()
     session.observe(motion=(0.05, 2.0, 1.0))
     est = session.estimate()
-    assert est.pushes[0].residual_px is None and "residual_px" not in est.extras
+    assert est.pushes[0].residual_px is None
     offline = comcore.estimate_posterior(mask, pushes=est.pushes, model=None)
     for value in (est, offline):
-        assert not any(math.isnan(v) for v in _floats(value.extras))
+        assert not any(math.isnan(v) for v in _floats(value.posterior))
         assert not any(math.isnan(v) for v in _floats(value.pushes))
 
 

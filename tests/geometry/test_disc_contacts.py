@@ -24,13 +24,13 @@ def test_the_posterior_keeps_a_grazing_push_with_the_disc_and_reports_one_that_s
         square_mask, actions, motions, model=None, pusher_radius=RADIUS
     )
     assert list(est.used) == [0, 1, 2, 3]
-    (skipped,) = est.extras["skipped"]
+    (skipped,) = est.skipped
     assert (skipped.index, skipped.reason) == (4, "starts_inside")
     assert "actions[4] starts inside the object" in skipped.detail
     # A point pusher (the leading line) cannot score the grazing push: it is reported too.
     point = comcore.estimate_posterior(square_mask, actions, motions, model=None, pusher_radius=0.0)
     assert list(point.used) == [0, 1, 2]
-    assert [(s.index, s.reason) for s in point.extras["skipped"]] == [
+    assert [(s.index, s.reason) for s in point.skipped] == [
         (3, "misses"),
         (4, "starts_inside"),
     ]
@@ -62,7 +62,7 @@ def test_alg2_scores_the_disc_contact_and_reports_what_it_left_out(square_mask):
     actions = [*HEAD_ON, GRAZING, INSIDE]
     motions = [(0.05, 0.0, 0.0), (-0.05, 0.0, 0.0), (0.05, 0.0, 0.0), (0.05, 0.0, 0.0), (0.1, 0, 0)]
     est = comcore.estimate_progressive(square_mask, actions, motions, pusher_radius=RADIUS)
-    assert [(s.index, s.reason) for s in est.extras["skipped"]] == [(4, "starts_inside")]
+    assert [(s.index, s.reason) for s in est.skipped] == [(4, "starts_inside")]
     assert 4 not in est.used
 
 

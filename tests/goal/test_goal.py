@@ -133,7 +133,8 @@ def test_session_reaches_a_translation_goal(name):
     goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
     # 10 cm at 5 cm a push is 2 pushes at best; learning from no estimate takes 11 (Obj8) and
     # 14 (Obj1, with the pusher disc's contacts in the evidence) here
-    session = comcore.GoalSession(first, goal, max_travel=0.05, max_pushes=16, rng=0)
+    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.05),
+                                  stop=comcore.StopRule(max_pushes=16), rng=0)  # fmt: skip
     _run(robot, session)
     assert session.status == "reached", session.status
     assert _within(robot, goal, first)
@@ -148,8 +149,9 @@ def test_session_reaches_a_pose_goal_with_a_known_com():
     mu = robot.simulator.mu_contact
     oracle = comcore.goal.CoMHypotheses(np.array([robot.true_com_px()]), np.array([mu]), np.ones(1))
     session = comcore.GoalSession(
-        first, goal, max_travel=0.05, max_pushes=20, prior=oracle, learn=False, rng=0
-    )
+        first, goal, choice=comcore.PushChoice(travel=0.05), stop=comcore.StopRule(max_pushes=20),
+        prior=oracle, learn=False, rng=0,
+    )  # fmt: skip
     _run(robot, session)
     assert session.status == "reached", session.status
     assert _within(robot, goal, first)
@@ -169,18 +171,18 @@ def test_session_learns_while_pushing():
     robot = _robot("Obj13")
     first = robot.camera_mask()
     goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
-    session = comcore.GoalSession(first, goal, max_pushes=3, rng=0)
-    before = session.estimate().extras["credible_radius_px"]
+    session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=3), rng=0)
+    before = session.estimate().posterior.credible_radius_px
     _run(robot, session)
     after = session.estimate()
-    assert after.extras["credible_radius_px"] < 0.7 * before
+    assert after.posterior.credible_radius_px < 0.7 * before
     assert any(p.outcome == "evidence" and p.log_evidence is not None for p in after.pushes)
 
 
 def test_session_order_errors_leave_it_unchanged():
     first = _plate()
     goal = comcore.Goal(displacement=(0.03, 0.0))
-    session = comcore.GoalSession(first, goal, max_travel=0.02, model=None, rng=0)
+    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
     with pytest.raises(comcore.SessionError, match="call next_push"):
         session.observe(motion=(0.0, 4.0, 0.0))
     push = session.next_push()
@@ -192,7 +194,7 @@ def test_session_order_errors_leave_it_unchanged():
     ):
         with pytest.raises(kind):
             session.observe(**bad)
-        assert session.status == "running" and session.pushes == ()
+        assert session.status == "waiting_observation" and session.pushes == ()
         assert session.next_push() == push and session.pose == comcore.Motion(0.0)
     session.observe(motion=(0.0, 12.0, 0.0))
     assert session.status == "reached"
@@ -206,8 +208,10 @@ def test_session_refuses_bad_goals_and_arguments():
         comcore.GoalSession(first, (0.1, 0.0, 0.0))
     with pytest.raises(ValueError, match="outside the camera's"):
         comcore.GoalSession(first, comcore.Goal(displacement=(60, 0), units="px"), model=None)
-    with pytest.raises(ValueError, match="max_travel"):
-        comcore.GoalSession(first, comcore.Goal(orientation=0.5), max_travel=5, model=None)
+    with pytest.raises(ValueError, match="travel"):
+        comcore.GoalSession(
+            first, comcore.Goal(orientation=0.5), choice=comcore.PushChoice(travel=5), model=None
+        )
     with pytest.raises(ValueError, match="push_directions"):
         comcore.GoalSession(first, comcore.Goal(orientation=0.5), push_directions=[np.nan])
 
@@ -250,7 +254,7 @@ def test_a_learning_session_starts_from_the_estimates_friction_posterior_too():
     est = comcore.estimate_posterior(mask, actions, motions, model=None)
     # senses tell little of the friction: say the estimate learnt it was low
     mu_post = np.array([0.7, 0.2, 0.05, 0.03, 0.01, 0.01])
-    est = dataclasses.replace(est, extras={**est.extras, "mu_posterior": mu_post})
+    est = dataclasses.replace(est, posterior=dataclasses.replace(est.posterior, mu_posterior=mu_post))
     goal = comcore.Goal(displacement=(0.02, 0.0))
     learning = comcore.GoalSession(mask, goal, prior=est, model=None, rng=0)
     np.testing.assert_allclose(learning._posterior.mu_marginal, mu_post, atol=1e-5)
@@ -258,15 +262,16 @@ def test_a_learning_session_starts_from_the_estimates_friction_posterior_too():
     image = np.zeros(mask.shape)
     px = learning._posterior.pixels.astype(int)
     image[px[:, 1], px[:, 0]] = learning._posterior.weights.sum(axis=(1, 2))
-    np.testing.assert_allclose(image, est.extras["posterior"] / est.extras["posterior"].sum(),
+    np.testing.assert_allclose(image, est.posterior.image / est.posterior.image.sum(),
                                atol=1e-9)  # fmt: skip
     # other friction values than the estimate's: the friction starts flat
     other = comcore.GoalSession(mask, goal, prior=est, model=None, rng=0,
                                 likelihood=comcore.Likelihood(n_mu=4))  # fmt: skip
     np.testing.assert_allclose(other._posterior.mu_marginal, 0.25, atol=1e-12)
     # a malformed friction posterior is refused, naming it
-    bad = dataclasses.replace(est, extras={**est.extras, "mu_posterior": [0.5, -0.5]})
-    with pytest.raises(ValueError, match=r"extras\['mu_posterior'\] must be non-negative"):
+    bad = dataclasses.replace(est.posterior, mu_posterior=[0.5, -0.5])
+    bad = dataclasses.replace(est, posterior=bad)
+    with pytest.raises(ValueError, match=r"posterior.mu_posterior must be non-negative"):
         comcore.GoalSession(mask, goal, prior=bad, model=None, rng=0)
 
 
@@ -276,7 +281,19 @@ def test_sessions_are_reproducible():
         robot = _robot("Obj3")
         first = robot.camera_mask()
         goal = comcore.Goal(displacement=(0.05, 0.03), orientation=0.2)
-        session = comcore.GoalSession(first, goal, max_pushes=3, rng=0)
+        session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=3), rng=0)
         _run(robot, session)
         pushes.append([p.camera_action for p in session.pushes])
     assert pushes[0] == pushes[1]
+
+
+def test_the_earlier_keywords_say_which_group_to_pass():
+    first = _plate()
+    goal = comcore.Goal(displacement=(0.03, 0.0))
+    with pytest.raises(TypeError, match=r"stop=comcore\.StopRule\(max_pushes=12\).*max_travel: "
+                       r"did you mean choice=comcore\.PushChoice\(travel=\.\.\.\)"):  # fmt: skip
+        comcore.GoalSession(first, goal, max_travel=0.05, max_pushes=12)
+    with pytest.raises(ValueError, match=r"reads only StopRule.max_pushes .*\['target_radius'\]"):
+        comcore.GoalSession(first, goal, stop=comcore.StopRule(target_radius=0.01), model=None)
+    with pytest.raises(ValueError, match=r"reads only PushChoice.travel .*\['cone'\]"):
+        comcore.GoalSession(first, goal, choice=comcore.PushChoice(cone=0.2), model=None)

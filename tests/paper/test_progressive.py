@@ -44,7 +44,7 @@ def test_true_com_stays_in_the_region_and_the_estimate_is_close(square_mask, com
     assert est.ok
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 6.0
-    sizes = est.extras["region_sizes"]
+    sizes = est.progressive.region_sizes
     assert sizes[0] == square_mask.area_px and all(b <= a for a, b in zip(sizes, sizes[1:]))
     if cone == 0.0:  # normal pushes cut a half-plane: every applied push removes pixels
         assert all(b < a for a, b in zip(sizes, sizes[1:]))
@@ -57,7 +57,7 @@ def test_equality_selection_halves_the_region(square_mask):
     est = comcore.estimate_progressive(
         square_mask, acts, mots, area_ratio=0.0, min_score=0.0, min_rotation=0.0
     )
-    sizes = np.array(est.extras["region_sizes"], float)
+    sizes = np.array(est.progressive.region_sizes, float)
     # The first cut is the most even split available: close to half the object.
     assert sizes[1] / sizes[0] == pytest.approx(0.5, abs=0.05)
 
@@ -67,7 +67,7 @@ def test_stops_once_the_region_is_small_enough(square_mask):
     # A large gain: only pushes within 0.5 px of the CoM turn it by less than 5 degrees.
     mots = synthetic_motions(square_mask, acts, (22.0, 27.0), gain=0.2)
     est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.1, min_score=0.0)
-    sizes = est.extras["region_sizes"]
+    sizes = est.progressive.region_sizes
     assert sizes[-1] <= 0.1 * square_mask.area_px < sizes[-2]
 
 
@@ -102,8 +102,8 @@ def test_contradictions_are_skipped_and_reported(square_mask):
     est = comcore.estimate_progressive(
         square_mask, acts, mots, selection="rotation", area_ratio=0.0
     )
-    assert est.status == "contradiction"
-    assert len(est.extras["contradicted"]) == 1
+    assert est.status == "inconsistent"
+    assert len(est.progressive.contradicted) == 1
     assert np.isfinite(est.com).all()
 
 
@@ -149,10 +149,10 @@ def test_known_mu_is_at_least_as_tight_as_unknown(fixture, com, cone, mu, seed, 
     # The unknown-mu region before its connected-component step: the used cuts' intersection.
     cuts = comcore.vt.region(mask, acts[list(unknown.used)], mots[list(unknown.used)])
     unknown_cut = mask.data & cuts.all(axis=0)
-    assert unknown_cut.sum() == unknown.extras["region_sizes"][-1]
+    assert unknown_cut.sum() == unknown.progressive.region_sizes[-1]
     assert np.all(known.region <= unknown_cut)
-    assert known.extras["region_sizes"][-1] <= unknown.extras["region_sizes"][-1]
-    assert known.extras["region_sizes"][-1] < unknown.extras["region_sizes"][-1]  # tighter here
+    assert known.progressive.region_sizes[-1] <= unknown.progressive.region_sizes[-1]
+    assert known.progressive.region_sizes[-1] < unknown.progressive.region_sizes[-1]  # tighter here
 
 
 # -- the choices of Alg. 2 that the paper leaves open (see estimate_progressive) ---------
@@ -166,11 +166,11 @@ def test_stops_when_the_best_score_is_zero(square_mask):
     # stops instead of applying it, even with area_ratio=0.
     acts = [(0, 25, 45, 25), (0, 30, 45, 30)]
     est = comcore.estimate_progressive(square_mask, acts, [CCW, CCW], area_ratio=0.0)
-    assert est.used == (0,) and est.extras["region_sizes"] == [900, 480] and est.ok
+    assert est.used == (0,) and est.progressive.region_sizes == (900, 480) and est.ok
     # Pushes along the outline's top and bottom rows never split the region: nothing is cut.
     edges = [(0, 10, 45, 10), (0, 39, 45, 39)]
     est = comcore.estimate_progressive(square_mask, edges, [CCW, CCW], area_ratio=0.0)
-    assert est.used == () and est.extras["region_sizes"] == [900]
+    assert est.used == () and est.progressive.region_sizes == (900,)
     assert est.com == square_mask.centroid
 
 
@@ -187,7 +187,7 @@ def test_min_score_pruning_uses_the_scores_from_before_the_cut(square_mask):
     est = comcore.estimate_progressive(square_mask, acts, [CCW] * 3, area_ratio=0.0, min_score=0.9)
     # Pruned by the scores after the cut, the pushes applied would be (0, 2).
     assert est.used == (0, 1)
-    assert est.extras["region_sizes"] == [900, 480, 420]
+    assert est.progressive.region_sizes == (900, 480, 420)
 
 
 @pytest.mark.parametrize(("band", "last_row"), [(0.0, 20), (0.5, 21), (2.0, 22)])
@@ -210,7 +210,7 @@ def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
     image[10:40, 30:35] = True
     mask = comcore.Mask(image)
     est = comcore.estimate_progressive(mask, [(0, 25, 45, 25)], [CCW], area_ratio=0.0)
-    assert est.extras["region_sizes"] == [750, 400]
+    assert est.progressive.region_sizes == (750, 400)
     expected = np.zeros_like(image)
     expected[10:26, 5:25] = True
     np.testing.assert_array_equal(est.region, expected)
@@ -224,7 +224,7 @@ def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
     mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     acts = [(0, 8, 30, 8), (0, 18, 30, 18)]
     est = comcore.estimate_progressive(mask, acts, [(0.2, 3, 0), (-0.2, 3, 0)])
-    assert est.status == "contradiction" and est.extras["contradicted"] == [0]
+    assert est.status == "inconsistent" and est.progressive.contradicted == (0,)
     # the fallback: what push 1 alone gives
     alone = comcore.estimate_progressive(mask, acts[1:], [(-0.2, 3, 0)])
     assert alone.ok and est.com == alone.com and est.used == (1,)
@@ -243,8 +243,8 @@ def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
 )  # fmt: skip
 def test_pruned_and_unreached_pushes_are_checked_too(square_mask, acts, mots, kwargs):
     est = comcore.estimate_progressive(square_mask, acts, mots, **kwargs)
-    assert est.used == (0,) and est.status == "contradiction"
-    assert est.extras["contradicted"] == [1]
+    assert est.used == (0,) and est.status == "inconsistent"
+    assert est.progressive.contradicted == (1,)
 
 
 def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_mask):
@@ -254,7 +254,7 @@ def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_
         ([(0, 25, 45, 25), (0, 35, 45, 35)], [CCW, CCW]),
     ]:
         est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
-        assert est.used == (0,) and est.ok and est.extras["contradicted"] == []
+        assert est.used == (0,) and est.ok and est.progressive.contradicted == ()
 
 
 def test_small_rotations_are_never_called_contradictions(square_mask):
@@ -285,7 +285,7 @@ def test_the_part_a_left_out_push_points_to_wins_over_the_larger_one():
     # largest part (the big block) contradicts it.
     acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
     est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.3, 0, 0)])
-    assert est.used == (0,) and est.extras["region_sizes"] == [750, 400]
+    assert est.used == (0,) and est.progressive.region_sizes == (750, 400)
     np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
     assert est.ok
 

@@ -84,7 +84,7 @@ def test_a_heat_map_or_posterior_colours_the_object(name, key):
     est = estimates()[name]
     ax = comcore.plot.plot_estimate(MASK, est, actions=None if name == "active" else ACTIONS)
     shown = ax.images[-1].get_array()
-    values = np.asarray(est.extras[key], float)
+    values = np.asarray(getattr(est, key).image, float)
     expected = values / values.max()
     assert np.allclose(shown[MASK.data], expected[MASK.data])
     assert shown.mask[~MASK.data].all()  # the background stays uncoloured
@@ -221,7 +221,7 @@ def test_the_credible_region_is_outlined_and_named():
     assert len(outlines) == 1
     drawn = np.asarray(outlines[0].get_segments())
     assert np.array_equal(drawn, comcore.plot.region_outline(est.region))
-    share = est.extras["posterior"][est.region].sum() / est.extras["posterior"].sum()
+    share = est.posterior.image[est.region].sum() / est.posterior.image.sum()
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert f"credible region ({100 * share:.0f} % of the posterior)" in labels
     assert share >= 0.9

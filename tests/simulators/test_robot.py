@@ -256,7 +256,7 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
         first, pushes=est.pushes, model=model, likelihood=as_session, bootstrap=0
     )
     np.testing.assert_allclose(again.com, est.com, rtol=0, atol=1e-6)
-    assert again.extras["credible_radius_px"] == pytest.approx(est.extras["credible_radius_px"])
+    assert again.posterior.credible_radius_px == pytest.approx(est.posterior.credible_radius_px)
     truth = robot.true_com_px()
     cal = comcore.calibrate_model_weight([(first, est, truth)], model=model, powers=(0.6,))
     assert cal.coverage.tolist() == [float(est.region_holds(truth))]
