@@ -102,6 +102,15 @@ def estimate_heatmap(
     ``A_keep`` is all actions); the threshold's default 0.1 is ours (the paper
     gives no value for Alg. 1); connectivity is 8-neighbour.
 
+    Alg. 1 has no test of its evidence: any motions, right or wrong (a
+    theta sign flipped, x and y swapped, a predictor gone astray), give some
+    calm region, and nothing in the heat map tells them apart. Its status is
+    therefore never ``"ok"``: ``"unchecked"`` says the answer is the paper's,
+    unverified. Where you need an answer that says when the motions
+    contradict it, use :func:`comcore.estimate_progressive` (Alg. 2:
+    ``"inconsistent"``) or :func:`comcore.estimate_posterior`
+    (``"inconsistent"``).
+
     Parameters
     ----------
     mask : Mask
@@ -114,15 +123,6 @@ def estimate_heatmap(
     length_scale : float, optional
         Distance decay in pixels (paper: 1 px); at least
         ``MIN_LENGTH_SCALE_PX`` (about 0.0057 px, see :func:`rotation_heatmap`).
-
-    Alg. 1 has no test of its evidence: any motions, right or wrong (a
-    theta sign flipped, x and y swapped, a predictor gone astray), give some
-    calm region, and nothing in the heat map tells them apart. Its status is
-    therefore never ``"ok"``: ``"unchecked"`` says the answer is the paper's,
-    unverified. Where you need an answer that says when the motions
-    contradict it, use :func:`comcore.estimate_progressive` (Alg. 2:
-    ``"inconsistent"``) or :func:`comcore.estimate_posterior`
-    (``"inconsistent"``).
 
     Returns
     -------
