@@ -15,6 +15,8 @@ Conventions
   the screen, this is the usual counter-clockwise. Because the pixel frame is
   left-handed on screen, the rotation matrix that turns pixel coordinates by
   ``theta`` counter-clockwise on screen is ``[[cos, sin], [-sin, cos]]``.
+  A rotation's sense (+1, -1, or 0 inside a dead band) is
+  :func:`rotation_sense`.
 * **Units.** What a user sets from their robot is in metres and radians;
   :data:`PLAUSIBLE` holds the range in which each such value is believable,
   and :func:`check_plausible` refuses one outside it with a guess at the unit
@@ -45,7 +47,7 @@ __all__ = [
     "quarter_turn_ccw",
     "rotate_vectors",
     "rotation_matrix",
-    "rotation_sign",
+    "rotation_sense",
 ]
 
 #: Lengths (pixels) below this are treated as zero (e.g. zero-length actions).
@@ -343,33 +345,43 @@ def _ccw_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return -(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
 
 
-def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
-    """Sense of rotation: +1 counter-clockwise, -1 clockwise, 0 within ``tol``.
+def rotation_sense(theta, tol: float = ANGLE_EPS) -> np.ndarray:
+    """Sense of rotation: +1 counter-clockwise on screen, -1 clockwise, 0 within ``tol``.
+
+    The one definition of a rotation's sense in comcore: the Voting Theorem's
+    side of the force line, :attr:`comcore.Motion.sense`, the likelihood's
+    sense term and Alg. 2 all read it from here.
 
     Parameters
     ----------
     theta : array_like
-        Rotations in radians.
+        Rotations in radians, positive counter-clockwise on screen.
     tol : float, optional
-        Magnitudes at most ``tol`` count as no rotation.
+        The dead band: magnitudes at most ``tol`` count as no rotation
+        (default :data:`ANGLE_EPS`; ``0`` gives the plain sign, ``inf`` no
+        sense at all, as for a rotation that was not observed).
 
     Returns
     -------
     numpy.ndarray of int
-        Same shape as ``theta``.
+        Same shape as ``theta`` (a 0-d array for a scalar).
 
     Raises
     ------
     ValueError
-        If ``theta`` holds NaN or inf, or ``tol`` is negative or not finite.
+        If ``theta`` holds NaN or inf, or ``tol`` is negative or NaN.
     TypeError
         If ``theta`` or ``tol`` is not numeric.
 
     Examples
     --------
-    >>> rotation_sign([0.2, -0.1, 0.0])
-    array([ 1, -1,  0])
-    >>> rotation_sign([float("nan")])
+    >>> rotation_sense([0.2, -0.1, 0.0, 1e-13])
+    array([ 1, -1,  0,  0])
+    >>> rotation_sense([1e-13, 0.01, -0.01], tol=0.0)  # no dead band
+    array([ 1,  1, -1])
+    >>> int(rotation_sense(-0.3, tol=0.5))
+    0
+    >>> rotation_sense([float("nan")])
     Traceback (most recent call last):
     ...
     ValueError: theta must be finite, got NaN or inf
@@ -377,6 +389,6 @@ def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
     t = _finite_array(theta, "theta")
     if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
         raise TypeError(f"tol must be a number >= 0, got {type(tol).__name__}")
-    if not (np.isfinite(tol) and tol >= 0):
-        raise ValueError(f"tol must be a finite number >= 0, got {tol}")
+    if not tol >= 0:  # NaN fails too
+        raise ValueError(f"tol must be a number >= 0 (inf: no sense), got {tol}")
     return np.where(np.abs(t) <= tol, 0, np.sign(t)).astype(int)

@@ -25,6 +25,7 @@ from .._validation import (
     check_turns,
 )
 from ..camera._pose_tracking import is_miss
+from ..conventions import rotation_sense
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..vt._force_lines import force_line_distances, push_force_lines
 from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
@@ -228,11 +229,12 @@ def estimate_posterior(
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
     """Count the push's observed sense against every hypothesis (:class:`SenseTally`)."""
     theta = float(record.motion[0])
-    if not record.rotation_observed or abs(theta) <= scoring.theta_tol:
+    sense = int(rotation_sense(theta, scoring.theta_tol))
+    if not record.rotation_observed or sense == 0:
         return
     flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
     distances = force_line_distances(pixels, lines)  # (p, m)
-    tally.add(distances, 1 if theta > 0 else -1, flip, scoring.line_scale_px)
+    tally.add(distances, sense, flip, scoring.line_scale_px)
 
 
 def _nearest_pixel(pixels, point) -> int:

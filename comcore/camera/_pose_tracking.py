@@ -27,7 +27,6 @@ from ..vt._force_lines import push_force_lines
 from ._registration import _measure
 
 __all__ = [
-    "IDENTITY",
     "MAX_AREA_CHANGE",
     "MAX_RESIDUAL_PX",
     "MISS_ROTATION",
@@ -51,8 +50,6 @@ MISS_ROTATION = 0.01
 #: A 3 cm push that touches the object moves it by centimetres; tracking noise
 #: on a still object is below 0.5 deg and 0.5 mm.
 MISS_TRANSLATION_M = 0.001
-#: The first pose.
-IDENTITY = Motion(0.0, 0.0, 0.0)
 #: A mask whose outline differs from the first mask's, after the rigid motion that matches
 #: them best, by more than this (RMS pixels, the registration's ``residual_px``) is not the
 #: object moved. Exact masks give at most 0.4 px; the benchmark's noisy camera masks
@@ -102,7 +99,7 @@ def relative(before: Motion, after: Motion) -> Motion:
 def camera_from_object(actions, pose: Motion, centroid) -> np.ndarray:
     """Object-frame actions (n, 4) as the camera sees them with the object at ``pose``."""
     acts = np.asarray(actions, dtype=float)
-    if pose == IDENTITY:
+    if pose == Motion.identity():
         return acts.copy()
     ends = acts.reshape(-1, 2)
     moved = apply_motion(ends, pose.theta, (pose.tx, pose.ty), centroid)
@@ -116,7 +113,7 @@ def object_from_camera(actions, pose: Motion, centroid) -> np.ndarray:
     point ``R(-theta) (q - c - t) + c``.
     """
     acts = np.asarray(actions, dtype=float)
-    if pose == IDENTITY:
+    if pose == Motion.identity():
         return acts.copy()
     ends = acts.reshape(-1, 2) - np.array([pose.tx, pose.ty])
     return apply_motion(ends, -pose.theta, (0.0, 0.0), centroid).reshape(-1, 4)
@@ -124,7 +121,7 @@ def object_from_camera(actions, pose: Motion, centroid) -> np.ndarray:
 
 def moved_mask(first: Mask, pose: Motion) -> Mask | None:
     """The first mask moved to ``pose`` (nearest pixel), or None if it left the image."""
-    if pose == IDENTITY:
+    if pose == Motion.identity():
         return first
     c0 = np.asarray(first.centroid)
     # Camera pixel q shows the object point p = R(-theta)(q - c0 - t) + c0.

@@ -27,7 +27,7 @@ import numpy as np
 from .._mask import Mask
 from .._types import Motion
 from ..active._options import Likelihood
-from ..camera._pose_tracking import IDENTITY, MISS_ROTATION, MISS_TRANSLATION_M
+from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M
 from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motions
 from ._types import Goal
 
@@ -129,7 +129,7 @@ def follow_ups(
         [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
     )
     lengths = [f * travel_px for f in FOLLOW_LENGTHS if f * travel_px >= 2.0]
-    actions, _ = line_pushes(first, IDENTITY, directions, offsets, lengths, radius)
+    actions, _ = line_pushes(first, Motion.identity(), directions, offsets, lengths, radius)
     if len(actions) == 0:
         return np.full(len(poses[0]), np.inf)
     raw = predict_motions(model, first, actions, hyps)

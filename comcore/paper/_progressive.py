@@ -15,7 +15,7 @@ from .._validation import (
     check_positive,
     check_probability,
 )
-from ..conventions import pixel_centres
+from ..conventions import pixel_centres, rotation_sense
 from ..geometry._contacts import line_distances, side_counts
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._regions import best_component, estimate_from_region, label_components
@@ -249,7 +249,7 @@ def estimate_progressive(
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     cone = tuple(float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
     a_lo, a_hi = cone
-    sense = np.sign(theta).astype(int)
+    sense = rotation_sense(theta, tol=0.0)
 
     while sizes[-1] > target and keep.any():
         if selection == "equality":

@@ -97,7 +97,7 @@ def test_pusher_error_is_across_the_push_with_the_given_std(sim):
     assert np.allclose(along, 0.0)
     assert abs(across_m.mean()) < 3 * std / np.sqrt(n)
     assert 0.85 * std < across_m.std() < 1.15 * std
-    assert robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+    assert robot.pose == comcore.Motion.identity()
 
 
 def test_perturb_actions_turns_about_the_start():
@@ -178,7 +178,7 @@ def test_bad_input(sim):
     centre = robot.camera_mask().centroid
     with pytest.raises(ValueError, match="start outside"):
         robot.execute((*centre, centre[0] + 10, centre[1]))
-    assert robot.pushes == 0 and robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+    assert robot.pushes == 0 and robot.pose == comcore.Motion.identity()
 
 
 def test_place_puts_the_object_back_without_a_push(sim):
