@@ -113,7 +113,9 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
 
     Outline pixels are the object's pixels with a 4-neighbour outside it and the
     outside pixels with a 4-neighbour inside. After the flips, holes are filled
-    and the largest component is kept (as :func:`comcore.mask_from_image` does).
+    and the largest 8-connected component is kept
+    (:func:`comcore.geometry.largest_component`, as :func:`comcore.mask_from_image`
+    keeps the object's component).
 
     Parameters
     ----------
@@ -134,11 +136,7 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
     outer = ndimage.binary_dilation(data) & ~data
     edge = inner | outer
     flips = edge & (rng.random(data.shape) < flip)
-    out = ndimage.binary_fill_holes(data ^ flips)
-    labels, n = ndimage.label(out)
-    if n > 1:
-        sizes = ndimage.sum_labels(out, labels, index=np.arange(1, n + 1))
-        out = labels == 1 + int(np.argmax(sizes))
+    out = comcore.geometry.largest_component(ndimage.binary_fill_holes(data ^ flips))
     if not out.any():  # pragma: no cover - a mask of one pixel, flipped away
         out = data
     return Mask(out, resolution=mask.resolution)
