@@ -150,8 +150,7 @@ def camera_frame_margin(shape, camera_margin: float, com_m=None) -> float:
     given the CoM ``com_m`` (the shape's frame, metres), also the disc about
     the CoM that does: an object turns about points near its CoM, and a CoM
     near one end of a long bar swings the far end through a disc almost twice
-    the bar's half-length wider than the centroid's (one of 200 no-reset
-    benchmark trials left the view that way).
+    the bar's half-length wider than the centroid's.
     """
     x_min, y_min, x_max, y_max = shape.bounds_m
     centres = [np.asarray(shape.centroid_m, dtype=float)]

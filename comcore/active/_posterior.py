@@ -47,7 +47,7 @@ from ._stop import offline_status, sense_check
 __all__ = ["estimate_posterior"]
 
 #: Most Bayesian-bootstrap resamplings ``bootstrap`` may ask for (each costs a
-#: multiply-add per push and live hypothesis: 200 take about 0.3 s for 40 pushes).
+#: multiply-add per push and live hypothesis; benchmarks/timing/bench_bagging.py times them).
 MAX_BOOTSTRAP = 10_000
 
 
@@ -99,7 +99,7 @@ def estimate_posterior(
         Motion model of the likelihood. Default: the session's,
         ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
         tells a recording with the wrong sign of theta from a right one;
-        ``None``: the Voting Theorem alone (about 20 times faster, and its
+        ``None``: the Voting Theorem alone (much faster, and its
         senses checked only as below).
     pusher_radius : float, optional
         Radius (metres) of the round pusher, for the default model (default

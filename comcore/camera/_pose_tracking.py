@@ -47,25 +47,23 @@ __all__ = [
 #: A push after which the object turned by less than this (radians, 0.57 deg) ...
 MISS_ROTATION = 0.01
 #: ... and its centroid moved by less than this (metres) did not move it: a miss.
-#: A 3 cm push that touches the object moves it by centimetres; tracking noise
-#: on a still object is below 0.5 deg and 0.5 mm.
+#: Both sit above a camera tracker's noise on a still object and below the motion of a
+#: push that touches it.
 MISS_TRANSLATION_M = 0.001
 #: A mask whose outline differs from the first mask's, after the rigid motion that matches
 #: them best, by more than this (RMS pixels, the registration's ``residual_px``) is not the
-#: object moved. Exact masks give at most 0.4 px; the benchmark's noisy camera masks
-#: (``SimulatedRobot(mask_noise=0.5)``, seed 1: 96 masks of the 20 objects, observed by
-#: sessions) at most 1.11 px, median 0.76 px; every other benchmark object's mask put in the
-#: object's place is refused (``python benchmarks/accuracy/observe_refusal.py --seed 1``; seed 0 in
-#: docs/robot.md).
+#: object moved: above what exact and noisy camera masks of the object give, below what
+#: another object's mask put in its place gives (calibrated by
+#: benchmarks/accuracy/observe_refusal.py; docs/robot.md).
 MAX_RESIDUAL_PX = 1.5
 #: A mask whose area differs from the first mask's by more than this share is not the
-#: object moved (the same masks changed by at most 7.5 %).
+#: object moved (calibrated on the same masks).
 MAX_AREA_CHANGE = 0.25
 #: A session reads a rotation measured to within this predicted std (radians, 2 deg),
 #: where :func:`comcore.measure_motion` calls one worse than 1 deg ambiguous. Dropping
-#: it keeps the previous rotation, wrong by the whole turn: a small hexagon turned by
-#: 35 deg, read to 1.06 deg, was taken as not turned, and every later push was planned
-#: and scored in a frame 35 deg off. The registration's residual already widens the
+#: it would keep the previous rotation, wrong by the whole turn (a small, nearly symmetric
+#: outline's turn is read about that loosely), and every later push would be planned and
+#: scored in a frame that far off. The registration's residual already widens the
 #: reading's error by about that much (:func:`comcore.active._likelihood.tracking_noise`).
 SESSION_MAX_THETA_STD = math.radians(2.0)
 

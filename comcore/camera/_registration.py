@@ -76,9 +76,9 @@ SAME_ROTATION = math.radians(1.0)
 SPACING_TOLERANCE = math.radians(3.0)
 #: Below this visibility (0..1) the rotation is not observable from the outline.
 MIN_ROTATION_VISIBILITY = 0.2
-#: Effective independent error (px) of one outline point of a binary mask, calibrated so
-#: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std
-#: (``python benchmarks/accuracy/bench_measure_motion.py --calibrate 290 --seed 0``).
+#: Effective independent error (px) of one outline point of a binary mask, such that theta
+#: errors on random polygons lie within the predicted std as often as a normal error's do
+#: (calibrated by ``benchmarks/accuracy/bench_measure_motion.py --calibrate``).
 OUTLINE_NOISE_PX = 0.365
 #: The 90th percentile of ``residual_px`` over those exact rigid motions: a fit whose residual
 #: is larger (mask noise) has its outline noise, and the predicted theta std, scaled up.

@@ -136,9 +136,9 @@ def estimate_progressive(
       are consistent, not necessarily right. Recorded motions with every
       theta's sign flipped (theta counter-clockwise with the y axis up) are
       explained by a CoM mirrored through the centroid when the pushes' lines
-      pass near it: of 60 benchmark recordings of 40 pushes with every sign
-      flipped, 58 say ``"contradiction"`` and 2 say ``"ok"``, 5.3 and 11.9 cm
-      off (``benchmarks/accuracy/estimate_methods.py --flips 0,all``). The senses cannot
+      pass near it, so such a recording mostly, not always, says
+      ``"contradiction"`` (``benchmarks/accuracy/estimate_methods.py --flips 0,all``
+      counts how often). The senses cannot
       tell those two; the motions' sizes can: ``comcore estimate`` checks every
       recording's sign for every method, and :func:`comcore.estimate_posterior`
       with its default model calls such a recording ``"inconsistent"``.

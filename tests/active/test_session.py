@@ -310,7 +310,7 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
 
 
 def test_a_robot_no_com_explains_is_reported_inconsistent():
-    """Always +0.1 rad and no translation: with a model no CoM explains it (issue 13)."""
+    """Always +0.1 rad and no translation: with a model no CoM explains it."""
     from tests.active.test_blocking import ToyModel, _ell, _robot
 
     mask = _ell()
