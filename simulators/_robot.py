@@ -372,7 +372,8 @@ class SimulatedRobot:
     def _body_to_pixels(self, body, pose) -> np.ndarray:
         x, y, a = pose
         c, s = math.cos(a), math.sin(a)
-        world = np.array([x + c * body[0] - s * body[1], y + s * body[0] + c * body[1]])
+        turn = comcore.conventions.rotate_components
+        world = np.array(turn(body[0], body[1], c, s, inverse=True, origin=(x, y)))  # to world
         return self.simulator.to_pixels(world)[0]
 
     def _motion_between(self, body, before, after) -> Motion:
@@ -448,7 +449,7 @@ class SimulatedRobot:
             w = np.asarray(shapely.Polygon(sim.outline_at(before)).centroid.coords[0])
         x, y, a = before
         c, s = math.cos(a), math.sin(a)
-        body = np.array([c * (w[0] - x) + s * (w[1] - y), -s * (w[0] - x) + c * (w[1] - y)])
+        body = np.array(comcore.conventions.rotate_components(w[0] - x, w[1] - y, c, s))
         result = sim.push(executed[0], pose=before, record=bool(frames))
         self._world = tuple(float(v) for v in result.pose)
         shots: tuple = ()

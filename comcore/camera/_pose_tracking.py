@@ -21,7 +21,7 @@ from scipy import ndimage
 from .._mask import Mask
 from .._types import Action, Motion
 from .._validation import check_actions, check_mask, check_motions, check_turns
-from ..conventions import apply_motion
+from ..conventions import apply_motion, rotation_matrix
 from ..geometry._disc_contacts import pusher_contacts
 from ..vt._force_lines import push_force_lines
 from ._registration import _measure
@@ -123,8 +123,7 @@ def moved_mask(first: Mask, pose: Motion) -> Mask | None:
         return first
     c0 = np.asarray(first.centroid)
     # Camera pixel q shows the object point p = R(-theta)(q - c0 - t) + c0.
-    c, s = math.cos(pose.theta), math.sin(pose.theta)
-    inverse = np.array([[c, -s], [s, c]])  # rotation_matrix(-theta), (x, y) order
+    inverse = rotation_matrix(-pose.theta)  # (x, y) order
     swap = np.array([[0, 1], [1, 0]])
     matrix = swap @ inverse @ swap  # the same map in (row, col) order
     shift = c0 - inverse @ (c0 + np.array([pose.tx, pose.ty]))

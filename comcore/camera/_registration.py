@@ -235,9 +235,8 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
     >>> import numpy as np, comcore
     >>> yy, xx = np.mgrid[0:80, 0:80].astype(float)
     >>> def l_shape(theta, shift):
-    ...     c, s = np.cos(theta), np.sin(theta)
-    ...     u = c * (xx - 40 - shift) - s * (yy - 40)  # the inverse rotation, pixel frame
-    ...     v = s * (xx - 40 - shift) + c * (yy - 40)
+    ...     u, v = comcore.conventions.rotate_components(  # the inverse rotation, pixel frame
+    ...         xx - 40 - shift, yy - 40, np.cos(theta), np.sin(theta), inverse=True)
     ...     return ((abs(u) < 20) & (abs(v) < 6)) | ((abs(u + 14) < 6) & (abs(v - 10) < 14))
     >>> before = comcore.Mask(l_shape(0.3, 0.0))
     >>> after = comcore.Mask(l_shape(0.5, 3.0))

@@ -22,6 +22,7 @@ from .._mask import Mask
 from .._types import Motion
 from ..active._options import Likelihood
 from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M
+from ..conventions import rotate_components
 from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motions
 from ._types import Goal
 
@@ -136,10 +137,8 @@ def follow_ups(
     theta, tx, ty = (np.asarray(v, float)[:, None, None] for v in poses)
     c, s = np.cos(theta), np.sin(theta)
     mx, my = raw[None, ..., 1], raw[None, ..., 2]
-    each = pose_cost(
-        goal, target_px, first.resolution, theta + raw[None, ..., 0],
-        tx + c * mx + s * my, ty - s * mx + c * my,
-    ) + extra  # fmt: skip
+    x, y = rotate_components(mx, my, c, s, origin=(tx, ty))  # the poses after the pushes
+    each = pose_cost(goal, target_px, first.resolution, theta + raw[None, ..., 0], x, y) + extra
     cost = (weights[None] * each).sum(axis=1)  # (P, a)
     if FOLLOW_LEARNED and owner is not None:  # the pose's own particle, as if taught
         own = each[np.arange(len(owner)), owner]
