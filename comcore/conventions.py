@@ -16,7 +16,10 @@ Conventions
   left-handed on screen, the rotation matrix that turns pixel coordinates by
   ``theta`` counter-clockwise on screen is ``[[cos, sin], [-sin, cos]]``.
   A rotation's sense (+1, -1, or 0 inside a dead band) is
-  :func:`rotation_sense`.
+  :func:`rotation_sense`. Vectors are turned by :func:`rotation_matrix`,
+  :func:`rotate_vectors` (checked) or :func:`rotate_components` (for inner
+  loops; its ``inverse`` turn is the counter-clockwise one in a frame whose
+  ``y`` points up, such as the table's metres).
 * **Units.** What a user sets from their robot is in metres and radians;
   :data:`PLAUSIBLE` holds the range in which each such value is believable,
   and :func:`check_plausible` refuses one outside it with a guess at the unit
