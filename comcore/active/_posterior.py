@@ -229,8 +229,10 @@ def estimate_posterior(
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
     """Count the push's observed sense against every hypothesis (:class:`SenseTally`)."""
     theta = float(record.motion[0])
+    if not record.rotation_observed:
+        return
     sense = int(rotation_sense(theta, scoring.theta_tol))
-    if not record.rotation_observed or sense == 0:
+    if sense == 0:
         return
     flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
     distances = force_line_distances(pixels, lines)  # (p, m)
