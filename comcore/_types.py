@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ._status import Status
+from .conventions import rotation_sense
 
 __all__ = [
     "OUTCOMES",
@@ -141,10 +142,26 @@ class Motion(_MotionFields):
         vals = [_finite_float(v, n, "Motion") for v, n in zip((theta, tx, ty), cls._fields)]
         return super().__new__(cls, *vals)
 
+    @classmethod
+    def identity(cls) -> Motion:
+        """The motion that moves nothing, ``Motion(0.0, 0.0, 0.0)``: the first pose.
+
+        Examples
+        --------
+        >>> Motion.identity()
+        Motion(theta=0.0, tx=0.0, ty=0.0)
+        >>> Motion.identity() is Motion.identity()
+        True
+        """
+        return _IDENTITY
+
     @property
     def sense(self) -> int:
-        """+1 counter-clockwise, -1 clockwise, 0 for no rotation."""
-        return (self.theta > 0) - (self.theta < 0)
+        """+1 counter-clockwise, -1 clockwise, 0 for no rotation (no dead band).
+
+        :func:`comcore.conventions.rotation_sense` with ``tol=0``.
+        """
+        return int(rotation_sense(self.theta, tol=0.0))
 
 
 _IDENTITY = Motion(0.0, 0.0, 0.0)

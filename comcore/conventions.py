@@ -15,6 +15,11 @@ Conventions
   the screen, this is the usual counter-clockwise. Because the pixel frame is
   left-handed on screen, the rotation matrix that turns pixel coordinates by
   ``theta`` counter-clockwise on screen is ``[[cos, sin], [-sin, cos]]``.
+  A rotation's sense (+1, -1, or 0 inside a dead band) is
+  :func:`rotation_sense`. Vectors are turned by :func:`rotation_matrix`,
+  :func:`rotate_vectors` (checked) or :func:`rotate_components` (for inner
+  loops; its ``inverse`` turn is the counter-clockwise one in a frame whose
+  ``y`` points up, such as the table's metres).
 * **Units.** What a user sets from their robot is in metres and radians;
   :data:`PLAUSIBLE` holds the range in which each such value is believable,
   and :func:`check_plausible` refuses one outside it with a guess at the unit
@@ -43,9 +48,10 @@ __all__ = [
     "object_motion_from_camera",
     "pixel_centres",
     "quarter_turn_ccw",
+    "rotate_components",
     "rotate_vectors",
     "rotation_matrix",
-    "rotation_sign",
+    "rotation_sense",
 ]
 
 #: Lengths (pixels) below this are treated as zero (e.g. zero-length actions).
@@ -159,8 +165,58 @@ def rotate_vectors(vectors, theta) -> np.ndarray:
             f"theta must broadcast against the vectors: got shape {theta.shape} "
             f"for vectors of shape {v.shape}"
         ) from None
-    c, s = np.cos(theta), np.sin(theta)
-    return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
+    return np.stack(rotate_components(v[..., 0], v[..., 1], np.cos(theta), np.sin(theta)), axis=-1)
+
+
+def rotate_components(x, y, cos, sin, *, inverse: bool = False, origin=None):
+    """Turn vectors given as component arrays, with the angle's cosine and sine given: no checks.
+
+    The one hand-written 2-D rotation in comcore, for inner loops that turn many
+    vectors by angles whose cosines and sines they already hold (``predictors``
+    and ``simulators`` use it too). Everything broadcasts; nothing is validated
+    (:func:`rotate_vectors` is the checked way).
+
+    Parameters
+    ----------
+    x, y : array_like
+        The vectors' components.
+    cos, sin : array_like
+        Cosine and sine of each rotation angle ``theta``.
+    inverse : bool, optional
+        False (default): turn by ``theta``, counter-clockwise on screen in the
+        pixel frame, ``(cos x + sin y, -sin x + cos y)``. True: turn by
+        ``-theta``, ``(cos x - sin y, sin x + cos y)``; in a frame whose ``y``
+        points up (table metres) this is the counter-clockwise turn by
+        ``theta``, i.e. body to world.
+    origin : (array_like, array_like), optional
+        ``(ox, oy)`` added to the turned vectors. The sums are evaluated left
+        to right, ``ox + cos x + sin y``, as code that writes them out does.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        The turned vectors' components.
+
+    Examples
+    --------
+    A quarter turn counter-clockwise on screen takes +x (right) up the
+    screen (-y); the inverse turn takes it down:
+
+    >>> c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
+    >>> [np.round(v, 12) + 0.0 for v in rotate_components(1.0, 0.0, c, s)]
+    [np.float64(0.0), np.float64(-1.0)]
+    >>> [np.round(v, 12) + 0.0 for v in rotate_components(1.0, 0.0, c, s, inverse=True)]
+    [np.float64(0.0), np.float64(1.0)]
+    >>> rotate_components(np.array([1.0, 2.0]), 0.0, 1.0, 0.0, origin=(10.0, 20.0))
+    (array([11., 12.]), array([20., 20.]))
+    """
+    if inverse:
+        if origin is None:
+            return cos * x - sin * y, sin * x + cos * y
+        return origin[0] + cos * x - sin * y, origin[1] + sin * x + cos * y
+    if origin is None:
+        return cos * x + sin * y, -sin * x + cos * y
+    return origin[0] + cos * x + sin * y, origin[1] - sin * x + cos * y
 
 
 def pixel_centres(image) -> np.ndarray:
@@ -343,33 +399,43 @@ def _ccw_cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return -(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
 
 
-def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
-    """Sense of rotation: +1 counter-clockwise, -1 clockwise, 0 within ``tol``.
+def rotation_sense(theta, tol: float = ANGLE_EPS) -> np.ndarray:
+    """Sense of rotation: +1 counter-clockwise on screen, -1 clockwise, 0 within ``tol``.
+
+    The one definition of a rotation's sense in comcore: the Voting Theorem's
+    side of the force line, :attr:`comcore.Motion.sense`, the likelihood's
+    sense term and Alg. 2 all read it from here.
 
     Parameters
     ----------
     theta : array_like
-        Rotations in radians.
+        Rotations in radians, positive counter-clockwise on screen.
     tol : float, optional
-        Magnitudes at most ``tol`` count as no rotation.
+        The dead band: magnitudes at most ``tol`` count as no rotation
+        (default :data:`ANGLE_EPS`; ``0`` gives the plain sign, ``inf`` no
+        sense at all, as for a rotation that was not observed).
 
     Returns
     -------
     numpy.ndarray of int
-        Same shape as ``theta``.
+        Same shape as ``theta`` (a 0-d array for a scalar).
 
     Raises
     ------
     ValueError
-        If ``theta`` holds NaN or inf, or ``tol`` is negative or not finite.
+        If ``theta`` holds NaN or inf, or ``tol`` is negative or NaN.
     TypeError
         If ``theta`` or ``tol`` is not numeric.
 
     Examples
     --------
-    >>> rotation_sign([0.2, -0.1, 0.0])
-    array([ 1, -1,  0])
-    >>> rotation_sign([float("nan")])
+    >>> rotation_sense([0.2, -0.1, 0.0, 1e-13])
+    array([ 1, -1,  0,  0])
+    >>> rotation_sense([1e-13, 0.01, -0.01], tol=0.0)  # no dead band
+    array([ 1,  1, -1])
+    >>> int(rotation_sense(-0.3, tol=0.5))
+    0
+    >>> rotation_sense([float("nan")])
     Traceback (most recent call last):
     ...
     ValueError: theta must be finite, got NaN or inf
@@ -377,6 +443,6 @@ def rotation_sign(theta, tol: float = ANGLE_EPS) -> np.ndarray:
     t = _finite_array(theta, "theta")
     if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
         raise TypeError(f"tol must be a number >= 0, got {type(tol).__name__}")
-    if not (np.isfinite(tol) and tol >= 0):
-        raise ValueError(f"tol must be a finite number >= 0, got {tol}")
+    if not tol >= 0:  # NaN fails too
+        raise ValueError(f"tol must be a number >= 0 (inf: no sense), got {tol}")
     return np.where(np.abs(t) <= tol, 0, np.sign(t)).astype(int)

@@ -113,7 +113,9 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
 
     Outline pixels are the object's pixels with a 4-neighbour outside it and the
     outside pixels with a 4-neighbour inside. After the flips, holes are filled
-    and the largest component is kept (as :func:`comcore.mask_from_image` does).
+    and the largest 8-connected component is kept
+    (:func:`comcore.geometry.largest_component`, as :func:`comcore.mask_from_image`
+    keeps the object's component).
 
     Parameters
     ----------
@@ -134,11 +136,7 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
     outer = ndimage.binary_dilation(data) & ~data
     edge = inner | outer
     flips = edge & (rng.random(data.shape) < flip)
-    out = ndimage.binary_fill_holes(data ^ flips)
-    labels, n = ndimage.label(out)
-    if n > 1:
-        sizes = ndimage.sum_labels(out, labels, index=np.arange(1, n + 1))
-        out = labels == 1 + int(np.argmax(sizes))
+    out = comcore.geometry.largest_component(ndimage.binary_fill_holes(data ^ flips))
     if not out.any():  # pragma: no cover - a mask of one pixel, flipped away
         out = data
     return Mask(out, resolution=mask.resolution)
@@ -152,8 +150,7 @@ def camera_frame_margin(shape, camera_margin: float, com_m=None) -> float:
     given the CoM ``com_m`` (the shape's frame, metres), also the disc about
     the CoM that does: an object turns about points near its CoM, and a CoM
     near one end of a long bar swings the far end through a disc almost twice
-    the bar's half-length wider than the centroid's (one of 200 no-reset
-    benchmark trials left the view that way).
+    the bar's half-length wider than the centroid's.
     """
     x_min, y_min, x_max, y_max = shape.bounds_m
     centres = [np.asarray(shape.centroid_m, dtype=float)]
@@ -375,7 +372,8 @@ class SimulatedRobot:
     def _body_to_pixels(self, body, pose) -> np.ndarray:
         x, y, a = pose
         c, s = math.cos(a), math.sin(a)
-        world = np.array([x + c * body[0] - s * body[1], y + s * body[0] + c * body[1]])
+        turn = comcore.conventions.rotate_components
+        world = np.array(turn(body[0], body[1], c, s, inverse=True, origin=(x, y)))  # to world
         return self.simulator.to_pixels(world)[0]
 
     def _motion_between(self, body, before, after) -> Motion:
@@ -451,7 +449,7 @@ class SimulatedRobot:
             w = np.asarray(shapely.Polygon(sim.outline_at(before)).centroid.coords[0])
         x, y, a = before
         c, s = math.cos(a), math.sin(a)
-        body = np.array([c * (w[0] - x) + s * (w[1] - y), -s * (w[0] - x) + c * (w[1] - y)])
+        body = np.array(comcore.conventions.rotate_components(w[0] - x, w[1] - y, c, s))
         result = sim.push(executed[0], pose=before, record=bool(frames))
         self._world = tuple(float(v) for v in result.pose)
         shots: tuple = ()

@@ -16,6 +16,7 @@ import numpy as np
 
 import comcore
 from comcore import Mask, Motion
+from comcore.conventions import rotate_components, rotation_matrix
 
 from ._deps import require_shapely
 from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
@@ -235,8 +236,7 @@ class PushSimulator:
     def outline_at(self, pose=None) -> np.ndarray:
         """The outline in world metres at ``pose`` (default: the initial pose), (k, 2)."""
         x, y, a = self.initial_pose if pose is None else pose
-        c, s = math.cos(a), math.sin(a)
-        return self._outline_body @ np.array([[c, s], [-s, c]]) + (x, y)
+        return self._outline_body @ rotation_matrix(a) + (x, y)  # body to world (y up)
 
     def contains(self, points_px, pose=None) -> np.ndarray:
         """Whether pixel points lie inside the object's outline at ``pose``.
@@ -345,7 +345,7 @@ class PushSimulator:
         p = np.asarray(poses, dtype=float)
         c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
         rx, ry = self._reference_body
-        return np.column_stack([p[:, 0] + c * rx - s * ry, p[:, 1] + s * rx + c * ry])
+        return np.column_stack(rotate_components(rx, ry, c, s, inverse=True, origin=p[:, :2].T))
 
     def push(self, action, pose=None, record: bool = False) -> PushResult:
         """Push once and return the motion, the final pose and the real contact.

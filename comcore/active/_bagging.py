@@ -10,12 +10,10 @@ posteriors of ``bootstrap`` resamplings of the pushes. Each resampling is a
 Bayesian bootstrap (Rubin 1981): the pushes' log-likelihoods weighted by
 ``n`` Dirichlet(1, ..., 1) weights, so a push counts 0 to a few times. Where the
 pushes agree the bagged posterior is about the posterior (at most about twice
-its variance, where the pushes scatter as much as the likelihood says; 7 %
-wider in radius on the agreeing pushes of tests/active/test_bagging.py, whose model
-is exact); where some pushes pull the CoM one way and others another, it
-spreads over both. It widens by what the
-data show, with no constant to tune: on the MIT push dataset's test plate it
-holds the CoM where a 2 mm floor alone did not (docs/realdata.md).
+its variance, where the pushes scatter as much as the likelihood says); where
+some pushes pull the CoM one way and others another, it spreads over both. It
+widens by what the data show, with no constant to tune (docs/realdata.md, on
+the MIT push dataset).
 
 The point estimate stays the posterior's mean: the bagged mean was further from
 the true CoM on both the real pushes and their simulated twins.
@@ -33,8 +31,9 @@ from ._grid import GridPosterior
 
 __all__ = ["MAX_BAG_FLOATS", "MAX_KEPT_FLOATS", "RECORDED_BOOTSTRAP", "PushLikelihoods"]
 
-#: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default (the
-#: 90 % region's radius of the MIT butter plate's 40 pushes is 8.8-9.1 mm over seeds 0-3).
+#: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default:
+#: enough for the region to change little with the seed (docs/realdata.md;
+#: benchmarks/timing/bench_bagging.py times them).
 RECORDED_BOOTSTRAP = 200
 #: Floats one block of resamplings may hold at once (resamplings x tempers x hypotheses).
 MAX_BAG_FLOATS = 4_000_000

@@ -4,9 +4,9 @@ The default power on the motion model's likelihood is learned per session
 (``model_weight=(0.25, 0.4, 0.6, 1.0)``), but four or five pushes of one object
 cannot tell a model that is right from one that errs the same way on every push,
 so the default region is wider than it must be where the model is right, and
-that costs pushes. The motions hardly tell the two apart: on the benchmark the
-power learned from them averaged 0.66 on our own engine, where the model is
-nearly right, and 0.63 on pymunk, where it errs (docs/active.md). What does
+that costs pushes. The motions hardly tell the two apart: the power learned
+from them comes out about the same on our own engine, where the model is
+nearly right, as on pymunk, where it errs (docs/active.md). What does
 tell them apart is the truth: a few objects whose CoM the user measured (a
 balance, or hanging the object from two points). This module
 scores their pushes again under each power and reports how often each power's

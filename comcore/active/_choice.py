@@ -21,7 +21,7 @@ from scipy.special import logsumexp
 from .._mask import Mask
 from .._types import Motion
 from .._validation import check_actions
-from ..camera._pose_tracking import IDENTITY, camera_from_object
+from ..camera._pose_tracking import camera_from_object
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._sampling import sample_pushes
 from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, push_force_lines
@@ -112,7 +112,7 @@ class Candidates:
         ok = self.available.copy()
         if mask_now is None:
             return np.zeros_like(ok)
-        if pose == IDENTITY and mask_now is self.mask:
+        if pose == Motion.identity() and mask_now is self.mask:
             return ok & self._in_view  # every candidate hits the first mask
         idx = np.flatnonzero(ok)
         if len(idx):

@@ -33,6 +33,7 @@ import numpy as np
 from scipy.special import ndtr
 
 from .._mask import Mask
+from ..conventions import rotation_sense
 from ..motion._limit_surface import LimitSurfaceModel
 from ..motion._predictor import HypothesisPredictor
 from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, side_probability
@@ -230,7 +231,7 @@ def push_evidence(
     tracking = scoring.tracking if tracking is None else tuple(tracking)
     flip_prob = sense_flip_prob(scoring.flip_prob, observed[0], tracking[0], rotation_observed)
     theta_tol = scoring.theta_tol if rotation_observed else np.inf
-    sense = 0 if abs(observed[0]) <= theta_tol else (1 if observed[0] > 0 else -1)
+    sense = int(rotation_sense(observed[0], theta_tol))
     distances = force_line_distances(post.pixels, lines)[:, :, None]  # (p, m, 1)
     excess = _sense_excess(distances, sense, flip_prob, scoring.line_scale_px)
     terms = None
@@ -339,7 +340,7 @@ def push_log_likelihood(
         Logistic scale (pixels) of the force line's soft edge.
     """
     theta = float(motion[0])
-    sense = 0 if abs(theta) <= theta_tol else (1 if theta > 0 else -1)
+    sense = int(rotation_sense(theta, theta_tol))
     floor = 1e-300
     if sense == 0:
         log_same = log_flip = np.zeros_like(distances)

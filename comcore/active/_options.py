@@ -58,13 +58,13 @@ DEFAULT_PUSHER_RADIUS = 0.004
 DEFAULT_CREDIBLE = 0.9
 #: ``Likelihood.systematic_error`` (metres) where it is left ``None``, for the sessions
 #: (:class:`comcore.ActiveSession`, :func:`comcore.estimate_active`, :class:`comcore.GoalSession`):
-#: none. They stop at a region of a few millimetres after 4-5 pushes, before an error shared
-#: by the pushes shows; a floor here would keep them pushing (docs/active.md).
+#: none. They stop after a few pushes, before an error shared by the pushes shows; a floor
+#: here would keep them pushing (docs/active.md).
 SESSION_SYSTEMATIC_ERROR = 0.0
 #: ... and for :func:`comcore.estimate_posterior` and ``comcore estimate`` (every push of a
-#: recording, its region read from the bagged posterior): 1.5 mm, the least of 1-4 mm with which
-#: the 90 % region held the CoM in at least 90 % of the runs at every k, real and pool-matched, on
-#: the MIT push train plates (docs/realdata.md; reported there on the test plate).
+#: recording, its region read from the bagged posterior): the least floor with which the
+#: credible region holds the CoM as often as its mass says on the MIT push dataset's train
+#: plates (calibrated by benchmarks/realdata/real_pushes.py; docs/realdata.md).
 RECORDED_SYSTEMATIC_ERROR = 0.0015
 #: Ways to choose the next push.
 SELECTIONS = ("sense", "model")
@@ -75,7 +75,8 @@ MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
 #: value, so the cost of a push grows with it (benchmarks/timing/bench_active.py times it).
 MAX_N_MU = 32
-#: Most default candidates drawn (:func:`comcore.sample_pushes`): 10,000 cost 3 s a session.
+#: Most default candidates drawn (:func:`comcore.sample_pushes`): a session's cost grows with
+#: them (benchmarks/timing/bench_active.py times it).
 MAX_CANDIDATES = 20_000
 
 

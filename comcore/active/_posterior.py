@@ -25,6 +25,7 @@ from .._validation import (
     check_turns,
 )
 from ..camera._pose_tracking import is_miss
+from ..conventions import rotation_sense
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..vt._force_lines import force_line_distances, push_force_lines
 from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
@@ -46,7 +47,7 @@ from ._stop import offline_status, sense_check
 __all__ = ["estimate_posterior"]
 
 #: Most Bayesian-bootstrap resamplings ``bootstrap`` may ask for (each costs a
-#: multiply-add per push and live hypothesis: 200 take about 0.3 s for 40 pushes).
+#: multiply-add per push and live hypothesis; benchmarks/timing/bench_bagging.py times them).
 MAX_BOOTSTRAP = 10_000
 
 
@@ -98,7 +99,7 @@ def estimate_posterior(
         Motion model of the likelihood. Default: the session's,
         ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
         tells a recording with the wrong sign of theta from a right one;
-        ``None``: the Voting Theorem alone (about 20 times faster, and its
+        ``None``: the Voting Theorem alone (much faster, and its
         senses checked only as below).
     pusher_radius : float, optional
         Radius (metres) of the round pusher, for the default model (default
@@ -227,11 +228,14 @@ def estimate_posterior(
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
     """Count the push's observed sense against every hypothesis (:class:`SenseTally`)."""
     theta = float(record.motion[0])
-    if not record.rotation_observed or abs(theta) <= scoring.theta_tol:
+    if not record.rotation_observed:
+        return
+    sense = int(rotation_sense(theta, scoring.theta_tol))
+    if sense == 0:
         return
     flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
     distances = force_line_distances(pixels, lines)  # (p, m)
-    tally.add(distances, 1 if theta > 0 else -1, flip, scoring.line_scale_px)
+    tally.add(distances, sense, flip, scoring.line_scale_px)
 
 
 def _nearest_pixel(pixels, point) -> int:

@@ -17,7 +17,7 @@ from .._mask import Mask
 from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord, SkippedPush
 from .._validation import check_mask, check_motions, check_physical, check_probability, check_rng
-from ..camera._pose_tracking import IDENTITY, moved_mask
+from ..camera._pose_tracking import moved_mask
 from ..conventions import apply_motion
 from ..motion._limit_surface import check_push_lengths
 from ._choice import Candidates
@@ -163,7 +163,7 @@ class ActiveSession:
         check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
-        self._pose = IDENTITY
+        self._pose = Motion.identity()
         self._mask_now: Mask | None = self._first  # None: the first mask moved to the pose
         self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
         self._handed_out = False
@@ -343,7 +343,7 @@ class ActiveSession:
             self._pose = pose
         self._handed_out = False
         if reset:
-            self._pose, self._mask_now = IDENTITY, self._first
+            self._pose, self._mask_now = Motion.identity(), self._first
         self._plan()
 
     def _reading(self, mask, motion, failed: bool, executed):
@@ -363,9 +363,12 @@ class ActiveSession:
         """
         if self._handed_out:
             raise SessionError("reset_pose() while a push waits for observe()")
-        new = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
+        if pose is None:
+            new = Motion.identity()
+        else:
+            new = Motion(*check_motions(pose, n=1, name="pose")[0])
         self._pose = new
-        self._mask_now = self._first if new == IDENTITY else None
+        self._mask_now = self._first if new == Motion.identity() else None
         self._plan()  # a session that found nothing to push in the old pose may go on
 
     # -- results ------------------------------------------------------------------------

@@ -76,9 +76,9 @@ SAME_ROTATION = math.radians(1.0)
 SPACING_TOLERANCE = math.radians(3.0)
 #: Below this visibility (0..1) the rotation is not observable from the outline.
 MIN_ROTATION_VISIBILITY = 0.2
-#: Effective independent error (px) of one outline point of a binary mask, calibrated so
-#: that 68 % of theta errors on 290 random polygons (seed 0) lie within the predicted std
-#: (``python benchmarks/accuracy/bench_measure_motion.py --calibrate 290 --seed 0``).
+#: Effective independent error (px) of one outline point of a binary mask, such that theta
+#: errors on random polygons lie within the predicted std as often as a normal error's do
+#: (calibrated by ``benchmarks/accuracy/bench_measure_motion.py --calibrate``).
 OUTLINE_NOISE_PX = 0.365
 #: The 90th percentile of ``residual_px`` over those exact rigid motions: a fit whose residual
 #: is larger (mask noise) has its outline noise, and the predicted theta std, scaled up.
@@ -235,9 +235,8 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
     >>> import numpy as np, comcore
     >>> yy, xx = np.mgrid[0:80, 0:80].astype(float)
     >>> def l_shape(theta, shift):
-    ...     c, s = np.cos(theta), np.sin(theta)
-    ...     u = c * (xx - 40 - shift) - s * (yy - 40)  # the inverse rotation, pixel frame
-    ...     v = s * (xx - 40 - shift) + c * (yy - 40)
+    ...     u, v = comcore.conventions.rotate_components(  # the inverse rotation, pixel frame
+    ...         xx - 40 - shift, yy - 40, np.cos(theta), np.sin(theta), inverse=True)
     ...     return ((abs(u) < 20) & (abs(v) < 6)) | ((abs(u + 14) < 6) & (abs(v - 10) < 14))
     >>> before = comcore.Mask(l_shape(0.3, 0.0))
     >>> after = comcore.Mask(l_shape(0.5, 3.0))

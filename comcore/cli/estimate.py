@@ -67,8 +67,8 @@ METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 #: Probability of the posterior's credible region (printed and in the JSON).
 CREDIBLE = 0.9
 #: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes,
-#: chosen with the bagged region on the MIT push dataset's train plates (docs/realdata.md;
-#: before issue 20, on simulated recordings without bagging: docs/bench.md).
+#: chosen with the bagged region on the MIT push dataset's train plates (calibrated by
+#: benchmarks/realdata/real_pushes.py; docs/realdata.md).
 SYSTEMATIC_ERROR = comcore.active.RECORDED_SYSTEMATIC_ERROR
 #: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
 BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP

@@ -5,15 +5,9 @@
   in the same units, added to every particle's cost: the likelihood's scales
   (:meth:`comcore.Likelihood.model_error_scales`: a push whose line passes
   near the CoM turns the object unpredictably), the rotation's grown with the
-  push's travel. Fitted against the exact engine (seed 1: 8 objects x 2
-  frictions, 6,144 pushes of 0.5, 1.25, 2.5 and 5 cm at every offset, the true
-  CoM and friction): the 80th percentile of the rotation error over 1.28 is
-  ``0.0098 + 0.130 / (1 + (lever / 3.98 cm)^2) * (travel / 5 cm)^1.82``
-  radians, the likelihood's ``0.01 + 0.13 / (1 + (lever / 3.75 cm)^2)`` at 5 cm;
-  a 5 cm push through the CoM (its line within 2.5 mm) errs by a median 4.3
-  degrees (80 %: 13.8), a 2.5 cm one by 0.8 (2.3):
-  ``PYTHONPATH=. python benchmarks/accuracy/goal_model_error.py --seed 1 --objects Obj1
-  Obj5 Obj8 Obj11 Obj14 Obj15 Obj3 Obj18``.
+  push's travel as :data:`MODEL_ERROR_TRAVEL` and :data:`MODEL_ERROR_POWER`
+  say (fitted against the exact engine with the true CoM and friction by
+  benchmarks/accuracy/goal_model_error.py; docs/goal.md).
 * :func:`follow_ups`: the least expected cost of one more push from many poses
   at once (the planner's two-step lookahead), and :func:`spread_picks`.
 """
@@ -27,7 +21,8 @@ import numpy as np
 from .._mask import Mask
 from .._types import Motion
 from ..active._options import Likelihood
-from ..camera._pose_tracking import IDENTITY, MISS_ROTATION, MISS_TRANSLATION_M
+from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M
+from ..conventions import rotate_components
 from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motions
 from ._types import Goal
 
@@ -42,8 +37,8 @@ FOLLOW_LENGTHS = (1.0, 0.5, 0.25, 0.1)
 #: The motion model's own error (besides the posterior's spread) is counted in a push's cost:
 #: the likelihood's scales (:meth:`comcore.Likelihood.model_error_scales`), its rotation
 #: scale grown with the push's travel after contact as ``(travel / MODEL_ERROR_TRAVEL) **
-#: MODEL_ERROR_POWER`` above its floor (fitted against the exact engine, seed 1: 8 objects x 2
-#: frictions, 6,144 pushes of 0.5-5 cm at every offset, the true CoM and friction).
+#: MODEL_ERROR_POWER`` above its floor (calibrated by benchmarks/accuracy/goal_model_error.py
+#: against the exact engine, the true CoM and friction).
 MODEL_ERROR_TRAVEL, MODEL_ERROR_POWER = 0.05, 1.8
 _SCALES = Likelihood()
 
@@ -129,7 +124,7 @@ def follow_ups(
         [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
     )
     lengths = [f * travel_px for f in FOLLOW_LENGTHS if f * travel_px >= 2.0]
-    actions, _ = line_pushes(first, IDENTITY, directions, offsets, lengths, radius)
+    actions, _ = line_pushes(first, Motion.identity(), directions, offsets, lengths, radius)
     if len(actions) == 0:
         return np.full(len(poses[0]), np.inf)
     raw = predict_motions(model, first, actions, hyps)
@@ -142,10 +137,8 @@ def follow_ups(
     theta, tx, ty = (np.asarray(v, float)[:, None, None] for v in poses)
     c, s = np.cos(theta), np.sin(theta)
     mx, my = raw[None, ..., 1], raw[None, ..., 2]
-    each = pose_cost(
-        goal, target_px, first.resolution, theta + raw[None, ..., 0],
-        tx + c * mx + s * my, ty - s * mx + c * my,
-    ) + extra  # fmt: skip
+    x, y = rotate_components(mx, my, c, s, origin=(tx, ty))  # the poses after the pushes
+    each = pose_cost(goal, target_px, first.resolution, theta + raw[None, ..., 0], x, y) + extra
     cost = (weights[None] * each).sum(axis=1)  # (P, a)
     if FOLLOW_LEARNED and owner is not None:  # the pose's own particle, as if taught
         own = each[np.arange(len(owner)), owner]

@@ -22,9 +22,9 @@ expectation of a square is the squared mean plus the variance, so the spread
 of a push's outcome under the posterior counts as much as its bias: a push
 through the most likely CoM that may turn the object 10 degrees either way
 loses to a shorter or longer one that surely does not. The model's own error
-counts too (:func:`comcore.goal._costs.model_variance`): with the true CoM
-a 5 cm push whose line passes by the CoM turns the object a median 4 degrees
-away from its prediction, a 2.5 cm one 1 degree, so near a tight orientation
+counts too (:func:`comcore.goal._costs.model_variance`): even with the true
+CoM, a push whose line passes by the CoM turns the object away from its
+prediction, the more the longer the push, so near a tight orientation
 tolerance the planner makes shorter or more predictable pushes.
 
 **Two steps.** The best :data:`LOOKAHEAD` pushes and the best push of each
@@ -55,10 +55,8 @@ say would not move the object measurably (a miss, as
 :func:`comcore.camera._pose_tracking.is_miss` reads one), are not offered; after a
 miss the session asks for twice its travel at least.
 
-Measured (benchmarks/accuracy/goal_bench.py --timing, docs/goal.md; seed 0, the exact
-engine, the four strategies): one step takes a median 86-117 ms on the
-benchmark's masks (90 %: 138-166 ms), against 125-131 ms for the one-step
-planner.
+A step's time is measured by ``benchmarks/accuracy/goal_bench.py --timing``
+(docs/goal.md).
 """
 
 from __future__ import annotations

@@ -32,7 +32,6 @@ from ..active._reading import PushContext, best_branch, push_record
 from ..active._records import PushLog
 from ..active._session import ActiveSession, session_setup
 from ..camera._pose_tracking import (
-    IDENTITY,
     executed_in_object,
     is_miss,
     read_pose,
@@ -239,7 +238,7 @@ class GoalSession:
         self._planner = planning_model(self._radius) if planner_model is None else planner_model
         self._target = goal.target_px(self._first)
         self._check_goal_in_view()
-        start = IDENTITY
+        start = Motion.identity()
         if isinstance(prior, ActiveSession):  # go on from where its pushes left the object
             start = prior.pose
             if prior.estimate().region.shape != self._first.shape:
@@ -409,8 +408,9 @@ class GoalSession:
         branches = symmetric_branches(reading, self._pose)
         branches.sort(key=lambda r: abs(r.pose.theta - plan.expected_pose.theta))
         _, lines = executed_in_object(
-            self._first, IDENTITY, plan.action, self._scoring.mus, self._scoring.pusher_radius
-        )
+            self._first, Motion.identity(), plan.action, self._scoring.mus,
+            self._scoring.pusher_radius,
+        )  # fmt: skip
         moved = not is_miss(relative(self._pose, branches[0].pose), self._first.resolution)
         if not moved or lines is None or not self._learn:
             outcome = "evidence" if moved else "miss"

@@ -21,7 +21,7 @@ from .._mask import Mask
 from .._types import Action, Motion
 from .._validation import check_count, check_mask, check_motions, check_physical
 from ..active._options import DEFAULT_PUSHER_RADIUS
-from ..camera._pose_tracking import IDENTITY, camera_from_object
+from ..camera._pose_tracking import camera_from_object
 from ..conventions import apply_motion, rotate_vectors
 from ..geometry._contacts import contacts
 from ..geometry._disc_contacts import disc_contacts
@@ -233,7 +233,7 @@ def translation_push(
     (True, True)
     """
     mask = check_mask(mask)
-    pose = IDENTITY if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
+    pose = Motion.identity() if pose is None else Motion(*check_motions(pose, n=1, name="pose")[0])
     angle = check_finite(direction, "direction")
     travel_m = check_physical(travel, "travel", "push_length")
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)

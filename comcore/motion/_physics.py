@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..conventions import rotate_components
+
 __all__ = ["push_motions", "slide_twist", "stick_omega"]
 
 #: Smoothing of ``|u|`` in units of the support cell's side.
@@ -199,7 +201,7 @@ def push_motions(
         wx = first[a, 0] + k * step[a] * unit[a, 0] - X[live]
         wy = first[a, 1] + k * step[a] * unit[a, 1] - Y[live]
         c, s = np.cos(theta[live]), np.sin(theta[live])
-        qx, qy = cx0 + c * wx - s * wy, cy0 + s * wx + c * wy
+        qx, qy = rotate_components(wx, wy, c, s, inverse=True, origin=(cx0, cy0))
         dist, gx, gy = field.sample(qx, qy)
         gap = dist - radii[a]
         touch = gap < 0
@@ -209,8 +211,8 @@ def push_motions(
         nx, ny, gap = -gx[touch], -gy[touch], gap[touch]
         ccx = qx[touch] + dist[touch] * nx - cx0  # contact on the outline, from the centroid
         ccy = qy[touch] + dist[touch] * ny - cy0
-        mx = (c * unit[a, 0] - s * unit[a, 1]) * step[a]  # the pusher's step, body frame
-        my = (s * unit[a, 0] + c * unit[a, 1]) * step[a]
+        mx, my = rotate_components(unit[a, 0], unit[a, 1], c, s, inverse=True)
+        mx, my = mx * step[a], my * step[a]  # the pusher's step, body frame
         mn = mx * nx + my * ny
         ux, uy = mx - (mn + gap) * nx, my - (mn + gap) * ny  # sticking contact displacement
         speed = np.maximum(np.hypot(ux, uy), 1e-12)
@@ -251,9 +253,9 @@ def push_motions(
         om = np.clip(np.nan_to_num(om), -cap, cap)
         vx, vy = np.nan_to_num(vx), np.nan_to_num(vy)
         half = theta[live] + 0.5 * om
-        ch, sh = np.cos(half), np.sin(half)
-        X[live] += ch * vx + sh * vy
-        Y[live] += -sh * vx + ch * vy
+        dx, dy = rotate_components(vx, vy, np.cos(half), np.sin(half))
+        X[live] += dx
+        Y[live] += dy
         theta[live] += om
     out = np.stack([theta, X - cx0, Y - cy0], axis=-1)
     return out.reshape(n_p, n_a, 3)

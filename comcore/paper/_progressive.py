@@ -16,7 +16,7 @@ from .._validation import (
     check_positive,
     check_probability,
 )
-from ..conventions import pixel_centres
+from ..conventions import pixel_centres, rotation_sense
 from ..geometry._contacts import line_distances, side_counts
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._regions import best_component, estimate_from_region, label_components
@@ -137,9 +137,9 @@ def estimate_progressive(
       are consistent, not necessarily right. Recorded motions with every
       theta's sign flipped (theta counter-clockwise with the y axis up) are
       explained by a CoM mirrored through the centroid when the pushes' lines
-      pass near it: of 60 benchmark recordings of 40 pushes with every sign
-      flipped, 58 say ``"inconsistent"`` and 2 say ``"ok"``, 5.3 and 11.9 cm
-      off (``benchmarks/accuracy/estimate_methods.py --flips 0,all``). The senses cannot
+      pass near it, so such a recording mostly, not always, says
+      ``"inconsistent"`` (``benchmarks/accuracy/estimate_methods.py --flips 0,all``
+      counts how often). The senses cannot
       tell those two; the motions' sizes can: ``comcore estimate`` checks every
       recording's sign for every method, and :func:`comcore.estimate_posterior`
       with its default model calls such a recording ``"inconsistent"``.
@@ -252,7 +252,7 @@ def estimate_progressive(
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     cone = tuple(float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
     a_lo, a_hi = cone
-    sense = np.sign(theta).astype(int)
+    sense = rotation_sense(theta, tol=0.0)
 
     while sizes[-1] > target and keep.any():
         if selection == "equality":

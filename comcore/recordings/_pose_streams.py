@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from .._validation import _as_float_rows
+from ..conventions import rotate_components
 from ..geometry._outline import outline_signed_distance
 
 __all__ = ["pose_at", "push_window", "stream", "to_frame"]
@@ -38,7 +39,7 @@ def to_frame(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
     """World points (n, 2) into the frame of one pose ``(x, y, yaw)``."""
     c, s = math.cos(pose[2]), math.sin(pose[2])
     rel = points - pose[:2]
-    return np.column_stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]])
+    return np.column_stack(rotate_components(rel[:, 0], rel[:, 1], c, s))  # world to body
 
 
 def _crossing(t: np.ndarray, value: np.ndarray, level: float, k: int) -> float:
@@ -59,7 +60,7 @@ def push_window(outline, obj, pusher, radius, travel, tolerance):
     poses = pose_at(obj, pus[:, 0])
     c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
     rel = pus[:, 1:3] - poses[:, :2]
-    local = np.column_stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]])
+    local = np.column_stack(rotate_components(rel[:, 0], rel[:, 1], c, s))
     gap = outline_signed_distance(outline, local) - radius
     if gap[0] < -tolerance:
         return "starts_inside", (

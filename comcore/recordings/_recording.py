@@ -22,7 +22,7 @@ import numpy as np
 from .._mask import Mask
 from .._types import Action, Motion, SkippedPush
 from .._validation import _as_float_rows, check_point, check_positive
-from ..conventions import DEFAULT_RESOLUTION
+from ..conventions import DEFAULT_RESOLUTION, rotate_components
 from ..geometry._contacts import contacts
 from ..geometry._disc_contacts import disc_contacts
 from ..geometry._outline import (
@@ -302,9 +302,7 @@ def _push(frame, obj, pusher, radius, standoff, centroid_m, t_contact, t_end):
     # The material point under the mask's centroid: where it is at the window's end, in the
     # object's frame at its start (metres, y up), then in pixels (y down).
     c1, s1 = math.cos(pose1[2]), math.sin(pose1[2])
-    turned = np.array(
-        [c1 * centroid_m[0] - s1 * centroid_m[1], s1 * centroid_m[0] + c1 * centroid_m[1]]
-    )
+    turned = np.array(rotate_components(centroid_m[0], centroid_m[1], c1, s1, inverse=True))
     world1 = pose1[:2] + turned
     moved = to_frame(world1[None], pose0)[0] - centroid_m
     motion = Motion(pose1[2] - pose0[2], moved[0] / frame.resolution, -moved[1] / frame.resolution)

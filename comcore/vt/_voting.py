@@ -34,7 +34,8 @@ from .._validation import (
     check_points,
     check_positive,
 )
-from ..conventions import ANGLE_EPS, _ccw_cross, rotation_sign
+from ..conventions import ANGLE_EPS, _ccw_cross
+from ..conventions import rotation_sense as theta_sense  # an observed angle's sense
 from ..geometry._disc_contacts import pusher_contacts
 
 __all__ = ["consistent", "region", "rotation_sense"]
@@ -331,7 +332,7 @@ def region(
         raise ValueError("theta must be finite")
     band = check_positive(band, "band", allow_zero=True)
     theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
-    senses = rotation_sign(th, theta_tol)
+    senses = theta_sense(th, theta_tol)
     pusher_radius = check_physical(
         pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
     )

@@ -13,6 +13,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from comcore.checks import check_rng
+from comcore.conventions import rotation_matrix
 from comcore.geometry import rasterise_polygon
 
 __all__ = ["AREA_RANGE_M2", "polygon_area", "random_polygon", "rasterise"]
@@ -95,8 +96,7 @@ def random_polygon(rng=None, area_range=AREA_RANGE_M2) -> np.ndarray:
     kind = _KINDS[int(rng.integers(len(_KINDS)))]
     v = {"blob": _blob, "convex": _convex, "rectilinear": _rectilinear}[kind](rng)
     v = v * np.array([1.0, rng.uniform(0.4, 1.0)])  # elongation up to 2.5 : 1
-    c, s = np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)
-    v = v @ np.array([[c, s], [-s, c]])
+    v = v @ rotation_matrix(rng.uniform(0, 2 * np.pi))
     if polygon_area(v) < 0:
         v = v[::-1]
     area = np.exp(rng.uniform(np.log(lo), np.log(hi)))

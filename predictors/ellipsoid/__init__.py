@@ -165,8 +165,8 @@ class EllipsoidPredictor:
         >>> mask = comcore.Mask(np.pad(np.ones((20, 30), bool), 10))
         >>> out = EllipsoidPredictor().predict_hypotheses(
         ...     mask, [(0, 19.5, 24, 19.5)], [(24.5, 15.0), (24.5, 24.0)], mu=0.5)
-        >>> out.shape, np.sign(out[:, 0, 0]).tolist()
-        ((2, 1, 3), [1.0, -1.0])
+        >>> out.shape, comcore.conventions.rotation_sense(out[:, 0, 0]).tolist()
+        ((2, 1, 3), [1, -1])
         """
         mask = check_mask(mask)
         acts = check_actions(actions)

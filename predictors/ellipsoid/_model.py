@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from comcore.conventions import rotate_components
+
 __all__ = ["body_twist", "simulate"]
 
 
@@ -145,12 +147,12 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         # comcore convention: R(theta) = [[c, s], [-s, c]]; the body frame is R(-theta).
         cos_t, sin_t = np.cos(theta), np.sin(theta)
         ox, oy = sx + k * dx - px, sy + k * dy - py
-        qx = cos_t * ox - sin_t * oy + comx
-        qy = sin_t * ox + cos_t * oy + comy
+        qx, qy = rotate_components(ox, oy, cos_t, sin_t, inverse=True)
+        qx, qy = qx + comx, qy + comy
         dist, gx, gy = field.sample(qx, qy)
         gap = dist - radius  # < 0: the pusher is inside by -gap
         nx, ny = -gx, -gy
-        mx, my = cos_t * dx - sin_t * dy, sin_t * dx + cos_t * dy
+        mx, my = rotate_components(dx, dy, cos_t, sin_t, inverse=True)
         along = mx * nx + my * ny + gap
         if directional:  # c^2 = d^T S d along the pusher's direction in the body frame
             c2 = (sxx * mx * mx + 2.0 * sxy * mx * my + syy * my * my) / np.maximum(
@@ -170,12 +172,13 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
             sin_a,
         )
         pushing = (gap < 0) & hit
-        px = px + np.where(pushing, cos_t * vx + sin_t * vy, 0.0)
-        py = py + np.where(pushing, -sin_t * vx + cos_t * vy, 0.0)
+        wx, wy = rotate_components(vx, vy, cos_t, sin_t)
+        px = px + np.where(pushing, wx, 0.0)
+        py = py + np.where(pushing, wy, 0.0)
         theta = theta + np.where(pushing, omega, 0.0)
     cx, cy = mask.centroid
     bx, by = cx - comx, cy - comy
-    cos_t, sin_t = np.cos(theta), np.sin(theta)
-    tx = cos_t * bx + sin_t * by + px - cx
-    ty = -sin_t * bx + cos_t * by + py - cy
+    rx, ry = rotate_components(bx, by, np.cos(theta), np.sin(theta))
+    tx = rx + px - cx
+    ty = ry + py - cy
     return np.stack([theta, tx, ty], axis=-1)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from comcore.conventions import rotate_components
+
 __all__ = [
     "closest_points",
     "exp_translation",
@@ -90,9 +92,7 @@ def first_contacts(outline, starts, directions, lengths, radius):
 
 def to_world(v, c, s):
     """Body-frame vectors (m, 2) to world, for angles with cosines ``c`` and sines ``s`` (m, 1)."""
-    return np.column_stack(
-        [c[:, 0] * v[:, 0] - s[:, 0] * v[:, 1], s[:, 0] * v[:, 0] + c[:, 0] * v[:, 1]]
-    )
+    return np.column_stack(rotate_components(v[:, 0], v[:, 1], c[:, 0], s[:, 0], inverse=True))
 
 
 def exp_translation(xi):

@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from comcore.conventions import rotation_matrix
+
 from .._deps import require_pymunk
 from .._settings import EngineSettings
 from ._contact import closest_points, first_contacts
@@ -42,8 +44,7 @@ FAR_AWAY = (1e7, 1e7)
 
 
 def _rotate(v: np.ndarray, angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return v @ np.array([[c, s], [-s, c]])
+    return v @ rotation_matrix(angle)  # body to world (y up)
 
 
 class PymunkEngine:

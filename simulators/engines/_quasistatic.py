@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from comcore.conventions import rotate_components
+
 from ._contact import (
     closest_points,
     exp_translation,
@@ -89,10 +91,8 @@ class QuasiStaticEngine:
         centre0 = start - self.radius * d  # the disc's centre trails its leading point
         c, s = rotation(ang)
         rel = centre0 - x
-        centre_body = np.column_stack(
-            [c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]]
-        )
-        dir_body = np.column_stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]])
+        centre_body = np.column_stack(rotate_components(rel[:, 0], rel[:, 1], c, s))  # to body
+        dir_body = np.column_stack(rotate_components(d[:, 0], d[:, 1], c, s))
         t_hit = first_contacts(self.outline, centre_body, dir_body, total, self.radius)
         # A disc that overlaps the object where its path starts (a notch narrower than
         # the pusher) is lowered farther back on the same line, beyond the object.

@@ -19,6 +19,7 @@ import numpy as np
 
 import comcore
 from comcore import Action, Motion
+from comcore.conventions import rotate_components, rotation_matrix
 
 from .._deps import require_shapely
 from .._robot import DEFAULT_CAMERA_MARGIN, camera_frame_margin
@@ -174,21 +175,19 @@ class MujocoRobot:
     def _to_world(p, pose) -> np.ndarray:
         x, y, a = pose
         c, s = math.cos(a), math.sin(a)
-        return np.array([x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]])
+        return np.array(rotate_components(p[0], p[1], c, s, inverse=True, origin=(x, y)))
 
     @staticmethod
     def _to_body(p, pose) -> np.ndarray:
         x, y, a = pose
-        c, s = math.cos(a), math.sin(a)
         d = np.asarray(p, float) - (x, y)
-        return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+        return np.array(rotate_components(d[0], d[1], math.cos(a), math.sin(a)))
 
     def outline_m(self) -> np.ndarray:
         """The object's outline now, table metres, (k, 2)."""
         pose = self._body_pose()
         v = self.simulator.shape.vertices_m
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        return v @ np.array([[c, s], [-s, c]]) + pose[:2]
+        return v @ rotation_matrix(pose[2]) + pose[:2]  # body to world (y up)
 
     def true_com_px(self) -> tuple[float, float]:
         """MuJoCo's CoM in the FIRST frame's grid pixels: what an estimate is scored on."""

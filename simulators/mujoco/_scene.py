@@ -67,19 +67,19 @@ class MujocoSettings:
     Attributes
     ----------
     speed : float
-        Pusher speed along the path, m/s. At 0.01 the turns are within about a degree of
-        their slow-push limit; at 0.05 the object hops on its feet and turns 10-20 % less
-        (docs/mujoco.md).
+        Pusher speed along the path, m/s. Slow enough for the turns to stay near their
+        slow-push limit; faster pushes make the object hop on its feet and turn less
+        (calibrated by benchmarks/mujoco/mujoco_hop.py; docs/mujoco.md).
     timestep : float
         MuJoCo time step, seconds.
     contact_timeconst : float
         Time constant (``solref``) of the pusher's contact with the object, seconds; at
-        least twice ``timestep``. Stiff (0.002 s) so that the 4 mm pusher does not sink
-        into the object.
+        least twice ``timestep``. Stiff, so that the pusher does not sink into the object.
     support_timeconst : float
-        Time constant of the feet's contacts with the table. MuJoCo's default softness
-        (0.02 s): stiffer support contacts make the pushed object hop on its feet
-        (docs/mujoco.md), which weakens the support friction.
+        Time constant of the feet's contacts with the table. MuJoCo's default softness:
+        stiffer support contacts make the pushed object hop on its feet, which weakens
+        the support friction (calibrated by benchmarks/mujoco/mujoco_hop.py;
+        docs/mujoco.md).
     solver, cone, integrator : str
         MuJoCo's ``<option>`` settings.
     iterations : int

@@ -7,7 +7,7 @@ import pytest
 
 import comcore
 import comcore.camera._pose_tracking as pose_module
-from comcore.camera._pose_tracking import IDENTITY, compose, moved_mask
+from comcore.camera._pose_tracking import compose, moved_mask
 from tests.records import actions_of, motions_of, outcomes_of
 
 TRUE_COM = (52.0, 60.0)  # object frame (first mask), off the centroid (59.5, 56.5)
@@ -24,7 +24,7 @@ class World:
 
     def __init__(self, mask, com=TRUE_COM, slide=6.0):
         self.mask, self.com, self.slide = mask, np.asarray(com), slide
-        self.pose = IDENTITY
+        self.pose = comcore.Motion.identity()
         self.c0 = np.asarray(mask.centroid)
 
     def to_object(self, action):
@@ -310,7 +310,7 @@ def test_an_ambiguous_rotation_gives_no_sense_evidence(monkeypatch):
 
 
 def test_a_robot_no_com_explains_is_reported_inconsistent():
-    """Always +0.1 rad and no translation: with a model no CoM explains it (issue 13)."""
+    """Always +0.1 rad and no translation: with a model no CoM explains it."""
     from tests.active.test_blocking import ToyModel, _ell, _robot
 
     mask = _ell()

@@ -243,7 +243,7 @@ def test_the_object_is_found_in_a_wide_camera_frame(condition):
 
 @pytest.mark.parametrize("dark", [True, False])
 def test_a_small_object_under_a_60_level_gradient_needs_no_option(dark):
-    # the frame: 1280 x 720, the object 0.2 % of it, the table lit 60+ levels unevenly
+    # a robot camera's frame: 1280 x 720, the object 0.2 % of it, the table lit 60+ levels unevenly
     frame = frames.make_frame(np.random.default_rng([2, 100, int(dark)]), gradient=70.0, dark=dark)
     assert frame.truth.sum() / frame.truth.size == pytest.approx(0.002, rel=0.05)
     smooth = ndimage.uniform_filter(frame.image.astype(float), 9)

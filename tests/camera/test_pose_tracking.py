@@ -21,7 +21,7 @@ def test_a_rectangle_turned_past_half_a_turn_keeps_its_rotation():
     mask = sim.mask_at((x, y, 1.9))
     reading = measure_pose(first, mask, comcore.Motion(1.6, 0.0, 0.0))
     assert abs(reading.pose.theta - 1.9) < math.radians(1.0)
-    from_rest = measure_pose(first, mask, comcore.Motion(0.0, 0.0, 0.0))
+    from_rest = measure_pose(first, mask, comcore.Motion.identity())
     assert abs(from_rest.pose.theta - (1.9 - math.pi)) < math.radians(1.0)
 
 
@@ -58,13 +58,13 @@ def test_a_small_hexagons_turn_read_to_two_degrees_is_read_not_dropped(radius_px
     Dropping it kept the previous rotation: a hexagon turned by 35 deg was taken as not
     turned, and a robot session stopped ``ok`` 1.4 cm off (benchmark Obj3, no resets).
     """
-    from comcore.camera._pose_tracking import IDENTITY, symmetric_branches
+    from comcore.camera._pose_tracking import symmetric_branches
 
     first, turned = _hexagon(radius_px, 0.0), _hexagon(radius_px, 0.61, (3.0, 2.0))
     assert comcore.measure_motion(first, turned).ambiguous
-    reading = measure_pose(first, turned, IDENTITY)
+    reading = measure_pose(first, turned, comcore.Motion.identity())
     assert not reading.ambiguous and reading.symmetry == 6
-    thetas = [b.pose.theta for b in symmetric_branches(reading, IDENTITY)]
+    thetas = [b.pose.theta for b in symmetric_branches(reading, comcore.Motion.identity())]
     assert min(abs(t - 0.61) for t in thetas) < math.radians(4.0)  # the true turn is offered
 
 

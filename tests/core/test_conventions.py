@@ -79,8 +79,71 @@ def test_ccw_cross_sign_matches_rotation_direction():
     assert comcore.conventions.ccw_cross([1.0, 0.0], v) > 0
 
 
-def test_rotation_sign():
-    assert comcore.conventions.rotation_sign([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
+def test_rotation_sense_has_a_dead_band_of_angle_eps_by_default():
+    eps = comcore.conventions.ANGLE_EPS
+    sense = comcore.conventions.rotation_sense
+    assert sense([1e-13, -0.5, 2.0]).tolist() == [0, -1, 1]
+    assert sense([eps, -eps, 2 * eps, -2 * eps]).tolist() == [0, 0, 1, -1]  # the band is closed
+
+
+def test_rotation_sense_takes_its_dead_band_as_tol():
+    sense = comcore.conventions.rotation_sense
+    assert sense([1e-13, -1e-300, 0.0, -0.0], tol=0.0).tolist() == [1, -1, 0, 0]  # the plain sign
+    assert sense([0.1, -0.1, 0.3, -0.3], tol=0.2).tolist() == [0, 0, 1, -1]
+    assert sense([5.0, -5.0], tol=np.inf).tolist() == [0, 0]  # a rotation not observed
+
+
+def test_rotation_sense_keeps_the_shape_of_its_input():
+    sense = comcore.conventions.rotation_sense
+    theta = np.array([[0.2, -0.1, 0.0], [1e-13, -3.0, 0.5]])
+    out = sense(theta)
+    assert out.shape == (2, 3) and out.dtype.kind == "i"
+    assert out.tolist() == [[1, -1, 0], [0, -1, 1]]
+    assert sense(0.5).shape == () and int(sense(-0.5)) == -1
+    assert sense(np.zeros(0)).shape == (0,)
+
+
+@pytest.mark.parametrize("theta", [0.3, -0.3, 0.0, -0.0, 1e-13, -1e-13, 5e-324, -np.pi])
+def test_motion_sense_is_rotation_sense_without_a_dead_band(theta):
+    motion = comcore.Motion(theta, 1.0, 2.0)
+    assert motion.sense == int(comcore.conventions.rotation_sense(theta, tol=0.0))
+    assert type(motion.sense) is int
+
+
+def test_the_identity_motion_moves_nothing():
+    identity = comcore.Motion.identity()
+    assert identity == comcore.Motion(0.0, 0.0, 0.0) and identity is comcore.Motion.identity()
+    assert identity.sense == 0
+    points = np.array([[3.0, 4.0], [-1.5, 2.0]])
+    moved = comcore.apply_motion(points, identity.theta, (identity.tx, identity.ty), (1.0, 1.0))
+    assert moved.tolist() == points.tolist()
+    assert comcore.PushRecord(comcore.Action(0, 0, 1, 0), identity, "miss").pose_before == identity
+
+
+def test_rotate_components_is_rotate_vectors_bit_for_bit():
+    rng = np.random.default_rng(4)
+    v, theta = rng.normal(size=(50, 2)) * 30, rng.uniform(-7, 7, 50)
+    c, s = np.cos(theta), np.sin(theta)
+    x, y = comcore.conventions.rotate_components(v[:, 0], v[:, 1], c, s)
+    assert np.array_equal(np.column_stack([x, y]), comcore.conventions.rotate_vectors(v, theta))
+    # the inverse turn is the turn by -theta, and with an origin it is added first
+    xi, yi = comcore.conventions.rotate_components(v[:, 0], v[:, 1], c, s, inverse=True)
+    assert np.array_equal(np.column_stack([xi, yi]), comcore.conventions.rotate_vectors(v, -theta))
+    ox, oy = rng.normal(size=(2, 50)) * 100
+    xo, yo = comcore.conventions.rotate_components(v[:, 0], v[:, 1], c, s, origin=(ox, oy))
+    assert np.array_equal(xo, ox + c * v[:, 0] + s * v[:, 1])
+    assert np.array_equal(yo, oy - s * v[:, 0] + c * v[:, 1])
+
+
+def test_rotate_components_turns_a_y_up_frame_counter_clockwise_with_inverse():
+    # In table metres (y up) a quarter turn takes +x to +y: the inverse of the pixel turn.
+    c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
+    x, y = comcore.conventions.rotate_components(1.0, 0.0, c, s, inverse=True, origin=(2.0, 3.0))
+    assert (round(x, 12), round(y, 12)) == (2.0, 4.0)
+    m = comcore.conventions.rotation_matrix(0.3)
+    row = np.array([[1.5, -0.5]])
+    xr, yr = comcore.conventions.rotate_components(1.5, -0.5, np.cos(0.3), np.sin(0.3), inverse=True)
+    assert np.allclose(row @ m, [[xr, yr]], rtol=0, atol=1e-15)  # rows @ R(theta): the same turn
 
 
 def test_quarter_turn_is_exact_and_agrees_with_rotate_vectors():
@@ -128,10 +191,11 @@ def test_apply_motion_rejects_bad_input(args, error, match):
         (lambda: comcore.conventions.ccw_cross("ab", [1, 2]), TypeError, "a must be array_like"),
         (lambda: comcore.conventions.ccw_cross([np.inf, 0], [1, 2]), ValueError, "a must be finite"),
         # used to return -9223372036854775808 (NaN cast to int)
-        (lambda: comcore.conventions.rotation_sign([np.nan]), ValueError, "theta must be finite"),
-        (lambda: comcore.conventions.rotation_sign(["x"]), TypeError, "theta must be array_like"),
-        (lambda: comcore.conventions.rotation_sign([0.1], tol=-1), ValueError, "tol must be a finite"),
-        (lambda: comcore.conventions.rotation_sign([0.1], tol="0"), TypeError, "tol must be a number"),
+        (lambda: comcore.conventions.rotation_sense([np.nan]), ValueError, "theta must be finite"),
+        (lambda: comcore.conventions.rotation_sense(["x"]), TypeError, "theta must be array_like"),
+        (lambda: comcore.conventions.rotation_sense([0.1], tol=-1), ValueError, "tol must be a number >= 0"),
+        (lambda: comcore.conventions.rotation_sense([0.1], tol="0"), TypeError, "tol must be a number"),
+        (lambda: comcore.conventions.rotation_sense([0.1], tol=np.nan), ValueError, "tol must be a number >= 0"),
     ],
 )
 def test_convention_helpers_reject_bad_input(call, error, match):
@@ -142,7 +206,7 @@ def test_convention_helpers_reject_bad_input(call, error, match):
 def test_convention_helpers_still_broadcast():
     assert comcore.conventions.ccw_cross([[1.0, 0.0], [0.0, 1.0]], [0.0, 1.0]).tolist() == [-1.0, -0.0]
     assert comcore.conventions.rotate_vectors(np.zeros((2, 3, 2)), np.zeros(3)).shape == (2, 3, 2)
-    assert comcore.conventions.rotation_sign(0.5).shape == ()
+    assert comcore.conventions.rotation_sense(0.5).shape == ()
 
 
 @pytest.mark.parametrize("theta", [np.nan, np.inf, -np.inf])

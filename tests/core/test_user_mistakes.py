@@ -1,8 +1,9 @@
-"""Issue 21: a user's mistake never ends in a confident wrong answer.
+"""A user's mistake never ends in a confident wrong answer.
 
-One test per row of the issue's table (the camera-frame rows are tests/camera/test_image.py's) and
-per point of its section 6 that is not tested elsewhere: each reproduces what the user did
-and shows the clear error, the status that is not ``ok`` or the result that works.
+One test per mistake a user can make with the inputs (those with the camera's frame are
+tests/camera/test_image.py's), and the rest of a fuzzing pass not tested elsewhere: each
+reproduces what the user did and shows the clear error, the status that is not ``ok`` or
+the result that works.
 """
 
 from __future__ import annotations
@@ -277,7 +278,7 @@ def test_observe_takes_the_object_moved():
     assert session.pose.tx == pytest.approx(2.0, abs=0.05)
 
 
-# -- section 6 of the issue: the rest of the fuzzing pass ----------------------------------
+# -- the rest of the fuzzing pass ----------------------------------------------------------
 
 
 def test_n_mu_past_what_runs_in_30_seconds_is_refused():

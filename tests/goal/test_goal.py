@@ -195,7 +195,7 @@ def test_session_order_errors_leave_it_unchanged():
         with pytest.raises(kind):
             session.observe(**bad)
         assert session.status == "waiting_observation" and session.pushes == ()
-        assert session.next_push() == push and session.pose == comcore.Motion(0.0)
+        assert session.next_push() == push and session.pose == comcore.Motion.identity()
     session.observe(motion=(0.0, 12.0, 0.0))
     assert session.status == "reached"
     with pytest.raises(comcore.SessionError, match="reached"):

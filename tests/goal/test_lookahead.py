@@ -9,7 +9,6 @@ import pytest
 
 import comcore
 from comcore._types import Motion
-from comcore.camera._pose_tracking import IDENTITY
 from comcore.goal import _costs as _goal_costs
 from comcore.goal import _planner as _goal_planner
 from comcore.goal._translation import line_pushes, planning_model, predict_motions
@@ -24,7 +23,7 @@ def _plate():
 
 def _pushes(first, offsets, lengths):
     """Pushes to the right at offsets (px) across the plate, each for the lengths (px)."""
-    return line_pushes(first, IDENTITY, np.array([0.0]), np.array([offsets]), lengths, 0.004)[0]
+    return line_pushes(first, Motion.identity(), np.array([0.0]), np.array([offsets]), lengths, 0.004)[0]
 
 
 def test_model_variance_grows_with_the_travel_and_near_the_com_line():
@@ -62,7 +61,7 @@ def test_the_planner_counts_the_sessions_model_error_scales():
     assert (_goal_costs.model_variance(goal, first, actions, com, motions, wide) > base).all()
     # and the session hands its likelihood to the planner
     hyps = comcore.goal.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
-    where = (first, IDENTITY, goal, goal.target_px(first), hyps, planning_model(0.004))
+    where = (first, Motion.identity(), goal, goal.target_px(first), hyps, planning_model(0.004))
     plans = [
         _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales)
         for scales in (comcore.Likelihood(), wide)
@@ -90,7 +89,7 @@ def test_follow_ups_are_the_least_expected_cost_of_one_more_push():
         [_goal_costs._cross_offsets(first, a, hyps, 5, halves=False) for a in directions]
     )
     lengths = [f * 20.0 for f in _goal_costs.FOLLOW_LENGTHS]
-    actions, _ = line_pushes(first, IDENTITY, directions, offsets, lengths, 0.004)
+    actions, _ = line_pushes(first, Motion.identity(), directions, offsets, lengths, 0.004)
     raw = predict_motions(model, first, actions, hyps)
     extra = _goal_costs.model_variance(goal, first, actions, hyps.coms, raw)
     for k in range(3):

@@ -217,7 +217,7 @@ def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
     assert est.com == (14.5, 17.5)
 
 
-# -- contradictions (issue 13) -------------------------------------------------------------
+# -- contradictions ----------------------------------------------------------------------
 def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
     # The fuzzing reproducer: push 1 (CoM below row 18) is applied; push 0 (CoM above row 8)
     # then scores 0 and was dropped silently with status "ok".
@@ -267,7 +267,7 @@ def test_small_rotations_are_never_called_contradictions(square_mask):
     assert est.ok and est.used == (0,)
 
 
-# -- which part of a disconnected final region (issue 13) -----------------------------------
+# -- which part of a disconnected final region -------------------------------------------
 def two_blocks_mask():
     image = np.zeros((50, 50), bool)
     image[10:40, 5:25] = True  # 20 columns wide

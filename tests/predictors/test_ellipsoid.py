@@ -147,7 +147,7 @@ def test_integrated_sense_agrees_with_voting_theorem_away_from_its_lines():
         rays = np.vstack([rays, push / np.linalg.norm(push)])
         margin = np.abs(comcore.conventions.ccw_cross((coms - con.point[i])[:, None, :], rays)).min(axis=1)
         sel = (margin > 2.0) & (np.abs(theta[:, i]) > np.radians(1.0))
-        agree += int((comcore.conventions.rotation_sign(theta[sel, i]) == sense[sel]).sum())
+        agree += int((comcore.conventions.rotation_sense(theta[sel, i]) == sense[sel]).sum())
         total += int(sel.sum())
     assert total > 3000
     assert agree / total >= 0.99

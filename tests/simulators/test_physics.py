@@ -1,4 +1,4 @@
-"""Fidelity of the simulator (issue 3, section 7): the simulator's acceptance tests."""
+"""Fidelity of the simulator: its acceptance tests against the Voting Theorem and the physics."""
 
 import math
 
@@ -81,7 +81,7 @@ def test_rotation_sense_agrees_with_the_voting_theorem(cone):
     names = ["Obj1", "Obj5", "Obj7", "Obj12", "Obj16", "Obj19"]
     total, initial, final = _vt_agreement(names, cone)
     assert total >= 350
-    # The issue's bar, on the returned Motion (what estimators see): the sense of
+    # The acceptance bar, on the returned Motion (what estimators see): the sense of
     # the whole 3 cm push agrees on at least 99 % of pushes (it can reverse when the
     # pusher slides onto another edge of a concave outline, but rarely) ...
     assert final >= 0.99

@@ -97,7 +97,7 @@ def test_pusher_error_is_across_the_push_with_the_given_std(sim):
     assert np.allclose(along, 0.0)
     assert abs(across_m.mean()) < 3 * std / np.sqrt(n)
     assert 0.85 * std < across_m.std() < 1.15 * std
-    assert robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+    assert robot.pose == comcore.Motion.identity()
 
 
 def test_perturb_actions_turns_about_the_start():
@@ -113,6 +113,33 @@ def test_mask_noise_flips_only_the_outline(sim):
     changed = exact ^ noisy
     assert changed.any() and not (changed & ~band).any()
     assert 0.3 < changed.sum() / band.sum() < 0.7
+
+
+class _Draws:
+    """A stand-in generator whose ``random`` draws are given (0: flip, 1: keep)."""
+
+    def __init__(self, draws):
+        self.draws = draws
+
+    def random(self, shape):
+        assert shape == self.draws.shape
+        return self.draws
+
+
+def test_noisy_mask_keeps_a_diagonal_touching_pixel_as_mask_from_image_does():
+    # A 5 x 5 square; its corner pixel (2, 2) flips off and the outside pixel (1, 2) above
+    # it flips on: (1, 2) then touches the square only at a corner, through (2, 3).
+    data = np.zeros((9, 9), bool)
+    data[2:7, 2:7] = True
+    draws = np.ones(data.shape)
+    draws[2, 2] = draws[1, 2] = 0.0
+    out = simulators.noisy_mask(comcore.Mask(data), 0.5, _Draws(draws)).data
+    expected = data.copy()
+    expected[2, 2], expected[1, 2] = False, True
+    assert np.array_equal(out, expected)  # 8-connected: the pixel is the object's
+    four, _ = ndimage.label(expected)  # 4-connected, it would be a component of its own
+    assert four[1, 2] != four[4, 4]
+    assert np.array_equal(comcore.geometry.largest_component(expected), out)
 
 
 def test_exact_camera_mask_is_the_simulators(sim):
@@ -178,7 +205,7 @@ def test_bad_input(sim):
     centre = robot.camera_mask().centroid
     with pytest.raises(ValueError, match="start outside"):
         robot.execute((*centre, centre[0] + 10, centre[1]))
-    assert robot.pushes == 0 and robot.pose == comcore.Motion(0.0, 0.0, 0.0)
+    assert robot.pushes == 0 and robot.pose == comcore.Motion.identity()
 
 
 def test_place_puts_the_object_back_without_a_push(sim):
