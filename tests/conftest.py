@@ -58,7 +58,7 @@ def synthetic_motions(
     direction = actions[:, 2:] - actions[:, :2]
     sense = np.array(
         [
-            comcore.vt.rotation_sense(com, con.point[i], con.normal[i], direction[i], mu)
+            comcore.vt.predicted_sense(com, con.point[i], con.normal[i], direction[i], mu)
             for i in range(len(actions))
         ]
     )

@@ -40,7 +40,7 @@ def exact_motions(mask, actions, com):
     direction = actions[:, 2:] - actions[:, :2]
     sense = np.array(
         [
-            comcore.vt.rotation_sense(com, con.point[i], con.normal[i], direction[i], MU)
+            comcore.vt.predicted_sense(com, con.point[i], con.normal[i], direction[i], MU)
             for i in range(len(actions))
         ]
     )

@@ -4,7 +4,7 @@ The same checks as the acceptance tests (tests/simulators/test_physics.py), with
 measured values printed instead of pass/fail:
 
 * Voting Theorem: on random pushes whose line passes more than 2 px from the
-  CoM, how often ``comcore.vt.rotation_sense`` (true CoM, true ``mu_contact``)
+  CoM, how often ``comcore.vt.predicted_sense`` (true CoM, true ``mu_contact``)
   predicts the sense of rotation: the initial sense (first 3 steps) and the
   sense of the returned ``Motion`` (what estimators see), the theorem applied
   at the disc's real contact and at the point-pusher contact of
@@ -60,14 +60,14 @@ def voting_theorem(objects, cone, n, settings):
                 push_dir = actions[i, 2:] - actions[i, :2]
                 early = res.trajectory[min(3, len(res.trajectory) - 1), 2] - res.trajectory[0, 2]
                 early, late = np.sign(early), np.sign(res.motion.theta)
-                disc = comcore.vt.rotation_sense(
+                disc = comcore.vt.predicted_sense(
                     com, res.contact_px, res.normal_px, push_dir, sim.mu_contact
                 )
                 total += 1
                 initial += disc == early
                 final += disc == late
                 if point.hit[i]:
-                    vt = comcore.vt.rotation_sense(
+                    vt = comcore.vt.predicted_sense(
                         com, point.point[i], point.normal[i], push_dir, sim.mu_contact
                     )
                     point_initial += vt == early

@@ -36,7 +36,7 @@ def toy_case(seed: int):
 
     def push(action):
         c = comcore.geometry.contacts(mask, action)
-        s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+        s = comcore.vt.predicted_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
         return comcore.Motion(0.1 * s, 0.0, 0.0)
 
     options = {**LEGACY, "rng": seed}

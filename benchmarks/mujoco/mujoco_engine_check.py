@@ -6,7 +6,7 @@ with ``rng=[seed, k]``), each push from the start pose (the object reset with
 ``MujocoRobot.place``), this measures:
 
 * how often MuJoCo's rotation sense agrees with the exact engine's, and with the
-  Voting Theorem for the true CoM (``comcore.vt.rotation_sense`` at the exact engine's
+  Voting Theorem for the true CoM (``comcore.vt.predicted_sense`` at the exact engine's
   contact), on pushes whose line passes more than 2 px from the CoM;
 * the rotation (deg) and translation (mm, of the mask's area centroid) differences,
   median and 95th percentile, MuJoCo against exact, MuJoCo against pymunk, and pymunk
@@ -114,7 +114,7 @@ def main_check(objects, n_pushes, seed, with_pymunk):
                 if res.contact_px is None or not off[i]:
                     continue
                 push_dir = actions[i, 2:] - actions[i, :2]
-                vt = comcore.vt.rotation_sense(
+                vt = comcore.vt.predicted_sense(
                     com, res.contact_px, res.normal_px, push_dir, grid.mu_contact
                 )
                 rows["sense_exact"].append(np.sign(mj[i, 0]) == np.sign(exact[i, 0]))

@@ -162,13 +162,13 @@ def disc_agreement(obj: ObjectPushes, known_mu: float) -> dict:
         out["turning"] += 1
         d = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
         sense = int(np.sign(m[0]))
-        predicted = comcore.vt.rotation_sense(obj.com, disc.point[i], disc.normal[i], d, known_mu)
+        predicted = comcore.vt.predicted_sense(obj.com, disc.point[i], disc.normal[i], d, known_mu)
         out["disc_known"] += int(predicted == sense)
         allowed = comcore.vt.consistent([obj.com], disc.point[i], disc.normal[i], d, sense)[0]
         out["disc_unknown"] += int(allowed)
         if line.hit[i]:
             out["line_hits"] += 1
-            p = comcore.vt.rotation_sense(obj.com, line.point[i], line.normal[i], d, known_mu)
+            p = comcore.vt.predicted_sense(obj.com, line.point[i], line.normal[i], d, known_mu)
             out["line_known"] += int(p == sense)
     return out
 

@@ -75,7 +75,7 @@ def main(argv=None):
 
     def push(action):
         c = comcore.geometry.contacts(mask, action)
-        sense = comcore.vt.rotation_sense(com, c.point[0], c.normal[0], action.direction, 0.4)
+        sense = comcore.vt.predicted_sense(com, c.point[0], c.normal[0], action.direction, 0.4)
         return comcore.Motion(0.1 * sense, 0.0, 0.0)
 
     est = comcore.estimate_active(mask, push, cands, stop=comcore.StopRule(max_pushes=3))

@@ -122,7 +122,7 @@ def estimate_active(
     >>> true_com = np.array([17.0, 20.0])
     >>> def push(action):
     ...     c = comcore.geometry.contacts(mask, action)
-    ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+    ...     s = comcore.vt.predicted_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
     ...     return comcore.Motion(0.1 * s, 0.0, 0.0)
     >>> est = comcore.estimate_active(mask, push, model=None, stop=comcore.StopRule(max_pushes=8),
     ...                               rng=0)

@@ -132,12 +132,12 @@ def calibrate_model_weight(
     Examples
     --------
     >>> import numpy as np, comcore
-    >>> from comcore.vt import rotation_sense
+    >>> from comcore.vt import predicted_sense
     >>> mask = comcore.Mask(np.pad(np.ones((24, 24), bool), 6))
     >>> def plate(seed, com):  # four pushes and the senses they turned the plate
     ...     actions = comcore.sample_pushes(mask, 4, cone=0.0, rng=seed)
     ...     c = comcore.geometry.contacts(mask, actions)
-    ...     senses = [rotation_sense(com, p, n, comcore.Action(*a).direction, 0.3)
+    ...     senses = [predicted_sense(com, p, n, comcore.Action(*a).direction, 0.3)
     ...               for p, n, a in zip(c.point, c.normal, actions)]
     ...     return mask, actions, [(0.1 * s, 0.0, 0.0) for s in senses], com
     >>> cal = comcore.calibrate_model_weight(

@@ -126,7 +126,7 @@ class ActiveSession:
     >>> while not session.done:
     ...     action = session.next_push()
     ...     c = comcore.geometry.contacts(mask, action)
-    ...     s = comcore.vt.rotation_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
+    ...     s = comcore.vt.predicted_sense(true_com, c.point[0], c.normal[0], action.direction, 0.3)
     ...     session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0), reset=True)
     >>> session.status, len(session.actions)
     ('budget', 3)

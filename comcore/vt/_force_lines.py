@@ -5,7 +5,7 @@ depends only on the direction from the contact to the CoM, and the majority of
 three monotone votes is the vote of the median ray: the push direction clipped
 to the friction cone, i.e. the direction of the contact force. The sense of
 rotation is the side of that force line the CoM lies on (tested against
-:func:`comcore.vt.rotation_sense`). The signed distance of a pixel to the line
+:func:`comcore.vt.predicted_sense`). The signed distance of a pixel to the line
 is linear in the pixel, so all pushes x frictions x pixels are one matrix
 product. The likelihood (:mod:`comcore.active._likelihood`) and the push choice
 (:mod:`comcore.active._choice`) both read the lines made here.

@@ -34,11 +34,10 @@ from .._validation import (
     check_points,
     check_positive,
 )
-from ..conventions import ANGLE_EPS, _ccw_cross
-from ..conventions import rotation_sense as theta_sense  # an observed angle's sense
+from ..conventions import ANGLE_EPS, _ccw_cross, rotation_sense
 from ..geometry._disc_contacts import pusher_contacts
 
-__all__ = ["consistent", "region", "rotation_sense"]
+__all__ = ["consistent", "predicted_sense", "region"]
 
 
 def _unit(v, name: str) -> np.ndarray:
@@ -85,7 +84,7 @@ def _majority(left, right, push, band: float) -> np.ndarray:
     return np.sign(_vote(left, band) + _vote(right, band) + _vote(push, band)).astype(int)
 
 
-def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.ndarray:
+def predicted_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.ndarray:
     """Sense of rotation predicted by the Voting Theorem for CoM candidates.
 
     Parameters
@@ -121,7 +120,7 @@ def rotation_sense(com, contact, normal, push_dir, mu, band: float = 0.0) -> np.
     Pushing right (+x) along the normal of a left edge at row 5: a CoM above
     the push line (row 3) turns the object counter-clockwise on screen.
 
-    >>> rotation_sense([[5, 3], [5, 7], [5, 5]], (0, 5), (1, 0), (1, 0), mu=0.3).tolist()
+    >>> predicted_sense([[5, 3], [5, 7], [5, 5]], (0, 5), (1, 0), (1, 0), mu=0.3).tolist()
     [1, -1, 0]
     """
     com_arr = np.asarray(com, dtype=float)
@@ -143,10 +142,10 @@ def _single_mu(mu) -> float:
     if is_number and float(mu) == np.inf:
         return np.inf
     if mu is None:
-        raise ValueError("mu must be a single value for rotation_sense, got None (unknown)")
+        raise ValueError("mu must be a single value for predicted_sense, got None (unknown)")
     lo, hi = check_mu(mu)
     if lo != hi:
-        raise ValueError(f"mu must be a single value for rotation_sense, got range ({lo}, {hi})")
+        raise ValueError(f"mu must be a single value for predicted_sense, got range ({lo}, {hi})")
     return lo
 
 
@@ -332,7 +331,7 @@ def region(
         raise ValueError("theta must be finite")
     band = check_positive(band, "band", allow_zero=True)
     theta_tol = check_positive(theta_tol, "theta_tol", allow_zero=True)
-    senses = theta_sense(th, theta_tol)
+    senses = rotation_sense(th, theta_tol)
     pusher_radius = check_physical(
         pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
     )

@@ -126,7 +126,7 @@ def toy_motions(mask: Mask, actions, com, mu: float) -> np.ndarray:
     travel = np.where(con.hit, length - con.travel, 0.0)
     sense = np.array(
         [
-            int(vt.rotation_sense(com, p, nrm, u, mu)) if h else 0
+            int(vt.predicted_sense(com, p, nrm, u, mu)) if h else 0
             for p, nrm, u, h in zip(con.point, con.normal, direction, con.hit)
         ]
     )

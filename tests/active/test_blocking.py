@@ -33,7 +33,7 @@ class ToyModel:
     """Toy physics: the Voting Theorem's sense, |theta| growing with the lever arm.
 
     ``theta = sense * 0.4 * tanh(|d| / length)`` where ``d`` is the CoM's distance
-    to the push line and the sense comes from :func:`comcore.vt.rotation_sense`;
+    to the push line and the sense comes from :func:`comcore.vt.predicted_sense`;
     the centroid moves along the push, less when the object turns.
     """
 
@@ -47,7 +47,7 @@ class ToyModel:
         out = np.zeros((len(coms), len(acts), 3))
         for j, a in enumerate(acts):
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
-            sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
+            sense = comcore.vt.predicted_sense(coms, con.point[j], con.normal[j], direction, mu)
             lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0]
             theta = sense * 0.4 * np.tanh(np.abs(lever) / self.length)
             out[:, j, 0] = theta
@@ -86,13 +86,13 @@ def _posterior_at(estimate, com):
     mu=st.floats(0.0, 3.0),
 )
 def test_force_line_side_is_the_voting_theorem_sense(com, normal_angle, beta, mu):
-    """The side of the force line is the sense comcore.vt.rotation_sense votes."""
+    """The side of the force line is the sense comcore.vt.predicted_sense votes."""
     normal = np.array([np.cos(normal_angle), np.sin(normal_angle)])
     push_dir = comcore.conventions.rotate_vectors(normal[None], beta)[0]
     lines = force_lines(np.zeros((1, 2)), normal[None], push_dir[None], np.array([np.arctan(mu)]))
     d = line_distances(np.array([com]), lines)[0, 0, 0]
     if abs(d) > 1e-6:
-        expected = comcore.vt.rotation_sense(com, (0, 0), normal, push_dir, mu)
+        expected = comcore.vt.predicted_sense(com, (0, 0), normal, push_dir, mu)
         assert np.sign(d) == expected
 
 
@@ -530,7 +530,7 @@ class PhysicalToy:
         out = np.zeros((len(coms), len(acts), 3))
         for j, a in enumerate(acts):
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
-            sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
+            sense = comcore.vt.predicted_sense(coms, con.point[j], con.normal[j], direction, mu)
             lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0] * mask.resolution
             theta = sense * 0.4 * np.tanh(np.abs(lever) / 0.02)
             out[:, j, 0] = theta

@@ -17,7 +17,7 @@ def _senses(com, seed, n=5):
     """``n`` pushes and the noise-free senses they turned a plate with its CoM at ``com``."""
     actions = comcore.sample_pushes(MASK, n, cone=0.0, rng=seed)
     c = comcore.geometry.contacts(MASK, actions)
-    senses = [comcore.vt.rotation_sense(com, p, nrm, comcore.Action(*a).direction, 0.3)
+    senses = [comcore.vt.predicted_sense(com, p, nrm, comcore.Action(*a).direction, 0.3)
               for p, nrm, a in zip(c.point, c.normal, actions)]  # fmt: skip
     return actions, [(0.1 * s, 0.0, 0.0) for s in senses]
 
@@ -85,7 +85,7 @@ def test_an_estimate_s_records_score_as_its_pushes_do():
 
     def push(action):
         c = comcore.geometry.contacts(MASK, action)
-        s = comcore.vt.rotation_sense(com, c.point[0], c.normal[0], action.direction, 0.3)
+        s = comcore.vt.predicted_sense(com, c.point[0], c.normal[0], action.direction, 0.3)
         return comcore.Motion(0.1 * s, 0.0, 0.0)
 
     est = comcore.estimate_active(MASK, push, model=None, rng=1,

@@ -42,7 +42,7 @@ class LeverModel:
         out = np.zeros((len(coms), len(acts), 3))
         for j, a in enumerate(acts):
             direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
-            sense = comcore.vt.rotation_sense(coms, con.point[j], con.normal[j], direction, mu)
+            sense = comcore.vt.predicted_sense(coms, con.point[j], con.normal[j], direction, mu)
             lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0]
             theta = sense * 0.4 * np.tanh(np.abs(lever) / 8.0)
             out[:, j, 0] = theta

@@ -36,7 +36,7 @@ class World:
         if not c.hit[0]:
             return np.zeros(3)
         a = comcore.Action(*action_obj)
-        s = comcore.vt.rotation_sense(self.com, c.point[0], c.normal[0], a.direction, 0.3)
+        s = comcore.vt.predicted_sense(self.com, c.point[0], c.normal[0], a.direction, 0.3)
         return np.array([0.1 * s, *(self.slide * np.asarray(a.direction))])
 
     def execute(self, action):

@@ -221,7 +221,7 @@ def test_a_session_stops_where_stop_index_says_its_history_would_have():
     while not session.done:
         action = session.next_push()
         c = comcore.geometry.contacts(mask, action)
-        s = comcore.vt.rotation_sense(com, c.point[0], c.normal[0], action.direction, 0.3)
+        s = comcore.vt.predicted_sense(com, c.point[0], c.normal[0], action.direction, 0.3)
         session.observe(motion=comcore.Motion(0.1 * s, 0.0, 0.0), reset=True)
     assert session.status in STATUSES
     assert session.status == "ok"

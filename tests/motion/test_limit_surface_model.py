@@ -63,7 +63,7 @@ def test_sense_agrees_with_the_voting_theorem():
         direction = action[2:] - action[:2]
         for mu in (0.2, 1.0):
             theta = MODEL.predict_hypotheses(mask, action[None], coms, mu)[:, 0, 0]
-            sense = comcore.vt.rotation_sense(
+            sense = comcore.vt.predicted_sense(
                 coms, con.point[i], con.normal[i], direction, mu, band=3.0
             )
             decided = sense != 0

@@ -50,7 +50,7 @@ def behind_start(point, push) -> bool:
 
 def toy_push(action):
     c = comcore.geometry.contacts(MASK, action)
-    sense = comcore.vt.rotation_sense(TRUE_COM, c.point[0], c.normal[0], action.direction, 0.3)
+    sense = comcore.vt.predicted_sense(TRUE_COM, c.point[0], c.normal[0], action.direction, 0.3)
     return comcore.Motion(0.1 * sense, 0.0, 0.0)
 
 

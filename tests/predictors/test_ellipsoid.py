@@ -121,7 +121,7 @@ def test_instantaneous_sense_is_the_voting_theorem(blob, mu):
     for i in range(len(acts)):
         push = (acts[i, 2:] - acts[i, :2]) / np.linalg.norm(acts[i, 2:] - acts[i, :2])
         _, omega, _ = body_twist(con.point[i] - coms, con.normal[i], push, c2, mu)
-        sense = comcore.vt.rotation_sense(coms, con.point[i], con.normal[i], push, mu)
+        sense = comcore.vt.predicted_sense(coms, con.point[i], con.normal[i], push, mu)
         # CoMs on the push line itself are round-off ties for both.
         off_line = np.abs(comcore.conventions.ccw_cross(con.point[i] - coms, push)) > 1e-9
         np.testing.assert_array_equal(np.sign(omega)[off_line], sense[off_line])
@@ -140,7 +140,7 @@ def test_integrated_sense_agrees_with_voting_theorem_away_from_its_lines():
     agree, total = 0, 0
     for i in range(len(acts)):
         push = acts[i, 2:] - acts[i, :2]
-        sense = comcore.vt.rotation_sense(coms, con.point[i], con.normal[i], push, mu)
+        sense = comcore.vt.predicted_sense(coms, con.point[i], con.normal[i], push, mu)
         rays = comcore.conventions.rotate_vectors(
             np.tile(con.normal[i], (2, 1)), [np.arctan(mu), -np.arctan(mu)]
         )

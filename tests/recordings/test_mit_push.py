@@ -66,7 +66,7 @@ def test_h5_and_json_files_load_like_their_pose_streams(tmp_path):
     # The push goes up the screen (the object's +y), right of the CoM: counter-clockwise.
     con = comcore.geometry.contacts(from_h5.mask, [push.action])
     assert push.action.direction == pytest.approx((0.0, -1.0))
-    sense = comcore.vt.rotation_sense(
+    sense = comcore.vt.predicted_sense(
         from_h5.com, con.point[0], con.normal[0], push.action.direction, 0.25
     )
     assert sense == 1 == push.motion.sense

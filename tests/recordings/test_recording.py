@@ -80,7 +80,7 @@ def test_frames_and_signs_on_a_hand_made_push():
     # The Voting Theorem, from the true CoM, predicts the sense observed (for every friction).
     c = comcore.geometry.contacts(rec.mask, [push.action])
     for mu in (0.0, 0.3, np.inf):
-        sense = comcore.vt.rotation_sense(
+        sense = comcore.vt.predicted_sense(
             rec.com, c.point[0], c.normal[0], push.action.direction, mu
         )
         assert sense == 1 == push.motion.sense

@@ -63,7 +63,7 @@ def _vt_agreement(names, cone, n=40):
                 if res.contact_px is None:
                     continue
                 push_dir = action[2:] - action[:2]
-                vt = comcore.vt.rotation_sense(
+                vt = comcore.vt.predicted_sense(
                     com, res.contact_px, res.normal_px, push_dir, sim.mu_contact
                 )
                 early = res.trajectory[min(3, len(res.trajectory) - 1), 2] - res.trajectory[0, 2]

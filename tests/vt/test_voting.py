@@ -13,7 +13,7 @@ MIRROR = np.diag([-1.0, 1.0])  # reflect x -> -x
 
 
 def test_normal_push_example():
-    senses = vt.rotation_sense([[5, 3], [5, 7], [5, 5]], (0, 5), (1, 0), (1, 0), mu=0.3)
+    senses = vt.predicted_sense([[5, 3], [5, 7], [5, 5]], (0, 5), (1, 0), (1, 0), mu=0.3)
     assert senses.tolist() == [1, -1, 0]
 
 
@@ -22,24 +22,24 @@ def test_oblique_push_inside_the_cone_is_decided_by_the_push_direction():
     push = comcore.conventions.rotate_vectors([[1.0, 0.0]], np.deg2rad(20))[0]
     com_between = 10 * comcore.conventions.rotate_vectors([[1.0, 0.0]], np.deg2rad(10))[0]
     # The CoM lies inside the cone, CCW of the normal but CW of the push line.
-    assert vt.rotation_sense(com_between, (0, 0), (1, 0), push, mu=1.0) == -1
+    assert vt.predicted_sense(com_between, (0, 0), (1, 0), push, mu=1.0) == -1
     # With almost no friction the cone collapses on the normal and the edges decide.
-    assert vt.rotation_sense(com_between, (0, 0), (1, 0), push, mu=0.01) == 1
+    assert vt.predicted_sense(com_between, (0, 0), (1, 0), push, mu=0.01) == 1
 
 
 @given(com=points, normal=unit_vectors, push_turn=st.floats(-1.4, 1.4), mu=friction)
 def test_sense_flips_under_mirror_reflection(com, normal, push_turn, mu):
     push = comcore.conventions.rotate_vectors(normal, push_turn)
     contact = np.array([1.0, -2.0])
-    s = vt.rotation_sense(com, contact, normal, push, mu)
-    s_mirror = vt.rotation_sense(MIRROR @ com, MIRROR @ contact, MIRROR @ normal, MIRROR @ push, mu)
+    s = vt.predicted_sense(com, contact, normal, push, mu)
+    s_mirror = vt.predicted_sense(MIRROR @ com, MIRROR @ contact, MIRROR @ normal, MIRROR @ push, mu)
     assert s_mirror == -s
 
 
 @given(com=points, normal=unit_vectors, mu1=friction, mu2=friction)
 def test_normal_push_sense_does_not_depend_on_mu(com, normal, mu1, mu2):
     assume(abs(comcore.conventions.ccw_cross(np.zeros(2) - com, normal)) > 1e-6)
-    assert vt.rotation_sense(com, (0, 0), normal, normal, mu1) == vt.rotation_sense(
+    assert vt.predicted_sense(com, (0, 0), normal, normal, mu1) == vt.predicted_sense(
         com, (0, 0), normal, normal, mu2
     )
 
@@ -51,7 +51,7 @@ def test_push_line_through_the_com_gives_no_rotation_when_inside_the_cone(t, nor
     )  # push direction strictly inside the friction cone
     push = comcore.conventions.rotate_vectors(normal, push_turn)
     com = np.array([2.0, 3.0]) + t * push
-    assert vt.rotation_sense(com, (2.0, 3.0), normal, push, mu, band=1e-6) == 0
+    assert vt.predicted_sense(com, (2.0, 3.0), normal, push, mu, band=1e-6) == 0
 
 
 @settings(max_examples=25, deadline=None)
@@ -70,7 +70,7 @@ def test_true_com_is_in_the_region_with_mu_unknown_or_a_range(mask, seed, mu, co
     action = comcore.sample_pushes(mask, 1, cone=cone, rng=rng)[0]
     com = mask.pixels[rng.integers(mask.area_px)]
     con = comcore.geometry.contacts(mask, action)
-    sense = vt.rotation_sense(com, con.point[0], con.normal[0], action[2:] - action[:2], mu)
+    sense = vt.predicted_sense(com, con.point[0], con.normal[0], action[2:] - action[:2], mu)
     row, col = int(com[1]), int(com[0])
     assert vt.region(mask, action, float(sense), mu=None)[row, col]
     assert vt.region(mask, action, float(sense), mu=(mu * 0.5, mu * 2))[row, col]
@@ -117,13 +117,13 @@ def test_region_errors(square_mask):
         vt.region(np.ones((3, 3)), (0, 20, 40, 20), 0.1)
 
 
-def test_rotation_sense_errors():
+def test_predicted_sense_errors():
     with pytest.raises(ValueError, match="normal must be a non-zero vector"):
-        vt.rotation_sense([1, 1], (0, 0), (0, 0), (1, 0), 0.3)
+        vt.predicted_sense([1, 1], (0, 0), (0, 0), (1, 0), 0.3)
     with pytest.raises(ValueError, match="single value"):
-        vt.rotation_sense([1, 1], (0, 0), (1, 0), (1, 0), (0.1, 0.2))
+        vt.predicted_sense([1, 1], (0, 0), (1, 0), (1, 0), (0.1, 0.2))
     with pytest.raises(ValueError, match="push_dir must be finite"):
-        vt.rotation_sense([1, 1], (0, 0), (1, 0), (np.nan, 0), 0.3)
+        vt.predicted_sense([1, 1], (0, 0), (1, 0), (np.nan, 0), 0.3)
 
 
 @pytest.mark.parametrize(
@@ -163,19 +163,19 @@ def test_region_accepts_a_zero_band_and_theta_tol(square_mask):
         (([[0, 0]], (1, 0), (1, 0)), r"contact must be a single point.*\(1, 2\)"),
     ],
 )
-def test_rotation_sense_and_consistent_take_one_push(args, match):
+def test_predicted_sense_and_consistent_take_one_push(args, match):
     # A (2, 2) normal used to broadcast against the CoMs, pairing them with different normals.
     with pytest.raises(ValueError, match=match):
-        vt.rotation_sense([[1, 1], [2, 2]], *args, mu=0.3)
+        vt.predicted_sense([[1, 1], [2, 2]], *args, mu=0.3)
     with pytest.raises(ValueError, match=match):
         vt.consistent([[1, 1], [2, 2]], *args, sense=1)
 
 
-def test_rotation_sense_takes_an_infinite_mu():
+def test_predicted_sense_takes_an_infinite_mu():
     # mu = inf is allowed by the docstring (cone half-angle pi/2) and was refused.
     com = [[5, 3], [5, 7], [3, 5]]
     contact, normal, push = (0, 5), (1, 0), (1, 0.5)
-    inf = vt.rotation_sense(com, contact, normal, push, mu=np.inf)
-    assert inf.tolist() == vt.rotation_sense(com, contact, normal, push, mu=1e12).tolist()
-    with pytest.raises(ValueError, match=r"single value for rotation_sense, got None"):
-        vt.rotation_sense(com, contact, normal, push, mu=None)
+    inf = vt.predicted_sense(com, contact, normal, push, mu=np.inf)
+    assert inf.tolist() == vt.predicted_sense(com, contact, normal, push, mu=1e12).tolist()
+    with pytest.raises(ValueError, match=r"single value for predicted_sense, got None"):
+        vt.predicted_sense(com, contact, normal, push, mu=None)
