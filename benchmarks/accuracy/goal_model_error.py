@@ -28,7 +28,6 @@ from scipy.optimize import least_squares
 
 import comcore
 import simulators
-from comcore.camera._pose_tracking import IDENTITY
 from comcore.goal._translation import _cross_offsets, line_pushes, planning_model, predict_motions
 
 LEVERS = (0.0, 0.0025, 0.005, 0.01, 0.015, 0.02, 0.03, 0.04, 0.06, 1.0)
@@ -46,7 +45,8 @@ def measure(name, friction, j, args):
     directions = np.linspace(0, 2 * np.pi, args.directions, endpoint=False)
     offsets = np.stack([_cross_offsets(first, a, hyps, 7) for a in directions])
     lengths = np.asarray(args.travels) / first.resolution
-    actions, meta = line_pushes(first, IDENTITY, directions, offsets, lengths, sim.pusher_radius)
+    start = comcore.Motion.identity()
+    actions, meta = line_pushes(first, start, directions, offsets, lengths, sim.pusher_radius)
     predicted = predict_motions(planning_model(sim.pusher_radius), first, actions, hyps)[0]
     rows = []
     for action, m, p in zip(actions, meta, predicted):

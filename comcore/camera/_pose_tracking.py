@@ -59,9 +59,6 @@ MAX_RESIDUAL_PX = 1.5
 #: A mask whose area differs from the first mask's by more than this share is not the
 #: object moved (calibrated on the same masks).
 MAX_AREA_CHANGE = 0.25
-#: The first pose: :meth:`comcore.Motion.identity` under its former name (the same object),
-#: left for benchmarks/accuracy/goal_model_error.py until it calls ``Motion.identity()``.
-IDENTITY = Motion.identity()
 #: A session reads a rotation measured to within this predicted std (radians, 2 deg),
 #: where :func:`comcore.measure_motion` calls one worse than 1 deg ambiguous. Dropping
 #: it would keep the previous rotation, wrong by the whole turn (a small, nearly symmetric

@@ -19,7 +19,7 @@ from comcore.active._choice import (
 )
 from comcore.active._grid import GridPosterior, prior_grid
 from comcore.active._likelihood import Scoring
-from comcore.camera._pose_tracking import IDENTITY, moved_mask
+from comcore.camera._pose_tracking import moved_mask
 from comcore.geometry._disc_contacts import pusher_contacts
 from comcore.vt._force_lines import push_force_lines
 
@@ -66,7 +66,7 @@ def test_given_candidates_that_cannot_be_pushed_are_skipped_and_said_why():
     assert sorted(skipped) == [1, 2]
     assert skipped[1].reason == "starts_inside" and "candidates[1] starts inside" in skipped[1].detail
     assert skipped[2].reason == "misses" and "candidates[2] never touches" in skipped[2].detail
-    offered = cands.offerable(IDENTITY, PLATE)
+    offered = cands.offerable(comcore.Motion.identity(), PLATE)
     assert offered.tolist() == [True, False, False, True]
 
 
@@ -90,19 +90,19 @@ def test_a_candidate_made_is_never_offered_again_nor_its_duplicates():
     push, other = (0.0, 15.0, 30.0, 15.0), (35.0, 20.0, 10.0, 20.0)
     cands = _candidates([push, other, push])
     cands.made(2)
-    assert cands.offerable(IDENTITY, PLATE).tolist() == [False, True, False]
+    assert cands.offerable(comcore.Motion.identity(), PLATE).tolist() == [False, True, False]
     cands.made(1)
-    assert not cands.offerable(IDENTITY, PLATE).any()
+    assert not cands.offerable(comcore.Motion.identity(), PLATE).any()
 
 
 def test_candidates_leaving_the_image_or_an_object_out_of_view_are_not_offered():
     cands = _candidates([(0.0, 15.0, 30.0, 15.0), (15.0, -8.0, 15.0, 20.0)])  # from above the image
     assert cands.available.tolist() == [True, True]
-    assert cands.offerable(IDENTITY, PLATE).tolist() == [True, False]
+    assert cands.offerable(comcore.Motion.identity(), PLATE).tolist() == [True, False]
     assert not cands.offerable(comcore.Motion(0.0, 3.0, 0.0), None).any()  # it left the image
     # the image's edge is where the candidates may end: (35, y) is the last pixel's centre
     edge = _candidates([(35.0, 20.0, 10.0, 20.0), (35.6, 20.0, 10.0, 20.0)])
-    assert edge.offerable(IDENTITY, PLATE).tolist() == [True, False]
+    assert edge.offerable(comcore.Motion.identity(), PLATE).tolist() == [True, False]
 
 
 def test_offered_candidates_at_a_pose_can_be_pushed_on_the_object_there():
@@ -120,7 +120,7 @@ def test_offered_candidates_at_a_pose_can_be_pushed_on_the_object_there():
     # a translated pose moves every candidate by the translation
     shifted = cands.in_pose(comcore.Motion(0.0, 3.0, -2.0))
     np.testing.assert_allclose(shifted, cands.actions + np.array([3.0, -2.0, 3.0, -2.0]))
-    np.testing.assert_array_equal(cands.in_pose(IDENTITY), cands.actions)
+    np.testing.assert_array_equal(cands.in_pose(comcore.Motion.identity()), cands.actions)
 
 
 # -- choosing ----------------------------------------------------------------------------------
@@ -133,7 +133,7 @@ def _scoring(models=()):
 def test_the_chosen_push_is_the_most_informative_offered_one():
     cands = _candidates(rng=2)
     post, scoring = _uniform_posterior(), _scoring()
-    offered = cands.offerable(IDENTITY, PLATE)
+    offered = cands.offerable(comcore.Motion.identity(), PLATE)
     index, gain = cands.choose(post, offered, scoring, "sense")
     gains = sense_information(post.pixels, post.sense_weights, cands.lines, scoring.flip_prob,
                               scoring.line_scale_px)  # fmt: skip
@@ -158,7 +158,7 @@ class Lever:
 def test_the_model_s_choice_is_an_offered_push_with_a_finite_gain():
     cands = _candidates(rng=3)
     post, scoring = _uniform_posterior(), _scoring([Lever()])
-    offered = cands.offerable(IDENTITY, PLATE)
+    offered = cands.offerable(comcore.Motion.identity(), PLATE)
     offered[::2] = False
     index, gain = cands.choose(post, offered, scoring, "model")
     assert offered[index] and math.isfinite(gain) and gain > 0

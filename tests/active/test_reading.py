@@ -12,7 +12,7 @@ from comcore.active._choice import Candidates
 from comcore.active._grid import prior_grid
 from comcore.active._likelihood import Evidence, Scoring, gyration_px
 from comcore.active._reading import PushContext, best_branch, object_motion, push_record, read_push
-from comcore.camera._pose_tracking import IDENTITY, PoseReading
+from comcore.camera._pose_tracking import PoseReading
 from comcore.conventions import rotate_vectors
 
 #: A plate, 20 x 20 px, 8 px margin: object pixels 8..27, centroid (17.5, 17.5).
@@ -28,10 +28,11 @@ def _ell():
     return comcore.Mask(img)
 
 
-def _context(pose=IDENTITY, mask=PLATE, prior=None, likelihood=None):
+def _context(pose=None, mask=PLATE, prior=None, likelihood=None):
     scoring = Scoring.build(likelihood or comcore.Likelihood(n_mu=2), mask, ())
     pixels, weights = prior_grid(mask, prior)
     post = scoring.posterior(pixels, weights)
+    pose = comcore.Motion.identity() if pose is None else pose
     return PushContext(mask, pose, post, scoring, gyration_px(mask))
 
 
@@ -107,7 +108,7 @@ def test_the_motion_is_scored_in_the_object_s_frame_whatever_the_pose():
 
 def test_object_motion_is_the_reading_s_pose_change_in_the_object_s_frame():
     reading = PoseReading(comcore.Motion(0.3, 5.0, 0.0), False, float("nan"))
-    np.testing.assert_allclose(object_motion(IDENTITY, reading), [0.3, 5.0, 0.0])
+    np.testing.assert_allclose(object_motion(comcore.Motion.identity(), reading), [0.3, 5.0, 0.0])
     at = comcore.Motion(0.1, 5.0, 0.0)
     later = PoseReading(comcore.Motion(0.1 + 0.2, 5.0 + 3.0, 4.0), False, float("nan"))
     m = object_motion(at, later)
@@ -130,12 +131,12 @@ def test_a_mask_is_registered_against_the_first_and_its_residual_recorded():
 
 
 def test_push_record_keeps_the_registration_s_word():
-    base = {"index": 4, "planned": LEFT, "camera_action": LEFT, "pose_before": IDENTITY}
+    base = {"index": 4, "planned": LEFT, "camera_action": LEFT, "pose_before": comcore.Motion.identity()}
     seen = PoseReading(comcore.Motion(0.2, 3.0, 0.0), False, 0.4, 4)
-    record = push_record(base, IDENTITY, LEFT, seen, "evidence")
+    record = push_record(base, comcore.Motion.identity(), LEFT, seen, "evidence")
     assert record.residual_px == 0.4 and record.symmetry == 4 and record.rotation_observed
     blind = PoseReading(comcore.Motion(0.0, 3.0, 0.0), True, float("nan"))
-    record = push_record(base, IDENTITY, LEFT, blind, "evidence")
+    record = push_record(base, comcore.Motion.identity(), LEFT, blind, "evidence")
     assert record.residual_px is None and not record.rotation_observed
     assert record.index == 4 and record.motion == pytest.approx((0.0, 3.0, 0.0))
 
