@@ -66,7 +66,7 @@ class Action(_ActionFields):
     push goes one radius deeper than planned. comcore's samplers
     (:func:`comcore.sample_pushes`), motion model
     (:class:`comcore.LimitSurfaceModel`) and ``simulators`` all read an action
-    so; docs/conventions.md has the conversion. For a point pusher (``r =
+    so; docs/explanation/conventions.md has the conversion. For a point pusher (``r =
     0``) the two coincide.
 
     Validated on construction: every field must be a finite real number and the

@@ -32,8 +32,8 @@ class Plausible(NamedTuple):
 
 
 #: Believable values of what a user sets from their robot, in metres or radians: the one
-#: place these ranges live (docs/conventions.md lists them). A value outside its range is
-#: refused by :func:`check_plausible` with a guess at the unit it was typed in.
+#: place these ranges live (docs/explanation/conventions.md lists them). A value outside its range
+#: is refused by :func:`check_plausible` with a guess at the unit it was typed in.
 PLAUSIBLE = {
     # a camera over a table: 10 micrometres to 5 cm a pixel
     "resolution": Plausible(1e-5, 0.05, DEFAULT_RESOLUTION, "m per pixel"),

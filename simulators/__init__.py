@@ -9,7 +9,7 @@ settings. :class:`MujocoRobot` plays the robot and its camera in MuJoCo
 (``pip install comcore[mujoco]``; mujoco is imported only when one is built).
 Objects come from vertex arrays, from SVG/DXF outlines or from meshes
 (trimesh), or from the 20-object benchmark set (``load_object("Obj7")``).
-The physics model and its measured parameters are in ``docs/simulators.md``.
+The physics model and its measured parameters are in ``docs/results/simulators.md``.
 
 Examples
 --------

@@ -19,7 +19,7 @@ from ._shapes import ObjectShape
 
 __all__ = ["DEFAULT_SUPPORT_POINTS", "MassDistribution", "tilt_to_com"]
 
-#: Default number of grid support points over the footprint (see docs/simulators.md).
+#: Default number of grid support points over the footprint (see docs/explanation/simulators.md).
 DEFAULT_SUPPORT_POINTS = 96
 
 

@@ -38,7 +38,7 @@ __all__ = [
 
 #: Table (metres) the robot's camera sees around the disc that holds the object in any
 #: orientation (its circumradius about the area centroid): room for the pushes of a
-#: session to carry it that far and turn it any way (why not less: docs/robot.md, where a
+#: session to carry it that far and turn it any way (why not less: docs/results/active.md, where a
 #: pushed object leaves the camera's view).
 DEFAULT_CAMERA_MARGIN = 0.15
 #: A perturbed start that lands inside the object is moved back by this much (metres)

@@ -1,4 +1,4 @@
-"""Numerical settings of the simulators' engines (defaults measured in docs/simulators.md)."""
+"""Numerical settings of the simulators' engines (defaults: docs/results/simulators.md)."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ class EngineSettings:
         exactly on the limit surface of the support, all pushes of a batch at
         once in numpy. ``"pymunk"`` runs the rigid-body engine with one friction
         joint per support point; it is slower and, at affordable solver
-        iterations, less accurate (see docs/simulators.md).
+        iterations, less accurate (see docs/results/simulators.md).
     step_m : float
         Pusher travel per integration step, metres.
     projections : int

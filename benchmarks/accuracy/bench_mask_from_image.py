@@ -13,7 +13,7 @@ the frame, the object's cast shadow, a textured table, strong noise, all at
 once, and the empty table). Frame ``i`` of condition ``c`` is drawn from
 ``numpy.random.default_rng([seed, c, i])``; the thresholds of
 ``comcore/camera/_object.py`` were tuned on seed 0, the figures in
-docs/camera.md are for seed 1.
+docs/results/camera.md are for seed 1.
 
 A frame with an object counts as found when the mask's intersection over
 union with the true mask (the polygon at pixel centres) is at least

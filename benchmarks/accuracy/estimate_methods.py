@@ -16,7 +16,7 @@ default before its posterior took the active session's motion model).
     python benchmarks/accuracy/estimate_methods.py --flips 0,all --model none  # every sign flipped
 
 ``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the
-mistake docs/conventions.md warns about); the last lines count the recordings whose sign
+mistake docs/explanation/conventions.md warns about); the last lines count the recordings whose sign
 ``comcore estimate`` calls flipped (:func:`comcore.cli.estimate.sign_flip_nats`) and the
 ``ok`` statuses.
 """

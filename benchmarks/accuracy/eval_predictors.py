@@ -1,4 +1,4 @@
-"""Evaluate motion predictors against the simulator: docs/predictor-eval.md's figures.
+"""Evaluate motion predictors against the simulator: docs/results/motion.md's figures.
 
 For every benchmark object and friction class, ``--trials`` random trials
 (``simulators.random_simulator``: random mass distribution and CoM, contact

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The full benchmark of docs/results.md: 20 objects x 300 trials x 2 friction classes, oracle
+# The full benchmark of docs/results/paper.md: 20 objects x 300 trials x 2 friction classes, oracle
 # predictor. Measures the wall time and peak memory with GNU time (largest single process)
 # and benchmarks/timing/tree_memory.py (main process + workers, summed).
 # Usage: benchmarks/accuracy/run_full.sh [OUT_DIR] [extra comcore bench options]

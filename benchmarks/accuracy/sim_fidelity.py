@@ -1,4 +1,4 @@
-"""Fidelity of the simulators: every figure docs/simulators.md quotes in "Fidelity".
+"""Fidelity of the simulators: every figure docs/results/simulators.md quotes in "Fidelity".
 
 The same checks as the acceptance tests (tests/simulators/test_physics.py), with the
 measured values printed instead of pass/fail:

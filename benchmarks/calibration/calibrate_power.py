@@ -6,7 +6,7 @@ likelihood with :func:`comcore.calibrate_model_weight`, as a user would with
 calibration objects whose CoM they measured: how often each power's 90 %
 region held the CoM, its mean radius and error, and the recommended power (the
 largest that held the CoM at least 90 % of the time). Calibrate on seed 1, then
-measure the recommended powers on seed 0 (docs/active.md).
+measure the recommended powers on seed 0 (docs/explanation/calibration.md).
 
 Usage::
 

@@ -15,8 +15,9 @@ ellipsoid model) were chosen with::
 
     PYTHONPATH=. python benchmarks/calibration/tune_active_stop.py --seed 1
 
-and are evaluated on other trials (seed 0) in docs/active.md. The default radius is 6 mm
-since the motion model's likelihood was tempered (docs/active.md; stop_frontier.py scores
+and are evaluated on other trials (seed 0) in docs/explanation/calibration.md. The default
+radius is 6 mm since the motion model's likelihood was tempered
+(docs/explanation/calibration.md; stop_frontier.py scores
 the radii under the realism conditions).
 """
 

@@ -1,4 +1,4 @@
-"""comcore's active session against MuJoCo: docs/mujoco.md's "comcore against MuJoCo" table.
+"""comcore's active session against MuJoCo (docs/results/simulators.md, "comcore against MuJoCo").
 
 ``active-robot`` as in ``comcore bench --conditions`` (a ``comcore.ActiveSession``
 with its defaults and the robot's pusher radius, the object never reset, the

@@ -1,4 +1,5 @@
-"""MuJoCo against the exact engine and pymunk: docs/mujoco.md's "Checking the engine" figures.
+"""MuJoCo against the exact engine and pymunk (docs/results/simulators.md, "Checking the MuJoCo
+engine").
 
 On the benchmark's pushes (``simulators.sample_accepted_pushes``, cone 0.3, 3 cm) of
 every object in both friction classes (one trial each, ``accepted_random_simulator``

@@ -1,4 +1,4 @@
-"""Does the pushed object hop on its feet? docs/mujoco.md's "The settings, and why" figures.
+"""Does the pushed object hop on its feet? (docs/results/simulators.md, "The settings, and why").
 
 One push of a uniform 10 x 6 cm plate (``mu_contact`` 0.5), down onto its top edge 3 cm right
 of the CoM, 3 cm of travel, under several ``MujocoSettings``: the share of time steps with

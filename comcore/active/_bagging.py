@@ -12,7 +12,7 @@ Bayesian bootstrap (Rubin 1981): the pushes' log-likelihoods weighted by
 pushes agree the bagged posterior is about the posterior (at most about twice
 its variance, where the pushes scatter as much as the likelihood says); where
 some pushes pull the CoM one way and others another, it spreads over both. It
-widens by what the data show, with no constant to tune (docs/realdata.md, on
+widens by what the data show, with no constant to tune (docs/explanation/calibration.md, on
 the MIT push dataset).
 
 The point estimate stays the posterior's mean: the bagged mean was further from
@@ -32,7 +32,7 @@ from ._grid import GridPosterior
 __all__ = ["MAX_BAG_FLOATS", "MAX_KEPT_FLOATS", "RECORDED_BOOTSTRAP", "PushLikelihoods"]
 
 #: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default:
-#: enough for the region to change little with the seed (docs/realdata.md;
+#: enough for the region to change little with the seed (docs/how-to/recordings.md;
 #: benchmarks/timing/bench_bagging.py times them).
 RECORDED_BOOTSTRAP = 200
 #: Floats one block of resamplings may hold at once (resamplings x tempers x hypotheses).

@@ -51,7 +51,7 @@ def estimate_active(
     region is small enough after enough pushes, ``"budget"``,
     ``"exhausted"``, ``"uninformative"``, or ``"inconsistent"`` when no
     hypothesis explains the motions (a robot, model or tracker that does not
-    behave as the likelihood says). docs/active.md measures every choice.
+    behave as the likelihood says). docs/explanation/likelihood.md measures every choice.
 
     Parameters
     ----------

@@ -6,7 +6,7 @@ cannot tell a model that is right from one that errs the same way on every push,
 so the default region is wider than it must be where the model is right, and
 that costs pushes. The motions hardly tell the two apart: the power learned
 from them comes out about the same on our own engine, where the model is
-nearly right, as on pymunk, where it errs (docs/active.md). What does
+nearly right, as on pymunk, where it errs (docs/explanation/calibration.md). What does
 tell them apart is the truth: a few objects whose CoM the user measured (a
 balance, or hanging the object from two points). This module
 scores their pushes again under each power and reports how often each power's

@@ -69,7 +69,7 @@ __all__ = [
 #: Blur (metres, a standard deviation) of the force line with an exact pusher:
 #: the pusher's radius, the object turning during a 3 cm push, outlines and
 #: normals. Fitted against the simulator as a logistic of scale 1.2 px at
-#: 2.5 mm/px (docs/active.md); the pusher's own error adds in quadrature.
+#: 2.5 mm/px (docs/results/active.md); the pusher's own error adds in quadrature.
 LINE_BLUR_M = 1.2 * 0.0025 * math.pi / math.sqrt(3.0)
 #: Hypotheses this many nats below the best are dropped before the model is asked
 #: about them (their posterior is below 1e-11 of the best; saves model calls).

@@ -4,7 +4,7 @@ A :class:`comcore.HypothesisPredictor` predicts each push's motion for CoM and
 friction hypotheses (:func:`model_predictions`); the observed motion is scored
 against the predictions with heavy-tailed Student-t residuals in the rotation
 and in the displacement of each hypothesis' CoM (:func:`motion_log_likelihood`),
-with error scales fitted against the simulator (docs/active.md). The pusher's
+with error scales fitted against the simulator (docs/explanation/likelihood.md). The pusher's
 offset across its path is marginalised at three Gauss-Hermite nodes
 (:func:`offset_marginal`). :mod:`comcore.active._likelihood` combines this term with
 the Voting Theorem's.
@@ -38,7 +38,7 @@ __all__ = [
 #: Degrees of freedom of the Student-t likelihoods (heavy tails; fitted: 2-3).
 STUDENT_DOF = 3.0
 #: Length (metres) over which the rotation's model error falls off with the
-#: lever arm (fitted against the simulator for 3 cm pushes, docs/active.md).
+#: lever arm (fitted against the simulator for 3 cm pushes, docs/explanation/likelihood.md).
 NEAR_LINE_M = 0.0375
 
 #: Three-point Gauss-Hermite rule for a standard normal: nodes (standard
@@ -58,7 +58,7 @@ def theta_scale(lever, theta_noise, near_line_px: float):
     ``absolute + near / (1 + (lever / near_line_px)^2)``: a push whose line
     passes near the CoM balances on an unstable equilibrium, and over a long
     push its rotation is far less predictable than that of a push with a long
-    lever arm (measured against the simulator, docs/active.md).
+    lever arm (measured against the simulator, docs/results/active.md).
     """
     absolute, near = theta_noise
     return absolute + near / (1 + (lever / near_line_px) ** 2)
@@ -95,7 +95,7 @@ def motion_terms(
     mask's centroid where the motion is reported: the centroid's displacement
     also carries the rotation times the centroid's distance to the CoM, whose
     error the rotation term already scores (the CoM form explains the
-    simulator's motions better: docs/active.md). Its scale is
+    simulator's motions better: docs/results/active.md). Its scale is
     ``absolute + relative * |predicted displacement|`` (px).
 
     Parameters

@@ -59,12 +59,12 @@ DEFAULT_CREDIBLE = 0.9
 #: ``Likelihood.systematic_error`` (metres) where it is left ``None``, for the sessions
 #: (:class:`comcore.ActiveSession`, :func:`comcore.estimate_active`, :class:`comcore.GoalSession`):
 #: none. They stop after a few pushes, before an error shared by the pushes shows; a floor
-#: here would keep them pushing (docs/active.md).
+#: here would keep them pushing (docs/explanation/calibration.md).
 SESSION_SYSTEMATIC_ERROR = 0.0
 #: ... and for :func:`comcore.estimate_posterior` and ``comcore estimate`` (every push of a
 #: recording, its region read from the bagged posterior): the least floor with which the
 #: credible region holds the CoM as often as its mass says on the MIT push dataset's train
-#: plates (calibrated by benchmarks/realdata/real_pushes.py; docs/realdata.md).
+#: plates (calibrated by benchmarks/realdata/real_pushes.py; docs/explanation/calibration.md).
 RECORDED_SYSTEMATIC_ERROR = 0.0015
 #: Ways to choose the next push.
 SELECTIONS = ("sense", "model")
@@ -101,7 +101,7 @@ class Likelihood:
     Lengths are in metres and angles in radians, whatever the camera's
     resolution: the same object gives the same posterior at any resolution.
     The defaults were fitted against the simulator or chosen on seed-1
-    benchmark trials (docs/active.md); how each term uses them is in
+    benchmark trials (docs/explanation/calibration.md); how each term uses them is in
     :mod:`comcore.active._likelihood`. Lengths outside ``comcore.conventions.PLAUSIBLE``
     (``pusher_error`` and the absolute parts of ``translation_error`` and
     ``motion_noise``: at most 5 cm; the rotation of ``motion_noise``: at most
@@ -148,7 +148,7 @@ class Likelihood:
         sessions (their pushes stop before it matters) and
         :data:`RECORDED_SYSTEMATIC_ERROR` (1.5 mm) for
         :func:`comcore.estimate_posterior` and ``comcore estimate``, which
-        take every push of a recording (chosen on real pushes, docs/realdata.md).
+        take every push of a recording (chosen on real pushes, docs/explanation/calibration.md).
 
     Examples
     --------
@@ -324,7 +324,7 @@ class PushChoice:
         to tell the most about the CoM (exact over the whole posterior).
         ``"model"``: the candidate whose whole motion, as the motion model
         predicts it, is expected to tell the most (slower; it steers towards
-        pushes where the model is least right, docs/active.md).
+        pushes where the model is least right, docs/explanation/method.md).
     n_candidates : int
         Number of default candidates (:func:`comcore.sample_pushes`), at most
         :data:`MAX_CANDIDATES`.

@@ -121,7 +121,7 @@ def estimate_posterior(
         the posterior narrows to a few pixels while a motion model's error on
         a real object, shared by pushes made alike, does not average away;
         the bagged posterior widens where the pushes disagree
-        (:mod:`comcore.active._bagging`, docs/realdata.md). The estimate ``com`` is
+        (:mod:`comcore.active._bagging`, docs/explanation/calibration.md). The estimate ``com`` is
         the posterior's mean either way, and ``posterior.history`` holds the
         posterior's own states (push by push, not bagged).
     rng : None, int or numpy.random.Generator, optional

@@ -3,7 +3,7 @@
 A condition changes how the trial's object answers a push, never which object
 it is: every condition runs the same trials (same seeds, same mass
 distributions and friction), and the estimators see the object only through
-the condition. The built-in conditions (:data:`CONDITIONS`, docs/robot.md):
+the condition. The built-in conditions (:data:`CONDITIONS`, docs/how-to/your-robot.md):
 
 ========================  =====================================================
 ``exact``                 today's benchmark: every push from the initial pose,

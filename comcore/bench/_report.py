@@ -224,7 +224,7 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         'that pushes the object itself, the pushes it executed. "Status not ok" counts the '
         "trials that did not end `ok`, with their statuses: `unchecked` is Alg. 1, which has "
         "no test of its evidence and is never `ok`; `budget`, `exhausted`, `uninformative`, "
-        "`inconsistent` are the active estimator's stops (docs/robot.md).",
+        "`inconsistent` are the active estimator's stops (docs/results/active.md).",
         summary_table(rows),
     ]
     if "alg1" in estimators:

@@ -25,7 +25,7 @@ __all__ = [
     "trial_rng",
 ]
 
-#: Candidate pushes per trial (see docs/bench.md for why 30).
+#: Candidate pushes per trial (see docs/how-to/benchmark.md for why 30).
 DEFAULT_CANDIDATES = 30
 #: Half-angle (radians) of the candidate push directions about the inward normal.
 DEFAULT_CONE = 0.3

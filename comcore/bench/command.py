@@ -127,8 +127,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="LIST",
         help="run the same trials under realism conditions and write conditions.md: "
         "exact,pymunk,pusher-error,motion-noise,mask-noise,resolution-0.1,no-reset "
-        "(docs/robot.md); all: these; mujoco: MuJoCo's physics and rendered frames "
-        "(needs comcore[mujoco], docs/mujoco.md)",
+        "(docs/results/active.md); all: these; mujoco: MuJoCo's physics and rendered frames "
+        "(needs comcore[mujoco], docs/results/simulators.md)",
     )
     add(
         "--resume",

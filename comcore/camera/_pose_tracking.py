@@ -54,7 +54,7 @@ MISS_TRANSLATION_M = 0.001
 #: them best, by more than this (RMS pixels, the registration's ``residual_px``) is not the
 #: object moved: above what exact and noisy camera masks of the object give, below what
 #: another object's mask put in its place gives (calibrated by
-#: benchmarks/accuracy/observe_refusal.py; docs/robot.md).
+#: benchmarks/accuracy/observe_refusal.py; docs/results/active.md).
 MAX_RESIDUAL_PX = 1.5
 #: A mask whose area differs from the first mask's by more than this share is not the
 #: object moved (calibrated on the same masks).

@@ -26,7 +26,7 @@ __all__ = [
 #: A recording whose Voting-Theorem evidence rises by more than this (nats) with every
 #: theta's sign flipped has its sign flipped (a Bayes factor of 20): it flags recordings with
 #: every sign flipped, not those with a few senses flipped at random (calibrated by
-#: ``benchmarks/accuracy/estimate_methods.py --flips 0,1,3,all``; docs/bench.md).
+#: ``benchmarks/accuracy/estimate_methods.py --flips 0,1,3,all``; docs/how-to/benchmark.md).
 SIGN_FLIP_NATS = 3.0
 #: More than this share of the pushes dropped (missing the object or starting inside it)
 #: means the pushes are not in the mask's pixel frame: refused.

@@ -68,7 +68,7 @@ METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
 CREDIBLE = 0.9
 #: ``--systematic-error`` (metres): estimate_posterior's floor for a recording's many pushes,
 #: chosen with the bagged region on the MIT push dataset's train plates (calibrated by
-#: benchmarks/realdata/real_pushes.py; docs/realdata.md).
+#: benchmarks/realdata/real_pushes.py; docs/explanation/calibration.md).
 SYSTEMATIC_ERROR = comcore.active.RECORDED_SYSTEMATIC_ERROR
 #: ``--bootstrap``: resamplings of the pushes whose posteriors the region is read from.
 BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP
@@ -145,7 +145,8 @@ def add_arguments(parser) -> None:
         help="estimator (default posterior). posterior: the active estimator's posterior over "
         "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
         "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
-        "(docs/bench.md measures it). alg2: the paper's Alg. 2; alg2-rotation: Alg. 2 taking "
+        "(docs/how-to/benchmark.md measures it). alg2: the paper's Alg. 2; "
+        "alg2-rotation: Alg. 2 taking "
         "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
     )
     add(
@@ -176,7 +177,7 @@ def _add_model_arguments(parser) -> None:
         help="the posterior's motion model (default limit-surface: comcore.LimitSurfaceModel, "
         "the active session's; it tells a recording with theta's sign flipped from a right "
         "one, and takes a few seconds for 40 pushes). none: the Voting Theorem alone, about "
-        "20 times faster (docs/bench.md)",
+        "20 times faster (docs/how-to/benchmark.md)",
     )
     parser.add_argument(
         "--pusher-radius",
@@ -193,7 +194,7 @@ def _add_model_arguments(parser) -> None:
         help="std (METRES) of an error on the CoM that more pushes do not average away: the "
         "credible region is the posterior blurred by it (comcore.Likelihood("
         f"systematic_error=...); default {SYSTEMATIC_ERROR:g} m, chosen on real "
-        "pushes, docs/realdata.md; 0: none)",
+        "pushes, docs/explanation/calibration.md; 0: none)",
     )
     parser.add_argument(
         "--bootstrap",

@@ -7,7 +7,7 @@
   near the CoM turns the object unpredictably), the rotation's grown with the
   push's travel as :data:`MODEL_ERROR_TRAVEL` and :data:`MODEL_ERROR_POWER`
   say (fitted against the exact engine with the true CoM and friction by
-  benchmarks/accuracy/goal_model_error.py; docs/goal.md).
+  benchmarks/accuracy/goal_model_error.py; docs/results/goal.md).
 * :func:`follow_ups`: the least expected cost of one more push from many poses
   at once (the planner's two-step lookahead), and :func:`spread_picks`.
 """

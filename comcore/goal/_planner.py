@@ -56,7 +56,7 @@ say would not move the object measurably (a miss, as
 miss the session asks for twice its travel at least.
 
 A step's time is measured by ``benchmarks/accuracy/goal_bench.py --timing``
-(docs/goal.md).
+(docs/results/goal.md).
 """
 
 from __future__ import annotations

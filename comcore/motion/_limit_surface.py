@@ -36,7 +36,7 @@ from ._pressure import PRESSURES, pressures, support
 __all__ = ["FAMILY", "LimitSurfaceModel", "check_push_lengths"]
 
 #: The pressure spreads :meth:`LimitSurfaceModel.family` weighs: the exponential
-#: and the clipped linear tilt of a uniform footprint (see docs/motion-model.md).
+#: and the clipped linear tilt of a uniform footprint (see docs/explanation/motion-models.md).
 FAMILY = ("tilted", "linear")
 
 _NEAREST: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -120,7 +120,7 @@ class LimitSurfaceModel:
     weighs the friction). A round pusher of ``pusher_radius`` metres pushes
     with contact friction ``mu`` (sticking or sliding: Mason's motion cone),
     integrated over the push in ``n_steps`` steps: the object turns and the
-    contact moves along the outline. See ``docs/motion-model.md``.
+    contact moves along the outline. See ``docs/explanation/motion-models.md``.
 
     Parameters
     ----------

@@ -13,7 +13,7 @@ three tables of rows ``(t, x, y, yaw)`` / ``(t, fx, fy, torque_z)``:
 push was (:func:`parse_name`). :func:`load_pushes` turns files into a
 :class:`comcore.Recording` through :func:`comcore.recording_from_poses`.
 The outlines of the four analytic plates are in :data:`OUTLINES`; others
-(``butter``) come from the dataset's ``shape_db.py``. See docs/realdata.md.
+(``butter``) come from the dataset's ``shape_db.py``. See docs/how-to/recordings.md.
 
 Examples
 --------

@@ -32,7 +32,7 @@ __all__ = [
 #: ``1 / (1 + exp(|d| / scale))`` (plus ``flip_prob``): pixel outlines, the
 #: smoothed normal, the pusher's radius and the object turning during the push
 #: blur the line (how often the sense is wrong at each distance, measured against
-#: the simulator: docs/active.md, "The line is soft").
+#: the simulator: docs/explanation/likelihood.md, "The line is soft").
 LINE_SCALE_PX = 1.2
 
 

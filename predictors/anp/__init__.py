@@ -2,7 +2,7 @@
 
 ``AnpPredictor()`` loads the weights shipped in ``predictors/anp/weights/anp.pt``;
 ``python -m predictors.anp.train`` regenerates them from simulated pushes
-(:mod:`predictors.anp.data`). See ``docs/predictor-anp.md``.
+(:mod:`predictors.anp.data`). See ``docs/explanation/motion-models.md``.
 """
 
 try:

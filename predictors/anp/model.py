@@ -3,7 +3,7 @@
 Shapes: ``B`` episodes (objects), ``K`` prior pushes and ``Q`` query pushes per
 episode, ``F = N_PUSH_FEATURES`` features per push, ``D`` model width.
 
-Pipeline (paper Fig. 1, with the departures listed in ``docs/predictor-anp.md``):
+Pipeline (paper Fig. 1, with the departures listed in ``docs/explanation/motion-models.md``):
 
 1. A residual CNN encodes the object image (its normalised frame, two
    coordinate channels appended) ONCE per episode into a feature map and a

@@ -172,7 +172,7 @@ class AnpPredictor:
     threads : int or None, optional
         torch CPU threads while predicting (default 1; restored afterwards).
         The model is small: one thread is enough (its time and the command
-        that measures it: docs/predictor-anp.md, "Inference time"). ``None``
+        that measures it: docs/how-to/your-predictor.md, "Inference time"). ``None``
         leaves torch's setting alone.
 
     Notes

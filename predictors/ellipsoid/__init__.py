@@ -75,7 +75,7 @@ class EllipsoidPredictor:
         pole (the classic ``c = m_max / f_max``), or its curvature along the
         push direction. See
         :func:`predictors.ellipsoid._support.characteristic_length_sq` and
-        ``docs/predictor-ellipsoid.md`` for the measurements behind the defaults.
+        ``docs/results/motion.md`` for the measurements behind the defaults.
     pusher_radius : float, optional
         Radius of the round pusher in metres (0: a point). As in
         :mod:`simulators`, an action is the path of the disc's leading point

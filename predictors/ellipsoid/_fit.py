@@ -30,7 +30,7 @@ POLISH_PASSES = ((0.5, 0.7, 7), (0.15, 0.2, 5))
 #: The log-likelihood is divided by this for the posterior over the CoM: the
 #: model's errors are correlated across pushes, so 12 priors carry less evidence
 #: than 12 independent ones. Calibrated against the simulator (see
-#: docs/predictor-ellipsoid.md): with it the truth falls within the 1, 2 and 3
+#: docs/results/motion.md): with it the truth falls within the 1, 2 and 3
 #: sigma ellipses about as often as a Gaussian says.
 TEMPERATURE = 4.0
 #: Degrees of freedom of the Student-t residual model (robust to outliers).

@@ -1,6 +1,6 @@
 """The pymunk engine: rigid-body pushes with one floor-friction joint per support point.
 
-Model (the measurements behind the numbers are in docs/simulators.md):
+Model (the measurements behind the numbers are in docs/results/simulators.md):
 
 * Top-down view, no gravity. The body is the footprint's outline (pymunk
   segments, so concave outlines need no decomposition) with the mass and

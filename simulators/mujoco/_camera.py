@@ -7,7 +7,7 @@ brightness gradient and the object a shadow. The homography from table metres to
 image pixels comes from the camera's intrinsics (field of view, image size) and
 its pose, for the plane of the object's top face (the outline a camera sees);
 frames are warped onto the grid with it (bilinear), as a user warps a calibrated
-camera's frames (docs/robot.md, "Frames, units and your calibration"), and then
+camera's frames (docs/how-to/camera-frames.md, "Frames, units and your calibration"), and then
 go through :func:`comcore.mask_from_image`.
 
 Pixel convention (comcore's): pixel ``(row, col)``'s centre is at ``(x, y) = (col, row)``.

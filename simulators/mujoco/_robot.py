@@ -244,7 +244,7 @@ class MujocoRobot:
                 raise RuntimeError(
                     f"MuJoCo cannot render offscreen here ({e}); set MUJOCO_GL=egl and "
                     "EGL_PLATFORM=surfaceless before mujoco is first "
-                    "imported (docs/mujoco.md)"
+                    "imported (docs/how-to/mujoco.md)"
                 ) from e
         self._renderer.update_scene(self.data, camera="top")
         return self._renderer.render().copy()

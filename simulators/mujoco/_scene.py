@@ -62,14 +62,14 @@ def require_mujoco():
 
 @dataclass(frozen=True)
 class MujocoSettings:
-    """Physics of the MuJoCo scene (defaults chosen in docs/mujoco.md).
+    """Physics of the MuJoCo scene (defaults chosen in docs/how-to/mujoco.md).
 
     Attributes
     ----------
     speed : float
         Pusher speed along the path, m/s. Slow enough for the turns to stay near their
         slow-push limit; faster pushes make the object hop on its feet and turn less
-        (calibrated by benchmarks/mujoco/mujoco_hop.py; docs/mujoco.md).
+        (calibrated by benchmarks/mujoco/mujoco_hop.py; docs/results/simulators.md).
     timestep : float
         MuJoCo time step, seconds.
     contact_timeconst : float
@@ -79,7 +79,7 @@ class MujocoSettings:
         Time constant of the feet's contacts with the table. MuJoCo's default softness:
         stiffer support contacts make the pushed object hop on its feet, which weakens
         the support friction (calibrated by benchmarks/mujoco/mujoco_hop.py;
-        docs/mujoco.md).
+        docs/results/simulators.md).
     solver, cone, integrator : str
         MuJoCo's ``<option>`` settings.
     iterations : int
