@@ -166,17 +166,22 @@ def calibrate_model_weight(
     error = np.zeros_like(hits, dtype=float)
     for i, record in enumerate(items):
         mask, pushes, truth = _record(record, i)
-        mask = check_mask(mask)
+        mask = check_mask(mask, f"records[{i}] mask")
         truth = check_point(truth, f"records[{i}] true_com")
         for j, power in enumerate(grid):
-            est = estimate_posterior(
-                mask,
-                **pushes,
-                model=list(models) if models else None,
-                credible=credible,
-                likelihood=dataclasses.replace(likelihood, model_weight=power),
-                bootstrap=0,  # the sessions' region: the posterior's own, not bagged
-            )
+            try:
+                est = estimate_posterior(
+                    mask,
+                    **pushes,
+                    model=list(models) if models else None,
+                    credible=credible,
+                    likelihood=dataclasses.replace(likelihood, model_weight=power),
+                    bootstrap=0,  # the sessions' region: the posterior's own, not bagged
+                )
+            except (TypeError, ValueError) as e:  # the record's pushes: say which record
+                if j:
+                    raise
+                raise type(e)(f"records[{i}]: {e}") from e
             hits[i, j] = est.region_holds(truth)
             radius[i, j] = est.posterior.credible_radius_px * mask.resolution
             error[i, j] = est.error_px(truth) * mask.resolution

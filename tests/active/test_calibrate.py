@@ -152,9 +152,6 @@ def test_bad_records_and_options_are_named(records, kwargs, error, match):
         comcore.calibrate_model_weight(records, **kwargs)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="a record's mask, actions and motions are checked without "
-                   "the record's name ('mask must be a comcore.Mask', 'motions must have one row per "
-                   "action'), though the docstring says each is named and true_com is")  # fmt: skip
 @pytest.mark.parametrize("part", ["mask", "motions"])
 def test_a_bad_mask_or_motions_is_named_by_its_record(part):
     objects = _objects()

@@ -234,7 +234,7 @@ def test_quarter_turn_ccw_refuses_vectors_that_are_not_finite(bad):
 
 @pytest.mark.parametrize("radius", [0.001, 0.004, 0.01])
 def test_an_action_is_the_path_of_the_pushers_leading_point(radius):
-    # docs/conventions.md: the disc's centre runs one radius behind the action. A push along
+    # docs/explanation/conventions.md: the disc's centre runs one radius behind the action. A push along
     # the normal of a flat edge whose action ends 1 cm past the edge carries the object
     # 1 cm, whatever the radius, in the simulator and in the default motion model alike
     # (were the action the centre's path, it would carry it 1 cm minus the radius).

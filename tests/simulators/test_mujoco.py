@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-# Offscreen rendering: set before mujoco is first imported (as a user must, docs/mujoco.md).
+# Offscreen rendering: set before mujoco is first imported (as a user must, docs/how-to/mujoco.md).
 os.environ.setdefault("MUJOCO_GL", "egl")
 os.environ.setdefault("EGL_PLATFORM", "surfaceless")
 pytest.importorskip("shapely", reason="the simulators need shapely: pip install comcore[sim]")
