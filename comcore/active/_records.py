@@ -18,11 +18,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .._mask import Mask
-from .._types import Estimate, PosteriorDetails, PushRecord
+from .._status import Status
+from .._types import Estimate, Motion, PosteriorDetails, PushRecord
 from ._grid import GridPosterior
 from ._likelihood import consistency_threshold
 
-__all__ = ["PushLog", "SessionState", "credible_level"]
+__all__ = ["PushLog", "PushLoop", "SessionState", "credible_level"]
 
 
 class SessionState(NamedTuple):
@@ -201,3 +202,40 @@ def credible_level(estimate: Estimate, point) -> float:
     if not (0 <= row < h and 0 <= col < w):
         return 1.0
     return float(post[post > post[row, col]].sum())
+
+
+class PushLoop:
+    """What a session says of its push loop: ``done``, ``status``, ``pose``, ``pushes``.
+
+    Shared by :class:`comcore.ActiveSession` and :class:`comcore.GoalSession`, which set
+    ``_final`` (the stop's :class:`comcore.Status`, ``None`` while running),
+    ``_handed_out`` (a push handed out and not yet observed), ``_pose`` and ``_log``
+    (a :class:`PushLog`).
+    """
+
+    _final: Status | None
+    _handed_out: bool
+    _pose: Motion
+    _log: PushLog
+
+    @property
+    def done(self) -> bool:
+        """True once the session has stopped (see :attr:`status`)."""
+        return self._final is not None
+
+    @property
+    def status(self) -> Status:
+        """What the session waits for (a push asked, an observation), or why it stopped."""
+        if self._final is not None:
+            return self._final
+        return Status.WAITING_OBSERVATION if self._handed_out else Status.WAITING_PUSH
+
+    @property
+    def pose(self) -> Motion:
+        """The object's pose now, relative to the first mask (about its centroid)."""
+        return self._pose
+
+    @property
+    def pushes(self) -> tuple[PushRecord, ...]:
+        """Every push reported so far (misses and failed pushes included), in order."""
+        return tuple(self._log.records)

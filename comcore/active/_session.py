@@ -14,8 +14,7 @@ import numpy as np
 
 from .._errors import SessionError
 from .._mask import Mask
-from .._status import Status
-from .._types import Action, Estimate, Motion, PushRecord, SkippedPush
+from .._types import Action, Estimate, Motion, SkippedPush
 from .._validation import check_mask, check_motions, check_physical, check_probability, check_rng
 from ..camera._pose_tracking import moved_mask
 from ..conventions import apply_motion
@@ -27,7 +26,7 @@ from ._option_groups import check_groups, names_the_group
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
 from ._reading import PushContext, read_push
-from ._records import PushLog, SessionState
+from ._records import PushLog, PushLoop, SessionState
 from ._stop import choice_status, stop_reason
 
 __all__ = ["ActiveSession", "session_setup"]
@@ -48,7 +47,7 @@ def session_setup(
     return scoring, credible
 
 
-class ActiveSession:
+class ActiveSession(PushLoop):
     """Find the CoM by pushing, one push at a time, driven by the caller's loop.
 
     The ask/tell form of :func:`comcore.estimate_active` (same posterior,
@@ -213,28 +212,6 @@ class ActiveSession:
         if self._mask_now is not None:
             return self._mask_now
         return moved_mask(self._first, self._pose)
-
-    @property
-    def done(self) -> bool:
-        """True once the session has stopped (see :attr:`status`)."""
-        return self._final is not None
-
-    @property
-    def status(self) -> Status:
-        """What the session waits for, or why it stopped."""
-        if self._final is not None:
-            return self._final
-        return Status.WAITING_OBSERVATION if self._handed_out else Status.WAITING_PUSH
-
-    @property
-    def pose(self) -> Motion:
-        """The object's pose now, relative to the first mask (about its centroid)."""
-        return self._pose
-
-    @property
-    def pushes(self) -> tuple[PushRecord, ...]:
-        """Every push reported so far (misses and failed pushes included), in order."""
-        return tuple(self._log.records)
 
     @property
     def actions(self) -> np.ndarray:

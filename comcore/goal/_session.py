@@ -29,7 +29,7 @@ from ..active._options import (
     StopRule,
 )
 from ..active._reading import PushContext, best_branch, push_record
-from ..active._records import PushLog
+from ..active._records import PushLog, PushLoop
 from ..active._session import ActiveSession, session_setup
 from ..camera._pose_tracking import (
     executed_in_object,
@@ -86,7 +86,7 @@ def _goal_options(groups, resolution: float) -> tuple[float, int]:
     return travel_px, stop.max_pushes
 
 
-class GoalSession:
+class GoalSession(PushLoop):
     """Push an object to a goal pose, one push at a time, driven by the caller's loop.
 
     ::
@@ -289,31 +289,9 @@ class GoalSession:
             self._final = Status.STUCK
 
     @property
-    def done(self) -> bool:
-        """True once the session has stopped (see :attr:`status`)."""
-        return self._final is not None
-
-    @property
-    def status(self) -> Status:
-        """What the session waits for, or why it stopped: reached, budget, stuck or lost."""
-        if self._final is not None:
-            return self._final
-        return Status.WAITING_OBSERVATION if self._handed_out else Status.WAITING_PUSH
-
-    @property
-    def pose(self) -> Motion:
-        """The object's pose now, relative to the first mask (as :attr:`ActiveSession.pose`)."""
-        return self._pose
-
-    @property
     def goal(self) -> Goal:
         """The goal."""
         return self._goal
-
-    @property
-    def pushes(self) -> tuple[PushRecord, ...]:
-        """Every push reported so far, in order."""
-        return tuple(self._log.records)
 
     @property
     def expected_cost(self) -> float | None:
