@@ -24,7 +24,7 @@ EXTRA_MODULES = {
 }
 #: Modules (or folders) whose doctests need an extra, from the repository root.
 DOCTESTS_NEED = {
-    "comcore/plot/__init__.py": "plot",
+    "comcore/plot": "plot",
     "comcore/bench/__init__.py": "sim",
     "predictors/anp": "anp",
     "predictors/oracle.py": "sim",
