@@ -181,13 +181,7 @@ def add_arguments(parser) -> None:
         "with a warning)",
     )
     _add_model_arguments(parser)
-    add(
-        "--target-radius",
-        type=float,
-        default=DEFAULT_TARGET_RADIUS,
-        help="radius in METRES the region must reach for status ok (default "
-        f"{DEFAULT_TARGET_RADIUS:g} m, as an active session's); consistent but wider is wide",
-    )
+    _add_status_arguments(parser)
     add("--json", action="store_true", help="print one JSON object instead of text")
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
@@ -198,6 +192,17 @@ def add_arguments(parser) -> None:
         "--example)",
     )
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
+
+
+def _add_status_arguments(parser) -> None:
+    """``--target-radius``: the region's radius for status ``ok`` (:data:`EPILOG`)."""
+    parser.add_argument(
+        "--target-radius",
+        type=float,
+        default=DEFAULT_TARGET_RADIUS,
+        help="radius in METRES the region must reach for status ok (default "
+        f"{DEFAULT_TARGET_RADIUS:g} m, as an active session's); consistent but wider is wide",
+    )
 
 
 def _add_model_arguments(parser) -> None:
