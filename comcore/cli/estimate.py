@@ -99,6 +99,8 @@ SYSTEMATIC_ERROR = comcore.active.RECORDED_SYSTEMATIC_ERROR
 BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
+#: ``status_meaning`` of ``--method centroid``: a baseline whose ``ok`` checks nothing.
+CENTROID_MEANING = "the area centroid, a baseline that uses no push: nothing is checked"
 #: The motion models of ``--model`` (the posterior's), the default first.
 MODELS = ("limit-surface", "none")
 
@@ -342,7 +344,9 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
         "method": args.method,
         "model": args.model if args.method == "posterior" else None,
         "status": status,
-        "status_meaning": status_meaning(status, args.target_radius),
+        "status_meaning": CENTROID_MEANING
+        if args.method == "centroid"
+        else status_meaning(status, args.target_radius),
         "estimator_status": est.status,
         "target_radius_m": args.target_radius,
         "mistake": mistake,

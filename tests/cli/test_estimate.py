@@ -546,3 +546,10 @@ def test_a_bad_target_radius_is_refused(files, capsys, value):
     _, mask, pushes = files
     code, result, err = estimate_json(capsys, mask, pushes, "--target-radius", value)
     assert code == 2 and result is None and "--target-radius" in err
+
+
+def test_the_centroid_baseline_says_it_checks_nothing(files, capsys):
+    # its status is an Estimate's default; the meaning printed must not vouch for the pushes
+    _, mask, pushes = files
+    _, result, _ = estimate_json(capsys, mask, pushes, "--method", "centroid")
+    assert result["status_meaning"] == "the area centroid, a baseline that uses no push: nothing is checked"
