@@ -5,7 +5,13 @@ from __future__ import annotations
 import enum
 import sys
 
-__all__ = ["Status"]
+__all__ = ["DEFAULT_TARGET_RADIUS", "Status", "region_reached"]
+
+#: Radius (metres) an estimate's region must reach for ``"ok"`` (:class:`Status`):
+#: ``StopRule.target_radius`` of the sessions, ``target_radius`` of
+#: :func:`comcore.estimate_posterior` and :func:`comcore.estimate_progressive`, and
+#: ``comcore estimate --target-radius``.
+DEFAULT_TARGET_RADIUS = 0.006
 
 if sys.version_info >= (3, 11):
     from enum import StrEnum as _StrEnum
@@ -31,11 +37,44 @@ class Status(_StrEnum):
     comes with the fallback its estimator documents (usually the mask's area
     centroid), never a NaN.
 
+    ``ok`` means one thing everywhere: the data were consistent AND the
+    estimate's region reached the target radius (``target_radius``, metres,
+    default 6 mm: the equivalent-circle radius ``sqrt(area / pi)`` of the
+    region, compared by :func:`region_reached`). Where the data were
+    consistent but the region did not reach it, the status says why:
+
+    | entry point | region reached the target | consistent, region wider |
+    | --- | --- | --- |
+    | a session (``ActiveSession``) | ``ok`` | ``budget``, ``exhausted``, ``uninformative`` |
+    | ``estimate_posterior``, ``comcore estimate`` | ``ok`` | ``wide`` |
+    | ``estimate_progressive`` (Alg. 2) | ``ok`` | ``wide`` |
+
+    A session (:class:`comcore.ActiveSession`, :func:`comcore.estimate_active`)
+    is ``ok`` only after ``StopRule.min_pushes`` pushes with evidence; its
+    three wide statuses name why it stopped before its region reached the
+    target.
+    The region is the 90 % credible region for the sessions and the posterior
+    (``StopRule.target_radius`` for a session, the ``target_radius`` keyword
+    of :func:`comcore.estimate_posterior`, ``--target-radius`` of ``comcore
+    estimate``), and for Alg. 2 the final feasible region it takes its mean
+    of (the ``target_radius`` keyword of :func:`comcore.estimate_progressive`).
+    ``wide``, ``budget``, ``exhausted`` and ``uninformative`` all say: usable,
+    less sure than asked. ``inconsistent`` replaces any of them when the data
+    contradict each other: do not use the estimate.
+
     Attributes
     ----------
     OK : "ok"
-        The data were consistent and the answer is as good as it says (a
-        session: its credible region is as small as its stop rule asks).
+        The data were consistent and the estimate's region reached the target
+        radius (a session: its credible region is as small as its stop rule
+        asks, after ``min_pushes`` pushes with evidence).
+    WIDE : "wide"
+        The data were consistent but the region is wider than the target
+        radius (:func:`comcore.estimate_posterior`, ``comcore estimate``,
+        :func:`comcore.estimate_progressive`): the estimate is usable and its
+        region says how unsure it is; more pushes, across the region, narrow
+        it. A session says ``budget``, ``exhausted`` or ``uninformative``
+        instead, naming why it stopped wide.
     UNCHECKED : "unchecked"
         Alg. 1 (:func:`comcore.estimate_heatmap`) found a region, but nothing
         tests its evidence: any motions, right or wrong, give one.
@@ -62,12 +101,17 @@ class Status(_StrEnum):
     BUDGET : "budget"
         A session spent its ``max_pushes`` (:class:`comcore.StopRule`) before
         its region was small (active) or the object reached the goal (goal);
-        the estimate is usable, its region wider.
+        the estimate is usable, its region wider than ``target_radius`` (or
+        fewer than ``min_pushes`` pushes carried evidence): a session's
+        ``wide``. In ``comcore bench`` it is the active estimator's trials
+        that spent the bench's push budget before the target radius.
     EXHAUSTED : "exhausted"
-        An active session had no candidate push left to offer in this pose.
+        An active session had no candidate push left to offer in this pose
+        (its region wider than the target: usable, as ``wide``).
     UNINFORMATIVE : "uninformative"
         No candidate push left was expected to teach more than
-        ``StopRule.min_information`` bits.
+        ``StopRule.min_information`` bits (its region wider than the target:
+        usable, as ``wide``).
     PUSH_FAILED : "push_failed"
         The partial estimate of :func:`comcore.estimate_active` when a push
         failed (:attr:`comcore.PushFailedError.partial`).
@@ -96,6 +140,7 @@ class Status(_StrEnum):
     """
 
     OK = "ok"
+    WIDE = "wide"
     UNCHECKED = "unchecked"
     NO_ACTIONS = "no_actions"
     FLAT_HEATMAP = "flat_heatmap"
@@ -133,3 +178,15 @@ class Status(_StrEnum):
             raise ValueError(
                 f"{name} must be a comcore.Status, one of {[m.value for m in cls]}, got {value!r}"
             ) from None
+
+
+def region_reached(radius_px: float, target_radius: float, resolution: float) -> bool:
+    """Whether a region of equivalent-circle radius ``radius_px`` reached ``target_radius``.
+
+    The one comparison behind every ``ok`` (:class:`Status`): ``radius_px``
+    pixels of ``resolution`` metres at most ``target_radius`` metres.
+
+    >>> region_reached(2.0, 0.006, 0.0025), region_reached(3.0, 0.006, 0.0025)
+    (True, False)
+    """
+    return radius_px <= target_radius / resolution

@@ -437,8 +437,9 @@ class Estimate:
     used : tuple of int
         Indices of the actions the estimator used, in the order it used them.
     status : Status
-        ``Status.OK`` (``"ok"``: the data were consistent and the answer is as
-        good as it says) or why not; :class:`comcore.Status` says what each
+        ``Status.OK`` (``"ok"``: the data were consistent and the region
+        reached the target radius) or why not (``"wide"``: consistent, the
+        region wider); :class:`comcore.Status` says what each
         member means. A string is taken if it is a member's.
     covariance : numpy.ndarray, shape (2, 2), or None
         Covariance of the CoM in pixels squared, where the estimator has one.

@@ -18,7 +18,8 @@ default before its posterior took the active session's motion model).
 ``--flips all`` flips the sign of every push's rotation (theta with the y axis up, the
 mistake docs/explanation/conventions.md warns about); the last lines count the recordings whose sign
 ``comcore estimate`` calls flipped (:func:`comcore.cli.estimate.sign_flip_nats`) and the
-``ok`` statuses.
+statuses: ``ok`` and ``wide`` (consistent, the region within ``target_radius`` or wider;
+the two together are what ``ok`` alone said before ``wide`` existed).
 """
 
 from __future__ import annotations
@@ -129,7 +130,8 @@ def main(argv=None) -> None:
         f"{k} wrong: flagged {flagged[k]} of {n}" for k in flips))
     for m in ("posterior", "alg2"):
         print(f"{m} status: " + ", ".join(
-            f"{k} wrong: {statuses[m, k].count('ok')} ok of {len(statuses[m, k])}" for k in flips))
+            f"{k} wrong: {statuses[m, k].count('ok')} ok, {statuses[m, k].count('wide')} wide "
+            f"of {len(statuses[m, k])}" for k in flips))
 
 
 if __name__ == "__main__":

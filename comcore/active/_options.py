@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .._status import DEFAULT_TARGET_RADIUS
 from .._validation import (
     check_count,
     check_mu,
@@ -40,6 +41,7 @@ __all__ = [
     "DEFAULT_CREDIBLE",
     "DEFAULT_MODEL",
     "DEFAULT_PUSHER_RADIUS",
+    "DEFAULT_TARGET_RADIUS",
     "MAX_CANDIDATES",
     "MAX_N_MU",
     "RECORDED_SYSTEMATIC_ERROR",
@@ -268,8 +270,9 @@ class StopRule:
         wrong the model is.
     target_radius : float
         The credible region's radius (metres) at which the session stops
-        ``"ok"``. A region can be no smaller than a pixel (``0.56 *
-        resolution``); at most 0.5 m.
+        ``"ok"`` (default 6 mm, as :func:`comcore.estimate_posterior`'s;
+        :class:`comcore.Status` maps the statuses). A region can be no
+        smaller than a pixel (``0.56 * resolution``); at most 0.5 m.
     min_information : float
         Stop when no push is expected to teach more bits than this.
 
@@ -286,7 +289,7 @@ class StopRule:
 
     max_pushes: int = 5
     min_pushes: int = 2
-    target_radius: float = 0.006
+    target_radius: float = DEFAULT_TARGET_RADIUS
     min_information: float = 1e-3
 
     def reason(self, state, resolution: float) -> str | None:

@@ -9,18 +9,21 @@ sure of what a model's shared error says.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from .._checks import check_count
 from .._mask import Mask
+from .._status import Status, region_reached
 from .._types import Estimate, PushRecord
 from .._validation import (
     check_actions,
     check_mask,
     check_motions,
     check_per_push,
+    check_physical,
     check_rng,
     check_turns,
 )
@@ -38,7 +41,12 @@ from ._likelihood import (
     tracking_noise,
 )
 from ._option_groups import check_groups, names_the_group
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._options import (
+    DEFAULT_CREDIBLE,
+    DEFAULT_MODEL,
+    DEFAULT_PUSHER_RADIUS,
+    DEFAULT_TARGET_RADIUS,
+)
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._records import PushLog
 from ._session import session_setup
@@ -66,6 +74,7 @@ def estimate_posterior(
     rotation_observed=None,
     residual_px=None,
     bootstrap: int = RECORDED_BOOTSTRAP,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
     rng=0,
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
@@ -124,6 +133,12 @@ def estimate_posterior(
         (:mod:`comcore.active._bagging`, docs/explanation/calibration.md). The estimate ``com`` is
         the posterior's mean either way, and ``posterior.history`` holds the
         posterior's own states (push by push, not bagged).
+    target_radius : float, optional
+        Radius (metres) the credible region must reach for ``"ok"``: its
+        equivalent-circle radius ``posterior.credible_radius_px`` (the bagged
+        region's) at most this; wider is ``"wide"``. Default 6 mm, the
+        sessions' ``StopRule.target_radius``: ``"ok"`` means the same here as
+        where a session stops (:class:`comcore.Status`).
     rng : None, int or numpy.random.Generator, optional
         Seed of the resamplings (default 0: the same region every call).
 
@@ -136,7 +151,9 @@ def estimate_posterior(
         ``posterior.senses`` the check of the observed senses
         (:class:`comcore.active._stop.SenseCheck`: how many pushes the best CoM leaves
         unexplained, against what ``flip_prob`` allows). ``status`` is
-        ``"ok"``, ``"inconsistent"`` when no hypothesis explains the pushes
+        ``"ok"`` (consistent, the credible region within ``target_radius``),
+        ``"wide"`` (consistent, the region wider: usable, less sure),
+        ``"inconsistent"`` when no hypothesis explains the pushes
         well or the senses fail their check (most contradict the estimate, or
         no CoM leaves as few unexplained as ``flip_prob`` allows), or
         ``"no_evidence"`` when no push carried any
@@ -153,7 +170,8 @@ def estimate_posterior(
     the Voting Theorem alone (the motions are made up, not physical): the
     CoM is between rows 8 and 13 and columns 8 and 13 (each sense may be
     wrong with probability ``flip_prob``, so the 90 % region still reaches
-    outside):
+    outside). Consistent, but the region's radius, 9 px of 2.5 mm, is wider
+    than the default 6 mm target: ``"wide"``; against a 25 mm target ``"ok"``:
 
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
@@ -161,7 +179,9 @@ def estimate_posterior(
     >>> motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
     >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
     >>> est.status, np.round(est.com, 1).tolist(), round(est.posterior.credible_radius_px, 1)
-    ('ok', [11.1, 11.1], 9.0)
+    ('wide', [11.1, 11.1], 9.0)
+    >>> comcore.estimate_posterior(mask, actions, motions, model=None, target_radius=0.025).status
+    'ok'
     >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
     True
 
@@ -180,6 +200,7 @@ def estimate_posterior(
     if bootstrap > MAX_BOOTSTRAP:
         raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
     rng = check_rng(rng)
+    target_radius = check_physical(target_radius, "target_radius", "target_radius")
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible,
         check_groups(likelihood=likelihood)["likelihood"],
@@ -215,14 +236,17 @@ def estimate_posterior(
     used = [i for (i, r), ok in zip(given, usable) if ok and r.outcome == "evidence"]
     skipped = tuple(s._replace(index=given[s.index][0]) for s in skipped)
     check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
-    status = offline_status(log.state, check)
     bagged = None  # one push is its own bag: the posterior's region
     if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
     n_bags = 0 if bagged is None else bootstrap
-    return log.estimate(
-        mask, post, used, status, marginal=bagged, skipped=skipped, senses=check, bootstrap=n_bags
-    )
+    est = log.estimate(  # its status set below, once its region's radius is known
+        mask, post, used, Status.OK, marginal=bagged, skipped=skipped, senses=check,
+        bootstrap=n_bags,
+    )  # fmt: skip
+    radius_px = est.posterior.credible_radius_px  # the region reported: the bagged one
+    reached = region_reached(radius_px, target_radius, mask.resolution)
+    return dataclasses.replace(est, status=offline_status(log.state, check, reached=reached))
 
 
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:

@@ -24,7 +24,10 @@ friction, model) hypothesis explains the pushes well
 (:func:`comcore.active._likelihood.consistency_threshold`).
 
 A posterior over recorded pushes (:func:`offline_status`) chooses none and has
-no budget: it is ``"ok"``, ``"no_evidence"`` or ``"inconsistent"``. Besides the
+no budget: it is ``"ok"`` (consistent, its credible region at most its
+``target_radius``, the session's 6 mm by default), ``"wide"`` (consistent, its
+region wider: the session's ``"budget"``, ``"exhausted"`` or
+``"uninformative"``), ``"no_evidence"`` or ``"inconsistent"``. Besides the
 likelihood's check, its observed senses of rotation are checked on their own
 (:func:`sense_check`), the one check the Voting Theorem alone can make: a
 recording whose senses no CoM explains (theta with the wrong sign on an
@@ -39,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._status import Status
+from .._status import Status, region_reached
 
 __all__ = [
     "SENSE_ALPHA",
@@ -108,7 +111,7 @@ def stop_reason(rule, state, resolution: float) -> Status | None:
     >>> stop_reason(comcore.StopRule(min_pushes=3), state, 0.0025) is None
     True
     """
-    small = state.credible_radius_px <= rule.target_radius / resolution
+    small = region_reached(state.credible_radius_px, rule.target_radius, resolution)
     if small and state.n_evidence >= rule.min_pushes:
         reason = Status.OK
     elif state.n_pushes >= rule.max_pushes:
@@ -134,18 +137,30 @@ def choice_status(rule, state, gain: float | None) -> Status | None:
     return reason if state.consistent else Status.INCONSISTENT
 
 
-def offline_status(state, senses: SenseCheck | None = None) -> Status:
+def offline_status(
+    state, senses: SenseCheck | None = None, *, reached: bool = True
+) -> Status:
     """The status of a posterior over recorded pushes (it chooses none, so it has no budget).
 
     ``"no_evidence"`` when no push carried any, ``"inconsistent"`` when no
     hypothesis explains them or their senses fail :func:`sense_check`, else
-    ``"ok"``.
+    ``"ok"`` when its credible region ``reached`` the target radius
+    (:func:`comcore._status.region_reached`) and ``"wide"`` when not.
+
+    Examples
+    --------
+    >>> from comcore.active._records import SessionState
+    >>> state = SessionState((0.0, 0.0), 9.0, 2.0, 0.0, 0.0, n_pushes=2, n_evidence=2)
+    >>> offline_status(state), offline_status(state, reached=False)
+    ('ok', 'wide')
     """
     if state.n_evidence == 0:
         return Status.NO_EVIDENCE
     if senses is not None and not senses.consistent:
         return Status.INCONSISTENT
-    return Status.OK if state.consistent else Status.INCONSISTENT
+    if not state.consistent:
+        return Status.INCONSISTENT
+    return Status.OK if reached else Status.WIDE
 
 
 def sense_check(tally, estimate_index: int) -> SenseCheck:

@@ -6,6 +6,7 @@ under it) are in :mod:`comcore.bench._realism`.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -13,6 +14,7 @@ import numpy as np
 from .._status import Status
 from ._realism import CONDITIONS, Condition, parse_condition
 from ._registry import parse_estimator, split_estimators
+from ._report import STATUS_NOTE, status_cell
 from ._runner import BenchConfig, BenchResult, run_benchmark
 from ._trial import TrialSpec
 
@@ -92,7 +94,8 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         "(`Estimate.region`) contains the true CoM pixel, for estimators that report a "
         "credible region (n/a for the others). *ok > 1 cm*: share of trials that stopped "
         "with status `ok` and an error over 1 cm. *failed*: trials that ended in an error or "
-        "with a push the robot could not execute.",
+        "with a push the robot could not execute. *statuses*: the trials by status. "
+        + STATUS_NOTE,
         "",
     ]
     for name in list(dict.fromkeys([*results, *unfit])):
@@ -101,8 +104,8 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         lines += [f"## {name}", "", cond.description, ""]
         lines += [
             "| estimator | trials | mean error (cm) | median | mean pushes | region holds the CoM "
-            "| ok > 1 cm | failed |",
-            "|---|---|---|---|---|---|---|---|",
+            "| ok > 1 cm | failed | statuses |",
+            "|---|---|---|---|---|---|---|---|---|",
         ]
         for label in result.config.estimators if result is not None else ():
             rows = [r for r in result.rows if r["estimator"] == label]
@@ -116,10 +119,10 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
                 f"| `{label}` | {len(rows)} | {err.mean():.3f} | {np.median(err):.3f} | "
                 f"{pushes.mean():.2f} | "
                 + ("n/a" if cover is None else f"{100 * cover:.0f} %")
-                + f" | {100 * bad_ok:.1f} % | {failed} |"
+                + f" | {100 * bad_ok:.1f} % | {failed} | {_statuses(rows)} |"
             )
         for label, reason in unfit.get(name, {}).items():
-            lines.append(f"| `{label}` | not run: {reason} | | | | | | |")
+            lines.append(f"| `{label}` | not run: {reason} | | | | | | | |")
         lines.append("")
         predicted = [
             e for e in (result.config.estimators if result is not None else ())
@@ -203,6 +206,11 @@ def run_conditions_command(args, config: BenchConfig, skipped: dict[str, str]) -
     return 0
 
 
+def _statuses(rows) -> str:
+    """The trials of ``rows`` by status, by name (``"ok 3, budget 2"``; :data:`STATUS_NOTE`)."""
+    return status_cell({"statuses": dict(Counter(str(r["status"]) for r in rows).most_common())})
+
+
 def friction_table(rows, baseline: str | None = None) -> str:
     """A Markdown table of result rows by estimator and friction class (and both).
 
@@ -220,7 +228,7 @@ def friction_table(rows, baseline: str | None = None) -> str:
     ...          "covered": True, "status": "ok", "push_failures": 0}
     ...         for f, e in (("low", 0.2), ("high", 0.4))]
     >>> print(friction_table(rows).splitlines()[-1])
-    | `a` | both | 0.300 | 0.300 | 0.40 | 3.00 | 100 % | 0.0 % | 0 |
+    | `a` | both | 0.300 | 0.300 | 0.40 | 3.00 | 100 % | 0.0 % | 0 | ok 2 |
     """
     import json
     import os
@@ -233,8 +241,8 @@ def friction_table(rows, baseline: str | None = None) -> str:
     frictions = [f for f in ("low", "high") if any(r["friction"] == f for r in rows)]
     lines = [
         "| estimator | friction | mean error (cm) | median | max | pushes "
-        "| region holds the CoM | ok > 1 cm | failed |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| region holds the CoM | ok > 1 cm | failed | statuses |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     base = None
     if baseline is not None:
@@ -261,6 +269,6 @@ def friction_table(rows, baseline: str | None = None) -> str:
             failed = sum(r["status"] == Status.ERROR or (r["push_failures"] or 0) > 0 for r in sel)
             lines.append(
                 f"| `{label}` | {friction} | {mean} | {np.median(err):.3f} | {err.max():.2f} | "
-                f"{push} | {100 * cover:.0f} % | {100 * bad:.1f} % | {failed} |"
+                f"{push} | {100 * cover:.0f} % | {100 * bad:.1f} % | {failed} | {_statuses(sel)} |"
             )
     return "\n".join(lines)

@@ -11,10 +11,25 @@ from .._status import Status
 from ._io import paper_table
 
 __all__ = [
-    "group_stats", "markdown_report", "not_ok_cell", "summary_table", "table_one", "table_two",
+    "STATUS_NOTE", "group_stats", "markdown_report", "status_cell", "summary_table", "table_one",
+    "table_two",
 ]  # fmt: skip
 
 FRICTIONS = ("low", "high")
+#: What the statuses in the bench's tables mean (the report's and ``conditions.md``'s).
+STATUS_NOTE = (
+    "Statuses count the trials by the status each ended with (comcore.Status). `ok`: the "
+    "pushes were consistent and the estimate's region reached the target radius (6 mm by "
+    "default: the 90 % credible region for the active estimator, the final region for "
+    "Alg. 2). `wide`: consistent, the region wider (Alg. 2). `budget`: an active estimator "
+    "spent its push budget (`StopRule.max_pushes`: 5 unless its label sets another, "
+    "`active(max_pushes=8)`) before its credible region reached the target radius: a usable "
+    "estimate, its region wider, not a failure; "
+    "`exhausted` and `uninformative` likewise stopped wide, with no candidate push left or "
+    "none expected to teach more. `unchecked`: Alg. 1, which has no test of its evidence "
+    "and is never `ok`. `inconsistent`: no CoM explains the pushes. `error`: the estimator "
+    "raised (counted under Errors too)."
+)
 
 
 def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction")) -> dict:
@@ -25,10 +40,11 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     dict
         ``{key tuple: stats}`` with ``n``, ``error`` (mean, std, min, max,
         median of ``error_cm``), ``pushes`` (mean, std, min, max of
-        ``pushes_used``), ``total_pushes`` (their sum), ``not_ok`` (rows whose
-        status is not ``"ok"``), ``statuses`` (``{status: rows}`` of those, most
-        frequent first: Alg. 1's ``"unchecked"``, the active estimator's
-        ``"budget"`` ...) and ``errors`` (rows with status ``"error"``).
+        ``pushes_used``), ``total_pushes`` (their sum), ``statuses``
+        (``{status: rows}`` of every status, ``"ok"`` included, most frequent
+        first: ``"ok"``, Alg. 2's ``"wide"``, Alg. 1's ``"unchecked"``, the
+        active estimator's ``"budget"`` ...) and ``errors`` (rows with status
+        ``"error"``).
 
     Examples
     --------
@@ -45,14 +61,13 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     for key, members in groups.items():
         err = np.array([r["error_cm"] for r in members], float)
         pushes = np.array([r["pushes_used"] for r in members], float)
-        not_ok = Counter(r["status"] for r in members if r["status"] != Status.OK)
+        statuses = Counter(r["status"] for r in members)
         out[key] = {
             "n": len(members),
             "error": _describe(err),
             "pushes": _describe(pushes),
             "total_pushes": int(sum(r["total_pushes"] for r in members)),
-            "not_ok": sum(r["status"] != Status.OK for r in members),
-            "statuses": dict(not_ok.most_common()),
+            "statuses": {str(k): v for k, v in statuses.most_common()},
             "errors": sum(r["status"] == Status.ERROR for r in members),
         }
     return out
@@ -141,37 +156,35 @@ def table_two(rows: Sequence[Mapping], estimator: str = "alg2") -> str:
     return _markdown(header, body)
 
 
-def not_ok_cell(stats: Mapping) -> str:
-    """The "Status not ok" cell: the count, and which statuses (``"3 (budget 2, exhausted 1)"``).
+def status_cell(stats: Mapping) -> str:
+    """The "Statuses" cell: every status by name with its count, most frequent first.
 
     Examples
     --------
-    >>> not_ok_cell({"not_ok": 0, "statuses": {}})
-    '0'
-    >>> not_ok_cell({"not_ok": 20, "statuses": {"unchecked": 20}})
-    '20 (unchecked)'
-    >>> not_ok_cell({"not_ok": 3, "statuses": {"budget": 2, "exhausted": 1}})
-    '3 (budget 2, exhausted 1)'
+    >>> status_cell({"statuses": {"ok": 158, "budget": 42}})
+    'ok 158, budget 42'
+    >>> status_cell({"statuses": {"unchecked": 20}})
+    'unchecked 20'
+    >>> status_cell({"statuses": {}})
+    '–'
     """
     statuses = stats.get("statuses", {})
-    if not stats["not_ok"] or not statuses:
-        return str(stats["not_ok"])
-    if len(statuses) == 1:
-        return f"{stats['not_ok']} ({next(iter(statuses))})"
-    return f"{stats['not_ok']} ({', '.join(f'{k} {v}' for k, v in statuses.items())})"
+    return ", ".join(f"{k} {v}" for k, v in statuses.items()) or "–"
 
 
 def summary_table(rows: Sequence[Mapping]) -> str:
-    """One line per estimator and friction: error, pushes, real pushes in total, failures.
+    """One line per estimator and friction: error, pushes, real pushes in total, statuses.
 
-    "Status not ok" counts the trials whose status is not ``"ok"`` and names
-    their statuses: every ``alg1`` trial is ``"unchecked"`` (Alg. 1 has no test
-    of its evidence), an active estimator's may be ``"budget"``, ...
+    "Statuses" counts the trials by the status each ended with, by name
+    (``"ok 158, budget 42"``; :data:`STATUS_NOTE` says what each means): every
+    ``alg1`` trial is ``"unchecked"`` (Alg. 1 has no test of its evidence), an
+    active estimator's may be ``"budget"`` (the push budget spent before the
+    target radius: usable, wider), Alg. 2's ``"wide"``, ...
     """
     stats = group_stats(rows, keys=("estimator", "friction"))
     header = [
         "Estimator", "Friction", "Trials", "Error mean cm", "median", "std", "max",
-        "Pushes used mean", "Real pushes in total", "Status not ok", "Errors",
+        "Pushes used mean", "Real pushes in total", "Statuses", "Errors",
     ]  # fmt: skip
     body = []
     for (name, friction), s in stats.items():
@@ -179,7 +192,7 @@ def summary_table(rows: Sequence[Mapping]) -> str:
         body.append(
             [name, friction, str(s["n"]), f"{e['mean']:.3f}", f"{e['median']:.3f}",
              f"{e['std']:.3f}", f"{e['max']:.3f}", f"{p['mean']:.2f}", str(s["total_pushes"]),
-             not_ok_cell(s), str(s["errors"])]
+             status_cell(s), str(s["errors"])]
         )  # fmt: skip
     return _markdown(header, body)
 
@@ -221,10 +234,8 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         "## Summary",
         "Real pushes count the pushes run on the object: a learned predictor's prior pushes "
         "plus the pushes an estimator used (Alg. 1 uses every candidate), or, for an estimator "
-        'that pushes the object itself, the pushes it executed. "Status not ok" counts the '
-        "trials that did not end `ok`, with their statuses: `unchecked` is Alg. 1, which has "
-        "no test of its evidence and is never `ok`; `budget`, `exhausted`, `uninformative`, "
-        "`inconsistent` are the active estimator's stops (docs/results/active.md).",
+        "that pushes the object itself, the pushes it executed. " + STATUS_NOTE
+        + " (docs/how-to/benchmark.md, docs/results/active.md).",
         summary_table(rows),
     ]
     if "alg1" in estimators:

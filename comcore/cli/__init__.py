@@ -41,7 +41,12 @@ def build_parser() -> argparse.ArgumentParser:
             if e.name and (e.name == module_name or module_name.startswith(e.name + ".")):
                 continue  # subcommand not shipped in this build
             raise
-        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        epilog = getattr(module, "EPILOG", None)  # the statuses and exit codes, where given
+        formatter = argparse.RawDescriptionHelpFormatter if epilog else argparse.HelpFormatter
+        p = sub.add_parser(
+            name, help=module.HELP, description=module.HELP, epilog=epilog,
+            formatter_class=formatter,
+        )  # fmt: skip
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser

@@ -7,10 +7,17 @@ import numpy as np
 import comcore
 from comcore import Status
 
-__all__ = ["STATUS_MEANINGS", "print_text", "region_summary"]
+__all__ = ["STATUS_MEANINGS", "print_text", "region_summary", "status_meaning"]
 
-#: What a status other than ``ok`` means for the user's recording (a warning on stderr).
+#: What each status means for the user's recording (the JSON's ``status_meaning``, the text
+#: output's status line; a warning on stderr for the statuses other than ``ok`` and ``wide``).
+#: ``{target}`` is ``--target-radius`` in millimetres.
 STATUS_MEANINGS = {
+    Status.OK: "the pushes are consistent and the region is within --target-radius "
+    "({target:g} mm): use the estimate",
+    Status.WIDE: "the pushes are consistent, but the region is wider than --target-radius "
+    "({target:g} mm): the estimate is usable, the region says how unsure it is; more pushes "
+    "across the region narrow it",
     Status.INCONSISTENT: "no CoM explains the observed motions well (Alg. 2: some pushes "
     "contradict the others, and the estimate rests on the consistent ones): check the pixel "
     "frame, the sign of theta (counter-clockwise on screen is positive) and that every push "
@@ -18,7 +25,19 @@ STATUS_MEANINGS = {
     Status.NO_EVIDENCE: "no push moved the object measurably: the estimate is the prior's mean",
     Status.NO_ACTIONS: "no push turned the object enough to use: the estimate is the centroid",
     Status.FLAT_HEATMAP: "the pushes do not single out a region: the estimate is the centroid",
+    Status.UNCHECKED: "Alg. 1 has no test of its evidence: any motions, right or wrong, give "
+    "a region",
 }
+
+
+def status_meaning(status, target_radius: float) -> str:
+    """What ``status`` means for the user's recording, ``target_radius`` in metres.
+
+    >>> status_meaning("wide", 0.006).startswith("the pushes are consistent, but")
+    True
+    """
+    meaning = STATUS_MEANINGS.get(status, "the estimator could not do its job fully")
+    return meaning.format(target=1000 * target_radius)
 
 
 def region_summary(est: comcore.Estimate, resolution: float, credible: float) -> dict:
@@ -43,6 +62,7 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
     n_kept = result["n_pushes"] - len(result["dropped_lines"])
     print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
           "pushes used")  # fmt: skip
+    print(f"status {result['status']}: {result['status_meaning']}")
     width, height = (100 * v for v in result["object_size_m"])
     print(f"object: {width:.1f} x {height:.1f} cm at {result['resolution']:g} m per pixel "
           "(check it: a wrong --resolution shows here)")  # fmt: skip

@@ -20,6 +20,13 @@ The default method, ``posterior``, scores the pushes with the motion model of
 Whatever the method, a recording that explains itself far better with every
 theta's sign flipped is reported as ``inconsistent`` with that hint
 (:func:`sign_flip_nats`).
+
+The status is ``ok`` when the pushes are consistent and the region (the
+posterior's 90 % credible region, Alg. 2's final region) reached
+``--target-radius`` (metres, default 6 mm, as :class:`comcore.StopRule`'s), ``wide``
+when they are consistent but the region is wider (:class:`comcore.Status`). The exit
+code says whether to use the answer (:data:`EPILOG`): 0 for an answer to use
+(``ok``, ``wide`` and the fallbacks), :data:`EXIT_INCONSISTENT` for ``inconsistent``.
 """
 
 from __future__ import annotations
@@ -34,7 +41,7 @@ import numpy as np
 
 import comcore
 from comcore._validation import check_physical
-from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, DEFAULT_TARGET_RADIUS
 from comcore.active._posterior import MAX_BOOTSTRAP
 from comcore.conventions import DEFAULT_RESOLUTION
 
@@ -58,9 +65,27 @@ from ._mistakes import (
     sign_mistake,
 )
 from ._mistakes import sign_flip_nats as sign_flip_nats  # re-exported, as above
-from ._outputs import STATUS_MEANINGS, print_text, region_summary
+from ._outputs import print_text, region_summary, status_meaning
 
 HELP = "estimate the CoM of your object from a mask image and a CSV of observed pushes"
+#: Exit code when the answer is not to be used: status ``inconsistent``.
+EXIT_INCONSISTENT = 3
+#: The end of ``comcore estimate --help``: the statuses and the exit codes.
+EPILOG = f"""\
+status (in the text and the JSON's "status", with "status_meaning"):
+  ok            the pushes are consistent and the region (the posterior's 90 % credible
+                region, Alg. 2's final region) is within --target-radius
+  wide          consistent, but the region is wider than --target-radius: usable, less
+                sure; more pushes across the region narrow it
+  inconsistent  no CoM explains the pushes (or theta's sign looks flipped): do not use it
+  no_evidence, no_actions, flat_heatmap, unchecked: see docs/how-to/recordings.md
+
+exit codes:
+  0  an answer to use: ok, wide, or a documented fallback (no_evidence, no_actions, ...)
+  1  the pushes do not fit the mask (nothing estimated)
+  2  a bad file or option (or the overlay could not be written)
+  {EXIT_INCONSISTENT}  status inconsistent: the answer is printed, but do not use it
+"""
 
 #: The methods of ``--method``, the default first.
 METHODS = ("posterior", "alg2", "alg2-rotation", "alg1", "centroid")
@@ -74,6 +99,8 @@ SYSTEMATIC_ERROR = comcore.active.RECORDED_SYSTEMATIC_ERROR
 BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP
 #: The example shipped with the package (``--example``): files in comcore/data/examples/.
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
+#: ``status_meaning`` of ``--method centroid``: a baseline whose ``ok`` checks nothing.
+CENTROID_MEANING = "the area centroid, a baseline that uses no push: nothing is checked"
 #: The motion models of ``--model`` (the posterior's), the default first.
 MODELS = ("limit-surface", "none")
 
@@ -156,6 +183,7 @@ def add_arguments(parser) -> None:
         "with a warning)",
     )
     _add_model_arguments(parser)
+    _add_status_arguments(parser)
     add("--json", action="store_true", help="print one JSON object instead of text")
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
@@ -166,6 +194,17 @@ def add_arguments(parser) -> None:
         "--example)",
     )
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
+
+
+def _add_status_arguments(parser) -> None:
+    """``--target-radius``: the region's radius for status ``ok`` (:data:`EPILOG`)."""
+    parser.add_argument(
+        "--target-radius",
+        type=float,
+        default=DEFAULT_TARGET_RADIUS,
+        help="radius in METRES the region must reach for status ok (default "
+        f"{DEFAULT_TARGET_RADIUS:g} m, as an active session's); consistent but wider is wide",
+    )
 
 
 def _add_model_arguments(parser) -> None:
@@ -240,12 +279,14 @@ def estimate(
     pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     systematic_error: float = SYSTEMATIC_ERROR,
     bootstrap: int = BOOTSTRAP,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
 ) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes.
 
     ``model`` (one of :data:`MODELS`), ``pusher_radius`` and
     ``systematic_error`` (metres) and ``bootstrap`` are the posterior's; the other
-    methods take no model.
+    methods take no model. ``target_radius`` (metres) is the posterior's and
+    Alg. 2's: the region's radius for ``"ok"``.
     """
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
@@ -254,13 +295,15 @@ def estimate(
         return comcore.estimate_posterior(
             mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
-            bootstrap=bootstrap,
+            bootstrap=bootstrap, target_radius=target_radius,
         )  # fmt: skip
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
         selection = "rotation" if method == "alg2-rotation" else "equality"
-        return comcore.estimate_progressive(mask, actions, motions, selection=selection)
+        return comcore.estimate_progressive(
+            mask, actions, motions, selection=selection, target_radius=target_radius
+        )
     if method == "centroid":
         return comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
     raise ValueError(f"method must be one of {methods()}, got {method!r}")
@@ -294,13 +337,18 @@ def _inputs(args):
 
 def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
     """The JSON object of a run (without the overlay)."""
+    status = comcore.Status.INCONSISTENT if mistake else est.status
     return {
         "com_px": list(est.com),
         "com_m": list(est.com_m),
         "method": args.method,
         "model": args.model if args.method == "posterior" else None,
-        "status": comcore.Status.INCONSISTENT if mistake else est.status,
+        "status": status,
+        "status_meaning": CENTROID_MEANING
+        if args.method == "centroid"
+        else status_meaning(status, args.target_radius),
         "estimator_status": est.status,
+        "target_radius_m": args.target_radius,
         "mistake": mistake,
         "used_lines": [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)],
         "dropped_lines": {str(k): v for k, v in dropped.items()},
@@ -338,6 +386,14 @@ def _overlay(args, mask, pushes, est, result: dict) -> int:
     return 0
 
 
+def _target(value) -> float:
+    """``--target-radius`` (metres), checked."""
+    try:
+        return check_physical(value, "--target-radius", "target_radius")
+    except ValueError as e:
+        raise InputError(str(e)) from None
+
+
 def _metres(value, flag: str, kind: str) -> float:
     """A length option in metres (`--pusher-radius`, `--systematic-error`), checked."""
     try:
@@ -347,12 +403,17 @@ def _metres(value, flag: str, kind: str) -> float:
 
 
 def run(args) -> int:
-    """Run ``comcore estimate``; 0 on success, 2 on a bad file or option, 1 if estimation fails."""
+    """Run ``comcore estimate``; its exit code (:data:`EPILOG`).
+
+    0 for an answer to use, 1 if estimation fails, 2 on a bad file or option,
+    :data:`EXIT_INCONSISTENT` when the status is ``inconsistent``.
+    """
     try:
         mask_path, pushes_path = _inputs(args)
         resolution = check_resolution(args.resolution)
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
+        args.target_radius = _target(args.target_radius)
         if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
             raise InputError(
                 f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
@@ -380,15 +441,16 @@ def run(args) -> int:
     try:
         est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
                        systematic_error=systematic_error, bootstrap=args.bootstrap,
-                       pusher_radius=pusher_radius)  # fmt: skip
+                       pusher_radius=pusher_radius,
+                       target_radius=args.target_radius)  # fmt: skip
         mistake = sign_mistake(mask, pushes)
     except (TypeError, ValueError) as e:
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1
     if mistake:
         print(f"comcore estimate: warning: status inconsistent: {mistake}", file=sys.stderr)
-    elif not est.ok:
-        meaning = STATUS_MEANINGS.get(est.status, "the estimator could not do its job fully")
+    elif not est.ok and est.status != comcore.Status.WIDE:  # wide: usable, explained in the output
+        meaning = status_meaning(est.status, args.target_radius)
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake)
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
@@ -399,4 +461,4 @@ def run(args) -> int:
         print(json.dumps(result))
     else:
         print_text(result, est)
-    return 0
+    return EXIT_INCONSISTENT if result["status"] == comcore.Status.INCONSISTENT else 0

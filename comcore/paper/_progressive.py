@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._mask import Mask
-from .._status import Status
+from .._status import DEFAULT_TARGET_RADIUS, Status, region_reached
 from .._types import Estimate, ProgressiveDetails
 from .._validation import (
     check_actions,
@@ -93,6 +93,7 @@ def estimate_progressive(
     selection: str = "equality",
     mu=None,
     pusher_radius: float = 0.0,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
 ) -> Estimate:
     """Estimate the CoM with Alg. 2: cut the feasible region with the best-splitting push.
 
@@ -130,11 +131,20 @@ def estimate_progressive(
       other actions give, exactly as if the contradicting ones had not been
       recorded: the region the applied cuts leave and its mean, never a NaN.
       Dropping an action is not in itself a contradiction: a pruned or
-      unreached action that some region pixel explains leaves ``"ok"``, and
+      unreached action that some region pixel explains leaves ``"ok"`` (or
+      ``"wide"``), and
       actions turning the object less than ``min_rotation`` (whose sense
       noise may flip) are never called contradicted.
-    * What ``"ok"`` says. No action's sense contradicts the region: the senses
-      are consistent, not necessarily right. Recorded motions with every
+    * What ``"ok"`` says: what it says everywhere (:class:`comcore.Status`):
+      the data are consistent and the region reached ``target_radius``. The
+      region is the final one, the part of the cut region the CoM is the mean
+      of (``Estimate.region``): ``"ok"`` when its equivalent-circle radius
+      ``sqrt(area / pi)`` is at most ``target_radius`` (metres, the sessions'
+      6 mm by default), ``"wide"`` when it is larger (the loop's own stop,
+      ``area_ratio`` of the object, is no promise of a radius). It is a
+      feasible region, not a credible one: the CoM is in it when every
+      applied sense is right. Consistent means no action's sense contradicts
+      the region: the senses are consistent, not necessarily right. Recorded motions with every
       theta's sign flipped (theta counter-clockwise with the y axis up) are
       explained by a CoM mirrored through the centroid when the pushes' lines
       pass near it, so such a recording mostly, not always, says
@@ -183,6 +193,10 @@ def estimate_progressive(
         default 0 is the paper's point pusher on the leading line. Pushes
         that start inside the object or never touch it are left out and
         reported in ``skipped``; a ValueError if more than half are.
+    target_radius : float, optional
+        Radius (metres) the final region must reach for ``"ok"`` (above); a
+        wider one is ``"wide"``. Default 6 mm, the sessions'
+        ``StopRule.target_radius``.
 
     Returns
     -------
@@ -191,7 +205,8 @@ def estimate_progressive(
         (:class:`comcore.paper.ProgressiveDetails`) holds ``region_sizes``
         (pixels after each cut, starting with the object) and ``contradicted``
         (the contradicting actions). ``status`` is
-        ``"ok"``, ``"inconsistent"`` or ``"no_actions"``.
+        ``"ok"``, ``"wide"``, ``"inconsistent"`` or ``"no_actions"`` (never
+        ``"ok"`` without a usable push).
 
     Examples
     --------
@@ -201,8 +216,14 @@ def estimate_progressive(
     >>> acts = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
     >>> mots = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
     >>> e = estimate_progressive(m, acts, mots)
-    >>> e.used, e.status
-    ((0, 1, 2, 3), 'ok')
+    >>> e.used, e.status, int(e.region.sum())
+    ((0, 1, 2, 3), 'wide', 36)
+
+    Consistent, but the 36 px left (radius 3.4 px of 2.5 mm, 8.5 mm) are wider
+    than the default 6 mm target; against 1 cm the same answer is ``"ok"``:
+
+    >>> estimate_progressive(m, acts, mots, target_radius=0.01).status
+    'ok'
 
     Two pushes that no CoM explains together: the CoM below row 18 (push 1,
     clockwise) and above row 8 (push 0, counter-clockwise). Push 1 is applied,
@@ -224,6 +245,7 @@ def estimate_progressive(
     if selection not in SELECTIONS:
         raise ValueError(f"selection must be one of {SELECTIONS}, got {selection!r}")
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
+    target_radius = check_physical(target_radius, "target_radius", "target_radius")
     n_actions = acts.shape[0]
     skipped: tuple = ()
     usable = np.ones(n_actions, dtype=bool)
@@ -278,11 +300,17 @@ def estimate_progressive(
         sizes.append(int(allowed.sum()))
 
     region = _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band)
+    if contradicted:
+        status = Status.INCONSISTENT
+    elif region_reached(np.sqrt(region.sum() / np.pi), target_radius, mask.resolution):
+        status = Status.OK
+    else:
+        status = Status.WIDE
     return estimate_from_region(
         mask,
         region,
         used=used,
-        status=Status.INCONSISTENT if contradicted else Status.OK,
+        status=status,
         progressive=ProgressiveDetails(tuple(sizes), tuple(contradicted)),
         skipped=skipped,
     )

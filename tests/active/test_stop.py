@@ -231,3 +231,26 @@ def test_a_session_stops_where_stop_index_says_its_history_would_have():
     # a rule with a smaller budget would have stopped that run earlier, on its budget
     short = comcore.StopRule(max_pushes=2, target_radius=0.008)
     assert stop_index(short, history, mask.resolution) == min(2, len(history) - 1)
+
+
+def test_offline_status_is_wide_when_the_region_did_not_reach_the_target():
+    # consistent but wide is "wide", the sessions' budget/exhausted/uninformative
+    assert offline_status(_state(n_pushes=3), reached=False) == "wide"
+    assert offline_status(_state(n_pushes=3), reached=True) == "ok"
+    # inconsistent and no evidence come first, whatever the region
+    assert offline_status(_inconsistent(n_pushes=3), reached=False) == "inconsistent"
+    assert offline_status(_state(n_pushes=3, n_evidence=0), reached=False) == "no_evidence"
+    bad = sense_check(_tally(20, 0), 1)
+    assert offline_status(_state(n_pushes=20), bad, reached=False) == "inconsistent"
+
+
+def test_the_stop_rule_and_the_offline_status_share_one_comparison():
+    # exactly at the target is "ok" for both; a hair wider is a stop on budget, and "wide"
+    from comcore._status import region_reached
+
+    rule = comcore.StopRule(max_pushes=3)
+    for radius_px, stop, offline in ((2.4, "ok", "ok"), (2.4 + 1e-9, "budget", "wide")):
+        state = _state(radius_px, n_pushes=3)
+        reached = region_reached(radius_px, rule.target_radius, 0.0025)
+        assert stop_reason(rule, state, 0.0025) == stop
+        assert offline_status(state, reached=reached) == offline

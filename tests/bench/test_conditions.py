@@ -101,6 +101,11 @@ def test_conditions_table_has_one_table_per_condition(runs):
         assert f"## {name}\n" in text
     assert "| `alg2` | not run: needs the object put back before every push |" in text
     assert text.count("| `active-robot(max_pushes=1)` | 1 |") == len(NAMES)
+    # every status by name, and what budget means in the bench
+    assert text.count("| ok > 1 cm | failed | statuses |") == len(NAMES)
+    centroid = [line for line in text.splitlines() if line.startswith("| `centroid` | 1 |")]
+    assert len(centroid) == len(NAMES) and all(line.endswith("| ok 1 |") for line in centroid)
+    assert "`budget`: an active estimator spent its push budget" in text
 
 
 @pytest.fixture(scope="module")

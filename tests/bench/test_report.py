@@ -115,17 +115,37 @@ def test_save_benchmark_writes_results_figures_and_report(tmp_path):
     assert read_rows(paths["results"]) == result.rows
 
 
-def test_the_summary_names_the_statuses_that_are_not_ok():
-    # Alg. 1 is never ok ("unchecked"): the column must say so, not count it as a failure
-    # that looks like the active estimator's stops.
+def test_the_summary_counts_every_status_by_name():
+    # "Status not ok 3 (budget 2, exhausted 1)" read as failures; a budget stop is a usable
+    # estimate. The column names every status with its count, ok included.
     from comcore.bench._report import summary_table
 
     rows = [row("alg1", status="unchecked", trial=t) for t in range(3)]
     rows += [row("active", status=s, trial=t) for t, s in enumerate(["ok", "budget", "budget",
                                                                       "exhausted"])]  # fmt: skip
-    lines = {line.split("|")[1].strip(): line for line in summary_table(rows).splitlines()[2:]}
-    assert lines["alg1"].rstrip(" |").split("|")[-2].strip() == "3 (unchecked)"
-    assert lines["active"].rstrip(" |").split("|")[-2].strip() == "3 (budget 2, exhausted 1)"
+    table = summary_table(rows).splitlines()
+    assert table[0].split("|")[-3].strip() == "Statuses" and "not ok" not in table[0]
+    lines = {line.split("|")[1].strip(): line for line in table[2:]}
+    assert lines["alg1"].rstrip(" |").split("|")[-2].strip() == "unchecked 3"
+    assert lines["active"].rstrip(" |").split("|")[-2].strip() == "budget 2, ok 1, exhausted 1"
     assert group_stats(rows, keys=("estimator",))[("active",)]["statuses"] == {
-        "budget": 2, "exhausted": 1,
+        "budget": 2, "ok": 1, "exhausted": 1,
     }  # fmt: skip
+
+
+def test_the_report_says_what_budget_means():
+    rows = [row("active", status=s, trial=t) for t, s in enumerate(["ok", "budget"])]
+    text = markdown_report(rows, {"config": {}}, {})
+    assert "| ok 1, budget 1 |" in text and "not ok" not in text
+    assert "`budget`: an active estimator spent its push budget" in text
+    assert "a usable estimate, its region wider, not a failure" in text
+
+
+def test_the_friction_table_counts_every_status_by_name():
+    from comcore.bench import friction_table
+
+    rows = [row("alg2", status=s, trial=t, covered=True, push_failures=0)
+            for t, s in enumerate(["wide", "wide", "ok", "inconsistent"])]  # fmt: skip
+    header, _, low, both = friction_table(rows).splitlines()
+    assert header.rstrip(" |").endswith("| statuses")
+    assert low.endswith("| wide 2, ok 1, inconsistent 1 |") and both.endswith("| wide 2, ok 1, inconsistent 1 |")

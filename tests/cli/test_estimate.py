@@ -53,7 +53,8 @@ def test_json_output_matches_the_library(files, capsys):
     expected = comcore.estimate_progressive(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES])
     assert result["com_px"] == pytest.approx(expected.com)
     assert result["com_m"] == pytest.approx([0.01 * v for v in expected.com])
-    assert result["status"] == "ok"
+    # consistent, its final region (radius 3.4 px = 34 mm) wider than the 6 mm target
+    assert result["status"] == expected.status == "wide"
     assert result["used_lines"] == [i + 2 for i in expected.used]  # CSV lines: header is line 1
     assert result["region"]["area_px"] == int(expected.region.sum())
 
@@ -269,7 +270,7 @@ def estimate_json(capsys, mask, pushes, *extra):
             "--method", "alg2", *extra]  # fmt: skip
     code = main(args)
     captured = capsys.readouterr()
-    return code, (json.loads(captured.out) if code == 0 else None), captured.err
+    return code, (json.loads(captured.out) if captured.out else None), captured.err
 
 
 def test_an_inverted_mask_gives_the_same_object(files, capsys):
@@ -315,7 +316,9 @@ def test_the_shipped_example_runs_and_beats_the_centroid(tmp_path, monkeypatch, 
     for method in ("centroid", "alg2"):
         assert main(["estimate", "--example", "--json", "--no-overlay", "--method", method]) == 0
         result = json.loads(capsys.readouterr().out)
-        assert result["status"] == "ok" and result["dropped_lines"] == {}
+        # Alg. 2's final region (14 mm) is wider than the 6 mm target: consistent, "wide"
+        assert result["status"] == {"centroid": "ok", "alg2": "wide"}[method]
+        assert result["dropped_lines"] == {}
         errors[method] = float(np.hypot(*np.subtract(result["com_px"], truth["com_px"])))
     assert errors["alg2"] < errors["centroid"] / 2
     assert errors["alg2"] * truth["resolution"] < 0.02  # within 2 cm
@@ -391,12 +394,13 @@ def test_a_status_other_than_ok_is_a_warning_saying_what_it_means(files, capsys)
     # (CoM above row 8) and the lower one clockwise (CoM below row 18): no CoM is both.
     pushes.write_text(HEADER + "0,8,30,8,0.2,3,0\n0,18,30,18,-0.2,3,0\n")
     code, result, err = estimate_json(capsys, mask, pushes)
-    assert code == 0 and result["status"] == "inconsistent"
+    assert code == 3 and result["status"] == "inconsistent"  # printed, not to be used
     assert "warning: status inconsistent: no CoM explains the observed motions well" in err
     assert "(Alg. 2: some pushes contradict the others" in err
     pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES))
     code, result, err = estimate_json(capsys, mask, pushes)
-    assert code == 0 and result["status"] == "ok" and err == ""
+    # consistent, the region wider than the target: usable, explained in the output, no warning
+    assert code == 0 and result["status"] == "wide" and err == ""
 
 
 # -- camera frames: --threshold, --background, --roi ------------------------------------------
@@ -479,3 +483,73 @@ def test_bad_camera_options_exit_2_with_one_line(files, capsys, extra, message):
     _, mask, pushes = files
     code, _, err = estimate_json(capsys, mask, pushes, *extra)
     assert code == 2 and message in err and err.count("\n") == 1
+
+
+# -- the status and the exit code ------------------------------------------------------------
+
+
+def test_a_consistent_but_wide_region_is_wide_not_ok(files, capsys):
+    # Two pushes of a recording leave a 90 % region some centimetres across: "ok" said the
+    # answer was as good as an active session's 6 mm stop; it is consistent, and wide.
+    _, mask, pushes = files
+    pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES[:2]))
+    code, result, err = estimate_json(capsys, mask, pushes, "--method", "posterior")
+    assert code == 0 and err == ""
+    assert result["region"]["radius_m"] > result["target_radius_m"] == 0.006
+    assert result["status"] == "wide" and result["estimator_status"] == "wide"
+    assert "consistent, but the region is wider than --target-radius (6 mm)" in (
+        result["status_meaning"]
+    )
+    # a target as wide as the region makes the same answer "ok"
+    target = str(result["region"]["radius_m"] * 1.01)
+    code, wider, _ = estimate_json(capsys, mask, pushes, "--method", "posterior",
+                                   "--target-radius", target)  # fmt: skip
+    assert code == 0 and wider["status"] == "ok" and wider["com_px"] == result["com_px"]
+    assert wider["target_radius_m"] == float(target)
+
+
+def test_the_text_output_explains_the_status(files, capsys):
+    _, mask, pushes = files
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method", "alg2",
+                 "--no-overlay"]) == 0  # fmt: skip
+    out = capsys.readouterr().out
+    assert "status wide: the pushes are consistent, but the region is wider than " in out
+
+
+@pytest.mark.parametrize(
+    ("rows", "extra", "code", "status"),
+    [
+        (PUSHES, (), 0, "wide"),  # Alg. 2's final region (8.5 mm) wider than 6 mm
+        (PUSHES, ("--target-radius", "0.01"), 0, "ok"),
+        ([(0, 8, 30, 8, 0.2, 3, 0), (0, 18, 30, 18, -0.2, 3, 0)], (), 3, "inconsistent"),
+    ],
+)
+def test_the_exit_code_says_whether_to_use_the_answer(files, capsys, rows, extra, code, status):
+    _, mask, pushes = files
+    pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in rows))
+    got, result, _ = estimate_json(capsys, mask, pushes, *extra)
+    assert (got, result["status"]) == (code, status)  # the JSON is printed either way
+
+
+def test_the_help_documents_the_statuses_and_exit_codes(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["estimate", "--help"])
+    out = capsys.readouterr().out
+    assert e.value.code == 0 and "--target-radius" in out
+    assert "exit codes:\n  0  an answer to use: ok, wide," in out
+    assert "\n  3  status inconsistent: the answer is printed, but do not use it" in out
+    assert "\n  wide          consistent, but the region is wider than --target-radius" in out
+
+
+@pytest.mark.parametrize("value", ["0", "-0.01", "6"])
+def test_a_bad_target_radius_is_refused(files, capsys, value):
+    _, mask, pushes = files
+    code, result, err = estimate_json(capsys, mask, pushes, "--target-radius", value)
+    assert code == 2 and result is None and "--target-radius" in err
+
+
+def test_the_centroid_baseline_says_it_checks_nothing(files, capsys):
+    # its status is an Estimate's default; the meaning printed must not vouch for the pushes
+    _, mask, pushes = files
+    _, result, _ = estimate_json(capsys, mask, pushes, "--method", "centroid")
+    assert result["status_meaning"] == "the area centroid, a baseline that uses no push: nothing is checked"

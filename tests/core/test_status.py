@@ -80,3 +80,13 @@ def test_every_final_status_of_the_sessions_and_estimators_is_a_member():
         comcore.ActiveSession(mask, model=None, rng=0),
     ]
     assert all(type(c.status) is Status for c in cases)
+
+
+def test_wide_is_a_member_whose_meaning_and_mapping_are_documented():
+    assert Status.WIDE == "wide" and Status.check("wide") is Status.WIDE
+    doc = Status.__doc__
+    assert 'WIDE : "wide"' in doc and "region is wider than the target" in doc
+    # the mapping: the sessions' wide stops and the offline "wide" in one table
+    assert "| ``estimate_posterior``, ``comcore estimate`` | ``ok`` | ``wide`` |" in doc
+    assert "``budget``, ``exhausted``, ``uninformative``" in doc
+    assert comcore.StopRule().target_radius == comcore._status.DEFAULT_TARGET_RADIUS == 0.006

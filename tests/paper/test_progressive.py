@@ -41,7 +41,7 @@ def test_true_com_stays_in_the_region_and_the_estimate_is_close(square_mask, com
     acts = random_pushes(square_mask, cone=cone)
     mots = synthetic_motions(square_mask, acts, com, mu=0.5, gain=0.02)
     est = comcore.estimate_progressive(square_mask, acts, mots)
-    assert est.ok
+    assert est.status == "wide"  # consistent; the region (area_ratio 0.1 of 30 x 30 px) > 6 mm
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 6.0
     sizes = est.progressive.region_sizes
@@ -144,7 +144,7 @@ def test_known_mu_is_at_least_as_tight_as_unknown(fixture, com, cone, mu, seed, 
     kwargs = {"selection": "rotation", "area_ratio": 0.0}
     known = comcore.estimate_progressive(mask, acts, mots, mu=mu, **kwargs)
     unknown = comcore.estimate_progressive(mask, acts, mots, **kwargs)
-    assert known.ok and unknown.ok and known.used == unknown.used and len(known.used) > 3
+    assert known.status == unknown.status == "wide" and known.used == unknown.used and len(known.used) > 3
     assert known.region[int(com[1]), int(com[0])]
     # The unknown-mu region before its connected-component step: the used cuts' intersection.
     cuts = comcore.vt.region(mask, acts[list(unknown.used)], mots[list(unknown.used)])
@@ -166,7 +166,8 @@ def test_stops_when_the_best_score_is_zero(square_mask):
     # stops instead of applying it, even with area_ratio=0.
     acts = [(0, 25, 45, 25), (0, 30, 45, 30)]
     est = comcore.estimate_progressive(square_mask, acts, [CCW, CCW], area_ratio=0.0)
-    assert est.used == (0,) and est.progressive.region_sizes == (900, 480) and est.ok
+    assert est.used == (0,) and est.progressive.region_sizes == (900, 480)
+    assert est.status == "wide"  # consistent, 480 px (31 mm) left
     # Pushes along the outline's top and bottom rows never split the region: nothing is cut.
     edges = [(0, 10, 45, 10), (0, 39, 45, 39)]
     est = comcore.estimate_progressive(square_mask, edges, [CCW, CCW], area_ratio=0.0)
@@ -217,6 +218,36 @@ def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
     assert est.com == (14.5, 17.5)
 
 
+# -- what "ok" says -----------------------------------------------------------------------
+def test_ok_needs_the_final_region_within_the_target_radius(square_mask):
+    # One cut leaves 480 px (radius 12.4 px = 31 mm at 2.5 mm per pixel): consistent, "wide"
+    # against the default 6 mm; "ok" once target_radius is the region's equivalent radius.
+    acts = [(0, 25, 45, 25)]
+    est = comcore.estimate_progressive(square_mask, acts, [CCW], area_ratio=0.0)
+    radius_m = np.sqrt(est.region.sum() / np.pi) * square_mask.resolution
+    assert est.status == "wide" and not est.ok and est.progressive.contradicted == ()
+    at = comcore.estimate_progressive(square_mask, acts, [CCW], area_ratio=0.0,
+                                      target_radius=radius_m)  # fmt: skip
+    assert at.status == "ok" and at.com == est.com and at.used == est.used
+    below = comcore.estimate_progressive(square_mask, acts, [CCW], area_ratio=0.0,
+                                         target_radius=radius_m * 0.999)  # fmt: skip
+    assert below.status == "wide"
+
+
+def test_no_usable_push_is_never_ok(square_mask):
+    # the whole object as the region: however wide the target, no push, no "ok"
+    for acts, mots in [([], []), ([(0, 25, 45, 25)], [(0.01, 0, 0)])]:
+        est = comcore.estimate_progressive(square_mask, acts, mots, target_radius=0.5)
+        assert est.status == "no_actions" and est.com == square_mask.centroid
+
+
+def test_contradicted_pushes_are_inconsistent_whatever_the_target(square_mask):
+    acts = [(25, 0, 25, 45), (37, 0, 37, 45)]
+    est = comcore.estimate_progressive(square_mask, acts, [(-0.3, 0, 0), CCW], area_ratio=0.0,
+                                       target_radius=0.5)  # fmt: skip
+    assert est.status == "inconsistent"
+
+
 # -- contradictions ----------------------------------------------------------------------
 def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
     # The fuzzing reproducer: push 1 (CoM below row 18) is applied; push 0 (CoM above row 8)
@@ -227,7 +258,7 @@ def test_a_dropped_push_that_no_region_pixel_explains_is_a_contradiction():
     assert est.status == "inconsistent" and est.progressive.contradicted == (0,)
     # the fallback: what push 1 alone gives
     alone = comcore.estimate_progressive(mask, acts[1:], [(-0.2, 3, 0)])
-    assert alone.ok and est.com == alone.com and est.used == (1,)
+    assert alone.status == "wide" and est.com == alone.com and est.used == (1,)
 
 
 @pytest.mark.parametrize(
@@ -248,13 +279,14 @@ def test_pruned_and_unreached_pushes_are_checked_too(square_mask, acts, mots, kw
 
 
 def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_mask):
-    # The same pushes with the second sense agreeing: dropped, and "ok".
+    # The same pushes with the second sense agreeing: dropped, and consistent ("wide": the
+    # half of the square left is far wider than 6 mm).
     for acts, mots in [
         ([(25, 0, 25, 45), (37, 0, 37, 45)], [(-0.3, 0, 0), (-0.3, 0, 0)]),
         ([(0, 25, 45, 25), (0, 35, 45, 35)], [CCW, CCW]),
     ]:
         est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
-        assert est.used == (0,) and est.ok and est.progressive.contradicted == ()
+        assert est.used == (0,) and est.status == "wide" and est.progressive.contradicted == ()
 
 
 def test_small_rotations_are_never_called_contradictions(square_mask):
@@ -264,7 +296,7 @@ def test_small_rotations_are_never_called_contradictions(square_mask):
     acts = [(25, 0, 25, 45), (37, 0, 37, 45)]
     mots = [(-0.3, 0, 0), (0.01, 0, 0)]
     est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
-    assert est.ok and est.used == (0,)
+    assert est.status == "wide" and est.used == (0,)
 
 
 # -- which part of a disconnected final region -------------------------------------------
@@ -287,7 +319,7 @@ def test_the_part_a_left_out_push_points_to_wins_over_the_larger_one():
     est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.3, 0, 0)])
     assert est.used == (0,) and est.progressive.region_sizes == (750, 400)
     np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
-    assert est.ok
+    assert est.status == "wide"  # consistent; 80 px (13 mm radius)
 
 
 def test_the_part_a_hardly_turning_push_crosses_wins_over_the_larger_one():
@@ -295,7 +327,7 @@ def test_the_part_a_hardly_turning_push_crosses_wins_over_the_larger_one():
     acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
     est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.01, 0, 0)])
     np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
-    assert est.ok and est.used == (0,)
+    assert est.status == "wide" and est.used == (0,)
 
 
 def test_two_block_seed_that_the_largest_part_got_wrong():
@@ -329,4 +361,4 @@ def test_exact_senses_are_never_a_contradiction(mask, seed, mu, cone):
     com = mask.pixels[rng.integers(mask.area_px)]
     acts = comcore.sample_pushes(mask, 20, cone=cone, rng=rng)
     est = comcore.estimate_progressive(mask, acts, synthetic_motions(mask, acts, com, mu=mu))
-    assert est.status in ("ok", "no_actions")
+    assert est.status in ("ok", "wide", "no_actions")  # consistent, whatever the region's size
