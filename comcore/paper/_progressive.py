@@ -9,9 +9,9 @@ from .._status import Status
 from .._types import Estimate, ProgressiveDetails
 from .._validation import (
     check_actions,
-    check_mask,
     check_motions,
     check_mu,
+    check_one_object,
     check_physical,
     check_positive,
     check_probability,
@@ -213,7 +213,7 @@ def estimate_progressive(
     >>> e.status, e.used, e.progressive.contradicted, e.com
     ('inconsistent', (1,), (0,), (13.5, 20.5))
     """
-    mask = check_mask(mask)
+    mask = check_one_object(mask)
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
     area_ratio = check_probability(area_ratio, "area_ratio")

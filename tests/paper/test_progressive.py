@@ -203,14 +203,15 @@ def test_pixels_within_the_band_of_the_deciding_line_stay(square_mask, band, las
 
 
 def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
-    # Two blocks, 20 and 5 columns wide: the cut keeps rows 10..25 of both (320 + 80 pixels);
-    # the estimate is the mean of the larger part only.
+    # Two blocks, 20 and 5 columns wide, joined below row 33 (one object, a U): the cut keeps
+    # rows 10..25 of both (320 + 80 pixels); the estimate is the mean of the larger part only.
     image = np.zeros((50, 50), bool)
     image[10:40, 5:25] = True
     image[10:40, 30:35] = True
+    image[34:40, 25:30] = True
     mask = comcore.Mask(image)
     est = comcore.estimate_progressive(mask, [(0, 25, 45, 25)], [CCW], area_ratio=0.0)
-    assert est.progressive.region_sizes == (750, 400)
+    assert est.progressive.region_sizes == (780, 400)
     expected = np.zeros_like(image)
     expected[10:26, 5:25] = True
     np.testing.assert_array_equal(est.region, expected)
@@ -272,6 +273,7 @@ def two_blocks_mask():
     image = np.zeros((50, 50), bool)
     image[10:40, 5:25] = True  # 20 columns wide
     image[10:40, 30:35] = True  # 5 columns wide
+    image[36:40, 25:30] = True  # joined along the bottom: one object, a U
     return comcore.Mask(image)
 
 
@@ -281,11 +283,11 @@ SMALL_BLOCK_TOP[10:26, 30:35] = True
 
 def test_the_part_a_left_out_push_points_to_wins_over_the_larger_one():
     # Push 1 down column 32 turning CCW says the CoM is right of column 32: only the small
-    # block. It splits the object 660 : 60 (score 0.55 < 0.6) and is pruned; the paper's
+    # block. It splits the object 680 : 60 (score 0.55 < 0.6) and is pruned; the paper's
     # largest part (the big block) contradicts it.
     acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
     est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.3, 0, 0)])
-    assert est.used == (0,) and est.progressive.region_sizes == (750, 400)
+    assert est.used == (0,) and est.progressive.region_sizes == (770, 400)
     np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
     assert est.ok
 
@@ -299,7 +301,7 @@ def test_the_part_a_hardly_turning_push_crosses_wins_over_the_larger_one():
 
 
 def test_two_block_seed_that_the_largest_part_got_wrong():
-    # benchmarks/accuracy/alg2_two_blobs.py, seed 53 (30 pushes, cone 0.3): the final region spans
+    # benchmarks/accuracy/alg2_two_blobs.py, seed 56 (30 pushes, cone 0.3): the final region spans
     # both blocks; the true CoM is in the smaller part, which the largest-area rule dropped.
     import importlib.util
     from pathlib import Path
@@ -308,8 +310,8 @@ def test_two_block_seed_that_the_largest_part_got_wrong():
     spec = importlib.util.spec_from_file_location("alg2_two_blobs", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    evidence_wrong, largest_wrong, two_parts = module.trial(53, 30, 0.3)
-    assert two_parts and largest_wrong and not evidence_wrong
+    evidence_wrong, largest_wrong, two_parts, one_part = module.trial(56, 30, 0.3)
+    assert two_parts and not one_part and largest_wrong and not evidence_wrong
 
 
 def test_two_blobs_script_runs():
@@ -317,6 +319,8 @@ def test_two_blobs_script_runs():
     lines = out.splitlines()
     assert lines[0] == "seeds 50:58, 30 pushes, cone 0.3"
     assert lines[2] == "wrong block, largest-area part (the paper): 2/8"  # seeds 53 and 56
+    # seed 53's final region is one part through the bar: no part to choose
+    assert lines[4] == "  of them, final region one part (through the bar): 1"
     assert lines[3].startswith("wrong block, estimate_progressive: ")
 
 
