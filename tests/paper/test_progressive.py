@@ -248,6 +248,41 @@ def test_pruned_and_unreached_pushes_are_checked_too(square_mask, acts, mots, kw
     assert est.progressive.contradicted == (1,)
 
 
+@pytest.mark.parametrize("kwargs", [{}, {"area_ratio": 1.0}])
+def test_pushes_whose_regions_do_not_intersect_are_inconsistent_with_no_cut(kwargs):
+    # The fuzzing reproducer: along the top edge (+x) and the bottom edge (-x), both turning
+    # CCW: the CoM right of the top push's contact and left of the bottom one's, 177 pixels
+    # each, none in common. Neither line splits the object, so neither is applied; each was
+    # explained by a pixel of its own and the recording said "ok" with 0 pushes used. With
+    # area_ratio=1 (no cut needed) the docstring's two contradicting pushes did the same.
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    acts = [(0, 4, 30, 4), (30, 23, 0, 23)] if not kwargs else [(0, 8, 30, 8), (0, 18, 30, 18)]
+    mots = [CCW, CCW] if not kwargs else [(0.2, 3, 0), (-0.2, 3, 0)]
+    regions = comcore.vt.region(mask, acts, mots)
+    assert regions.any(axis=(1, 2)).all() and not (regions[0] & regions[1]).any()
+    est = comcore.estimate_progressive(mask, acts, mots, **kwargs)
+    assert est.used == () and est.status == "inconsistent"
+    assert est.progressive.contradicted == (1,)  # equal |theta|: the later one is blamed
+    assert est.com == mask.centroid  # the fallback: no cut, the whole object
+
+
+@pytest.mark.parametrize(("turns", "blamed"), [((0.4, 0.2), 2), ((0.2, 0.4), 1)])
+def test_left_out_pushes_are_checked_together_surest_first(square_mask, turns, blamed):
+    # Push 0 (CW down column 25) leaves the left of column 26; pushes 1 and 2 along the top
+    # and bottom edges (CCW) split nothing and are pruned. Each is explained by a pixel of
+    # that region (115 and 301 of them), not both by one: the one turning less is blamed.
+    acts = [(25, 0, 25, 45), (0, 10, 45, 10), (45, 39, 0, 39)]
+    mots = [(-0.3, 0, 0), (turns[0], 3, 0), (turns[1], 3, 0)]
+    regions = comcore.vt.region(square_mask, acts, mots)
+    assert (regions[0] & regions[1]).sum() == 115 and (regions[0] & regions[2]).sum() == 301
+    assert not (regions[0] & regions[1] & regions[2]).any()
+    est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
+    assert est.used == (0,) and est.status == "inconsistent"
+    assert est.progressive.contradicted == (blamed,)
+    alone = comcore.estimate_progressive(square_mask, acts[:1], mots[:1], area_ratio=0.0)
+    assert est.com == alone.com  # the fallback: the cut push 0 made
+
+
 def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_mask):
     # The same pushes with the second sense agreeing: dropped, and "ok".
     for acts, mots in [
