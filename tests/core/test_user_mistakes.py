@@ -412,3 +412,28 @@ def test_a_mask_with_small_holes_from_segmentation_noise_is_accepted():
     with pytest.raises(ValueError, match=r"mask has holes of 21 px, 1\.31 % of the object's "
                                          r"1600 px \(at most 1 % allowed\)"):  # fmt: skip
         comcore.estimate_progressive(comcore.Mask(image), acts, [(0.2, 2, 0), (-0.2, 0, 2)])
+
+
+# -- sample_pushes: a count typed for a seed, a travel too short --------------------------
+
+
+def test_sample_pushes_refuses_more_than_its_maximum_at_once():
+    # n=74638432 ran past 30 s
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 10))
+    with pytest.raises(ValueError, match=r"n must be at most 100000 pushes \(MAX_SAMPLED_PUSHES"):
+        comcore.sample_pushes(mask, 74638432)
+    assert comcore.geometry._sampling.MAX_SAMPLED_PUSHES == 100_000
+
+
+@pytest.mark.parametrize("travel", [5e-324, 1e-6, 0.002])
+def test_sample_pushes_refuses_a_travel_under_a_pixel(travel):
+    # travel=5e-324 returned pushes that end before the object's outline: they miss it
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 10), resolution=0.0025)
+    with pytest.raises(ValueError, match=r"travel must carry the pusher at least 1 pixel past "
+                       r"the contact, 0\.0025 m at this mask's resolution, got .* m \(travel is "
+                       r"in metres\)"):  # fmt: skip
+        comcore.sample_pushes(mask, 5, travel=travel, rng=0)
+    pushes = comcore.sample_pushes(mask, 50, cone=0.5, travel=0.0025, rng=0)  # one pixel
+    assert comcore.geometry.contacts(mask, pushes).hit.all()
+    with pytest.raises(ValueError, match=r"travel 30 m is implausible.*millimetres, 0\.03"):
+        comcore.sample_pushes(mask, 5, travel=30, rng=0)
