@@ -437,3 +437,69 @@ def test_sample_pushes_refuses_a_travel_under_a_pixel(travel):
     assert comcore.geometry.contacts(mask, pushes).hit.all()
     with pytest.raises(ValueError, match=r"travel 30 m is implausible.*millimetres, 0\.03"):
         comcore.sample_pushes(mask, 5, travel=30, rng=0)
+
+
+# -- the simulator's construction ----------------------------------------------------------
+SQUARE_M = [(0, 0), (0.08, 0), (0.08, 0.06), (0, 0.06)]
+
+
+@pytest.mark.parametrize(("options", "match"), [
+    ({"margin": 7239}, r"margin 7239 m and resolution 0\.0025 m per pixel make a camera image "
+                       r"of 5791224 x 5791232 pixels .* more than MAX_IMAGE_PIXELS \(16777216\): "
+                       r"margin and resolution are in metres"),
+    ({"resolution": 1e-6}, r"margin 0\.02 m and resolution 1e-06 m per pixel make a camera "
+                           r"image of 100000 x 120000 pixels"),
+])  # fmt: skip
+def test_a_simulator_camera_image_too_large_is_refused_before_any_allocation(options, match):
+    # margin=7239 asked numpy for 488 TiB (a MemoryError from inside numpy)
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    tracemalloc.start()
+    try:
+        with pytest.raises(ValueError, match=match):
+            simulators.PushSimulator.from_polygon(SQUARE_M, **options).mask  # noqa: B018
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 20e6
+
+
+@pytest.mark.parametrize(("options", "error", "match"), [
+    ({"com": "ab"}, TypeError, r"com must be two finite numbers \(metres\), got str"),
+    ({"com": object()}, TypeError, r"com must be two finite numbers \(metres\), got <object"),
+    ({"point_masses": "abc"}, TypeError, r"point_masses must be a sequence of \(x, y, m\) rows "
+                                         r"\(metres, kg\), got str"),
+    ({"point_masses": [(0.01, 0.01)]}, ValueError, r"point_masses must be a sequence of "
+                                                   r"\(x, y, m\) rows .*got shape \(1, 2\)"),
+    ({"point_masses": [(0.01, 0.01, 1.0), (1.0,)]}, TypeError, r"point_masses must be a "
+                                                              r"sequence of \(x, y, m\) rows"),
+    ({"point_masses": 5}, TypeError, r"point_masses must be a sequence .*, got int"),
+    ({"density_gradient": "ab"}, TypeError, r"density_gradient must be two finite numbers "
+                                            r"\(per metre\), got str"),
+    ({"density_gradient": object()}, TypeError, r"density_gradient must be two finite numbers"),
+])  # fmt: skip
+def test_a_simulator_mass_given_wrong_is_refused_by_name(options, error, match):
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    with pytest.raises(error, match=match):
+        simulators.PushSimulator.from_polygon(SQUARE_M, **options)
+
+
+@pytest.mark.parametrize(("options", "error", "match"), [
+    ({"quasi_static_ratio": "a"}, TypeError, r"quasi_static_ratio must be a number, got str"),
+    ({"quasi_static_ratio": None}, TypeError, r"quasi_static_ratio must be a number, got None"),
+    ({"step_m": "a"}, TypeError, r"step_m must be a number, got str"),
+    ({"projections": 2.0}, TypeError, r"projections must be an integer, got float"),
+    ({"iterations": 10**12}, ValueError, r"iterations must be an integer from 1 to 1000 "
+                                         r"\(MAX_STEP_COUNT\), got 1000000000000"),
+    ({"settle_steps": -1}, ValueError, r"settle_steps must be an integer from 0 to 1000"),
+    ({"engine": ["pymunk"]}, ValueError, r"engine must be one of \('quasistatic', 'pymunk'\)"),
+])  # fmt: skip
+def test_engine_settings_given_wrong_are_refused_by_name(options, error, match):
+    simulators = pytest.importorskip("simulators")
+    with pytest.raises(error, match=match):
+        simulators.EngineSettings(**options)
+    # numpy numbers are numbers: the same settings as Python's
+    assert simulators.EngineSettings(step_m=np.float32(0.0005), iterations=np.int64(5)) == (
+        simulators.EngineSettings(step_m=float(np.float32(0.0005)), iterations=5)
+    )
