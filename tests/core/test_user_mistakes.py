@@ -503,3 +503,32 @@ def test_engine_settings_given_wrong_are_refused_by_name(options, error, match):
     assert simulators.EngineSettings(step_m=np.float32(0.0005), iterations=np.int64(5)) == (
         simulators.EngineSettings(step_m=float(np.float32(0.0005)), iterations=5)
     )
+
+
+# -- pixel_centres on odd images -----------------------------------------------------------
+@pytest.mark.parametrize(("image", "error", "match"), [
+    ([], ValueError, r"image must be a 2-D \(H, W\) boolean image, got 1-D shape \(0,\)"),
+    ([1, 0, 1], ValueError, r"image must be a 2-D \(H, W\) boolean image, got 1-D shape \(3,\)"),
+    (np.ones((2, 2, 2), bool), ValueError, r"image must be a 2-D .* got 3-D shape \(2, 2, 2\)"),
+    (5, ValueError, r"image must be a 2-D \(H, W\) boolean image, got 0-D shape \(\)"),
+    (np.zeros((0, 4), bool), ValueError, r"image must not be empty, got shape \(0, 4\)"),
+    (np.array([[0, 255]], np.uint8), ValueError, r"image must hold booleans \(or 0 and 1\), got "
+                                                 r"the value 255: threshold a grey-level image"),
+    (np.array([[np.nan, 1.0]]), ValueError, r"image must hold booleans .* got the value nan"),
+    (np.array([[None, 1]], dtype=object), TypeError, r"image must be a 2-D .* got dtype object"),
+    ([[1], [0, 1]], TypeError, r"image must be a 2-D \(H, W\) boolean image, got ragged rows"),
+    ("ab", TypeError, r"image must be a 2-D \(H, W\) boolean image, got str"),
+    (None, TypeError, r"image must be a 2-D \(H, W\) boolean image, got NoneType"),
+    (np.array([["a"]]), TypeError, r"image must be a 2-D \(H, W\) boolean image, got dtype <U1"),
+])  # fmt: skip
+def test_pixel_centres_names_its_argument_on_odd_images(image, error, match):
+    with pytest.raises(error, match=match):
+        comcore.conventions.pixel_centres(image)
+
+
+def test_pixel_centres_takes_bool_like_images_and_not_a_mask():
+    want = [[1.0, 0.0], [0.0, 1.0]]
+    for image in ([[False, True], [True, False]], [[0, 1], [1, 0]], np.eye(2)[::-1]):
+        assert comcore.conventions.pixel_centres(image).tolist() == want
+    with pytest.raises(TypeError, match=r"got a Mask: pass its \.data"):
+        comcore.conventions.pixel_centres(comcore.Mask(np.ones((3, 3), bool)))
