@@ -8,7 +8,7 @@ from .._mask import Mask
 from .._neighbourhood import true_pixels
 from .._validation import check_mask, check_physical, check_positive, check_rng
 from ..conventions import rotate_vectors
-from ._contacts import contacts
+from ._contacts import MARCH_STEP_PX, contacts
 
 __all__ = ["sample_pushes"]
 
@@ -26,9 +26,10 @@ HALF_PIXEL_DIAGONAL = 0.5 * np.sqrt(2.0)
 #: for a seed) that would run for minutes. Sessions offer at most
 #: ``comcore.active._options.MAX_CANDIDATES`` candidates.
 MAX_SAMPLED_PUSHES = 100_000
-#: Shortest travel after contact, in pixels of the mask: a shorter push ends before the
-#: pixel outline its contact lies on (found to a fraction of a pixel) and may miss it.
-MIN_TRAVEL_PX = 1.0
+#: Shortest travel after contact, in pixels of the mask: the step of the contact search
+#: (``MARCH_STEP_PX``); a push ending closer to its contact may miss it (5e-324 m did).
+#: Sessions refuse pushes under a pixel long on their own, saying so.
+MIN_TRAVEL_PX = MARCH_STEP_PX
 
 
 def sample_pushes(
@@ -61,7 +62,7 @@ def sample_pushes(
         in ``[0, pi/2)``; 0 gives pushes exactly along the normal.
     travel : float, optional
         Pusher travel after contact, metres (default 0.03): at least
-        ``MIN_TRAVEL_PX`` (one) pixel of the mask, at most half a metre.
+        ``MIN_TRAVEL_PX`` (a quarter) pixel of the mask, at most half a metre.
     standoff : float, optional
         Distance from start to contact, metres (default 0.012).
     clearance : float, optional
@@ -80,7 +81,7 @@ def sample_pushes(
     ------
     ValueError
         If ``n`` is negative or over ``MAX_SAMPLED_PUSHES``, ``travel`` shorter
-        than a pixel of the mask or longer than half a metre (millimetres typed
+        than a quarter pixel of the mask or longer than half a metre (millimetres typed
         for metres), or the outline admits no valid push.
 
     Examples
@@ -97,7 +98,7 @@ def sample_pushes(
     >>> sample_pushes(m, 5, travel=1e-4)
     Traceback (most recent call last):
     ...
-    ValueError: travel must carry the pusher at least 1 pixel past the contact, 0.0025 m at this mask's resolution, got 0.0001 m (travel is in metres)
+    ValueError: travel must carry the pusher at least 0.25 pixel past the contact, 0.000625 m at this mask's resolution, got 0.0001 m (travel is in metres)
     """  # noqa: E501
     mask = check_mask(mask)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:

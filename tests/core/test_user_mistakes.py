@@ -425,15 +425,15 @@ def test_sample_pushes_refuses_more_than_its_maximum_at_once():
     assert comcore.geometry._sampling.MAX_SAMPLED_PUSHES == 100_000
 
 
-@pytest.mark.parametrize("travel", [5e-324, 1e-6, 0.002])
-def test_sample_pushes_refuses_a_travel_under_a_pixel(travel):
+@pytest.mark.parametrize("travel", [5e-324, 1e-6, 0.0006])
+def test_sample_pushes_refuses_a_travel_under_a_quarter_pixel(travel):
     # travel=5e-324 returned pushes that end before the object's outline: they miss it
     mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 10), resolution=0.0025)
-    with pytest.raises(ValueError, match=r"travel must carry the pusher at least 1 pixel past "
-                       r"the contact, 0\.0025 m at this mask's resolution, got .* m \(travel is "
-                       r"in metres\)"):  # fmt: skip
+    with pytest.raises(ValueError, match=r"travel must carry the pusher at least 0\.25 pixel "
+                       r"past the contact, 0\.000625 m at this mask's resolution, got .* m "
+                       r"\(travel is in metres\)"):  # fmt: skip
         comcore.sample_pushes(mask, 5, travel=travel, rng=0)
-    pushes = comcore.sample_pushes(mask, 50, cone=0.5, travel=0.0025, rng=0)  # one pixel
+    pushes = comcore.sample_pushes(mask, 200, cone=0.5, travel=0.000625, rng=0)  # the minimum
     assert comcore.geometry.contacts(mask, pushes).hit.all()
     with pytest.raises(ValueError, match=r"travel 30 m is implausible.*millimetres, 0\.03"):
         comcore.sample_pushes(mask, 5, travel=30, rng=0)
