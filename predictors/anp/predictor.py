@@ -12,8 +12,11 @@ import numpy as np
 import torch
 
 from comcore.checks import check_actions, check_mask, check_priors, check_rng
-from comcore.motion import check_plausible_motions
-from comcore.motion._predictor import MAX_PUSH_THETA, MAX_TRANSLATION_PER_PUSH_LENGTH
+from comcore.motion import (
+    MAX_PUSH_THETA,
+    MAX_TRANSLATION_PER_PUSH_LENGTH,
+    check_plausible_motions,
+)
 
 from .features import (
     T_SCALE,
