@@ -11,6 +11,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from scipy import ndimage
 
 from ._checks import (  # the low-level checks, re-exported
     _as_float_rows,
@@ -34,6 +35,7 @@ __all__ = [
     "check_motions",
     "check_mu",
     "check_number",
+    "check_one_object",
     "check_pair",
     "check_point",
     "check_points",
@@ -52,6 +54,87 @@ def check_mask(mask, name: str = "mask") -> Mask:
             else ""
         )
         raise TypeError(f"{name} must be a comcore.Mask, got {type(mask).__name__}{hint}")
+    return mask
+
+
+#: A mask's holes (background enclosed by the object) may cover at most this share of the
+#: filled object's area. Segmentation noise leaves holes of a few pixels, which move the
+#: area centroid by under this share of the object's size; larger holes (a ring, a frame, a
+#: checkerboard) may hold the CoM itself, which the estimators, whose regions are sets of
+#: mask pixels, cannot return.
+MAX_HOLE_SHARE = 0.01
+#: An object must be at least this many pixels across somewhere (a solid
+#: ``MIN_WIDTH_PX`` x ``MIN_WIDTH_PX`` block of object pixels): a line one or two pixels
+#: wide, a 2 x 2 speck or a checkerboard has no inside, no outline normal to push along
+#: (smoothed over ``comcore._mask.NORMAL_SMOOTHING_PX`` = 2 px) and no region to cut.
+MIN_WIDTH_PX = 3
+#: How many of a mask's separate parts an error lists by area.
+_PARTS_LISTED = 4
+
+
+def check_one_object(mask, name: str = "mask") -> Mask:
+    """``mask`` if it shows one solid object, else a ValueError that says what it shows.
+
+    The estimators (:func:`comcore.estimate_heatmap`, :func:`comcore.estimate_progressive`,
+    :func:`comcore.estimate_posterior`, :class:`comcore.ActiveSession`) call it first. Each
+    case is refused, not flagged with a status: no estimate over such a mask's pixels is
+    right, and the fix is the caller's (which object, which threshold). Refused are
+
+    * several 8-connected parts (two objects, or speckle beside one);
+    * holes (4-connected background not reaching the image's border) over
+      :data:`MAX_HOLE_SHARE` of the filled area; smaller holes are segmentation noise and
+      pass as they are;
+    * an object nowhere :data:`MIN_WIDTH_PX` pixels across.
+
+    Examples
+    --------
+    >>> img = np.zeros((30, 40), bool)
+    >>> img[5:15, 5:17] = img[5:25, 25:35] = True
+    >>> check_one_object(Mask(img))
+    Traceback (most recent call last):
+    ...
+    ValueError: mask has 2 separate parts (areas 200 and 120 px): pass one object's mask, e.g. comcore.Mask(comcore.geometry.largest_component(mask.data), mask.resolution)
+    >>> ring = np.pad(np.ones((20, 20), bool), 2)
+    >>> ring[7:17, 7:17] = False
+    >>> check_one_object(Mask(ring))
+    Traceback (most recent call last):
+    ...
+    ValueError: mask has holes of 100 px, 25 % of the object's 400 px (at most 1 % allowed): the CoM may lie in a hole, where no estimate over the mask's pixels can put it; if the object is solid there, fill them (scipy.ndimage.binary_fill_holes(mask.data))
+    >>> check_one_object(Mask(np.eye(8, dtype=bool)))
+    Traceback (most recent call last):
+    ...
+    ValueError: mask is nowhere 3 pixels across (8 px in all, no 3 x 3 block of object pixels): a line or a speck cannot be pushed along its outline; use a finer resolution or check the segmentation
+    """  # noqa: E501
+    mask = check_mask(mask, name)
+    rows, cols = np.nonzero(mask.data)
+    box = np.pad(mask.data[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1], 1)
+    labels, n_parts = ndimage.label(box, structure=np.ones((3, 3), bool))
+    if n_parts > 1:
+        areas = [str(a) for a in np.sort(np.bincount(labels.ravel())[1:])[::-1]]
+        shown = " and ".join(areas) if n_parts == 2 else ", ".join(areas[:_PARTS_LISTED])
+        more = f" and {n_parts - _PARTS_LISTED} more" if n_parts > _PARTS_LISTED else ""
+        raise ValueError(
+            f"{name} has {n_parts} separate parts (areas {shown} px{more}): pass one "
+            "object's mask, e.g. "
+            "comcore.Mask(comcore.geometry.largest_component(mask.data), mask.resolution)"
+        )
+    area = int(rows.size)
+    filled = int(ndimage.binary_fill_holes(box).sum())
+    if filled - area > MAX_HOLE_SHARE * filled:
+        raise ValueError(
+            f"{name} has holes of {filled - area} px, {100 * (filled - area) / filled:.3g} % "
+            f"of the object's {filled} px (at most {100 * MAX_HOLE_SHARE:g} % allowed): the "
+            "CoM may lie in a hole, where no estimate over the mask's pixels can put it; if "
+            "the object is solid there, fill them (scipy.ndimage.binary_fill_holes(mask.data))"
+        )
+    block = np.ones((MIN_WIDTH_PX, MIN_WIDTH_PX), bool)
+    if not ndimage.binary_erosion(box, structure=block).any():
+        raise ValueError(
+            f"{name} is nowhere {MIN_WIDTH_PX} pixels across ({area} px in all, no "
+            f"{MIN_WIDTH_PX} x {MIN_WIDTH_PX} block of object pixels): a line or a speck "
+            "cannot be pushed along its outline; use a finer resolution or check the "
+            "segmentation"
+        )
     return mask
 
 

@@ -222,14 +222,72 @@ def rotate_components(x, y, cos, sin, *, inverse: bool = False, origin=None):
 def pixel_centres(image) -> np.ndarray:
     """Centres ``(x, y) = (column, row)`` of an image's true pixels, shape (m, 2), row-major.
 
+    Parameters
+    ----------
+    image : array_like of bool, shape (H, W)
+        A boolean image (or one of 0 and 1 numbers), not empty: a
+        :class:`comcore.Mask`'s ``data``, not the Mask itself.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, 2)
+        One row per true pixel, ``m`` >= 0.
+
+    Raises
+    ------
+    TypeError
+        If ``image`` is not an array of booleans or numbers (a string, an
+        object array, ragged lists, a Mask).
+    ValueError
+        If ``image`` is not 2-D, is empty, or holds numbers other than 0 and 1
+        (a grey-level image: threshold it, or use :func:`comcore.mask_from_image`).
+
     Examples
     --------
     >>> pixel_centres([[False, True], [True, False]])
     array([[1., 0.],
            [0., 1.]])
-    """
-    rows, cols = np.nonzero(np.asarray(image))
+    >>> pixel_centres([0, 1, 1])
+    Traceback (most recent call last):
+    ...
+    ValueError: image must be a 2-D (H, W) boolean image, got 1-D shape (3,)
+    >>> pixel_centres([[0, 255]])
+    Traceback (most recent call last):
+    ...
+    ValueError: image must hold booleans (or 0 and 1), got the value 255: threshold a grey-level image first (comcore.mask_from_image)
+    """  # noqa: E501
+    if not (isinstance(image, np.ndarray) and image.dtype == bool and image.ndim == 2):
+        image = _bool_image(image, "image")
+    if image.size == 0:
+        raise ValueError(f"image must not be empty, got shape {image.shape}")
+    rows, cols = np.nonzero(image)
     return np.column_stack([cols, rows]).astype(float)
+
+
+def _bool_image(image, name: str) -> np.ndarray:
+    """``image`` as a 2-D bool array, or an error naming ``name`` and what arrived."""
+    want = f"{name} must be a 2-D (H, W) boolean image"
+    if hasattr(image, "data") and hasattr(image, "resolution"):  # a comcore.Mask
+        raise TypeError(f"{want}, got a {type(image).__name__}: pass its .data")
+    if image is None or isinstance(image, (str, bytes)):
+        raise TypeError(f"{want}, got {type(image).__name__}")
+    try:
+        arr = np.asarray(image)
+    except ValueError as e:  # ragged nested lists
+        raise TypeError(f"{want}, got ragged rows ({e})") from e
+    if arr.dtype.kind not in "biuf":
+        raise TypeError(f"{want}, got dtype {arr.dtype}")
+    if arr.ndim != 2:
+        raise ValueError(f"{want}, got {arr.ndim}-D shape {arr.shape}")
+    if arr.dtype != bool:
+        bad = (arr != 0) & (arr != 1)
+        if bad.any():
+            raise ValueError(
+                f"{name} must hold booleans (or 0 and 1), got the value {arr[bad].flat[0]:g}: "
+                "threshold a grey-level image first (comcore.mask_from_image)"
+            )
+        arr = arr != 0
+    return arr
 
 
 def quarter_turn_ccw(vectors) -> np.ndarray:

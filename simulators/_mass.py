@@ -120,9 +120,7 @@ class MassDistribution:
         shapely = require_shapely()
         poly = shape.polygon()
         centers, areas, h = _grid_cells(poly, shapely, int(n_support))
-        grad = np.asarray(density_gradient, dtype=float)
-        if grad.shape != (2,) or not np.isfinite(grad).all():
-            raise ValueError(f"density_gradient must be two finite numbers, got {density_gradient}")
+        grad = _finite_pair(density_gradient, "density_gradient", "per metre")
         density = 1.0 + (centers - np.asarray(shape.centroid_m)) @ grad
         if (density <= 0).any():
             raise ValueError(
@@ -130,7 +128,7 @@ class MassDistribution:
             )
         cell_mass = areas * density
         cell_mass *= mass / cell_mass.sum()
-        pm = np.asarray(point_masses, dtype=float).reshape(-1, 3) if len(point_masses) else None
+        pm = _point_masses(point_masses)
         if pm is not None:
             if not np.isfinite(pm).all() or (pm[:, 2] <= 0).any():
                 raise ValueError("point_masses must be finite (x, y, m) rows with m > 0")
@@ -142,9 +140,7 @@ class MassDistribution:
         if com is None and pm is None and not grad.any() and shape.uniform_com_m is not None:
             com = shape.uniform_com_m
         if com is not None:
-            com = np.asarray(com, dtype=float)
-            if com.shape != (2,) or not np.isfinite(com).all():
-                raise ValueError(f"com must be two finite numbers (metres), got {com.tolist()}")
+            com = _finite_pair(com, "com", "metres")
             if not shapely.contains_xy(poly, com[0], com[1]):
                 raise ValueError(f"com {tuple(com.tolist())} must lie inside the footprint")
             dist = dist.tilted(com)
@@ -232,3 +228,39 @@ def tilt_to_com(points, weights, target, tol: float = 1e-10) -> np.ndarray:
     if np.abs(q @ x).max() * scale > max(tol, STALL_TOLERANCE * scale):
         raise ValueError(f"target {tuple(t.tolist())} is not strictly inside the support points")
     return q * w.sum()
+
+
+def _finite_pair(value, name: str, unit: str) -> np.ndarray:
+    """``value`` as a float array of shape (2,), or an error naming ``name``."""
+    want = f"{name} must be two finite numbers ({unit})"
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{want}, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{want}, got {value!r}") from e
+    if arr.shape != (2,) or not np.isfinite(arr).all():
+        raise ValueError(f"{want}, got {arr.tolist()}")
+    return arr
+
+
+def _point_masses(value) -> np.ndarray | None:
+    """``(x, y, m)`` rows as a float array of shape (k, 3); ``None`` when there are none."""
+    want = "point_masses must be a sequence of (x, y, m) rows (metres, kg)"
+    if value is None:
+        return None
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{want}, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:  # ragged rows, objects
+        raise TypeError(f"{want}, got {value!r}") from e
+    if arr.ndim == 0:
+        raise TypeError(f"{want}, got {type(value).__name__}")
+    if arr.size == 0:
+        return None
+    if arr.shape == (3,):
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{want}, got shape {arr.shape}")
+    return arr

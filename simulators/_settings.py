@@ -5,10 +5,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 __all__ = ["ENGINES", "EngineSettings"]
 
 #: The engines: the batched quasi-static integrator and the pymunk rigid-body engine.
 ENGINES = ("quasistatic", "pymunk")
+#: Most ``projections``, ``iterations`` and ``settle_steps``: each multiplies the work of
+#: every integration step (the defaults are 2, 10 and 4); a million would run for hours.
+MAX_STEP_COUNT = 1000
 
 
 @dataclass(frozen=True)
@@ -55,17 +60,25 @@ class EngineSettings:
     settle_steps: int = 4
 
     def __post_init__(self):
-        if self.engine not in ENGINES:
+        if not isinstance(self.engine, str) or self.engine not in ENGINES:
             raise ValueError(f"engine must be one of {ENGINES}, got {self.engine!r}")
-        if not (isinstance(self.step_m, (int, float)) and math.isfinite(self.step_m)):
-            raise TypeError(f"step_m must be a number, got {self.step_m!r}")
+        for name in ("step_m", "quasi_static_ratio"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer,
+                                                                 np.floating)):  # fmt: skip
+                raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+            object.__setattr__(self, name, float(value))
         if not 0 < self.step_m <= 0.01:
             raise ValueError(f"step_m must be in (0, 0.01] metres, got {self.step_m}")
-        for name in ("projections", "iterations", "settle_steps"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-                raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
-        if self.projections < 1 or self.iterations < 1:
-            raise ValueError("projections and iterations must be >= 1")
         if not (self.quasi_static_ratio > 0 and math.isfinite(self.quasi_static_ratio)):
             raise ValueError(f"quasi_static_ratio must be > 0, got {self.quasi_static_ratio}")
+        for name, low in (("projections", 1), ("iterations", 1), ("settle_steps", 0)):
+            value = getattr(self, name)
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+            if not low <= value <= MAX_STEP_COUNT:
+                raise ValueError(
+                    f"{name} must be an integer from {low} to {MAX_STEP_COUNT} "
+                    f"(MAX_STEP_COUNT), got {value}"
+                )
+            object.__setattr__(self, name, int(value))

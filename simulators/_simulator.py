@@ -40,6 +40,10 @@ STEP_PER_RADIUS = 0.5
 #: A push whose path takes more integration steps than this is refused (a 1e12 px path
 #: would otherwise run for days): 100 m of path at the default 1 mm step.
 MAX_STEPS_PER_PUSH = 100_000
+#: Most pixels of the camera image (4096 x 4096): rasterising the footprint takes index
+#: arrays of 16 bytes a pixel (256 MiB here); a larger image is a ``margin`` or a
+#: ``resolution`` typed in the wrong unit (a margin of 7239 m asked numpy for 488 TiB).
+MAX_IMAGE_PIXELS = 4096 * 4096
 
 
 class PushResult(NamedTuple):
@@ -109,6 +113,15 @@ class PushSimulator:
         self.margin = comcore.checks.check_positive(margin, "margin")
         self.pusher_radius = comcore.checks.check_positive(pusher_radius, "pusher_radius")
         self.mu_floor = comcore.checks.check_positive(mu_floor, "mu_floor")
+        h, w = _image_shape(shape.bounds_m, self.margin, self.resolution)
+        if h * w > MAX_IMAGE_PIXELS:
+            x_min, y_min, x_max, y_max = shape.bounds_m
+            raise ValueError(
+                f"margin {self.margin:g} m and resolution {self.resolution:g} m per pixel make "
+                f"a camera image of {h} x {w} pixels around the {x_max - x_min:.3g} x "
+                f"{y_max - y_min:.3g} m object, more than MAX_IMAGE_PIXELS ({MAX_IMAGE_PIXELS}): "
+                "margin and resolution are in metres (millimetres typed for metres?)"
+            )
         self.settings = EngineSettings() if settings is None else settings
         if not isinstance(self.settings, EngineSettings):
             raise TypeError(f"settings must be an EngineSettings, got {type(settings).__name__}")
@@ -228,10 +241,7 @@ class PushSimulator:
     @cached_property
     def image_shape(self) -> tuple[int, int]:
         """``(H, W)`` of the camera image."""
-        x_min, y_min, x_max, y_max = self.shape.bounds_m
-        w = math.ceil((x_max - x_min + 2 * self.margin) / self.resolution - 1e-9)
-        h = math.ceil((y_max - y_min + 2 * self.margin) / self.resolution - 1e-9)
-        return (h, w)
+        return _image_shape(self.shape.bounds_m, self.margin, self.resolution)
 
     def outline_at(self, pose=None) -> np.ndarray:
         """The outline in world metres at ``pose`` (default: the initial pose), (k, 2)."""
@@ -483,3 +493,11 @@ class PushSimulator:
             f"PushSimulator(shape={self.shape!r}, com_px=({self.com_px[0]:.1f}, "
             f"{self.com_px[1]:.1f}), mu_contact={self.mu_contact:.3f})"
         )
+
+
+def _image_shape(bounds_m, margin: float, resolution: float) -> tuple[int, int]:
+    """``(H, W)`` of the camera image of a footprint with ``bounds_m`` and a ``margin``."""
+    x_min, y_min, x_max, y_max = bounds_m
+    w = math.ceil((x_max - x_min + 2 * margin) / resolution - 1e-9)
+    h = math.ceil((y_max - y_min + 2 * margin) / resolution - 1e-9)
+    return (h, w)

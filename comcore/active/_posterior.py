@@ -20,8 +20,8 @@ from .._status import Status, region_reached
 from .._types import Estimate, PushRecord
 from .._validation import (
     check_actions,
-    check_mask,
     check_motions,
+    check_one_object,
     check_per_push,
     check_physical,
     check_rng,
@@ -195,7 +195,7 @@ def estimate_posterior(
     >>> est.status, est.posterior.senses.fewest_unexplained
     ('inconsistent', 5)
     """
-    mask = check_mask(mask)
+    mask = check_one_object(mask)
     bootstrap = check_count(bootstrap, "bootstrap")
     if bootstrap > MAX_BOOTSTRAP:
         raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")

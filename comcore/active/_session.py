@@ -15,7 +15,13 @@ import numpy as np
 from .._errors import SessionError
 from .._mask import Mask
 from .._types import Action, Estimate, Motion, SkippedPush
-from .._validation import check_mask, check_motions, check_physical, check_probability, check_rng
+from .._validation import (
+    check_motions,
+    check_one_object,
+    check_physical,
+    check_probability,
+    check_rng,
+)
 from ..camera._pose_tracking import moved_mask
 from ..conventions import apply_motion
 from ..motion._limit_surface import check_push_lengths
@@ -146,7 +152,7 @@ class ActiveSession(PushLoop):
         stop=None,
         choice=None,
     ):
-        self._first = check_mask(mask)
+        self._first = check_one_object(mask)
         groups = check_groups(likelihood=likelihood, stop=stop, choice=choice)
         self._stop_rule, self._choice = groups["stop"], groups["choice"]
         self._scoring, credible = session_setup(

@@ -6,9 +6,9 @@ import numpy as np
 
 from .._mask import Mask
 from .._neighbourhood import true_pixels
-from .._validation import check_mask, check_positive, check_rng
+from .._validation import check_mask, check_physical, check_positive, check_rng
 from ..conventions import rotate_vectors
-from ._contacts import contacts
+from ._contacts import MARCH_STEP_PX, contacts
 
 __all__ = ["sample_pushes"]
 
@@ -21,6 +21,15 @@ DEFAULT_STANDOFF_M = 0.012
 DEFAULT_CLEARANCE_M = 0.009
 #: A pixel's outline can lie this far (pixels) from its centre: half the diagonal.
 HALF_PIXEL_DIAGONAL = 0.5 * np.sqrt(2.0)
+#: Most pushes one :func:`sample_pushes` call draws: about 4 s on a 30 x 30 pixel object
+#: (the time grows with the push's length in pixels); more is a mistake (a count typed
+#: for a seed) that would run for minutes. Sessions offer at most
+#: ``comcore.active._options.MAX_CANDIDATES`` candidates.
+MAX_SAMPLED_PUSHES = 100_000
+#: Shortest travel after contact, in pixels of the mask: the step of the contact search
+#: (``MARCH_STEP_PX``); a push ending closer to its contact may miss it (5e-324 m did).
+#: Sessions refuse pushes under a pixel long on their own, saying so.
+MIN_TRAVEL_PX = MARCH_STEP_PX
 
 
 def sample_pushes(
@@ -47,12 +56,13 @@ def sample_pushes(
     ----------
     mask : Mask
     n : int
-        Number of pushes (>= 0).
+        Number of pushes, 0 to ``MAX_SAMPLED_PUSHES`` (100 000).
     cone : float, optional
         Half-angle in radians of the directions about the inward normal,
         in ``[0, pi/2)``; 0 gives pushes exactly along the normal.
     travel : float, optional
-        Pusher travel after contact, metres (default 0.03).
+        Pusher travel after contact, metres (default 0.03): at least
+        ``MIN_TRAVEL_PX`` (a quarter) pixel of the mask, at most half a metre.
     standoff : float, optional
         Distance from start to contact, metres (default 0.012).
     clearance : float, optional
@@ -67,6 +77,13 @@ def sample_pushes(
     numpy.ndarray, shape (n, 4)
         ``(sx, sy, ex, ey)`` rows in pixels.
 
+    Raises
+    ------
+    ValueError
+        If ``n`` is negative or over ``MAX_SAMPLED_PUSHES``, ``travel`` shorter
+        than a quarter pixel of the mask or longer than half a metre (millimetres typed
+        for metres), or the outline admits no valid push.
+
     Examples
     --------
     >>> import numpy as np
@@ -78,14 +95,29 @@ def sample_pushes(
     ((5, 4), True)
     >>> np.array_equal(pushes, sample_pushes(m, 5, cone=0.3, rng=0))
     True
-    """
+    >>> sample_pushes(m, 5, travel=1e-4)
+    Traceback (most recent call last):
+    ...
+    ValueError: travel must carry the pusher at least 0.25 pixel past the contact, 0.000625 m at this mask's resolution, got 0.0001 m (travel is in metres)
+    """  # noqa: E501
     mask = check_mask(mask)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
         raise ValueError(f"n must be a non-negative integer, got {n!r}")
+    if n > MAX_SAMPLED_PUSHES:
+        raise ValueError(
+            f"n must be at most {MAX_SAMPLED_PUSHES} pushes (MAX_SAMPLED_PUSHES, a few seconds), "
+            f"got {n}: draw them in batches if you need more"
+        )
     cone = check_positive(cone, "cone", allow_zero=True) + 0.0  # -0.0 is 0 (uniform(0, -0.0) fails)
     if cone >= np.pi / 2:
         raise ValueError(f"cone must be in [0, pi/2), got {cone}")
-    travel_px = check_positive(travel, "travel") / mask.resolution
+    travel_px = check_physical(travel, "travel", "push_length") / mask.resolution
+    if travel_px < MIN_TRAVEL_PX:
+        raise ValueError(
+            f"travel must carry the pusher at least {MIN_TRAVEL_PX:g} pixel past the contact, "
+            f"{MIN_TRAVEL_PX * mask.resolution:g} m at this mask's resolution, got "
+            f"{float(travel):g} m (travel is in metres)"
+        )
     standoff_px = check_positive(standoff, "standoff") / mask.resolution
     clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
     rng = check_rng(rng)

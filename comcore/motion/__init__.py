@@ -11,6 +11,8 @@ lattice of pushes it tabulates (``_lattice``). May import the base modules and
 
 from ._limit_surface import LimitSurfaceModel
 from ._predictor import (
+    MAX_PUSH_THETA,
+    MAX_TRANSLATION_PER_PUSH_LENGTH,
     HypothesisPredictor,
     Predictor,
     check_plausible_motions,
@@ -19,6 +21,8 @@ from ._predictor import (
 )
 
 __all__ = [
+    "MAX_PUSH_THETA",
+    "MAX_TRANSLATION_PER_PUSH_LENGTH",
     "HypothesisPredictor",
     "LimitSurfaceModel",
     "Predictor",

@@ -11,6 +11,7 @@ from .._validation import (
     check_actions,
     check_mask,
     check_motions,
+    check_one_object,
     check_positive,
     check_probability,
 )
@@ -148,7 +149,7 @@ def estimate_heatmap(
     >>> e.status, e.ok, e.com
     ('unchecked', False, (15.0, 15.0))
     """
-    mask = check_mask(mask)
+    mask = check_one_object(mask)
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
     threshold = check_probability(threshold, "threshold")

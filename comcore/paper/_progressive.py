@@ -9,9 +9,9 @@ from .._status import DEFAULT_TARGET_RADIUS, Status, region_reached
 from .._types import Estimate, ProgressiveDetails
 from .._validation import (
     check_actions,
-    check_mask,
     check_motions,
     check_mu,
+    check_one_object,
     check_physical,
     check_positive,
     check_probability,
@@ -125,14 +125,20 @@ def estimate_progressive(
       explains it. This is checked for every such action, applied or not:
       one that is chosen is then skipped instead of applied (its allowed part
       misses the current region); one that is pruned (low score) or never
-      reached is checked against the final region. Either way it is listed in
-      ``progressive.contradicted`` (skipped ones first, in the order met) and
+      reached is checked against the final region, first on its own, then
+      together with the other left-out ones, as the cuts are: in descending
+      ``|theta|`` (ties in index order) each must leave a region pixel that
+      explains it and every surer one, else it contradicts them (pushes whose
+      regions do not intersect are inconsistent even when none of them cuts,
+      e.g. when none splits the object, as along its edges). Either way it
+      is listed in ``progressive.contradicted`` (skipped ones first, in the
+      order met, then those checked on their own, then together) and
       ``status`` is ``"inconsistent"``. The fallback estimate is the one the
       other actions give, exactly as if the contradicting ones had not been
       recorded: the region the applied cuts leave and its mean, never a NaN.
-      Dropping an action is not in itself a contradiction: a pruned or
-      unreached action that some region pixel explains leaves ``"ok"`` (or
-      ``"wide"``), and
+      Dropping an action is not in itself a contradiction: pruned or
+      unreached actions that one region pixel explains together leave
+      ``"ok"`` (or ``"wide"``), and
       actions turning the object less than ``min_rotation`` (whose sense
       noise may flip) are never called contradicted.
     * What ``"ok"`` says: what it says everywhere (:class:`comcore.Status`):
@@ -234,7 +240,7 @@ def estimate_progressive(
     >>> e.status, e.used, e.progressive.contradicted, e.com
     ('inconsistent', (1,), (0,), (13.5, 20.5))
     """
-    mask = check_mask(mask)
+    mask = check_one_object(mask)
     acts = check_actions(actions)
     mots = check_motions(motions, n=acts.shape[0])
     area_ratio = check_probability(area_ratio, "area_ratio")
@@ -299,7 +305,9 @@ def estimate_progressive(
         used.append(chosen)
         sizes.append(int(allowed.sum()))
 
-    region = _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band)
+    region = _final_region(
+        current, used, contradicted, small, acts, con, unit, sense, cone, band, np.abs(theta)
+    )
     if contradicted:
         status = Status.INCONSISTENT
     elif region_reached(np.sqrt(region.sum() / np.pi), target_radius, mask.resolution):
@@ -316,12 +324,14 @@ def estimate_progressive(
     )
 
 
-def _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band):
+def _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band, turn):
     """The part of the cut region ``current`` the data point to; ``contradicted`` grows.
 
     Left-out informative pushes that no pixel of the returned region explains
-    are appended to ``contradicted``; the parts of a disconnected region are
-    ranked as :func:`estimate_progressive` says.
+    are appended to ``contradicted``, then those that no region pixel explains
+    together with the left-out pushes turning the object more (``turn``, the
+    ``|theta|`` of each push; ties in index order); the parts of a disconnected
+    region are ranked as :func:`estimate_progressive` says.
     """
     a_lo, a_hi = cone
     # Which of the left-out informative pushes a CoM at each region pixel explains (the
@@ -355,6 +365,17 @@ def _final_region(current, used, contradicted, small, acts, con, unit, sense, co
         unsettled = left_out[~explained(left_out, probes).any(axis=1)]
         explains = explained(unsettled, pts)
         contradicted += [int(i) for i, row in zip(unsettled, explains) if not row.any()]
+    # Each left-out push explained on its own may still contradict the others: the applied
+    # cuts intersect their regions, so do the left-out ones, the surest (largest |theta|)
+    # first; one whose region misses what the surer ones leave is contradicted.
+    alive = pixel_centres(region)
+    rest = [int(i) for i in left_out if int(i) not in contradicted]
+    for i in sorted(rest, key=lambda i: -turn[i]):  # stable: ties in index order
+        ok = explained(np.array([i]), alive)[0]
+        if ok.any():
+            alive = alive[ok]
+        else:
+            contradicted.append(i)
     return region
 
 

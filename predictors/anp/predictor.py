@@ -12,7 +12,11 @@ import numpy as np
 import torch
 
 from comcore.checks import check_actions, check_mask, check_priors, check_rng
-from comcore.motion import check_plausible_motions
+from comcore.motion import (
+    MAX_PUSH_THETA,
+    MAX_TRANSLATION_PER_PUSH_LENGTH,
+    check_plausible_motions,
+)
 
 from .features import (
     T_SCALE,
@@ -31,6 +35,11 @@ DEFAULT_WEIGHTS = Path(__file__).resolve().parent / "weights" / "anp.pt"
 #: Tag and version written into every weights file.
 WEIGHTS_FORMAT = "comcore-anp"
 WEIGHTS_VERSION = 1
+#: :meth:`AnpPredictor.estimate_com` refuses a CoM farther than this many object lengths
+#: (the frame's ``length_px``, the object's diameter and a margin) outside the object's
+#: bounding box: the CoM lies inside the footprint's convex hull, and the latent has left
+#: what the model was trained on. Priors that no push can cause are refused before.
+MAX_COM_OUTSIDE_LENGTHS = 0.5
 
 
 def save_weights(model: AnpModel, path, meta: dict | None = None) -> Path:
@@ -249,15 +258,16 @@ class AnpPredictor:
         Raises
         ------
         ValueError
-            If a predicted mean is physically impossible (``|theta|`` over pi,
-            a translation over ten times the push's length): the weights are
+            If a prior's motion is physically impossible (``|theta|`` over pi,
+            a translation over ten times its push's length): the message names
+            ``priors[i]``. If a predicted mean is: the weights are
             broken (a weights file that is not checked against a training
             record can be corrupt and still finite). The message names the
             weights.
         """
         mask = check_mask(mask)
         acts = check_actions(actions)
-        prior_actions, prior_motions = check_priors(priors)
+        prior_actions, prior_motions = _check_prior_motions(*check_priors(priors))
         if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)):
             raise TypeError(f"n_samples must be an int >= 0, got {type(n_samples).__name__}")
         if n_samples < 0:
@@ -309,9 +319,18 @@ class AnpPredictor:
         A by-product of training (the latent is asked to encode the true CoM);
         not one of the paper's estimators. With no priors it is the model's
         guess from the shape alone.
+
+        Raises
+        ------
+        ValueError
+            If a prior's motion is physically impossible, as in
+            :meth:`predict_distribution` (naming ``priors[i]``), or the CoM comes
+            out more than ``MAX_COM_OUTSIDE_LENGTHS`` object lengths outside the
+            object's bounding box (refused, not clamped: the latent left the
+            training range and no point of it can be trusted).
         """
         mask = check_mask(mask)
-        prior_actions, prior_motions = check_priors(priors)
+        prior_actions, prior_motions = _check_prior_motions(*check_priors(priors))
         frame = object_frame(mask, self.config.image_size)
         prior = push_features(mask, frame, prior_actions)
         targets = targets_from_motions(prior_motions, frame.length_px)
@@ -325,6 +344,15 @@ class AnpPredictor:
             )
             u = self.model.com(q_z.mean)[0].double().numpy()
         x, y = np.asarray(frame.center) + frame.length_px * u
+        rows, cols = np.nonzero(mask.data)
+        outside = max(cols.min() - 0.5 - x, x - cols.max() - 0.5,
+                      rows.min() - 0.5 - y, y - rows.max() - 0.5)  # fmt: skip
+        if not outside <= MAX_COM_OUTSIDE_LENGTHS * frame.length_px:  # NaN too
+            raise ValueError(
+                f"AnpPredictor ({self.source}) put the CoM at ({x:.4g}, {y:.4g}) px, "
+                f"{outside:.3g} px outside the object's bounding box (the CoM lies inside "
+                f"its outline): these priors are outside what the model was trained on"
+            )
         return (float(x), float(y))
 
     @contextlib.contextmanager
@@ -359,3 +387,29 @@ class AnpPredictor:
 
     def __repr__(self) -> str:
         return f"AnpPredictor(config={self.config})"
+
+
+def _check_prior_motions(actions: np.ndarray, motions: np.ndarray):
+    """``(actions, motions)`` of the priors if a push can cause each motion, else a ValueError.
+
+    The bounds of :func:`comcore.motion.check_plausible_motions`: at most half a turn, the
+    centroid carried at most ``MAX_TRANSLATION_PER_PUSH_LENGTH`` times the push's length.
+    A motion past them (a translation in the wrong unit, a number typed wrong) drove the
+    latent far from its training range: the CoM it stood for came out 1e11 px off the image.
+    """
+    length = np.hypot(actions[:, 2] - actions[:, 0], actions[:, 3] - actions[:, 1])
+    shift = np.hypot(motions[:, 1], motions[:, 2])
+    for i in range(len(actions)):
+        if abs(motions[i, 0]) > MAX_PUSH_THETA:
+            raise ValueError(
+                f"priors[{i}] turns the object by {motions[i, 0]:g} rad, more than half a turn "
+                "(pi): theta must be in radians"
+            )
+        if shift[i] > MAX_TRANSLATION_PER_PUSH_LENGTH * length[i]:
+            raise ValueError(
+                f"priors[{i}] moves the object {shift[i]:.4g} px, more than "
+                f"{MAX_TRANSLATION_PER_PUSH_LENGTH:g} times its push's length "
+                f"({length[i]:.4g} px): no push carries an object that far; tx and ty must be "
+                "in pixels of the mask"
+            )
+    return actions, motions

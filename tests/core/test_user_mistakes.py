@@ -347,3 +347,192 @@ def test_the_refusal_benchmark_script_runs():
     assert "refused 0 (0.0 %)" in out[1]
     assert out[2] == "another object: refused 2 of 2 (100.0 %)"
     assert out[3] == "a single pixel: refused 2 of 2 (100.0 %)"
+
+
+# -- a mask that is not one solid object ---------------------------------------------------
+
+
+def _not_one_object(name: str) -> np.ndarray:
+    if name == "two_blobs":
+        image = np.zeros((40, 60), bool)
+        image[5:25, 5:20] = image[10:26, 35:50] = True
+    elif name == "ring":
+        image = np.pad(np.ones((24, 24), bool), 6)
+        image[12:24, 12:24] = False
+    elif name == "line":
+        image = np.zeros((30, 30), bool)
+        image[15, 3:27] = True
+    elif name == "2x2":
+        image = np.zeros((12, 12), bool)
+        image[5:7, 5:7] = True
+    else:  # checkerboard: one 8-connected part, every other pixel a hole
+        image = np.pad(np.indices((20, 20)).sum(axis=0) % 2 == 0, 4)
+    return image
+
+
+ONE_OBJECT_REFUSALS = {
+    "two_blobs": r"mask has 2 separate parts \(areas 300 and 240 px\): pass one object's mask, "
+    r"e\.g\. comcore\.Mask\(comcore\.geometry\.largest_component\(mask\.data\)",
+    "ring": r"mask has holes of 144 px, 25 % of the object's 576 px \(at most 1 % allowed\)",
+    "line": r"mask is nowhere 3 pixels across \(24 px in all",
+    "2x2": r"mask is nowhere 3 pixels across \(4 px in all",
+    "checkerboard": r"mask has holes of 162 px",
+}
+
+
+def _run_estimator(estimator: str, mask: comcore.Mask):
+    y = mask.centroid[1]
+    acts, mots = [(-5.0, y, 70.0, y), (-5.0, y + 2, 70.0, y + 2)], [(0.2, 2, 0), (0.2, 2, 0)]
+    if estimator == "heatmap":
+        return comcore.estimate_heatmap(mask, acts, mots)
+    if estimator == "progressive":
+        return comcore.estimate_progressive(mask, acts, mots)
+    if estimator == "posterior":
+        return comcore.estimate_posterior(mask, acts, mots, model=None)
+    if estimator == "session":
+        return comcore.ActiveSession(mask, model=None, rng=0)
+    return comcore.estimate_active(mask, lambda action: comcore.Motion(0.1, 0, 0), model=None,
+                                   stop=comcore.StopRule(max_pushes=2), rng=0)  # fmt: skip
+
+
+@pytest.mark.parametrize("estimator", ["heatmap", "progressive", "posterior", "session", "active"])
+@pytest.mark.parametrize("name", list(ONE_OBJECT_REFUSALS))
+def test_a_mask_that_is_not_one_solid_object_is_refused(name, estimator):
+    # Refused, not flagged: Alg. 2 said "ok" on the line and the 2 x 2 speck with exact
+    # senses, and on two blobs or a ring its region cannot hold a CoM between the parts
+    mask = comcore.Mask(_not_one_object(name))
+    with pytest.raises(ValueError, match=ONE_OBJECT_REFUSALS[name]):
+        _run_estimator(estimator, mask)
+
+
+def test_a_mask_with_small_holes_from_segmentation_noise_is_accepted():
+    # holes up to comcore._validation.MAX_HOLE_SHARE (1 %) of the filled area pass as they are
+    image = np.pad(np.ones((40, 40), bool), 5)
+    image[20:22, 20:22] = image[30, 12] = False  # 5 px of 1600: 0.31 %
+    acts = [(0, 25.3, 50, 25.3), (25.3, 0, 25.3, 50)]
+    est = comcore.estimate_progressive(comcore.Mask(image), acts, [(0.2, 2, 0), (-0.2, 0, 2)])
+    assert est.status == "ok"
+    image[10:14, 30:34] = False  # 16 px more: 21 of 1600, 1.3 %
+    with pytest.raises(ValueError, match=r"mask has holes of 21 px, 1\.31 % of the object's "
+                                         r"1600 px \(at most 1 % allowed\)"):  # fmt: skip
+        comcore.estimate_progressive(comcore.Mask(image), acts, [(0.2, 2, 0), (-0.2, 0, 2)])
+
+
+# -- sample_pushes: a count typed for a seed, a travel too short --------------------------
+
+
+def test_sample_pushes_refuses_more_than_its_maximum_at_once():
+    # n=74638432 ran past 30 s
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 10))
+    with pytest.raises(ValueError, match=r"n must be at most 100000 pushes \(MAX_SAMPLED_PUSHES"):
+        comcore.sample_pushes(mask, 74638432)
+    assert comcore.geometry._sampling.MAX_SAMPLED_PUSHES == 100_000
+
+
+@pytest.mark.parametrize("travel", [5e-324, 1e-6, 0.0006])
+def test_sample_pushes_refuses_a_travel_under_a_quarter_pixel(travel):
+    # travel=5e-324 returned pushes that end before the object's outline: they miss it
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 10), resolution=0.0025)
+    with pytest.raises(ValueError, match=r"travel must carry the pusher at least 0\.25 pixel "
+                       r"past the contact, 0\.000625 m at this mask's resolution, got .* m "
+                       r"\(travel is in metres\)"):  # fmt: skip
+        comcore.sample_pushes(mask, 5, travel=travel, rng=0)
+    pushes = comcore.sample_pushes(mask, 200, cone=0.5, travel=0.000625, rng=0)  # the minimum
+    assert comcore.geometry.contacts(mask, pushes).hit.all()
+    with pytest.raises(ValueError, match=r"travel 30 m is implausible.*millimetres, 0\.03"):
+        comcore.sample_pushes(mask, 5, travel=30, rng=0)
+
+
+# -- the simulator's construction ----------------------------------------------------------
+SQUARE_M = [(0, 0), (0.08, 0), (0.08, 0.06), (0, 0.06)]
+
+
+@pytest.mark.parametrize(("options", "match"), [
+    ({"margin": 7239}, r"margin 7239 m and resolution 0\.0025 m per pixel make a camera image "
+                       r"of 5791224 x 5791232 pixels .* more than MAX_IMAGE_PIXELS \(16777216\): "
+                       r"margin and resolution are in metres"),
+    ({"resolution": 1e-6}, r"margin 0\.02 m and resolution 1e-06 m per pixel make a camera "
+                           r"image of 100000 x 120000 pixels"),
+])  # fmt: skip
+def test_a_simulator_camera_image_too_large_is_refused_before_any_allocation(options, match):
+    # margin=7239 asked numpy for 488 TiB (a MemoryError from inside numpy)
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    tracemalloc.start()
+    try:
+        with pytest.raises(ValueError, match=match):
+            simulators.PushSimulator.from_polygon(SQUARE_M, **options).mask  # noqa: B018
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 20e6
+
+
+@pytest.mark.parametrize(("options", "error", "match"), [
+    ({"com": "ab"}, TypeError, r"com must be two finite numbers \(metres\), got str"),
+    ({"com": object()}, TypeError, r"com must be two finite numbers \(metres\), got <object"),
+    ({"point_masses": "abc"}, TypeError, r"point_masses must be a sequence of \(x, y, m\) rows "
+                                         r"\(metres, kg\), got str"),
+    ({"point_masses": [(0.01, 0.01)]}, ValueError, r"point_masses must be a sequence of "
+                                                   r"\(x, y, m\) rows .*got shape \(1, 2\)"),
+    ({"point_masses": [(0.01, 0.01, 1.0), (1.0,)]}, TypeError, r"point_masses must be a "
+                                                              r"sequence of \(x, y, m\) rows"),
+    ({"point_masses": 5}, TypeError, r"point_masses must be a sequence .*, got int"),
+    ({"density_gradient": "ab"}, TypeError, r"density_gradient must be two finite numbers "
+                                            r"\(per metre\), got str"),
+    ({"density_gradient": object()}, TypeError, r"density_gradient must be two finite numbers"),
+])  # fmt: skip
+def test_a_simulator_mass_given_wrong_is_refused_by_name(options, error, match):
+    simulators = pytest.importorskip("simulators")
+    pytest.importorskip("shapely")
+    with pytest.raises(error, match=match):
+        simulators.PushSimulator.from_polygon(SQUARE_M, **options)
+
+
+@pytest.mark.parametrize(("options", "error", "match"), [
+    ({"quasi_static_ratio": "a"}, TypeError, r"quasi_static_ratio must be a number, got str"),
+    ({"quasi_static_ratio": None}, TypeError, r"quasi_static_ratio must be a number, got None"),
+    ({"step_m": "a"}, TypeError, r"step_m must be a number, got str"),
+    ({"projections": 2.0}, TypeError, r"projections must be an integer, got float"),
+    ({"iterations": 10**12}, ValueError, r"iterations must be an integer from 1 to 1000 "
+                                         r"\(MAX_STEP_COUNT\), got 1000000000000"),
+    ({"settle_steps": -1}, ValueError, r"settle_steps must be an integer from 0 to 1000"),
+    ({"engine": ["pymunk"]}, ValueError, r"engine must be one of \('quasistatic', 'pymunk'\)"),
+])  # fmt: skip
+def test_engine_settings_given_wrong_are_refused_by_name(options, error, match):
+    simulators = pytest.importorskip("simulators")
+    with pytest.raises(error, match=match):
+        simulators.EngineSettings(**options)
+    # numpy numbers are numbers: the same settings as Python's
+    assert simulators.EngineSettings(step_m=np.float32(0.0005), iterations=np.int64(5)) == (
+        simulators.EngineSettings(step_m=float(np.float32(0.0005)), iterations=5)
+    )
+
+
+# -- pixel_centres on odd images -----------------------------------------------------------
+@pytest.mark.parametrize(("image", "error", "match"), [
+    ([], ValueError, r"image must be a 2-D \(H, W\) boolean image, got 1-D shape \(0,\)"),
+    ([1, 0, 1], ValueError, r"image must be a 2-D \(H, W\) boolean image, got 1-D shape \(3,\)"),
+    (np.ones((2, 2, 2), bool), ValueError, r"image must be a 2-D .* got 3-D shape \(2, 2, 2\)"),
+    (5, ValueError, r"image must be a 2-D \(H, W\) boolean image, got 0-D shape \(\)"),
+    (np.zeros((0, 4), bool), ValueError, r"image must not be empty, got shape \(0, 4\)"),
+    (np.array([[0, 255]], np.uint8), ValueError, r"image must hold booleans \(or 0 and 1\), got "
+                                                 r"the value 255: threshold a grey-level image"),
+    (np.array([[np.nan, 1.0]]), ValueError, r"image must hold booleans .* got the value nan"),
+    (np.array([[None, 1]], dtype=object), TypeError, r"image must be a 2-D .* got dtype object"),
+    ([[1], [0, 1]], TypeError, r"image must be a 2-D \(H, W\) boolean image, got ragged rows"),
+    ("ab", TypeError, r"image must be a 2-D \(H, W\) boolean image, got str"),
+    (None, TypeError, r"image must be a 2-D \(H, W\) boolean image, got NoneType"),
+    (np.array([["a"]]), TypeError, r"image must be a 2-D \(H, W\) boolean image, got dtype <U1"),
+])  # fmt: skip
+def test_pixel_centres_names_its_argument_on_odd_images(image, error, match):
+    with pytest.raises(error, match=match):
+        comcore.conventions.pixel_centres(image)
+
+
+def test_pixel_centres_takes_bool_like_images_and_not_a_mask():
+    want = [[1.0, 0.0], [0.0, 1.0]]
+    for image in ([[False, True], [True, False]], [[0, 1], [1, 0]], np.eye(2)[::-1]):
+        assert comcore.conventions.pixel_centres(image).tolist() == want
+    with pytest.raises(TypeError, match=r"got a Mask: pass its \.data"):
+        comcore.conventions.pixel_centres(comcore.Mask(np.ones((3, 3), bool)))

@@ -204,14 +204,15 @@ def test_pixels_within_the_band_of_the_deciding_line_stay(square_mask, band, las
 
 
 def test_the_estimate_is_the_largest_connected_part_when_the_data_do_not_tell():
-    # Two blocks, 20 and 5 columns wide: the cut keeps rows 10..25 of both (320 + 80 pixels);
-    # the estimate is the mean of the larger part only.
+    # Two blocks, 20 and 5 columns wide, joined below row 33 (one object, a U): the cut keeps
+    # rows 10..25 of both (320 + 80 pixels); the estimate is the mean of the larger part only.
     image = np.zeros((50, 50), bool)
     image[10:40, 5:25] = True
     image[10:40, 30:35] = True
+    image[34:40, 25:30] = True
     mask = comcore.Mask(image)
     est = comcore.estimate_progressive(mask, [(0, 25, 45, 25)], [CCW], area_ratio=0.0)
-    assert est.progressive.region_sizes == (750, 400)
+    assert est.progressive.region_sizes == (780, 400)
     expected = np.zeros_like(image)
     expected[10:26, 5:25] = True
     np.testing.assert_array_equal(est.region, expected)
@@ -278,6 +279,41 @@ def test_pruned_and_unreached_pushes_are_checked_too(square_mask, acts, mots, kw
     assert est.progressive.contradicted == (1,)
 
 
+@pytest.mark.parametrize("kwargs", [{}, {"area_ratio": 1.0}])
+def test_pushes_whose_regions_do_not_intersect_are_inconsistent_with_no_cut(kwargs):
+    # The fuzzing reproducer: along the top edge (+x) and the bottom edge (-x), both turning
+    # CCW: the CoM right of the top push's contact and left of the bottom one's, 177 pixels
+    # each, none in common. Neither line splits the object, so neither is applied; each was
+    # explained by a pixel of its own and the recording said "ok" with 0 pushes used. With
+    # area_ratio=1 (no cut needed) the docstring's two contradicting pushes did the same.
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    acts = [(0, 4, 30, 4), (30, 23, 0, 23)] if not kwargs else [(0, 8, 30, 8), (0, 18, 30, 18)]
+    mots = [CCW, CCW] if not kwargs else [(0.2, 3, 0), (-0.2, 3, 0)]
+    regions = comcore.vt.region(mask, acts, mots)
+    assert regions.any(axis=(1, 2)).all() and not (regions[0] & regions[1]).any()
+    est = comcore.estimate_progressive(mask, acts, mots, **kwargs)
+    assert est.used == () and est.status == "inconsistent"
+    assert est.progressive.contradicted == (1,)  # equal |theta|: the later one is blamed
+    assert est.com == mask.centroid  # the fallback: no cut, the whole object
+
+
+@pytest.mark.parametrize(("turns", "blamed"), [((0.4, 0.2), 2), ((0.2, 0.4), 1)])
+def test_left_out_pushes_are_checked_together_surest_first(square_mask, turns, blamed):
+    # Push 0 (CW down column 25) leaves the left of column 26; pushes 1 and 2 along the top
+    # and bottom edges (CCW) split nothing and are pruned. Each is explained by a pixel of
+    # that region (115 and 301 of them), not both by one: the one turning less is blamed.
+    acts = [(25, 0, 25, 45), (0, 10, 45, 10), (45, 39, 0, 39)]
+    mots = [(-0.3, 0, 0), (turns[0], 3, 0), (turns[1], 3, 0)]
+    regions = comcore.vt.region(square_mask, acts, mots)
+    assert (regions[0] & regions[1]).sum() == 115 and (regions[0] & regions[2]).sum() == 301
+    assert not (regions[0] & regions[1] & regions[2]).any()
+    est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
+    assert est.used == (0,) and est.status == "inconsistent"
+    assert est.progressive.contradicted == (blamed,)
+    alone = comcore.estimate_progressive(square_mask, acts[:1], mots[:1], area_ratio=0.0)
+    assert est.com == alone.com  # the fallback: the cut push 0 made
+
+
 def test_a_dropped_push_that_a_region_pixel_explains_is_no_contradiction(square_mask):
     # The same pushes with the second sense agreeing: dropped, and consistent ("wide": the
     # half of the square left is far wider than 6 mm).
@@ -304,6 +340,7 @@ def two_blocks_mask():
     image = np.zeros((50, 50), bool)
     image[10:40, 5:25] = True  # 20 columns wide
     image[10:40, 30:35] = True  # 5 columns wide
+    image[36:40, 25:30] = True  # joined along the bottom: one object, a U
     return comcore.Mask(image)
 
 
@@ -313,11 +350,11 @@ SMALL_BLOCK_TOP[10:26, 30:35] = True
 
 def test_the_part_a_left_out_push_points_to_wins_over_the_larger_one():
     # Push 1 down column 32 turning CCW says the CoM is right of column 32: only the small
-    # block. It splits the object 660 : 60 (score 0.55 < 0.6) and is pruned; the paper's
+    # block. It splits the object 680 : 60 (score 0.55 < 0.6) and is pruned; the paper's
     # largest part (the big block) contradicts it.
     acts = [(0, 25, 45, 25), (32, 0, 32, 45)]
     est = comcore.estimate_progressive(two_blocks_mask(), acts, [CCW, (0.3, 0, 0)])
-    assert est.used == (0,) and est.progressive.region_sizes == (750, 400)
+    assert est.used == (0,) and est.progressive.region_sizes == (770, 400)
     np.testing.assert_array_equal(est.region, SMALL_BLOCK_TOP)
     assert est.status == "wide"  # consistent; 80 px (13 mm radius)
 
@@ -331,7 +368,7 @@ def test_the_part_a_hardly_turning_push_crosses_wins_over_the_larger_one():
 
 
 def test_two_block_seed_that_the_largest_part_got_wrong():
-    # benchmarks/accuracy/alg2_two_blobs.py, seed 53 (30 pushes, cone 0.3): the final region spans
+    # benchmarks/accuracy/alg2_two_blobs.py, seed 56 (30 pushes, cone 0.3): the final region spans
     # both blocks; the true CoM is in the smaller part, which the largest-area rule dropped.
     import importlib.util
     from pathlib import Path
@@ -340,8 +377,8 @@ def test_two_block_seed_that_the_largest_part_got_wrong():
     spec = importlib.util.spec_from_file_location("alg2_two_blobs", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    evidence_wrong, largest_wrong, two_parts = module.trial(53, 30, 0.3)
-    assert two_parts and largest_wrong and not evidence_wrong
+    evidence_wrong, largest_wrong, two_parts, one_part = module.trial(56, 30, 0.3)
+    assert two_parts and not one_part and largest_wrong and not evidence_wrong
 
 
 def test_two_blobs_script_runs():
@@ -349,6 +386,8 @@ def test_two_blobs_script_runs():
     lines = out.splitlines()
     assert lines[0] == "seeds 50:58, 30 pushes, cone 0.3"
     assert lines[2] == "wrong block, largest-area part (the paper): 2/8"  # seeds 53 and 56
+    # seed 53's final region is one part through the bar: no part to choose
+    assert lines[4] == "  of them, final region one part (through the bar): 1"
     assert lines[3].startswith("wrong block, estimate_progressive: ")
 
 

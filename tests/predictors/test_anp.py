@@ -363,6 +363,38 @@ def test_the_com_from_the_shape_alone_needs_no_priors(scene):
     assert com != anp.estimate_com(mask, priors)
 
 
+def test_priors_no_push_can_cause_are_refused_not_turned_into_a_com_off_the_image():
+    # The fuzzing reproducer: three pushes on a 24 x 16 rectangle with the motion
+    # (-0.1, -1e12, 1e12) put the shipped model's CoM at (-7.7e10, 9.9e10) px. Zero rotation
+    # everywhere, identical actions or all-zero motions stay on the object.
+    anp = AnpPredictor()
+    mask = comcore.Mask(np.pad(np.ones((24, 16), bool), 12))
+    pushes = comcore.sample_pushes(mask, 6, rng=0)
+
+    def priors(motion, actions=pushes[:3]):
+        return [(comcore.Action(*a), comcore.Motion(*motion)) for a in actions]
+
+    for motion, actions in [((0.0, 8, 0), pushes[:3]), ((0.0, 0, 0), pushes[:3]),
+                            ((0.1, 8, 0), [pushes[0]] * 3)]:  # fmt: skip
+        assert mask.contains([anp.estimate_com(mask, priors(motion, actions))])[0]
+    for call in (anp.estimate_com, lambda m, p: anp.predict(m, pushes[3:], p)):
+        with pytest.raises(ValueError, match=r"priors\[0\] moves the object 1\.414e\+12 px, more "
+                                             r"than 10 times its push's length \(16\.8 px\)"):
+            call(mask, priors((-0.1, -1e12, 1e12)))
+        with pytest.raises(ValueError, match=r"priors\[0\] turns the object by 4 rad"):
+            call(mask, priors((4.0, 1, 0)))
+
+
+def test_a_com_far_outside_the_object_is_refused(scene, monkeypatch):
+    # The backstop behind the priors' check: a latent outside the training range
+    mask, _, priors = scene
+    anp = tiny_predictor()
+    monkeypatch.setattr(anp.model, "com", lambda z: torch.full((z.shape[0], 2), 1e9))
+    with pytest.raises(ValueError, match=r"AnpPredictor \(a model given in code\) put the CoM "
+                                         r"at \(.*\) px, .* px outside the object's bounding box"):
+        anp.estimate_com(mask, priors)
+
+
 # -- frame, features, symmetries ------------------------------------------------------------
 def test_frame_round_trip_and_object_in_unit_disc(scene):
     mask = scene[0]
