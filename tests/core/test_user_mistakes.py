@@ -411,7 +411,7 @@ def test_a_mask_with_small_holes_from_segmentation_noise_is_accepted():
     image[20:22, 20:22] = image[30, 12] = False  # 5 px of 1600: 0.31 %
     acts = [(0, 25.3, 50, 25.3), (25.3, 0, 25.3, 50)]
     est = comcore.estimate_progressive(comcore.Mask(image), acts, [(0.2, 2, 0), (-0.2, 0, 2)])
-    assert est.status == "ok"
+    assert est.status == "wide"  # accepted and consistent; two cuts leave a quarter of the plate
     image[10:14, 30:34] = False  # 16 px more: 21 of 1600, 1.3 %
     with pytest.raises(ValueError, match=r"mask has holes of 21 px, 1\.31 % of the object's "
                                          r"1600 px \(at most 1 % allowed\)"):  # fmt: skip
