@@ -43,6 +43,13 @@ from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._records import PushLog
 from ._session import session_setup
 from ._stop import offline_status, sense_check
+from ._theta_units import (
+    DEGREES_NATS,
+    check_theta_units,
+    degrees_message,
+    scaled_gain,
+    theta_in_radians,
+)
 
 __all__ = ["estimate_posterior"]
 
@@ -67,6 +74,7 @@ def estimate_posterior(
     residual_px=None,
     bootstrap: int = RECORDED_BOOTSTRAP,
     rng=0,
+    theta_units: str = "auto",
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
 
@@ -126,6 +134,18 @@ def estimate_posterior(
         posterior's own states (push by push, not bagged).
     rng : None, int or numpy.random.Generator, optional
         Seed of the resamplings (default 0: the same region every call).
+    theta_units : {"auto", "rad", "deg"}, optional
+        The unit of ``motions``' theta. ``"auto"`` (default): radians, and
+        with a motion model checked against degrees: a recording that every
+        theta multiplied by pi/180 explains more than
+        ``comcore.active._theta_units.DEGREES_NATS`` nats better than as
+        given is refused (a recording in degrees whose turns are all under
+        3 degrees is under pi everywhere, so the check that theta is at most
+        pi cannot see it); this costs a second posterior, without bagging.
+        ``"rad"``: radians, not checked. ``"deg"``: degrees, converted.
+        With ``model=None`` nothing is checked (the Voting Theorem reads
+        only the senses, which the unit does not change); ``pushes`` (a
+        session's records, in radians) are not checked either.
 
     Returns
     -------
@@ -145,7 +165,9 @@ def estimate_posterior(
     Raises
     ------
     TypeError, ValueError
-        On invalid arguments (each named).
+        On invalid arguments (each named); a ValueError saying *theta looks
+        like degrees: multiply the column by pi/180* for a recording in
+        degrees (``theta_units="auto"``).
 
     Examples
     --------
@@ -176,6 +198,11 @@ def estimate_posterior(
     ('inconsistent', 5)
     """
     mask = check_mask(mask)
+    theta_units = check_theta_units(theta_units)
+    if theta_units == "deg":
+        if pushes is not None:
+            raise ValueError("theta_units='deg' converts motions; pushes (records) are in radians")
+        motions = None if motions is None else theta_in_radians(motions, "deg")
     bootstrap = check_count(bootstrap, "bootstrap")
     if bootstrap > MAX_BOOTSTRAP:
         raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
@@ -220,9 +247,19 @@ def estimate_posterior(
     if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
     n_bags = 0 if bagged is None else bootstrap
-    return log.estimate(
+    est = log.estimate(
         mask, post, used, status, marginal=bagged, skipped=skipped, senses=check, bootstrap=n_bags
     )
+    if theta_units == "auto" and scoring.models and pushes is None:
+        options = dict(model=model, pusher_radius=pusher_radius, prior=prior, credible=credible,
+                       likelihood=likelihood)  # fmt: skip
+        gain = scaled_gain(mask, est, options)
+        if gain > DEGREES_NATS:
+            raise ValueError(
+                f"motions[:, 0]: {degrees_message(gain)}; "
+                "theta_units='deg' converts them, 'rad' skips this check"
+            )
+    return est
 
 
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:
