@@ -31,7 +31,8 @@ import time
 import numpy as np
 
 import comcore
-from comcore.active._theta_units import DEGREES_NATS, theta_degrees_nats
+from comcore.active._posterior import theta_degrees_nats
+from comcore.active._theta_units import DEGREES_NATS
 
 KINDS = ("radians, 3 cm", "radians, small", "degrees, small")
 #: Largest turn of a small-turn recording (radians): 3 degrees.

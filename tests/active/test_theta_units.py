@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore.active._theta_units import DEGREES_NATS, theta_degrees_nats
+from comcore.active._posterior import theta_degrees_nats
+from comcore.active._theta_units import DEGREES_NATS
 from tests.scripts import run_script
 
 #: The user's object: an L at 5 mm per pixel, its true CoM in pixels (as tests/core/
