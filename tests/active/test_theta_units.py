@@ -90,3 +90,18 @@ def test_the_calibration_script_runs():
     kinds = [line.split(" | ")[0].lstrip("| ") for line in lines[3:6]]
     assert kinds == ["radians, 3 cm", "radians, small", "degrees, small"]
     assert any(line.startswith(f"margin {DEGREES_NATS:g} nats: false alarms ") for line in lines)
+
+
+def test_calibrate_model_weight_checks_each_records_unit_once(small_turns, monkeypatch):
+    mask, actions, motions = small_turns
+    from comcore.active import _posterior
+
+    calls = []
+    original = _posterior.scaled_gain
+    monkeypatch.setattr(_posterior, "scaled_gain", lambda *a: calls.append(1) or original(*a))
+    degrees = motions * [180 / math.pi, 1, 1]
+    with pytest.raises(ValueError, match=r"records\[0\]: motions\[:, 0\]: " + MESSAGE):
+        comcore.active.calibrate_model_weight([(mask, actions, degrees, TRUE_COM)])
+    calls.clear()
+    comcore.active.calibrate_model_weight([(mask, actions, motions, TRUE_COM)], powers=(0.5, 1.0))
+    assert len(calls) == 1  # the first power's posterior checks it, the second does not
