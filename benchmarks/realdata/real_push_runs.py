@@ -201,7 +201,7 @@ def subsets(n: int, k: int, count: int, seed: int, salt: int) -> list[np.ndarray
 def posterior(obj, world, idx, model, options) -> dict:
     est = comcore.estimate_posterior(
         obj.mask, obj.actions[idx], obj.motions[world][idx], model=model,
-        pusher_radius=_contact_radius, **options,
+        pusher_radius=_contact_radius, theta_units="rad", **options,  # the dataset's yaw: radians
     )  # fmt: skip
     return score(est, obj.mask, obj.com)
 

@@ -177,6 +177,7 @@ def calibrate_model_weight(
                     credible=credible,
                     likelihood=dataclasses.replace(likelihood, model_weight=power),
                     bootstrap=0,  # the sessions' region: the posterior's own, not bagged
+                    theta_units="rad" if j else "auto",  # theta's unit checked once a record
                 )
             except (TypeError, ValueError) as e:  # the record's pushes: say which record
                 if j:

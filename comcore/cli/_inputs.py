@@ -54,6 +54,10 @@ class Pushes:
         """The pushes where ``keep`` (bool, shape (n,)) is true."""
         return Pushes(self.actions[keep], self.motions[keep], self.lines[keep])
 
+    def theta_from_degrees(self) -> Pushes:
+        """The pushes with theta, given in degrees, in radians."""
+        return Pushes(self.actions, self.motions * [math.pi / 180, 1.0, 1.0], self.lines)
+
 
 def check_resolution(value: float) -> float:
     """``value`` (metres per pixel) if it lies in :data:`RESOLUTION_RANGE`, else InputError.

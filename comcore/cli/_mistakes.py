@@ -2,7 +2,10 @@
 
 theta in degrees, x and y swapped, most pushes missing the mask (refused, with the likely
 mistake), and theta's sign flipped (the y-up convention: reported as ``inconsistent``
-whatever the method, :func:`sign_flip_nats`). The object's size in metres
+whatever the method, :func:`sign_flip_nats`). Theta in degrees is seen by a turn over pi and,
+where every turn is small, by the motion model's evidence (:func:`units_mistake`, with
+:func:`comcore.active._posterior.theta_degrees_nats`: the library's check, which
+``comcore.estimate_posterior`` makes too). The object's size in metres
 (:func:`object_size_m`) shows a resolution ten times off.
 """
 
@@ -11,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
+from comcore.active._posterior import theta_degrees_nats
+from comcore.active._theta_units import DEGREES_NATS, degrees_message
 
 from ._inputs import InputError, line_list
 
@@ -21,6 +26,7 @@ __all__ = [
     "recording_mistakes",
     "sign_flip_nats",
     "sign_mistake",
+    "units_mistake",
 ]
 
 #: A recording whose Voting-Theorem evidence rises by more than this (nats) with every
@@ -75,14 +81,42 @@ def sign_mistake(mask, pushes) -> str | None:
     )
 
 
-def recording_mistakes(mask, recorded, dropped: dict) -> None:
+def units_mistake(mask, pushes, theta_units: str, pusher_radius: float) -> str | None:
+    """The message for a recording whose theta looks like degrees, or None.
+
+    Every theta times pi/180 against as given, under the default motion model
+    (whatever the method: the Voting Theorem alone cannot tell the units apart).
+    ``theta_units`` is ``--theta-units``: ``"auto"`` refuses such a recording
+    (InputError), ``"rad"`` returns the message (reported as ``inconsistent``),
+    ``"deg"`` (converted already) checks nothing.
+    """
+    if theta_units == "deg":
+        return None
+    gain = theta_degrees_nats(mask, pushes.actions, pushes.motions, pusher_radius=pusher_radius)
+    if gain <= DEGREES_NATS:
+        return None
+    if theta_units == "auto":
+        raise InputError(
+            f"--pushes: column theta: {degrees_message(gain)}; --theta-units deg converts it "
+            "(--theta-units rad estimates anyway, with status inconsistent)"
+        )
+    return degrees_message(gain)
+
+
+def recording_mistakes(mask, recorded, dropped: dict, degrees: bool = False) -> None:
     """Refuse a recording whose theta is in degrees, or most of whose pushes miss the mask.
 
-    For the latter, say whether x and y look swapped.
+    For the latter, say whether x and y look swapped. ``degrees``: theta was
+    given in degrees (``--theta-units deg``) and converted.
     """
     turned = np.flatnonzero(np.abs(recorded.motions[:, 0]) > np.pi)
     if len(turned):
         line, theta = int(recorded.lines[turned[0]]), float(recorded.motions[turned[0], 0])
+        if degrees:
+            raise InputError(
+                f"--pushes: line {line}, column theta: {np.degrees(theta):g} degrees is more "
+                "than 180 (a push turns an object by less than half a turn)"
+            )
         raise InputError(
             f"--pushes: line {line}, column theta: {theta:g} rad is more than pi (a push turns an "
             f"object by less than half a turn): theta must be in radians (degrees? "

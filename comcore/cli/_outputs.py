@@ -40,6 +40,13 @@ def status_meaning(status, target_radius: float) -> str:
     return meaning.format(target=1000 * target_radius)
 
 
+#: Where the CoM's metres are measured from: the mask's frame, not the table's.
+MASK_FRAME = (
+    "in the image's frame: from the centre of its top-left pixel, x right, y down "
+    "(pixels times --resolution, not a position on the table)"
+)
+
+
 def region_summary(est: comcore.Estimate, resolution: float, credible: float) -> dict:
     """Size of the estimate's region: area, equivalent radius, bounding box; credible radius."""
     region = np.asarray(est.region)
@@ -58,7 +65,8 @@ def region_summary(est: comcore.Estimate, resolution: float, credible: float) ->
 
 def print_text(result: dict, est: comcore.Estimate) -> None:
     x, y = est.com
-    print(f"CoM: ({x:.2f}, {y:.2f}) px = ({est.com_m[0]:.4f}, {est.com_m[1]:.4f}) m")
+    print(f"CoM: ({x:.2f}, {y:.2f}) px (column, row) = ({est.com_m[0]:.4f}, "
+          f"{est.com_m[1]:.4f}) m {MASK_FRAME}")  # fmt: skip
     n_kept = result["n_pushes"] - len(result["dropped_lines"])
     print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
           "pushes used")  # fmt: skip
@@ -77,7 +85,9 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
     else:
         print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
     if result["used_lines"]:
-        print("pushes used (CSV lines, in order): " + ", ".join(map(str, result["used_lines"])))
+        drawn = ", as the overlay numbers them" if result["overlay"] is not None else ""
+        print(f"pushes used (CSV lines, in order{drawn}): "
+              + ", ".join(map(str, result["used_lines"])))  # fmt: skip
     if result["overlay"] is not None:
         replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
         print(f"overlay: {result['overlay']}{replaced}")

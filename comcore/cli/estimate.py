@@ -19,7 +19,12 @@ The default method, ``posterior``, scores the pushes with the motion model of
 ``--pusher-radius`` metres); ``--model none`` is the Voting Theorem alone.
 Whatever the method, a recording that explains itself far better with every
 theta's sign flipped is reported as ``inconsistent`` with that hint
-(:func:`sign_flip_nats`).
+(:func:`sign_flip_nats`), and one that every theta times pi/180 explains far
+better under the motion model is refused as being in degrees (``--theta-units``:
+:func:`comcore.cli._mistakes.units_mistake`; the check itself is the library's,
+:mod:`comcore.active._theta_units`, which :func:`comcore.estimate_posterior`
+makes too). ``--resolution`` (metres per pixel) has no default: a camera's
+scale is the user's to measure.
 
 The status is ``ok`` when the pushes are consistent and the region (the
 posterior's 90 % credible region, Alg. 2's final region) reached
@@ -43,7 +48,7 @@ import comcore
 from comcore._validation import check_physical
 from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, DEFAULT_TARGET_RADIUS
 from comcore.active._posterior import MAX_BOOTSTRAP
-from comcore.conventions import DEFAULT_RESOLUTION
+from comcore.active._theta_units import THETA_UNITS
 
 from . import _options
 from ._inputs import (
@@ -63,6 +68,7 @@ from ._mistakes import (
     object_size_m,
     recording_mistakes,
     sign_mistake,
+    units_mistake,
 )
 from ._mistakes import sign_flip_nats as sign_flip_nats  # re-exported, as above
 from ._outputs import print_text, region_summary, status_meaning
@@ -101,6 +107,12 @@ BOOTSTRAP = comcore.active.RECORDED_BOOTSTRAP
 EXAMPLE = {"mask": "object.png", "pushes": "pushes.csv", "truth": "truth.json"}
 #: ``status_meaning`` of ``--method centroid``: a baseline whose ``ok`` checks nothing.
 CENTROID_MEANING = "the area centroid, a baseline that uses no push: nothing is checked"
+#: What ``--resolution`` is and how to measure it (its help and the error without it).
+RESOLUTION_HELP = (
+    "the size of one image pixel on the table, in METRES per pixel (e.g. 0.0025 for 2.5 mm); "
+    "measure it: photograph a ruler or an object of known length lying on the table, and "
+    "divide its length in metres by its length in pixels"
+)
 #: The motion models of ``--model`` (the posterior's), the default first.
 MODELS = ("limit-surface", "none")
 
@@ -157,14 +169,7 @@ def add_arguments(parser) -> None:
         help="look only inside this box of the image, in pixels (columns X0..X1-1, rows "
         "Y0..Y1-1); pixel coordinates do not change",
     )
-    lo, hi = RESOLUTION_RANGE
-    add(
-        "--resolution",
-        type=float,
-        default=comcore.conventions.DEFAULT_RESOLUTION,
-        help=f"camera resolution in METRES per pixel (default {DEFAULT_RESOLUTION:g} m "
-        f"= {DEFAULT_RESOLUTION * 1000:g} mm); values outside [{lo:g}, {hi:g}] are refused",
-    )
+    _add_unit_arguments(parser)
     add(
         "--method",
         choices=METHODS,
@@ -190,7 +195,7 @@ def add_arguments(parser) -> None:
         "--overlay",
         metavar="PNG",
         help="where to write the picture of the mask, pushes, region and estimate "
-        "(default: MASK_STEM-overlay.png next to the mask; example-overlay.png here with "
+        "(default: MASK_STEM-overlay.png in the current folder; example-overlay.png with "
         "--example)",
     )
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
@@ -204,6 +209,27 @@ def _add_status_arguments(parser) -> None:
         default=DEFAULT_TARGET_RADIUS,
         help="radius in METRES the region must reach for status ok (default "
         f"{DEFAULT_TARGET_RADIUS:g} m, as an active session's); consistent but wider is wide",
+    )
+
+
+def _add_unit_arguments(parser) -> None:
+    """``--resolution`` and ``--theta-units``: the units of the mask and the CSV."""
+    lo, hi = RESOLUTION_RANGE
+    parser.add_argument(
+        "--resolution",
+        type=float,
+        metavar="METRES_PER_PIXEL",
+        help=f"required (unless --example): {RESOLUTION_HELP}; values outside [{lo:g}, {hi:g}] "
+        "are refused",
+    )
+    parser.add_argument(
+        "--theta-units",
+        choices=THETA_UNITS,
+        default=THETA_UNITS[0],
+        help="unit of the theta column (default auto: radians, and a recording that every theta "
+        "times pi/180 explains far better is refused as being in degrees, whatever the method; "
+        "rad: radians, such a recording is estimated with a warning and status inconsistent; "
+        "deg: degrees, converted, not checked)",
     )
 
 
@@ -246,16 +272,17 @@ def _add_model_arguments(parser) -> None:
 
 
 def overlay_path(args) -> Path | None:
-    """Where the overlay goes: ``--overlay``, else ``<mask stem>-overlay.png`` beside the mask.
+    """Where the overlay goes: ``--overlay``, else ``<mask stem>-overlay.png`` here.
 
-    ``None`` with ``--no-overlay``; ``example-overlay.png`` in the current folder
-    with ``--example`` (the package's folder may not be writable).
+    ``None`` with ``--no-overlay``; ``example-overlay.png`` with ``--example``.
+    Never beside the mask by default: the mask's folder may be the user's data,
+    or the installed package's (``--example``), which a run should not write into.
 
     Examples
     --------
     >>> import argparse
     >>> str(overlay_path(argparse.Namespace(mask="data/cup.png", overlay=None, no_overlay=False)))
-    'data/cup-overlay.png'
+    'cup-overlay.png'
     >>> overlay_path(argparse.Namespace(mask="cup.png", overlay=None, no_overlay=True)) is None
     True
     """
@@ -265,8 +292,7 @@ def overlay_path(args) -> Path | None:
         return Path(args.overlay)
     if getattr(args, "example", False):
         return Path("example-overlay.png")
-    mask = Path(args.mask)
-    return mask.with_name(f"{mask.stem}-overlay.png")
+    return Path(f"{Path(args.mask).stem}-overlay.png")
 
 
 def estimate(
@@ -296,6 +322,7 @@ def estimate(
             mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
             bootstrap=bootstrap, target_radius=target_radius,
+            theta_units="rad",  # the command checks theta's unit itself
         )  # fmt: skip
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
@@ -309,6 +336,26 @@ def estimate(
     raise ValueError(f"method must be one of {methods()}, got {method!r}")
 
 
+def overlay_numbers(est: comcore.Estimate, lines) -> list[int]:
+    """The CSV line of each push the overlay numbers, in its order: the text's numbering.
+
+    :func:`comcore.plot.plot_estimate` numbers the pushes an estimate rests on:
+    the posterior's records (each with its index among the pushes given), the
+    other estimators' ``used``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> est = comcore.Estimate((1.0, 1.0), (0.0, 0.0), np.ones((3, 3), bool), used=(2, 0))
+    >>> overlay_numbers(est, [2, 4, 5])
+    [5, 2]
+    """
+    lines = [int(v) for v in lines]
+    if est.pushes:
+        return [lines[p.index] for p in est.pushes if p.outcome != "failed"]
+    return [lines[i] for i in est.used]
+
+
 def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
     """Draw with :func:`comcore.plot.plot_estimate`; ``True`` if a file was replaced."""
     try:
@@ -317,8 +364,12 @@ def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
         raise ModuleNotFoundError(str(e), name="matplotlib") from e
     replaced = path.exists()
     x, y = est.com
-    title = f"comcore estimate --method {method}\nCoM ({x:.1f}, {y:.1f}) px, status {est.status}"
-    ax = comcore.plot.plot_estimate(mask, est, actions=pushes.actions, title=title)
+    title = (f"comcore estimate --method {method}: CoM ({x:.1f}, {y:.1f}) px, status "
+             f"{est.status}\npushes numbered by their CSV line")  # fmt: skip
+    ax = comcore.plot.plot_estimate(
+        mask, est, actions=pushes.actions, title=title, credible=CREDIBLE,
+        numbers=overlay_numbers(est, pushes.lines),
+    )  # fmt: skip
     ax.figure.savefig(path)
     return replaced
 
@@ -329,6 +380,8 @@ def _inputs(args):
             raise InputError("--example replaces --mask and --pushes; give one or the other")
         files = example_files()
         return files["mask"], files["pushes"]
+    if args.resolution is None:
+        raise InputError(f"--resolution required (or --example): {RESOLUTION_HELP}")
     if not (args.mask and args.pushes):
         missing = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes)) if not v]
         raise InputError(f"{' and '.join(missing)} required (or --example)")
@@ -402,6 +455,13 @@ def _metres(value, flag: str, kind: str) -> float:
         raise InputError(str(e)) from None
 
 
+def _resolution(args) -> float:
+    """``--resolution``, checked; with ``--example`` and none, the example's own."""
+    if args.resolution is None:  # _inputs allows it only with --example
+        return float(json.loads(example_files()["truth"].read_text())["resolution"])
+    return check_resolution(args.resolution)
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; its exit code (:data:`EPILOG`).
 
@@ -410,7 +470,7 @@ def run(args) -> int:
     """
     try:
         mask_path, pushes_path = _inputs(args)
-        resolution = check_resolution(args.resolution)
+        resolution = _resolution(args)
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
         args.target_radius = _target(args.target_radius)
@@ -423,11 +483,13 @@ def run(args) -> int:
             background=args.background, roi=args.roi,
         )  # fmt: skip
         recorded = read_pushes(pushes_path)
+        if args.theta_units == "deg":
+            recorded = recorded.theta_from_degrees()
         contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
         pushes, dropped = screen_pushes(
             mask, recorded, strict=args.strict, pusher_radius=contact_radius
         )
-        recording_mistakes(mask, recorded, dropped)
+        recording_mistakes(mask, recorded, dropped, degrees=args.theta_units == "deg")
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
@@ -439,11 +501,15 @@ def run(args) -> int:
             file=sys.stderr,
         )
     try:
+        units = units_mistake(mask, pushes, args.theta_units, pusher_radius)
         est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
                        systematic_error=systematic_error, bootstrap=args.bootstrap,
                        pusher_radius=pusher_radius,
                        target_radius=args.target_radius)  # fmt: skip
-        mistake = sign_mistake(mask, pushes)
+        mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
+    except InputError as e:
+        print(f"comcore estimate: {e}", file=sys.stderr)
+        return 2
     except (TypeError, ValueError) as e:
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1

@@ -79,13 +79,14 @@ def _arrows(ax, pushes: np.ndarray, color, **style) -> None:
         )  # fmt: skip
 
 
-def _numbers(ax, pushes: np.ndarray, colors, places: np.ndarray, fontsize: float) -> None:
-    """Number the pushes in order (white on the arrow's colour) at ``places``."""
+def _numbers(ax, pushes: np.ndarray, colors, places: np.ndarray, fontsize: float, labels) -> None:
+    """Number the pushes (white on the arrow's colour) at ``places``: ``labels``, or 1, 2, ..."""
     for k, (point, push, color) in enumerate(zip(places, pushes, colors)):
         ax.plot([point[0], push[0]], [point[1], push[1]], "-", color=color, lw=0.6,
                 alpha=0.5, zorder=ZORDER["arrows"])  # fmt: skip
         bbox = {"boxstyle": "circle,pad=0.2", "fc": color, "ec": "white", "lw": 0.6}
-        ax.text(*point, str(k + 1), color="white", fontsize=fontsize, ha="center",
+        text = str(k + 1 if labels is None else labels[k])
+        ax.text(*point, text, color="white", fontsize=fontsize, ha="center",
                 va="center", zorder=ZORDER["numbers"], bbox=bbox, clip_on=True)  # fmt: skip
 
 
@@ -110,13 +111,21 @@ def _legend_pushes(ax, evidence: np.ndarray, n_others: int, executed: bool) -> N
         ax.add_line(Line2D([], [], color=COLORS["other"], alpha=0.45, label=label))
 
 
-def _region_label(estimate: Estimate, belief: str, values) -> str:
-    """What the outlined region is: a credible region holds a share of the posterior."""
-    if belief == "posterior" and values is not None and values.shape == estimate.region.shape:
-        total = float(values.sum())
+def _region_label(estimate: Estimate, belief: str, credible) -> str:
+    """What the outlined region is: a credible region, at ``credible`` or the share it holds.
+
+    The share is read from ``posterior.region_image``, what the region was read from (the
+    posterior blurred by a systematic error, or bagged): in the posterior itself the region
+    holds more than its level (97 % for a 90 % region, say).
+    """
+    if belief == "posterior" and credible is not None:
+        return f"{100 * credible:.0f} % credible region"
+    source = None if estimate.posterior is None else estimate.posterior.region_image
+    if belief == "posterior" and source is not None and source.shape == estimate.region.shape:
+        total = float(source.sum())
         if total > 0:
-            share = float(values[estimate.region].sum()) / total
-            return f"credible region ({100 * share:.0f} % of the posterior)"
+            share = float(source[estimate.region].sum()) / total
+            return f"{100 * share:.0f} % credible region"
     if belief == "heatmap":
         return "calm region (Alg. 1)"
     return "CoM region"
@@ -131,6 +140,8 @@ def plot_estimate(
     ax=None,
     title: str | None = None,
     view: str = "object",
+    credible: float | None = None,
+    numbers=None,
 ):
     """Draw an estimate on its mask: belief, pushes in order, region, estimate and truth.
 
@@ -159,6 +170,15 @@ def plot_estimate(
         (pushes are followed at most ``PUSH_REACH`` object sizes past the
         object), so that an object that fills a small part of a wide camera
         frame is still drawn large. ``"image"``: the whole image.
+    credible : float, optional
+        The level the posterior's credible region was read at (the
+        estimator's ``credible``, e.g. 0.9): the legend names it. Default:
+        the share of ``posterior.region_image`` the region holds, about the
+        level.
+    numbers : sequence of int, shape (k,), optional
+        The number written on each numbered push (the pushes the estimate
+        rests on, in order: :func:`executed_pushes`), e.g. the CSV lines
+        ``comcore estimate`` names them by. Default 1, 2, ..., k.
 
     Returns
     -------
@@ -209,6 +229,11 @@ def plot_estimate(
     if view not in ("object", "image"):
         raise ValueError(f"view must be 'object' or 'image', got {view!r}")
     executed, others = executed_pushes(estimate, actions)
+    if numbers is not None and len(numbers) != len(executed):
+        raise ValueError(
+            f"numbers must hold one number per push drawn numbered ({len(executed)}: the "
+            f"estimate's pushes, in order), got {len(numbers)}"
+        )
     x0, x1, y0, y1 = _window(mask, np.vstack([executed, others]), view)
     if ax is None:
         height = min(max(6.0 * (y1 - y0) / max(x1 - x0, 1e-9), 3.0), 9.0)
@@ -240,7 +265,7 @@ def plot_estimate(
             zorder=ZORDER["region"], capstyle="projecting",
         )  # fmt: skip
         ax.add_collection(outline)
-        region_label = _region_label(estimate, belief, values)
+        region_label = _region_label(estimate, belief, credible)
         ax.add_line(Line2D([], [], color=COLORS["region"], lw=2.0, label=region_label))
     _arrows(ax, others, COLORS["other"], lw=0.8, alpha=0.45, zorder=ZORDER["other_arrows"])
     evidence = _evidence(estimate, len(executed))
@@ -255,7 +280,7 @@ def plot_estimate(
         markers.append((tx, ty))
         _marker(ax, (tx, ty), "+", COLORS["truth"], f"true CoM ({tx:.1f}, {ty:.1f})")
     places, fontsize, (x0, x1, y0, y1) = _number_layout(ax, executed, markers, (x0, x1, y0, y1))
-    _numbers(ax, executed, colors, places, fontsize)
+    _numbers(ax, executed, colors, places, fontsize, numbers)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y1, y0)
     ax.set_xlabel("x (pixels)")

@@ -17,6 +17,8 @@ from comcore.cli.estimate import SYSTEMATIC_ERROR
 from tests.scripts import run_script
 
 HEADER = "sx,sy,ex,ey,theta,tx,ty\n"
+#: --resolution, which comcore estimate requires (unless --example): the conventions' 2.5 mm.
+RES = ["--resolution", "0.0025"]
 # A 20 x 20 square (pixels 4..23) pushed across its rows and columns; the motions are
 # comcore.LimitSurfaceModel(pusher_radius=0.004)'s for a CoM at (10.5, 10.5) and mu = 0.3 at
 # 2.5 mm per pixel (the default --model and --pusher-radius), rounded to 3 decimals.
@@ -35,18 +37,23 @@ def write_png(path, image: np.ndarray) -> None:
 
 
 @pytest.fixture
-def files(tmp_path):
+def files(tmp_path, monkeypatch):
+    """The data folder (the mask and the pushes), the mask, the pushes; run from another folder."""
     pytest.importorskip("matplotlib")
-    mask = tmp_path / "object.png"
+    data, run = tmp_path / "data", tmp_path / "run"
+    data.mkdir()
+    run.mkdir()
+    monkeypatch.chdir(run)
+    mask = data / "object.png"
     write_png(mask, np.pad(np.ones((20, 20)), 4))
-    pushes = tmp_path / "pushes.csv"
+    pushes = data / "pushes.csv"
     pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in PUSHES))
-    return tmp_path, mask, pushes
+    return data, mask, pushes
 
 
 def test_json_output_matches_the_library(files, capsys):
     _, mask, pushes = files
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--resolution", "0.01", "--method", "alg2"]) == 0  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4), resolution=0.01)
@@ -63,25 +70,38 @@ def test_json_output_matches_the_library(files, capsys):
 def test_text_output_and_overlay(files, capsys, method):
     tmp, mask, pushes = files
     overlay = tmp / f"overlay-{method}.png"
-    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method", method,
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--method", method,
             "--overlay", str(overlay)]  # fmt: skip
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert out.startswith("CoM: (") and " px = (" in out and f"method {method}" in out
+    assert out.startswith("CoM: (") and f"method {method}" in out
     assert overlay.read_bytes()[:4] == b"\x89PNG"
 
 
-def test_overlay_is_written_next_to_the_mask_by_default(files, capsys):
-    tmp, mask, pushes = files
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
-    default = tmp / "object-overlay.png"
-    assert json.loads(capsys.readouterr().out)["overlay"] == str(default)
-    assert default.read_bytes()[:4] == b"\x89PNG"
+def test_the_text_says_which_frame_the_metres_are_in(files, capsys):
+    _, mask, pushes = files
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--no-overlay",
+            "--method", "centroid"]  # fmt: skip
+    assert main(args) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == (
+        "CoM: (13.50, 13.50) px (column, row) = (0.0338, 0.0338) m in the image's frame: from "
+        "the centre of its top-left pixel, x right, y down (pixels times --resolution, not a "
+        "position on the table)"
+    )
+
+
+def test_overlay_is_written_to_the_current_folder_by_default(files, capsys):
+    data, mask, pushes = files
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["overlay"] == "object-overlay.png"
+    assert Path("object-overlay.png").read_bytes()[:4] == b"\x89PNG"
+    assert sorted(p.name for p in data.iterdir()) == ["object.png", "pushes.csv"]  # untouched
 
 
 def test_no_overlay_writes_no_picture(files, capsys):
     tmp, mask, pushes = files
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--no-overlay"]) == 0
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--no-overlay"]) == 0
     assert "overlay" not in capsys.readouterr().out
     assert sorted(p.name for p in tmp.iterdir()) == ["object.png", "pushes.csv"]
 
@@ -89,7 +109,7 @@ def test_no_overlay_writes_no_picture(files, capsys):
 def test_overlay_and_no_overlay_exclude_each_other(files, capsys):
     _, mask, pushes = files
     with pytest.raises(SystemExit) as e:
-        main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--overlay", "a.png",
+        main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--overlay", "a.png",
               "--no-overlay"])  # fmt: skip
     assert e.value.code == 2 and "not allowed with argument" in capsys.readouterr().err
 
@@ -99,12 +119,12 @@ def test_without_matplotlib_the_default_overlay_is_skipped_with_a_note(files, ca
     tmp, mask, pushes = files
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
     monkeypatch.delitem(sys.modules, "comcore.plot", raising=False)
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json"]) == 0
     captured = capsys.readouterr()
     assert json.loads(captured.out)["overlay"] is None
     assert "no overlay written" in captured.err and "pip install comcore[plot]" in captured.err
-    assert not (tmp / "object-overlay.png").exists()
-    asked = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--overlay", "o.png"]
+    assert not Path("object-overlay.png").exists() and not (tmp / "object-overlay.png").exists()
+    asked = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--overlay", "o.png"]
     assert main(asked) == 2
     assert "pip install comcore[plot]" in capsys.readouterr().err
 
@@ -166,7 +186,7 @@ CASES = ["missing mask", "not an image", "empty mask", "missing column", "NaN", 
 @pytest.mark.parametrize("name", CASES)
 def test_bad_files_exit_2_with_one_clear_line(files, capsys, name):
     args, message = bad_case(files[0], name)
-    assert main(["estimate", *args]) == 2
+    assert main(["estimate", *RES, *args]) == 2
     captured = capsys.readouterr()
     assert message in captured.err and captured.out == ""
     assert captured.err.startswith("comcore estimate: ") and captured.err.count("\n") == 1
@@ -191,7 +211,7 @@ def with_bad_pushes(path):
 
 def test_pushes_without_contact_are_dropped_with_one_warning_naming_their_lines(files, capsys):
     _, mask, pushes = files
-    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
     assert main(args) == 0
     clean = json.loads(capsys.readouterr().out)
     with_bad_pushes(pushes)
@@ -212,7 +232,7 @@ def test_a_graze_the_pushers_disc_touches_is_kept_by_the_posterior_and_dropped_b
     _, mask, pushes = files
     rows = [*PUSHES, (0, 3.49, 30, 3.49, 0.1, 3, 0)]
     pushes.write_text(HEADER + "".join(",".join(map(str, p)) + "\n" for p in rows))
-    base = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
+    base = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay"]
     assert main([*base, "--model", "none"]) == 0
     assert json.loads(capsys.readouterr().out)["dropped_lines"] == {}
     assert main([*base, "--method", "alg2"]) == 0
@@ -223,7 +243,7 @@ def test_a_graze_the_pushers_disc_touches_is_kept_by_the_posterior_and_dropped_b
 def test_used_pushes_are_named_by_csv_line_after_drops(files, capsys):
     _, mask, pushes = files
     with_bad_pushes(pushes)
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--method", "alg2"]) == 0  # fmt: skip
     used = json.loads(capsys.readouterr().out)["used_lines"]
     kept_lines = [2, 3, 5, 8]  # the lines of PUSHES once the bad ones are in
@@ -235,7 +255,7 @@ def test_used_pushes_are_named_by_csv_line_after_drops(files, capsys):
 def test_strict_refuses_pushes_without_contact(files, capsys):
     _, mask, pushes = files
     with_bad_pushes(pushes)
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--strict"]) == 2
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--strict"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and "--strict: 3 push(es)" in captured.err
     assert "CSV line(s) 4, 6, 7" in captured.err
@@ -245,18 +265,19 @@ def test_help_shows_the_defaults_and_the_unit(capsys):
     with pytest.raises(SystemExit):
         main(["estimate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert f"METRES per pixel (default {comcore.conventions.DEFAULT_RESOLUTION:g} m" in text
-    assert "[1e-05, 0.05] are refused" in text
+    assert "--resolution METRES_PER_PIXEL required (unless --example): the size of one image " \
+        "pixel on the table, in METRES per pixel" in text
+    assert "[1e-05, 0.05] are refused" in text and "default 0.0025" not in text
     assert "estimator (default posterior)" in text and "(default auto:" in text
 
 
 def test_the_overlay_says_when_it_replaces_a_file(files, capsys):
-    tmp, mask, pushes = files
-    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method", "centroid"]
+    _, mask, pushes = files
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--method", "centroid"]
     assert main(args) == 0
     assert "replaced" not in capsys.readouterr().out
     assert main(args) == 0
-    assert f"overlay: {tmp / 'object-overlay.png'} (replaced the existing file)" in (
+    assert "overlay: object-overlay.png (replaced the existing file)" in (
         capsys.readouterr().out
     )
     assert main([*args, "--json"]) == 0
@@ -266,7 +287,7 @@ def test_the_overlay_says_when_it_replaces_a_file(files, capsys):
 
 
 def estimate_json(capsys, mask, pushes, *extra):
-    args = ["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay",
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json", "--no-overlay",
             "--method", "alg2", *extra]  # fmt: skip
     code = main(args)
     captured = capsys.readouterr()
@@ -335,7 +356,7 @@ def test_the_example_overlay_goes_to_the_current_folder(tmp_path, monkeypatch, c
 
 def test_posterior_method_reports_its_credible_region(files, capsys):
     _, mask, pushes = files
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--method", "posterior", "--no-overlay"]) == 0  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
@@ -349,14 +370,14 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
     )
     assert result["region"]["bootstrap"] == comcore.active.RECORDED_BOOTSTRAP == 200
     # --bootstrap 0: the posterior's own region, not the bagged one (estimate_posterior's)
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--json",
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
                  "--bootstrap", "0", "--no-overlay"]) == 0  # fmt: skip
     plain = comcore.estimate_posterior(m, [p[:4] for p in PUSHES], [p[4:] for p in PUSHES],
                                        credible=0.9, likelihood=floor, bootstrap=0)  # fmt: skip
     result = json.loads(capsys.readouterr().out)
     assert result["region"]["area_px"] == int(plain.region.sum())
     assert result["region"]["bootstrap"] == 0
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method",
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--method",
                  "posterior", "--no-overlay"]) == 0  # fmt: skip
     assert "credible region:" in (out := capsys.readouterr().out)
     assert "(bagged: 200 resamplings of the pushes)" in out
@@ -365,7 +386,7 @@ def test_posterior_method_reports_its_credible_region(files, capsys):
 def test_the_real_entry_point_never_prints_a_traceback(files):
     tmp, mask, _ = files
     (tmp / "nan.csv").write_text(HEADER + "0,13,30,13,0.1,nan,0\n")
-    cmd = [sys.executable, "-m", "comcore", "estimate", "--mask", str(mask), "--pushes",
+    cmd = [sys.executable, "-m", "comcore", "estimate", *RES, "--mask", str(mask), "--pushes",
            str(tmp / "nan.csv")]  # fmt: skip
     root = str(Path(__file__).resolve().parents[2])
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([root, os.environ.get("PYTHONPATH", "")])}
@@ -510,8 +531,8 @@ def test_a_consistent_but_wide_region_is_wide_not_ok(files, capsys):
 
 def test_the_text_output_explains_the_status(files, capsys):
     _, mask, pushes = files
-    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes), "--method", "alg2",
-                 "--no-overlay"]) == 0  # fmt: skip
+    assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--method",
+                 "alg2", "--no-overlay"]) == 0  # fmt: skip
     out = capsys.readouterr().out
     assert "status wide: the pushes are consistent, but the region is wider than " in out
 
@@ -553,3 +574,97 @@ def test_the_centroid_baseline_says_it_checks_nothing(files, capsys):
     _, mask, pushes = files
     _, result, _ = estimate_json(capsys, mask, pushes, "--method", "centroid")
     assert result["status_meaning"] == "the area centroid, a baseline that uses no push: nothing is checked"
+
+
+# -- theta in degrees where every turn is small (--theta-units) --------------------------------
+DEGREES = "theta looks like degrees: multiply the column by pi/180"
+
+
+@pytest.fixture(scope="module")
+def small_turn_files(tmp_path_factory):
+    """The L of tests/active/test_theta_units.py as an image, its pushes in radians and in degrees."""
+    pytest.importorskip("matplotlib")
+    from tests.active.test_theta_units import small_turn_recording
+
+    mask, actions, motions = small_turn_recording()
+    tmp = tmp_path_factory.mktemp("small-turns")
+    image = tmp / "l.png"
+    write_png(image, mask.data)
+    files = {}
+    for unit, factor in (("rad", 1.0), ("deg", 180 / np.pi)):
+        rows = [",".join(f"{v:.6g}" for v in (*a, m[0] * factor, *m[1:]))
+                for a, m in zip(actions, motions)]  # fmt: skip
+        files[unit] = tmp / f"pushes-{unit}.csv"
+        files[unit].write_text(HEADER + "\n".join(rows) + "\n")
+    return image, files, mask.resolution
+
+
+METHOD_ARGS = [("--method", m) for m in ("alg1", "alg2", "alg2-rotation", "centroid")]
+
+
+@pytest.mark.parametrize("extra", [(), ("--model", "none"), *METHOD_ARGS])
+def test_small_turns_in_degrees_are_refused_for_every_method(small_turn_files, capsys, extra):
+    image, files, resolution = small_turn_files
+    base = ["estimate", "--mask", str(image), "--resolution", str(resolution), "--json",
+            "--no-overlay", *extra]  # fmt: skip
+    assert main([*base, "--pushes", str(files["rad"])]) == 0
+    honest = capsys.readouterr()
+    assert json.loads(honest.out)["mistake"] is None and DEGREES not in honest.err
+    assert main([*base, "--pushes", str(files["deg"])]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert captured.err.startswith(f"comcore estimate: --pushes: column theta: {DEGREES} (")
+    assert "--theta-units deg converts it" in captured.err
+
+
+def test_theta_units_deg_converts_and_rad_warns(small_turn_files, capsys):
+    image, files, resolution = small_turn_files
+    base = ["estimate", "--mask", str(image), "--resolution", str(resolution), "--json",
+            "--no-overlay", "--method", "alg2"]  # fmt: skip
+    assert main([*base, "--pushes", str(files["rad"])]) == 0
+    honest = json.loads(capsys.readouterr().out)
+    assert main([*base, "--pushes", str(files["deg"]), "--theta-units", "deg"]) == 0
+    converted = json.loads(capsys.readouterr().out)
+    assert converted["com_px"] == pytest.approx(honest["com_px"])
+    assert converted["status"] == honest["status"] and converted["mistake"] is None
+    assert main([*base, "--pushes", str(files["deg"]), "--theta-units", "rad"]) == 0
+    captured = capsys.readouterr()
+    vouched = json.loads(captured.out)
+    assert vouched["status"] == "inconsistent" and vouched["mistake"].startswith(DEGREES)
+    assert f"warning: status inconsistent: {DEGREES}" in captured.err
+    with pytest.raises(SystemExit):
+        main([*base, "--pushes", str(files["rad"]), "--theta-units", "degrees"])
+    assert "invalid choice: 'degrees'" in capsys.readouterr().err
+
+
+def test_without_resolution_the_error_says_what_it_is_and_how_to_measure_it(files, capsys):
+    _, mask, pushes = files
+    assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert captured.err.startswith("comcore estimate: --resolution required (or --example): ")
+    assert "METRES per pixel" in captured.err and "photograph a ruler" in captured.err
+
+
+def test_the_overlay_numbers_pushes_by_csv_line_as_the_text_does(files, capsys, monkeypatch):
+    _, mask, pushes = files
+    with_bad_pushes(pushes)  # CSV lines 2, 3, 5, 8 kept
+    drawn = {}
+    import comcore.plot
+
+    plot = comcore.plot.plot_estimate
+
+    def spy(*args, **kwargs):
+        ax = plot(*args, **kwargs)
+        drawn["numbers"] = sorted(int(t.get_text()) for t in ax.texts if t.get_text().isdigit())
+        drawn["legend"] = [t.get_text() for t in ax.get_legend().get_texts()]
+        return ax
+
+    monkeypatch.setattr(comcore.plot, "plot_estimate", spy)
+    for method in ("alg2", "posterior"):
+        assert main(["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
+                     "--method", method, "--overlay", f"{method}.png"]) == 0  # fmt: skip
+        result = json.loads(capsys.readouterr().out)
+        assert drawn["numbers"] == sorted(result["used_lines"]) and result["used_lines"]
+        if method == "posterior":
+            assert "90 % credible region" in drawn["legend"]
