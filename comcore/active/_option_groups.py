@@ -122,10 +122,18 @@ def names_the_group(entry):
     return checked
 
 
+#: Entry points that take a group for one of its fields only (:func:`check_reads_only`).
+READS_ONLY = {"estimate_posterior": {"stop": "target_radius"}}
+
+
 def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> str:
     """What :func:`names_the_group` says of the keywords ``unknown`` passed to ``name``."""
     grouped = [k for k in unknown if k in GROUPS or k in _GROUP_OF]
-    refused = [k for k in grouped if (k if k in GROUPS else _GROUP_OF[k]) not in takes]
+    only = READS_ONLY.get(name, {})
+    refused = [
+        k for k in grouped
+        if (g := k if k in GROUPS else _GROUP_OF[k]) not in takes or only.get(g, k) != k
+    ]  # fmt: skip
     if refused:
         return f"{name} chooses no pushes: option(s) {refused} do not apply"
     others = [k for k in unknown if k not in grouped]
@@ -164,3 +172,28 @@ def _unexpected(name: str, others: list[str], kwargs: dict, takes: set[str]) -> 
                 guess = f"{keyword}=comcore.{GROUPS[keyword].__name__}({guess}=...)"
             guesses += f"; {k}: did you mean {guess}?"
     return f"{name}() got unexpected keyword argument(s) {others}{guesses}"
+
+
+def check_reads_only(group, read: str, who: str, why: str) -> None:
+    """Refuse a ``group`` whose fields other than ``read`` differ from their defaults.
+
+    For an entry point that takes a group for one of its fields (a GoalSession's
+    ``stop.max_pushes``, ``estimate_posterior``'s ``stop.target_radius``): the
+    others would be silently ignored. ``why`` says why they do not apply.
+
+    >>> from comcore import StopRule
+    >>> check_reads_only(StopRule(target_radius=0.01), "target_radius", "f", "it stops nothing")
+    >>> check_reads_only(StopRule(max_pushes=3), "target_radius", "f", "it stops nothing")
+    Traceback (most recent call last):
+    ...
+    ValueError: f reads only StopRule.target_radius (it stops nothing): ['max_pushes'] do not apply
+    """
+    default = type(group)()
+    other = [
+        f.name for f in dataclasses.fields(group)
+        if f.name != read and getattr(group, f.name) != getattr(default, f.name)
+    ]  # fmt: skip
+    if other:
+        raise ValueError(
+            f"{who} reads only {type(group).__name__}.{read} ({why}): {other} do not apply"
+        )

@@ -23,7 +23,6 @@ from .._validation import (
     check_motions,
     check_one_object,
     check_per_push,
-    check_physical,
     check_rng,
     check_turns,
 )
@@ -40,12 +39,11 @@ from ._likelihood import (
     sense_flip_prob,
     tracking_noise,
 )
-from ._option_groups import check_groups, names_the_group
+from ._option_groups import check_groups, check_reads_only, names_the_group
 from ._options import (
     DEFAULT_CREDIBLE,
     DEFAULT_MODEL,
     DEFAULT_PUSHER_RADIUS,
-    DEFAULT_TARGET_RADIUS,
 )
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._records import PushLog
@@ -80,7 +78,7 @@ def estimate_posterior(
     rotation_observed=None,
     residual_px=None,
     bootstrap: int = RECORDED_BOOTSTRAP,
-    target_radius: float = DEFAULT_TARGET_RADIUS,
+    stop=None,
     rng=0,
     theta_units: str = "auto",
 ) -> Estimate:
@@ -140,12 +138,13 @@ def estimate_posterior(
         (:mod:`comcore.active._bagging`, docs/explanation/calibration.md). The estimate ``com`` is
         the posterior's mean either way, and ``posterior.history`` holds the
         posterior's own states (push by push, not bagged).
-    target_radius : float, optional
-        Radius (metres) the credible region must reach for ``"ok"``: its
-        equivalent-circle radius ``posterior.credible_radius_px`` (the bagged
-        region's) at most this; wider is ``"wide"``. Default 6 mm, the
-        sessions' ``StopRule.target_radius``: ``"ok"`` means the same here as
-        where a session stops (:class:`comcore.Status`).
+    stop : StopRule, optional
+        Only its ``target_radius`` is read (the other fields choose pushes, and
+        this chooses none; a changed one is a ValueError): the radius (metres)
+        the credible region must reach for ``"ok"``, its equivalent-circle
+        radius ``posterior.credible_radius_px`` (the bagged region's) at most
+        this; wider is ``"wide"``. Default 6 mm, as a session's: ``"ok"`` means
+        the same here as where a session stops (:class:`comcore.Status`).
     rng : None, int or numpy.random.Generator, optional
         Seed of the resamplings (default 0: the same region every call).
     theta_units : {"auto", "rad", "deg"}, optional
@@ -201,7 +200,8 @@ def estimate_posterior(
     >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
     >>> est.status, np.round(est.com, 1).tolist(), round(est.posterior.credible_radius_px, 1)
     ('wide', [11.1, 11.1], 9.0)
-    >>> comcore.estimate_posterior(mask, actions, motions, model=None, target_radius=0.025).status
+    >>> comcore.estimate_posterior(mask, actions, motions, model=None,
+    ...                           stop=comcore.StopRule(target_radius=0.025)).status
     'ok'
     >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
     True
@@ -226,10 +226,12 @@ def estimate_posterior(
     if bootstrap > MAX_BOOTSTRAP:
         raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
     rng = check_rng(rng)
-    target_radius = check_physical(target_radius, "target_radius", "target_radius")
+    groups = check_groups(likelihood=likelihood, stop=stop)
+    check_reads_only(groups["stop"], "target_radius", "estimate_posterior", "it chooses no pushes")
+    target_radius = groups["stop"].target_radius
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible,
-        check_groups(likelihood=likelihood)["likelihood"],
+        groups["likelihood"],
         RECORDED_FLOOR,
     )  # fmt: skip
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)

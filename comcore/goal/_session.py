@@ -10,8 +10,6 @@ tracked as the active session tracks it (:mod:`comcore.camera._pose_tracking`).
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from .._errors import SessionError
@@ -20,7 +18,7 @@ from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
 from .._validation import check_count, check_mask, check_physical, check_rng
 from ..active._likelihood import gyration_px
-from ..active._option_groups import check_groups, names_the_group
+from ..active._option_groups import check_groups, check_reads_only, names_the_group
 from ..active._options import (
     DEFAULT_CREDIBLE,
     DEFAULT_MODEL,
@@ -67,17 +65,9 @@ GOAL_STATUSES = (
 def _goal_options(groups, resolution: float) -> tuple[float, int]:
     """The push length (pixels) and budget a goal session reads from its ``choice`` and ``stop``."""
     stop, choice = groups["stop"], groups["choice"]
-    read_only = ((stop, StopRule(), "max_pushes"), (choice, PushChoice(), "travel"))
-    for group, default, read in read_only:
-        other = [
-            f.name for f in dataclasses.fields(group)
-            if f.name != read and getattr(group, f.name) != getattr(default, f.name)
-        ]  # fmt: skip
-        if other:
-            raise ValueError(
-                f"a GoalSession reads only {type(group).__name__}.{read} (it plans its own "
-                f"pushes and stops at the goal): {other} do not apply"
-            )
+    why = "it plans its own pushes and stops at the goal"
+    check_reads_only(stop, "max_pushes", "a GoalSession", why)
+    check_reads_only(choice, "travel", "a GoalSession", why)
     if stop.max_pushes < 1:
         raise ValueError("stop.max_pushes must be at least 1 for a GoalSession, got 0")
     travel_px = choice.travel / resolution

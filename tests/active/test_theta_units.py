@@ -51,7 +51,8 @@ def test_a_small_turn_recording_in_degrees_is_refused_by_estimate_posterior(smal
     degrees = motions * [180 / math.pi, 1, 1]
     assert np.all(np.abs(degrees[:, 0]) < math.pi)  # the check that theta <= pi passes it
     honest = comcore.estimate_posterior(mask, actions, motions)
-    assert honest.status == "ok" and honest.error_px(TRUE_COM) < 3
+    # consistent, its 90 % region wider than the 6 mm target: "wide"
+    assert honest.status == "wide" and honest.error_px(TRUE_COM) < 3
     with pytest.raises(ValueError, match=r"motions\[:, 0\]: " + MESSAGE) as e:
         comcore.estimate_posterior(mask, actions, degrees)
     assert "theta_units='deg' converts them" in str(e.value)
@@ -79,7 +80,7 @@ def test_without_a_model_nothing_is_checked(small_turns):
     # the Voting Theorem reads the senses alone, which the unit does not change
     mask, actions, motions = small_turns
     est = comcore.estimate_posterior(mask, actions, motions * [180 / math.pi, 1, 1], model=None)
-    assert est.status in ("ok", "inconsistent", "no_evidence")
+    assert est.status in ("ok", "wide", "inconsistent", "no_evidence")
 
 
 def test_the_calibration_script_runs():

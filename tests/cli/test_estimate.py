@@ -627,7 +627,8 @@ def test_theta_units_deg_converts_and_rad_warns(small_turn_files, capsys):
     converted = json.loads(capsys.readouterr().out)
     assert converted["com_px"] == pytest.approx(honest["com_px"])
     assert converted["status"] == honest["status"] and converted["mistake"] is None
-    assert main([*base, "--pushes", str(files["deg"]), "--theta-units", "rad"]) == 0
+    # rad: estimated, reported inconsistent: exit 3, the answer not to be used
+    assert main([*base, "--pushes", str(files["deg"]), "--theta-units", "rad"]) == 3
     captured = capsys.readouterr()
     vouched = json.loads(captured.out)
     assert vouched["status"] == "inconsistent" and vouched["mistake"].startswith(DEGREES)
