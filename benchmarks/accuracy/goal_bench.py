@@ -92,6 +92,20 @@ def _drive(robot, session, loop_limit=200) -> bool:
     return True
 
 
+def largest_turn(start: float, goal, thetas) -> float:
+    """The largest turn on the way (radians): how far the orientation left the band it need cross.
+
+    The band runs from the orientation at the goal session's start to the
+    goal's (just the start where the goal leaves the orientation free); the
+    turn after each push is the true orientation's distance outside it, 0
+    inside. For a translation (goal = start) it is the largest
+    ``|orientation - start|``; for a pose goal, the largest overshoot past the
+    goal's orientation or swing back past the start, not the turn asked for.
+    """
+    low, high = sorted((start, start if goal is None else goal))
+    return max((max(low - t, t - high, 0.0) for t in thetas), default=0.0)
+
+
 def run_strategy(strategy, sim, goal, args, robot_seed):
     """One trial of one strategy: a JSON-able row."""
     robot = simulators.SimulatedRobot(
@@ -120,6 +134,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
     else:
         prior = None
     start_rotations = len(robot.history)
+    start_theta = robot.pose.theta
     if strategy == "estimate-first" and prior is None:
         status, pushes = "lost", 0
     else:
@@ -132,7 +147,9 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
     target = goal.target_px(first)
     pos_err = math.hypot(truth.tx - target[0], truth.ty - target[1]) * first.resolution
     ang_err = abs(truth.theta - goal.orientation)
-    turned = sum(abs(p.motion.theta) for p in robot.history[start_rotations:])
+    pushed = robot.history[start_rotations:]
+    turned = sum(abs(p.motion.theta) for p in pushed)
+    widest = largest_turn(start_theta, goal.orientation, [p.pose.theta for p in pushed])
     return {
         "strategy": strategy,
         "status": status,
@@ -144,6 +161,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         "success": bool(pos_err <= 0.01 and ang_err <= math.radians(3)),
         "success_2deg": bool(pos_err <= 0.01 and ang_err <= math.radians(2)),
         "turned_deg": math.degrees(turned),
+        "largest_turn_deg": math.degrees(widest),
     }
 
 
@@ -152,9 +170,9 @@ def summary(rows) -> str:
     lines = [
         "| goals | strategy | trials | success (1 cm, 3 deg) | success (1 cm, 2 deg) | pushes "
         "(median) | pushes / lower bound | pushes / oracle's | final error cm (median) | "
-        "final error deg (median) | rotation on the way deg (median) | estimation pushes "
-        "(median) |",
-        "|" + "---|" * 12,
+        "final error deg (median) | rotation on the way deg (median) | largest turn on the way "
+        "deg (median / max) | estimation pushes (median) |",
+        "|" + "---|" * 13,
     ]
     for kind in KINDS:
         oracle = {
@@ -167,6 +185,7 @@ def summary(rows) -> str:
             if not mine:
                 continue
             pushes = np.array([r["pushes"] for r in mine], float)
+            widest = [r["largest_turn_deg"] for r in mine]
             bound = np.array([r["lower_bound"] for r in mine], float)
             paired = [(r["pushes"], oracle[r["trial_id"]]) for r in mine if r["trial_id"] in oracle]
             ratio = sum(p for p, _ in paired) / max(sum(o for _, o in paired), 1)
@@ -178,6 +197,7 @@ def summary(rows) -> str:
                 f"{np.median([r['pos_err_cm'] for r in mine]):.2f} | "
                 f"{np.median([r['ang_err_deg'] for r in mine]):.1f} | "
                 f"{np.median([r['turned_deg'] for r in mine]):.0f} | "
+                f"{np.median(widest):.0f} / {np.max(widest):.0f} | "
                 f"{np.median([r['estimate_pushes'] for r in mine]):.0f} |"
             )
     return "\n".join(lines)
