@@ -14,7 +14,12 @@ Goals are drawn with the seed: ``translation`` (20 cm in a random direction,
 the orientation held: within 2 degrees at the end) and ``pose`` (10-30 cm
 away, an orientation change of 0-90 degrees either way). Success: the true
 pose within 1 cm and 3 degrees (2 degrees for ``translation``, counted apart).
-One JSON line per (trial, strategy) goes to ``--out``; a table to stdout.
+The largest turn on the way is how far the true orientation, after any push
+of the goal session, lay outside the band from its orientation at the
+session's start to the goal's (:func:`largest_turn`: for a translation the
+largest ``|orientation - start|``); ``--max-turn`` bounds it in the goals
+(:attr:`comcore.Goal.max_turn`). One JSON line per (trial, strategy) goes to
+``--out``; a table to stdout.
 
 Example::
 
@@ -53,8 +58,8 @@ def _timed(plan):
 goal_session.plan_push = _timed(goal_session.plan_push)
 
 
-def draw_goal(kind: str, rng: np.random.Generator) -> tuple[comcore.Goal, float]:
-    """A goal of ``kind`` and its distance (metres)."""
+def draw_goal(kind: str, rng: np.random.Generator, max_turn=None) -> tuple[comcore.Goal, float]:
+    """A goal of ``kind`` and its distance (metres); ``max_turn`` its bound (radians, or None)."""
     angle = rng.uniform(0, 2 * math.pi)
     if kind == "translation":
         dist, theta, tol = 0.20, 0.0, math.radians(2.0)
@@ -66,6 +71,7 @@ def draw_goal(kind: str, rng: np.random.Generator) -> tuple[comcore.Goal, float]
         displacement=(dist * math.cos(angle), dist * math.sin(angle)),
         orientation=theta,
         orientation_tolerance=tol,
+        max_turn=max_turn,
     )
     return goal, dist
 
@@ -215,6 +221,10 @@ def main(argv=None):
     parser.add_argument("--pusher-offset", type=float, default=0.0, help="std, metres")
     parser.add_argument("--max-pushes", type=int, default=30)
     parser.add_argument("--margin", type=float, default=0.40, help="camera margin, metres")
+    parser.add_argument(
+        "--max-turn", type=float, default=None,
+        help="the goals' max_turn, degrees (default: unbounded)",
+    )  # fmt: skip
     parser.add_argument("--timing", action="store_true", help="print the planner's step times")
     parser.add_argument("--out", default=None, help="JSON lines, one per trial and strategy")
     args = parser.parse_args(argv)
@@ -231,7 +241,8 @@ def main(argv=None):
                     sim = simulators.accepted_random_simulator(
                         name, friction, rng=lambda attempt, key=key: [*key, attempt]
                     )
-                    goal, dist = draw_goal(kind, np.random.default_rng([*key, 99]))
+                    bound = None if args.max_turn is None else math.radians(args.max_turn)
+                    goal, dist = draw_goal(kind, np.random.default_rng([*key, 99]), bound)
                     for strategy in args.strategies:
                         start = time.perf_counter()
                         row = run_strategy(strategy, sim, goal, args, robot_seed=key)
