@@ -176,7 +176,7 @@ def summary(rows) -> str:
     lines = [
         "| goals | strategy | trials | success (1 cm, 3 deg) | success (1 cm, 2 deg) | pushes "
         "(median) | pushes / lower bound | pushes / oracle's | final error cm (median) | "
-        "final error deg (median) | rotation on the way deg (median) | largest turn on the way "
+        "final error deg (median) | summed rotation deg (median) | largest turn on the way "
         "deg (median / max) | estimation pushes (median) |",
         "|" + "---|" * 13,
     ]
