@@ -157,6 +157,13 @@ class GoalSession(PushLoop):
     :attr:`pose` computes nothing: the session checks the goal and plans the
     next push when its state changes (construction, :meth:`observe`).
 
+    **Poses.** :attr:`pose` is a :class:`comcore.Motion` in pixels (the turn
+    since the first mask and how far its area centroid has moved), as
+    :attr:`ActiveSession.pose`; :attr:`pose_m` is the same pose with its
+    translation in metres, the units of a :class:`Goal`. Both are in the
+    first mask's frame: x right, +y down the screen, theta counter-clockwise
+    on screen.
+
     Parameters
     ----------
     mask : Mask
