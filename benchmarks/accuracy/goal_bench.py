@@ -14,7 +14,12 @@ Goals are drawn with the seed: ``translation`` (20 cm in a random direction,
 the orientation held: within 2 degrees at the end) and ``pose`` (10-30 cm
 away, an orientation change of 0-90 degrees either way). Success: the true
 pose within 1 cm and 3 degrees (2 degrees for ``translation``, counted apart).
-One JSON line per (trial, strategy) goes to ``--out``; a table to stdout.
+The largest turn on the way is how far the true orientation, after any push
+of the goal session, lay outside the band from its orientation at the
+session's start to the goal's (:func:`largest_turn`: for a translation the
+largest ``|orientation - start|``); ``--max-turn`` bounds it in the goals
+(:attr:`comcore.Goal.max_turn`). One JSON line per (trial, strategy) goes to
+``--out``; a table to stdout.
 
 Example::
 
@@ -53,8 +58,8 @@ def _timed(plan):
 goal_session.plan_push = _timed(goal_session.plan_push)
 
 
-def draw_goal(kind: str, rng: np.random.Generator) -> tuple[comcore.Goal, float]:
-    """A goal of ``kind`` and its distance (metres)."""
+def draw_goal(kind: str, rng: np.random.Generator, max_turn=None) -> tuple[comcore.Goal, float]:
+    """A goal of ``kind`` and its distance (metres); ``max_turn`` its bound (radians, or None)."""
     angle = rng.uniform(0, 2 * math.pi)
     if kind == "translation":
         dist, theta, tol = 0.20, 0.0, math.radians(2.0)
@@ -66,6 +71,7 @@ def draw_goal(kind: str, rng: np.random.Generator) -> tuple[comcore.Goal, float]
         displacement=(dist * math.cos(angle), dist * math.sin(angle)),
         orientation=theta,
         orientation_tolerance=tol,
+        max_turn=max_turn,
     )
     return goal, dist
 
@@ -90,6 +96,20 @@ def _drive(robot, session, loop_limit=200) -> bool:
             return False
         session.observe(mask)
     return True
+
+
+def largest_turn(start: float, goal, thetas) -> float:
+    """The largest turn on the way (radians): how far the orientation left the band it need cross.
+
+    The band runs from the orientation at the goal session's start to the
+    goal's (just the start where the goal leaves the orientation free); the
+    turn after each push is the true orientation's distance outside it, 0
+    inside. For a translation (goal = start) it is the largest
+    ``|orientation - start|``; for a pose goal, the largest overshoot past the
+    goal's orientation or swing back past the start, not the turn asked for.
+    """
+    low, high = sorted((start, start if goal is None else goal))
+    return max((max(low - t, t - high, 0.0) for t in thetas), default=0.0)
 
 
 def run_strategy(strategy, sim, goal, args, robot_seed):
@@ -120,6 +140,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
     else:
         prior = None
     start_rotations = len(robot.history)
+    start_theta = robot.pose.theta
     if strategy == "estimate-first" and prior is None:
         status, pushes = "lost", 0
     else:
@@ -132,7 +153,9 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
     target = goal.target_px(first)
     pos_err = math.hypot(truth.tx - target[0], truth.ty - target[1]) * first.resolution
     ang_err = abs(truth.theta - goal.orientation)
-    turned = sum(abs(p.motion.theta) for p in robot.history[start_rotations:])
+    pushed = robot.history[start_rotations:]
+    turned = sum(abs(p.motion.theta) for p in pushed)
+    widest = largest_turn(start_theta, goal.orientation, [p.pose.theta for p in pushed])
     return {
         "strategy": strategy,
         "status": status,
@@ -144,6 +167,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         "success": bool(pos_err <= 0.01 and ang_err <= math.radians(3)),
         "success_2deg": bool(pos_err <= 0.01 and ang_err <= math.radians(2)),
         "turned_deg": math.degrees(turned),
+        "largest_turn_deg": math.degrees(widest),
     }
 
 
@@ -152,9 +176,9 @@ def summary(rows) -> str:
     lines = [
         "| goals | strategy | trials | success (1 cm, 3 deg) | success (1 cm, 2 deg) | pushes "
         "(median) | pushes / lower bound | pushes / oracle's | final error cm (median) | "
-        "final error deg (median) | rotation on the way deg (median) | estimation pushes "
-        "(median) |",
-        "|" + "---|" * 12,
+        "final error deg (median) | summed rotation deg (median) | largest turn on the way "
+        "deg (median / max) | estimation pushes (median) |",
+        "|" + "---|" * 13,
     ]
     for kind in KINDS:
         oracle = {
@@ -167,6 +191,7 @@ def summary(rows) -> str:
             if not mine:
                 continue
             pushes = np.array([r["pushes"] for r in mine], float)
+            widest = [r["largest_turn_deg"] for r in mine]
             bound = np.array([r["lower_bound"] for r in mine], float)
             paired = [(r["pushes"], oracle[r["trial_id"]]) for r in mine if r["trial_id"] in oracle]
             ratio = sum(p for p, _ in paired) / max(sum(o for _, o in paired), 1)
@@ -178,6 +203,7 @@ def summary(rows) -> str:
                 f"{np.median([r['pos_err_cm'] for r in mine]):.2f} | "
                 f"{np.median([r['ang_err_deg'] for r in mine]):.1f} | "
                 f"{np.median([r['turned_deg'] for r in mine]):.0f} | "
+                f"{np.median(widest):.0f} / {np.max(widest):.0f} | "
                 f"{np.median([r['estimate_pushes'] for r in mine]):.0f} |"
             )
     return "\n".join(lines)
@@ -195,6 +221,10 @@ def main(argv=None):
     parser.add_argument("--pusher-offset", type=float, default=0.0, help="std, metres")
     parser.add_argument("--max-pushes", type=int, default=30)
     parser.add_argument("--margin", type=float, default=0.40, help="camera margin, metres")
+    parser.add_argument(
+        "--max-turn", type=float, default=None,
+        help="the goals' max_turn, degrees (default: unbounded)",
+    )  # fmt: skip
     parser.add_argument("--timing", action="store_true", help="print the planner's step times")
     parser.add_argument("--out", default=None, help="JSON lines, one per trial and strategy")
     args = parser.parse_args(argv)
@@ -211,7 +241,8 @@ def main(argv=None):
                     sim = simulators.accepted_random_simulator(
                         name, friction, rng=lambda attempt, key=key: [*key, attempt]
                     )
-                    goal, dist = draw_goal(kind, np.random.default_rng([*key, 99]))
+                    bound = None if args.max_turn is None else math.radians(args.max_turn)
+                    goal, dist = draw_goal(kind, np.random.default_rng([*key, 99]), bound)
                     for strategy in args.strategies:
                         start = time.perf_counter()
                         row = run_strategy(strategy, sim, goal, args, robot_seed=key)

@@ -10,6 +10,13 @@ model's error, the lookahead), among pushes along a direction
 
 from ._session import GoalSession
 from ._translation import TranslationPush, translation_push
-from ._types import CoMHypotheses, Goal
+from ._types import CoMHypotheses, Goal, MetricPose
 
-__all__ = ["CoMHypotheses", "Goal", "GoalSession", "TranslationPush", "translation_push"]
+__all__ = [
+    "CoMHypotheses",
+    "Goal",
+    "GoalSession",
+    "MetricPose",
+    "TranslationPush",
+    "translation_push",
+]

@@ -26,7 +26,14 @@ from ..conventions import rotate_components
 from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motions
 from ._types import Goal
 
-__all__ = ["follow_ups", "model_variance", "pose_cost", "reached", "spread_picks"]
+__all__ = [
+    "follow_ups",
+    "model_variance",
+    "pose_cost",
+    "reached",
+    "spread_picks",
+    "turn_outside",
+]
 
 #: Directions (evenly spaced in the object's frame) of the follow-up pushes.
 FOLLOW_DIRECTIONS = 8
@@ -56,6 +63,12 @@ def pose_cost(goal: Goal, target_px, resolution: float, theta, tx, ty) -> np.nda
     if goal.orientation is not None:
         cost = cost + ((theta - goal.orientation) / goal.orientation_tolerance) ** 2
     return cost
+
+
+def turn_outside(theta, band) -> np.ndarray:
+    """How far (radians, >= 0) orientations ``theta`` lie outside ``band`` = (low, high)."""
+    low, high = band
+    return np.maximum(np.maximum(low - theta, theta - high), 0.0)
 
 
 def reached(goal: Goal, target_px, resolution: float, pose: Motion, margin=(0.0, 0.0)) -> bool:
@@ -108,7 +121,7 @@ def model_variance(
 
 def follow_ups(
     first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner,
-    scales: Likelihood = _SCALES,
+    scales: Likelihood = _SCALES, turn=None,
 ):  # fmt: skip
     """The least expected cost of one more push from each pose (inf: none), coarse.
 
@@ -118,7 +131,9 @@ def follow_ups(
     taught the posterior), or None.
     The follow-ups are pushes along ``directions`` of the object's own frame
     (radians): their motions do not depend on the pose, so one prediction
-    serves every pose (the view is not checked for them).
+    serves every pose (the view is not checked for them). ``turn``, None or
+    ``(low, high, limit)`` radians, leaves out the follow-ups whose mean
+    predicted orientation lies more than ``limit`` outside ``[low, high]``.
     """
     offsets = np.stack(
         [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
@@ -140,6 +155,9 @@ def follow_ups(
     x, y = rotate_components(mx, my, c, s, origin=(tx, ty))  # the poses after the pushes
     each = pose_cost(goal, target_px, first.resolution, theta + raw[None, ..., 0], x, y) + extra
     cost = (weights[None] * each).sum(axis=1)  # (P, a)
+    if turn is not None:  # the goal's max_turn, as for the first push
+        outside = turn_outside(theta + raw[None, ..., 0], turn[:2])
+        cost = np.where((weights[None] * outside).sum(axis=1) <= turn[2] + 1e-9, cost, np.inf)
     if FOLLOW_LEARNED and owner is not None:  # the pose's own particle, as if taught
         own = each[np.arange(len(owner)), owner]
         cost = FOLLOW_LEARNED * own + (1 - FOLLOW_LEARNED) * cost

@@ -78,6 +78,7 @@ from ._costs import (
     pose_cost,
     reached,
     spread_picks,
+    turn_outside,
 )
 from ._translation import (
     STANDOFF_M,
@@ -143,8 +144,8 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
     return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
 
 
-def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales):
-    """Expected cost of each candidate (inf: it would carry the object out of view), poses."""
+def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn=None):
+    """Expected cost of each candidate (inf: out of view, or past the turn bound), poses."""
     raw = predict_motions(model, first, actions, hyps)
     motions = camera_motions(raw, pose)  # (n_h, a, 3)
     theta = pose.theta + motions[..., 0]
@@ -162,12 +163,16 @@ def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scal
     moves = np.hypot(motions[..., 1], motions[..., 2]) * first.resolution >= MISS_TRANSLATION_M
     moves |= np.abs(motions[..., 0]) >= MISS_ROTATION
     keeps_view &= (weights * moves).sum(axis=0) >= 0.5
+    if turn is not None:  # the goal's max_turn: the mean predicted turn outside the band
+        low, high, limit = turn
+        keeps_view &= (weights * turn_outside(theta, (low, high))).sum(axis=0) <= limit + 1e-9
     return np.where(keeps_view, cost, np.inf), (theta, tx, ty, each)
 
 
 def _coarse(
-    first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least, scales
-):
+    first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least, scales,
+    turn,
+):  # fmt: skip
     """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None)."""
     goal_angle = left = None
     if target_px is not None:
@@ -186,7 +191,7 @@ def _coarse(
     actions, cam_actions = actions[in_view], cam_actions[in_view]
     if len(actions) == 0:
         return None
-    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales)
+    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn)
     return actions, cam_actions, cost
 
 
@@ -203,6 +208,7 @@ def plan_push(
     allowed=None,
     min_travel_px: float = 0.0,
     scales=_SCALES,
+    turn=None,
 ) -> Plan | None:
     """The push of least expected remaining pose error, or None when none gets closer.
 
@@ -212,7 +218,10 @@ def plan_push(
     ``min_travel_px`` the least travel after contact (the session raises it
     after a push that did not move the object); ``scales`` the session's
     :class:`comcore.Likelihood`, whose model-error scales the cost counts
-    (default ``Likelihood()``'s).
+    (default ``Likelihood()``'s); ``turn`` None or ``(low, high, limit)``
+    radians: no push (nor follow-up) is offered whose mean predicted
+    orientation lies more than ``limit`` outside ``[low, high]`` (the goal's
+    :attr:`~comcore.Goal.max_turn`).
     """
     res = first.resolution
     cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
@@ -220,7 +229,7 @@ def plan_push(
     index, share = _systematic(hyps.weights, COARSE_PARTICLES)
     coarse = CoMHypotheses(hyps.coms[index], hyps.mus[index], share)
     options = (model, max_travel_px, pusher_radius, reach_px, allowed)
-    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px, scales)
+    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px, scales, turn)
     if found is None:
         return None
     actions, cam_actions, cost = found
@@ -229,7 +238,7 @@ def plan_push(
         return None
     actions, cam_actions = actions[keep], cam_actions[keep]
     cost, (theta, tx, ty, each) = _expected(
-        first, pose, goal, target_px, hyps, model, actions, reach_px, scales
+        first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn
     )
     weights = hyps.weights[:, None]
     means = [(weights * v).sum(axis=0) for v in (theta, tx, ty)]
@@ -260,6 +269,7 @@ def plan_push(
             directions,
             owner,
             scales,
+            turn,
         ).reshape(len(index), len(order))
         closed = share @ follow
         value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)

@@ -36,10 +36,11 @@ from ..camera._pose_tracking import (
     relative,
     symmetric_branches,
 )
+from ._costs import turn_outside
 from ._planner import plan_push, reached
 from ._prior import prior_particles, touches_border
 from ._translation import STANDOFF_M, planning_model
-from ._types import PLANNING_PARTICLES, Goal, hypotheses_from
+from ._types import PLANNING_PARTICLES, Goal, MetricPose, hypotheses_from
 
 __all__ = ["GOAL_STATUSES", "GoalSession"]
 
@@ -60,6 +61,43 @@ GOAL_STATUSES = (
     Status.STUCK,
     Status.LOST,
 )
+
+
+def unit_hints(goal: Goal, first: Mask) -> str:
+    """What a goal outside the camera's view was likely meant as, the likelier reading first.
+
+    Only for a goal in metres (``units="m"``). Each reading (the numbers as
+    millimetres, ``/ 1000``, or as pixels, ``units="px"``) is ranked first by
+    whether it puts the object in view, then by how near the distance it asks
+    is to the object's size in the mask (its diameter about the centroid), on
+    a log scale: goals are a few object sizes away, so 100 meant for a 5 cm
+    object reads as 10 cm (millimetres) before 25 cm (pixels at 2.5 mm), and 8
+    meant for it reads as 2 cm (pixels) before 8 mm.
+    """
+    if goal.units != "m":
+        return ": pixels beyond the image?"
+    h, w = first.shape
+    cx, cy = first.centroid
+    size = 2.0 * float(np.hypot(*(first.pixels - first.centroid).T).max()) + 1.0
+    field = "displacement" if goal.displacement is not None else "position"
+    given = goal.displacement if goal.displacement is not None else goal.position
+    readings = []
+    for label, scaled in (
+        ("millimetres", dataclasses.replace(goal, **{field: tuple(v / 1000 for v in given)})),
+        ("pixels", dataclasses.replace(goal, units="px")),
+    ):
+        tx, ty = scaled.target_px(first)
+        in_view = 0 <= cx + tx <= w - 1 and 0 <= cy + ty <= h - 1
+        fit = abs(np.log((np.hypot(tx, ty) + 1.0) / size))
+        if label == "millimetres":
+            numbers = ", ".join(f"{v / 1000:g}" for v in given)
+            hint = f"millimetres, {field}=({numbers}) in metres"
+        else:
+            hint = "pixels, units='px'"
+        readings.append((not in_view, fit, hint))
+    readings.sort()
+    first_hint, second_hint = (hint for *_, hint in readings)
+    return f": did you mean {first_hint}? Or {second_hint}?"
 
 
 def _goal_options(groups, resolution: float) -> tuple[float, int]:
@@ -108,6 +146,13 @@ class GoalSession(PushLoop):
     ``observe(out_of_view=True)``). Reading :attr:`done`, :attr:`status` or
     :attr:`pose` computes nothing: the session checks the goal and plans the
     next push when its state changes (construction, :meth:`observe`).
+
+    **Poses.** :attr:`pose` is a :class:`comcore.Motion` in pixels (the turn
+    since the first mask and how far its area centroid has moved), as
+    :attr:`ActiveSession.pose`; :attr:`pose_m` is the same pose with its
+    translation in metres, the units of a :class:`Goal`. Both are in the
+    first mask's frame: x right, +y down the screen, theta counter-clockwise
+    on screen.
 
     Parameters
     ----------
@@ -241,6 +286,7 @@ class GoalSession(PushLoop):
         self._reach = float(np.hypot(*(self._first.pixels - self._first.centroid).T).max()) + 1
         self._gyration = gyration_px(self._first)
         self._pose = start
+        self._band = goal.turn_band(start.theta)  # what max_turn bounds the turn outside of
         self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
         self._n_pushes, self._final, self._plan, self._handed_out = 0, None, None, False
         self._min_travel = 0.0  # after a push that did not move the object: a longer one
@@ -255,7 +301,7 @@ class GoalSession(PushLoop):
         if not (0 <= x <= w - 1 and 0 <= y <= h - 1):
             raise ValueError(
                 f"goal puts the object's centroid at ({x:.0f}, {y:.0f}) px, outside the camera's "
-                f"{w} x {h} px view: metres given as pixels (units='px')?"
+                f"{w} x {h} px view" + unit_hints(self._goal, self._first)
             )
 
     # -- state ---------------------------------------------------------------------------
@@ -270,10 +316,14 @@ class GoalSession(PushLoop):
             self._final = Status.BUDGET
             return
         hyps = self._fixed or hypotheses_from(self._posterior, self._first, self._n_particles)
+        turn = None
+        if self._goal.max_turn is not None:  # once past the bound, no push that goes further
+            now = float(turn_outside(self._pose.theta, self._band))
+            turn = (*self._band, max(self._goal.max_turn, now))
         self._plan = plan_push(
             self._first, self._pose, self._goal, self._target, hyps, self._planner,
             self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
-            self._likelihood,
+            self._likelihood, turn,
         )  # fmt: skip
         if self._plan is None:
             self._final = Status.STUCK
@@ -282,6 +332,19 @@ class GoalSession(PushLoop):
     def goal(self) -> Goal:
         """The goal."""
         return self._goal
+
+    @property
+    def pose_m(self) -> MetricPose:
+        """:attr:`pose` with its translation in metres: the first mask's frame, +y down the screen.
+
+        ``theta`` (radians, counter-clockwise on screen) is the turn since the
+        first mask; ``(tx, ty)`` how far its area centroid has moved, in
+        metres (``resolution *`` :attr:`pose`'s pixels): the units of a
+        :class:`Goal`'s ``displacement``, which it is compared with directly
+        (a ``position`` is ``first.centroid_m`` plus it).
+        """
+        res = self._first.resolution
+        return MetricPose(self._pose.theta, self._pose.tx * res, self._pose.ty * res)
 
     @property
     def expected_cost(self) -> float | None:

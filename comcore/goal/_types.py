@@ -26,6 +26,7 @@ __all__ = [
     "PLANNING_PARTICLES",
     "CoMHypotheses",
     "Goal",
+    "MetricPose",
     "estimate_frictions",
     "hypotheses_from",
 ]
@@ -50,6 +51,13 @@ def _pair(value, name: str) -> tuple[float, float] | None:
 class Goal:
     """The pose to push an object to, in the first mask's camera frame.
 
+    **The frame is the camera's pixel frame, relative to the first mask**: x
+    to the right (columns), **+y down the screen** (rows), not a robot's or a
+    table's y-up world frame; ``orientation`` counter-clockwise as seen on
+    screen. ``displacement=(0, 0.1)`` moves the object 10 cm *down* the image;
+    a robot whose world y points up the screen passes ``(dx, -dy)``
+    (docs/explanation/conventions.md).
+
     The pose has the form of :attr:`comcore.ActiveSession.pose`: the object's
     rotation ``theta`` since the first mask and where the first mask's area
     centroid (the material point under it) has gone. Give the position as a
@@ -64,7 +72,7 @@ class Goal:
         mask's frame (metres are ``resolution * (x, y)``, as
         :meth:`comcore.Mask.to_metres`).
     displacement : (float, float), optional
-        How far it should move, in ``units`` (x right, y down the screen).
+        How far it should move, in ``units`` (x right, +y down the screen).
     orientation : float, optional
         The rotation (radians, counter-clockwise on screen) relative to the
         first mask; 0 holds the first orientation. Within ``[-2 pi, 2 pi]``.
@@ -74,6 +82,14 @@ class Goal:
         Metres (default 0.01): the goal is reached when the point is this close.
     orientation_tolerance : float, optional
         Radians (default 3 degrees).
+    max_turn : float, optional
+        Radians: how far the object may turn on the way beyond the band from
+        its orientation at the session's start to the goal's (just the start
+        where the orientation is free). The planner does not make a push
+        predicted (mean over the posterior's particles) to leave the band by
+        more, nor, once the object is past it, further than it is; the
+        camera may still see it turn more, as the motion model errs. None
+        (default): unbounded. Within ``(0, 2 pi]``.
 
     Raises
     ------
@@ -99,6 +115,7 @@ class Goal:
     units: str = "m"
     position_tolerance: float = 0.01
     orientation_tolerance: float = math.radians(3.0)
+    max_turn: float | None = None
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -129,6 +146,25 @@ class Goal:
                 + (" (degrees?)" if angle > math.pi else "")
             )
         set_(self, "orientation_tolerance", angle)
+        if self.max_turn is not None:
+            bound = check_finite(self.max_turn, "Goal.max_turn")
+            if not 0 < bound <= 2 * math.pi:
+                raise ValueError(
+                    f"Goal.max_turn must be in (0, 2 pi] radians, got {bound:g}"
+                    + (f" (degrees? math.radians({bound:g}) = {math.radians(bound):.4g})"
+                       if bound > 2 * math.pi else "")
+                )  # fmt: skip
+            set_(self, "max_turn", bound)
+
+    def turn_band(self, start: float) -> tuple[float, float]:
+        """The orientations (radians, low and high) the object may pass without turning on the way.
+
+        From ``start`` (the orientation at the session's start) to the goal's
+        orientation (just ``start`` where it is free); :attr:`max_turn` bounds
+        how far outside it a push may take the object.
+        """
+        end = start if self.orientation is None else self.orientation
+        return (min(start, end), max(start, end))
 
     @property
     def has_position(self) -> bool:
@@ -144,6 +180,22 @@ class Goal:
             cx, cy = first.centroid
             return (self.position[0] * scale - cx, self.position[1] * scale - cy)
         return None
+
+
+class MetricPose(NamedTuple):
+    """A pose with its translation in metres (:attr:`comcore.GoalSession.pose_m`).
+
+    The form of :attr:`comcore.GoalSession.pose` (a :class:`comcore.Motion`,
+    pixels) in the units of a :class:`Goal`: the first mask's frame, x right
+    and +y down the screen.
+    """
+
+    theta: float
+    """The turn since the first mask, radians, counter-clockwise on screen."""
+    tx: float
+    """How far the first mask's area centroid has moved along x (right), metres."""
+    ty: float
+    """How far it has moved along y (down the screen), metres."""
 
 
 class CoMHypotheses(NamedTuple):

@@ -21,6 +21,17 @@ def test_goal_bench_runs_and_writes_a_row_per_trial_and_strategy(tmp_path):
     assert all(r["lower_bound"] == 4 and r["kind"] == "translation" for r in rows)
     assert all(r["status"] in ("reached", "budget", "stuck", "lost") for r in rows)
     assert "| translation | oracle | 1 |" in table and "planning step: median" in table
+    assert "largest turn on the way deg (median / max)" in table
+    # a translation's largest turn is a |orientation - start| reached: within the summed turns
+    assert all(0 <= r["largest_turn_deg"] <= r["turned_deg"] + 1e-9 for r in rows)
+
+
+def test_goal_bench_bounds_the_turn_with_max_turn(tmp_path):
+    out = tmp_path / "rows.jsonl"
+    args = ["--objects", "Obj8", "--friction", "low", "--kinds", "pose", "--strategies", "oracle"]
+    run_script("benchmarks/accuracy/goal_bench.py", *args, "--max-turn", "10", "--out", str(out))
+    (row,) = [json.loads(line) for line in out.read_text().splitlines()]
+    assert row["status"] in ("reached", "budget", "stuck", "lost") and row["largest_turn_deg"] >= 0
 
 
 def test_goal_figure_draws_a_run(tmp_path):

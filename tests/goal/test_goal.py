@@ -297,3 +297,134 @@ def test_the_earlier_keywords_say_which_group_to_pass():
         comcore.GoalSession(first, goal, stop=comcore.StopRule(target_radius=0.01), model=None)
     with pytest.raises(ValueError, match=r"reads only PushChoice.travel .*\['cone'\]"):
         comcore.GoalSession(first, goal, choice=comcore.PushChoice(cone=0.2), model=None)
+
+
+# -- the frame, the units, the metric pose --------------------------------------------------
+
+
+def test_goal_states_its_frame_where_it_is_introduced():
+    """+y is down the screen (the pixel frame), relative to the first mask: said in the docstring."""
+    doc = " ".join(comcore.Goal.__doc__.split())
+    assert "+y down the screen" in doc and "relative to the first mask" in doc
+    assert "not a robot's or a table's y-up world frame" in doc
+
+
+def test_a_goal_down_the_screen_is_pushed_down_the_image():
+    first = _plate()
+    session = comcore.GoalSession(first, comcore.Goal(displacement=(0.0, 0.02)), model=None, rng=0)
+    push = session.next_push()
+    assert push.ey > push.sy  # +y: larger rows, down the image
+    session.observe(motion=(0.0, 0.0, 8.0))  # 8 px = 2 cm down the screen
+    assert session.status == "reached"
+
+
+def _wide_plate():
+    """The 7.5 x 5 cm plate in an 80 x 82 cm view: millimetres and pixels both fit in it."""
+    return comcore.Mask(np.pad(np.ones((20, 30), bool), 150))
+
+
+@pytest.mark.parametrize(
+    ("first", "goal", "likelier"),
+    [
+        # 100 (meant as mm) on a 7.5 cm plate: 10 cm reads as a goal, 25 cm (px) less so
+        (_wide_plate(), comcore.Goal(displacement=(100, 0)), "millimetres"),
+        # in the small view only the millimetres put the object in view
+        (_plate(), comcore.Goal(displacement=(100, 0)), "millimetres"),
+        (_plate(), comcore.Goal(position=(150, 120)), "millimetres"),
+        # 8 on a 7.5 cm plate: 2 cm (px) reads as a goal, 8 mm less so
+        (_wide_plate(), comcore.Goal(displacement=(8, 0)), "pixels"),
+        (_wide_plate(), comcore.Goal(displacement=(30, -40)), "pixels"),
+    ],
+)
+def test_a_goal_out_of_view_hints_at_the_likelier_unit_first(first, goal, likelier):
+    with pytest.raises(ValueError, match="outside the camera's") as info:
+        comcore.GoalSession(first, goal, model=None)
+    message = str(info.value)
+    field = "displacement" if goal.displacement is not None else "position"
+    numbers = ", ".join(f"{v / 1000:g}" for v in getattr(goal, field))
+    mm, px = f"millimetres, {field}=({numbers}) in metres", "pixels, units='px'"
+    first_hint, second_hint = (mm, px) if likelier == "millimetres" else (px, mm)
+    assert message.endswith(f": did you mean {first_hint}? Or {second_hint}?"), message
+
+
+def test_a_goal_in_pixels_out_of_view_gets_no_unit_hint():
+    with pytest.raises(ValueError, match=r"outside the camera's 100 x 90 px view: pixels beyond"):
+        comcore.GoalSession(_plate(), comcore.Goal(displacement=(60, 0), units="px"), model=None)
+
+
+def test_pose_m_is_the_pose_with_its_translation_in_metres():
+    first = _plate()  # 2.5 mm a pixel
+    goal = comcore.Goal(displacement=(0.05, 0.0))
+    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    assert session.pose_m == (0.0, 0.0, 0.0)
+    session.next_push()
+    session.observe(motion=(0.1, 8.0, -2.0))
+    assert session.pose == comcore.Motion(0.1, 8.0, -2.0)
+    assert isinstance(session.pose_m, comcore.goal.MetricPose)
+    np.testing.assert_allclose(session.pose_m, (0.1, 0.02, -0.005))
+    assert session.pose_m._fields == ("theta", "tx", "ty")
+
+
+# -- the bound on the turn on the way ---------------------------------------------------------
+
+
+def test_goal_max_turn_validates():
+    assert comcore.Goal(displacement=(0.1, 0.0)).max_turn is None
+    assert comcore.Goal(displacement=(0.1, 0.0), max_turn=0.5).max_turn == 0.5
+    with pytest.raises(ValueError, match=r"max_turn must be in \(0, 2 pi\] radians, got 30 \(degrees"):
+        comcore.Goal(displacement=(0.1, 0.0), max_turn=30)
+    with pytest.raises(ValueError, match="max_turn must be in"):
+        comcore.Goal(displacement=(0.1, 0.0), max_turn=0.0)
+    assert comcore.Goal(orientation=-1.0).turn_band(0.2) == (-1.0, 0.2)
+    assert comcore.Goal(displacement=(0.1, 0.0)).turn_band(0.2) == (0.2, 0.2)
+
+
+def _big_plate_oracle():
+    mask = comcore.Mask(np.pad(np.ones((20, 30), bool), 60))
+    com = (50.0, 48.0)  # 4.5 px left of and 3.5 px below the centroid
+    return mask, comcore.goal.CoMHypotheses(np.array([com]), np.array([0.3]), np.ones(1))
+
+
+@pytest.mark.parametrize("displacement", [(0.1, 0.0), (0.0, 0.1), (0.07, 0.07)])
+def test_max_turn_keeps_the_planned_turn_within_the_bound(displacement):
+    """The orientation free: unbounded, the known-CoM planner turns the plate 30-75 degrees."""
+    mask, oracle = _big_plate_oracle()
+    bound = math.radians(5)
+    plans = {}
+    for max_turn in (None, bound):
+        goal = comcore.Goal(displacement=displacement, max_turn=max_turn)
+        session = comcore.GoalSession(mask, goal, prior=oracle, learn=False, model=None, rng=0)
+        assert session.status == "waiting_push"
+        plans[max_turn] = session._plan.expected_pose.theta  # one particle: its prediction
+    assert abs(plans[None]) > 4 * bound
+    assert abs(plans[bound]) <= bound + 1e-9
+
+
+@pytest.mark.parametrize(("displacement", "turned"), [((0.0, 0.1), -20.0), ((0.1, 0.0), 40.0)])
+def test_max_turn_past_the_bound_allows_no_push_that_turns_further(displacement, turned):
+    """A push turned the plate past the bound (mispredicted): the next may not turn it further."""
+    mask, oracle = _big_plate_oracle()
+    plans = {}
+    for max_turn in (None, math.radians(5)):
+        goal = comcore.Goal(displacement=displacement, max_turn=max_turn)
+        session = comcore.GoalSession(mask, goal, prior=oracle, learn=False, model=None, rng=0)
+        session.next_push()
+        session.observe(motion=(math.radians(turned), 0.0, 4.0))
+        assert session.status == "waiting_push"
+        plans[max_turn] = math.degrees(session._plan.expected_pose.theta)
+    assert abs(plans[None]) > abs(turned) + 10  # unbounded, it would turn the plate further
+    assert abs(plans[math.radians(5)]) <= abs(turned) + 1e-6
+
+
+def test_max_turn_bounds_the_follow_ups_too():
+    mask, oracle = _big_plate_oracle()
+    from comcore.goal._costs import follow_ups
+    from comcore.goal._translation import planning_model
+
+    goal = comcore.Goal(displacement=(0.0, 0.1))
+    poses = (np.zeros(1), np.zeros(1), np.zeros(1))
+    directions = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    args = (mask, poses, goal, goal.target_px(mask), oracle, planning_model(0.004), 20.0, 0.004)
+    free = follow_ups(*args, directions, None)
+    bounded = follow_ups(*args, directions, None, turn=(0.0, 0.0, math.radians(0.01)))
+    assert np.isfinite(free).all() and (bounded >= free).all() and (bounded > free).any()
