@@ -10,6 +10,8 @@ tracked as the active session tracks it (:mod:`comcore.camera._pose_tracking`).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from .._errors import SessionError
