@@ -103,7 +103,7 @@ def check_estimator_options(label: str) -> None:
     >>> check_estimator_options("alg2(min_scor=0.5)")
     Traceback (most recent call last):
     ...
-    ValueError: estimators: 'alg2(min_scor=0.5)': alg2 has no option min_scor (did you mean min_score?); its options: area_ratio, band, min_rotation, min_score, mu, pusher_radius, selection
+    ValueError: estimators: 'alg2(min_scor=0.5)': alg2 has no option min_scor (did you mean min_score?); its options: area_ratio, band, min_rotation, min_score, mu, pusher_radius, selection, target_radius
     """  # noqa: E501
     spec, options = parse_estimator(label)
     accepted = accepted_options(spec)

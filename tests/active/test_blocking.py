@@ -600,8 +600,9 @@ def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
         comcore.estimate_active(mask, push, stop={"max_pushes": 2})
     with pytest.raises(TypeError, match=r"\['max_push'\]; max_push: did you mean stop=comcore"):
         comcore.estimate_active(mask, push, max_push=2)
-    with pytest.raises(TypeError, match="chooses no pushes"):
-        comcore.estimate_posterior(mask, [(0, 13, 60, 13)], [(0.1, 1, 0)], stop=comcore.StopRule())
+    with pytest.raises(ValueError, match=r"reads only StopRule\.target_radius \(it chooses no pushes\)"):
+        comcore.estimate_posterior(mask, [(0, 13, 60, 13)], [(0.1, 1, 0)],
+                                   stop=comcore.StopRule(max_pushes=3))  # fmt: skip
 
 
 def test_a_rotation_within_the_tracking_noise_tells_less_about_the_side():
