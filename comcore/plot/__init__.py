@@ -20,7 +20,7 @@ Examples
 >>> est = comcore.estimate_progressive(mask, actions, motions)
 >>> ax = comcore.plot.plot_estimate(mask, est, actions=actions, truth=(10.5, 10.5))
 >>> ax.get_title()
-'Alg. 2 region: CoM (10.5, 10.5) px, 4 of 4 pushes used'
+'Alg. 2 region: CoM (10.5, 10.5) px, 4 of 4 pushes used, status wide'
 >>> ax.figure.savefig("estimate.png")  # doctest: +SKIP
 """
 
