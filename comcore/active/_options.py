@@ -272,7 +272,9 @@ class StopRule:
         The credible region's radius (metres) at which the session stops
         ``"ok"`` (default 6 mm, as :func:`comcore.estimate_posterior`'s;
         :class:`comcore.Status` maps the statuses). A region can be no
-        smaller than a pixel (``0.56 * resolution``); at most 0.5 m.
+        smaller than part of a pixel (its last pixel counts in part: a
+        posterior on one pixel has radius ``sqrt(credible / pi)`` pixels,
+        0.535 at 90 %); at most 0.5 m.
     min_information : float
         Stop when no push is expected to teach more bits than this.
 
