@@ -77,7 +77,9 @@ class Status(_StrEnum):
         instead, naming why it stopped wide.
     UNCHECKED : "unchecked"
         Alg. 1 (:func:`comcore.estimate_heatmap`) found a region, but nothing
-        tests its evidence: any motions, right or wrong, give one.
+        tests its evidence: any motions, right or wrong, give one. Also the
+        area-centroid baseline (``comcore estimate --method centroid``, the
+        bench's ``centroid``), which uses no push at all.
     NO_ACTIONS : "no_actions"
         No push could be used (none given, or none turned the object enough);
         the estimate is the mask's area centroid.

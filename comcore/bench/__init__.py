@@ -11,7 +11,7 @@ Examples
 >>> result = run_benchmark(BenchConfig(objects=("Obj3",), trials=1, frictions=("low",),
 ...                                    candidates=8, estimators=("alg2", "centroid")))
 >>> [(r["estimator"], r["status"]) for r in result.rows]
-[('alg2', 'wide'), ('centroid', 'ok')]
+[('alg2', 'wide'), ('centroid', 'unchecked')]
 """
 
 from ._conditions import friction_table, run_conditions

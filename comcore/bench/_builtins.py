@@ -47,7 +47,12 @@ def _alg2_rotation(ctx: TrialContext, **options) -> comcore.Estimate:
 
 def _centroid(ctx: TrialContext) -> comcore.Estimate:
     mask = ctx.mask
-    return comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
+    return comcore.Estimate(  # a baseline that uses no push: nothing is checked
+        com=mask.centroid,
+        com_m=mask.centroid_m,
+        region=mask.data,
+        status=comcore.Status.UNCHECKED,
+    )
 
 
 def _hypothesis_model(ctx: TrialContext, model):

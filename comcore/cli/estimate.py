@@ -332,7 +332,12 @@ def estimate(
             mask, actions, motions, selection=selection, target_radius=target_radius
         )
     if method == "centroid":
-        return comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
+        return comcore.Estimate(  # a baseline that uses no push: nothing is checked
+            com=mask.centroid,
+            com_m=mask.centroid_m,
+            region=mask.data,
+            status=comcore.Status.UNCHECKED,
+        )
     raise ValueError(f"method must be one of {methods()}, got {method!r}")
 
 
@@ -516,7 +521,11 @@ def run(args) -> int:
     if mistake:
         print(f"comcore estimate: warning: status inconsistent: {mistake}", file=sys.stderr)
     elif not est.ok and est.status != comcore.Status.WIDE:  # wide: usable, explained in the output
-        meaning = status_meaning(est.status, args.target_radius)
+        meaning = (
+            CENTROID_MEANING
+            if args.method == "centroid"
+            else status_meaning(est.status, args.target_radius)
+        )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake)
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est

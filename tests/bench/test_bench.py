@@ -125,7 +125,7 @@ def test_failing_estimator_is_recorded_not_raised(registry):
     rows = run_trial(TrialSpec("Obj3", "low", 0, candidates=4, estimators=("broken", "centroid")))
     assert rows[0]["status"] == "error" and "ValueError: no luck" in rows[0]["message"]
     assert rows[0]["error_px"] == pytest.approx(rows[1]["error_px"])  # centroid fallback
-    assert rows[1]["status"] == "ok"
+    assert rows[1]["status"] == "unchecked"  # the centroid baseline ran: it checks nothing
 
 
 def test_learned_predictor_gets_twelve_prior_pushes(registry):
@@ -267,4 +267,4 @@ def test_a_failing_predictor_fails_only_the_estimators_that_need_it(registry):
     )
     assert rows[0]["status"] == "error"
     assert "predictor 'broken' failed: RuntimeError: weights missing" in rows[0]["message"]
-    assert rows[1]["status"] == "ok" and rows[1]["message"] == ""
+    assert rows[1]["status"] == "unchecked" and rows[1]["message"] == ""
