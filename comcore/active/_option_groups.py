@@ -122,20 +122,28 @@ def names_the_group(entry):
     return checked
 
 
-#: Entry points that take a group for one of its fields only (:func:`check_reads_only`).
-READS_ONLY = {"estimate_posterior": {"stop": "target_radius"}}
+#: Entry points that take a group for some of its fields only, the field each reads, and why
+#: the others do not apply (:func:`check_reads_only` refuses them in a group, and
+#: :func:`names_the_group` as flat keywords).
+READS_ONLY = {
+    "estimate_posterior": ({"stop": "target_radius"}, "chooses no pushes"),
+    "GoalSession": (
+        {"stop": "max_pushes", "choice": "travel"},
+        "plans its own pushes and stops at the goal",
+    ),
+}
 
 
 def _refusal(name: str, unknown: list[str], kwargs: dict, takes: set[str]) -> str:
     """What :func:`names_the_group` says of the keywords ``unknown`` passed to ``name``."""
     grouped = [k for k in unknown if k in GROUPS or k in _GROUP_OF]
-    only = READS_ONLY.get(name, {})
+    only, why = READS_ONLY.get(name, ({}, "chooses no pushes"))
     refused = [
         k for k in grouped
         if (g := k if k in GROUPS else _GROUP_OF[k]) not in takes or only.get(g, k) != k
     ]  # fmt: skip
     if refused:
-        return f"{name} chooses no pushes: option(s) {refused} do not apply"
+        return f"{name} {why}: option(s) {refused} do not apply"
     others = [k for k in unknown if k not in grouped]
     parts = [_in_groups(name, grouped, kwargs)] if grouped else []
     if others:
@@ -174,26 +182,29 @@ def _unexpected(name: str, others: list[str], kwargs: dict, takes: set[str]) -> 
     return f"{name}() got unexpected keyword argument(s) {others}{guesses}"
 
 
-def check_reads_only(group, read: str, who: str, why: str) -> None:
-    """Refuse a ``group`` whose fields other than ``read`` differ from their defaults.
+def check_reads_only(who: str, groups: dict) -> None:
+    """Refuse a group of ``groups`` whose fields but the one ``who`` reads changed.
 
-    For an entry point that takes a group for one of its fields (a GoalSession's
-    ``stop.max_pushes``, ``estimate_posterior``'s ``stop.target_radius``): the
-    others would be silently ignored. ``why`` says why they do not apply.
+    ``who`` is an entry point of :data:`READS_ONLY` (``estimate_posterior``,
+    ``GoalSession``), ``groups`` what :func:`check_groups` returned for it: a
+    changed field it does not read would be silently ignored.
 
     >>> from comcore import StopRule
-    >>> check_reads_only(StopRule(target_radius=0.01), "target_radius", "f", "it stops nothing")
-    >>> check_reads_only(StopRule(max_pushes=3), "target_radius", "f", "it stops nothing")
+    >>> check_reads_only("estimate_posterior", {"stop": StopRule(target_radius=0.01)})
+    >>> check_reads_only("estimate_posterior", {"stop": StopRule(max_pushes=3)})
     Traceback (most recent call last):
     ...
-    ValueError: f reads only StopRule.target_radius (it stops nothing): ['max_pushes'] do not apply
-    """
-    default = type(group)()
-    other = [
-        f.name for f in dataclasses.fields(group)
-        if f.name != read and getattr(group, f.name) != getattr(default, f.name)
-    ]  # fmt: skip
-    if other:
-        raise ValueError(
-            f"{who} reads only {type(group).__name__}.{read} ({why}): {other} do not apply"
-        )
+    ValueError: estimate_posterior reads only StopRule.target_radius (it chooses no pushes): ['max_pushes'] do not apply
+    """  # noqa: E501
+    reads, why = READS_ONLY[who]
+    for keyword, read in reads.items():
+        group = groups[keyword]
+        default = type(group)()
+        other = [
+            f.name for f in dataclasses.fields(group)
+            if f.name != read and getattr(group, f.name) != getattr(default, f.name)
+        ]  # fmt: skip
+        if other:
+            raise ValueError(
+                f"{who} reads only {type(group).__name__}.{read} (it {why}): {other} do not apply"
+            )

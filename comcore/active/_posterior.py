@@ -227,7 +227,7 @@ def estimate_posterior(
         raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
     rng = check_rng(rng)
     groups = check_groups(likelihood=likelihood, stop=stop)
-    check_reads_only(groups["stop"], "target_radius", "estimate_posterior", "it chooses no pushes")
+    check_reads_only("estimate_posterior", groups)
     target_radius = groups["stop"].target_radius
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible,

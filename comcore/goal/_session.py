@@ -105,9 +105,7 @@ def unit_hints(goal: Goal, first: Mask) -> str:
 def _goal_options(groups, resolution: float) -> tuple[float, int]:
     """The push length (pixels) and budget a goal session reads from its ``choice`` and ``stop``."""
     stop, choice = groups["stop"], groups["choice"]
-    why = "it plans its own pushes and stops at the goal"
-    check_reads_only(stop, "max_pushes", "a GoalSession", why)
-    check_reads_only(choice, "travel", "a GoalSession", why)
+    check_reads_only("GoalSession", groups)
     if stop.max_pushes < 1:
         raise ValueError("stop.max_pushes must be at least 1 for a GoalSession, got 0")
     travel_px = choice.travel / resolution

@@ -25,29 +25,12 @@ from comcore.active._likelihood import (
 from comcore.active._options import DEFAULT_MODEL
 from comcore.geometry._disc_contacts import pusher_contacts
 from comcore.vt._force_lines import LINE_SCALE_PX, push_force_lines
+from tests.active.test_blocking import ToyModel  # the Voting Theorem's sense, |theta| by lever
 
 #: A 20 x 20 plate, 6 px margin: object pixels 6..25, centroid (15.5, 15.5).
 PLATE = comcore.Mask(np.pad(np.ones((20, 20), bool), 6))
 #: A push from the left along the plate's axis of symmetry y = 15.5 (along the normal).
 PUSH = np.array([0.0, 15.5, 30.0, 15.5])
-
-
-class LeverModel:
-    """Toy physics: the Voting Theorem's sense, |theta| growing with the lever arm."""
-
-    def predict_hypotheses(self, mask, actions, coms, mu):
-        acts = comcore.checks.check_actions(actions)
-        coms = np.asarray(coms, dtype=float)
-        con = comcore.geometry.contacts(mask, acts)
-        out = np.zeros((len(coms), len(acts), 3))
-        for j, a in enumerate(acts):
-            direction = (a[2:] - a[:2]) / np.hypot(*(a[2:] - a[:2]))
-            sense = comcore.vt.predicted_sense(coms, con.point[j], con.normal[j], direction, mu)
-            lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0]
-            theta = sense * 0.4 * np.tanh(np.abs(lever) / 8.0)
-            out[:, j, 0] = theta
-            out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
-        return out
 
 
 def _setup(likelihood=None, models=(), mask=PLATE, actions=(PUSH,)):
@@ -61,7 +44,7 @@ def _setup(likelihood=None, models=(), mask=PLATE, actions=(PUSH,)):
 
 
 def _true_motion(com, action=PUSH, mu=0.4):
-    return LeverModel().predict_hypotheses(PLATE, [action], [com], mu)[0, 0]
+    return ToyModel().predict_hypotheses(PLATE, [action], [com], mu)[0, 0]
 
 
 def _index(post, xy):
@@ -130,7 +113,7 @@ def test_evidence_shapes_with_and_without_a_model():
     ev, excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], (0.1, 5.0, 0.0))
     assert ev.full.shape == excess.shape == (p, 3, 1)  # no model: one hypothesis column
     assert ev.tempered.shape == (1, p, 3, 1)
-    scoring, post, lines = _setup(likelihood, [LeverModel()])
+    scoring, post, lines = _setup(likelihood, [ToyModel()])
     ev, excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], (0.1, 5.0, 0.0))
     assert ev.full.shape == excess.shape == post.log_w.shape == (p, 3, 2)
     assert ev.tempered.shape == (4, p, 3, 2)  # one row per power of model_weight
@@ -142,7 +125,7 @@ def test_evidence_shapes_with_and_without_a_model():
 @pytest.mark.parametrize("with_model", [False, True])
 @pytest.mark.parametrize("com", [(12.0, 10.0), (20.0, 21.0), (9.0, 24.0)])
 def test_the_true_com_scores_higher_than_its_mirror_across_the_push(com, with_model):
-    models = [LeverModel()] if with_model else []
+    models = [ToyModel()] if with_model else []
     scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), models)
     ev, excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], _true_motion(com))
     mirror = (com[0], 31.0 - com[1])  # across the push line y = 15.5
@@ -164,7 +147,7 @@ def test_the_senses_are_a_distribution_and_their_excess_is_zero_on_average():
 
 
 def test_the_tempered_rows_weaken_the_model_s_term():
-    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [LeverModel()])
+    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [ToyModel()])
     ev, _ = push_evidence(post, scoring, PLATE, PUSH, lines[0], _true_motion((12.0, 10.0)))
     spread = [np.ptp(row) for row in ev.tempered]  # the powers 0.25, 0.4, 0.6, 1 in order
     assert np.all(np.diff(spread) > 0)
@@ -177,7 +160,7 @@ def test_an_unobserved_rotation_scores_neither_its_sense_nor_its_size():
     )
     np.testing.assert_allclose(ev.full, 0.0, atol=1e-15)  # senses alone: no information
     np.testing.assert_allclose(excess, 0.0)
-    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [LeverModel()])
+    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [ToyModel()])
     one, _ = push_evidence(
         post, scoring, PLATE, PUSH, lines[0], (0.2, 5.0, 0.0), rotation_observed=False
     )
@@ -192,10 +175,10 @@ def test_the_order_of_the_pushes_does_not_matter():
     actions = comcore.sample_pushes(PLATE, 4, cone=0.3, rng=1)
     com = (12.0, 19.0)
     for models, likelihood in (((), comcore.Likelihood()),
-                               ((LeverModel(),), comcore.Likelihood(model_weight=1.0, n_mu=2))):  # fmt: skip
+                               ((ToyModel(),), comcore.Likelihood(model_weight=1.0, n_mu=2))):  # fmt: skip
         scoring, _, lines = _setup(likelihood, models, actions=actions)
         motions = [
-            LeverModel().predict_hypotheses(PLATE, [a], [com], 0.4)[0, 0] for a in actions
+            ToyModel().predict_hypotheses(PLATE, [a], [com], 0.4)[0, 0] for a in actions
         ]
         posteriors = []
         for order in ([0, 1, 2, 3], [3, 1, 0, 2]):
@@ -302,7 +285,7 @@ def test_without_a_model_there_is_one_temper_and_one_scale():
     likelihood = comcore.Likelihood(model_scales=(1.0, 1.5, 2.0))
     bare = Scoring.build(likelihood, PLATE, ())
     assert (bare.n_tempers, bare.n_scales) == (1, 1)
-    modelled = Scoring.build(likelihood, PLATE, (LeverModel(), LeverModel()))
+    modelled = Scoring.build(likelihood, PLATE, (ToyModel(), ToyModel()))
     assert (modelled.n_tempers, modelled.n_scales) == (4, 3)
     post = modelled.posterior(np.zeros((5, 2)), np.full(5, 0.2))
     assert isinstance(post, GridPosterior) and post.log_w.shape == (5, 6, 6)
@@ -313,7 +296,7 @@ def test_check_models():
     (default,) = check_models(DEFAULT_MODEL, 0.003)
     assert isinstance(default, comcore.LimitSurfaceModel) and default.pusher_radius == 0.003
     assert check_models(None) == ()
-    model = LeverModel()
+    model = ToyModel()
     assert check_models(model) == (model,)
     assert check_models([model, model]) == (model, model)
     with pytest.raises(TypeError, match="model must implement comcore.HypothesisPredictor .* got str"):

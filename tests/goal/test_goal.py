@@ -297,6 +297,10 @@ def test_the_earlier_keywords_say_which_group_to_pass():
         comcore.GoalSession(first, goal, stop=comcore.StopRule(target_radius=0.01), model=None)
     with pytest.raises(ValueError, match=r"reads only PushChoice.travel .*\['cone'\]"):
         comcore.GoalSession(first, goal, choice=comcore.PushChoice(cone=0.2), model=None)
+    # a flat option of a field the goal does not read is refused as such, not sent to its group
+    with pytest.raises(TypeError, match=r"GoalSession plans its own pushes and stops at the goal: "
+                       r"option\(s\) \['target_radius'\] do not apply"):  # fmt: skip
+        comcore.GoalSession(first, goal, target_radius=0.01)
 
 
 # -- the frame, the units, the metric pose --------------------------------------------------
