@@ -18,6 +18,7 @@ in the subpackage that holds it:
 * :mod:`comcore.recordings`: recorded pushes (and ``comcore.recordings.mit_push``).
 * :mod:`comcore.active`: the active session, its likelihood, choice and stop rule.
 * :mod:`comcore.goal`: pushing to a goal pose.
+* :mod:`comcore.ros`: estimates as ROS messages' fields (plain dicts, no ROS needed).
 * :mod:`comcore.plot`, :mod:`comcore.cli`, :mod:`comcore.bench`: pictures, the
   command line and the benchmark (each loads its extras when imported).
 
@@ -43,6 +44,7 @@ from . import goal as goal
 from . import motion as motion
 from . import paper as paper
 from . import recordings as recordings
+from . import ros as ros
 from . import vt as vt
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._mask import Mask

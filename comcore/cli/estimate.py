@@ -113,6 +113,8 @@ RESOLUTION_HELP = (
     "measure it: photograph a ruler or an object of known length lying on the table, and "
     "divide its length in metres by its length in pixels"
 )
+#: ``--frame-id``'s default: the mask frame (metres, x along the columns, y down the rows).
+MASK_FRAME_ID = "comcore_mask"
 #: The motion models of ``--model`` (the posterior's), the default first.
 MODELS = ("limit-surface", "none")
 
@@ -190,6 +192,13 @@ def add_arguments(parser) -> None:
     _add_model_arguments(parser)
     _add_status_arguments(parser)
     add("--json", action="store_true", help="print one JSON object instead of text")
+    add(
+        "--frame-id",
+        default=MASK_FRAME_ID,
+        help="the tf frame named in the JSON's ROS messages (\"ros\": InertiaStamped and "
+        "PoseWithCovarianceStamped fields, comcore.ros.ros_messages); default "
+        f"{MASK_FRAME_ID}: the mask frame's metres, x along the columns, y down the rows",
+    )
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
         "--overlay",
@@ -417,6 +426,10 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
         "covariance_px2": None if est.covariance is None else np.asarray(est.covariance).tolist(),
         "overlay": None,
         "overlay_replaced": False,
+        "ros": comcore.ros.ros_messages(
+            dataclasses.replace(est, status=status), frame_id=args.frame_id,
+            resolution=mask.resolution,
+        ),
     }
 
 
@@ -479,6 +492,8 @@ def run(args) -> int:
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
         args.target_radius = _target(args.target_radius)
+        if not args.frame_id.strip():
+            raise InputError("--frame-id must name a tf frame, got an empty string")
         if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
             raise InputError(
                 f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"

@@ -669,3 +669,30 @@ def test_the_overlay_numbers_pushes_by_csv_line_as_the_text_does(files, capsys, 
         assert drawn["numbers"] == sorted(result["used_lines"]) and result["used_lines"]
         if method == "posterior":
             assert "90 % credible region" in drawn["legend"]
+
+
+def test_json_carries_the_estimate_as_ros_messages(files, capsys):
+    _, mask, pushes = files
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--json",
+            "--method", "posterior", "--model", "none", "--no-overlay"]  # fmt: skip
+    assert main([*args, "--frame-id", "table_cam"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    ros = result["ros"]
+    com = ros["inertia_stamped"]["inertia"]["com"]
+    assert [com["x"], com["y"]] == pytest.approx(result["com_m"])
+    assert ros["inertia_stamped"]["header"]["frame_id"] == "table_cam"
+    assert ros["status"] == result["status"]
+    cov = np.reshape(ros["pose_with_covariance_stamped"]["pose"]["covariance"], (6, 6))
+    np.testing.assert_allclose(cov[:2, :2], 0.0025**2 * np.array(result["covariance_px2"]))
+    assert main(args) == 0  # the default frame: the mask's
+    assert json.loads(capsys.readouterr().out)["ros"]["inertia_stamped"]["header"]["frame_id"] == (
+        "comcore_mask"
+    )
+
+
+def test_an_empty_frame_id_is_refused(files, capsys):
+    _, mask, pushes = files
+    args = ["estimate", *RES, "--mask", str(mask), "--pushes", str(pushes), "--frame-id", " ",
+            "--no-overlay"]  # fmt: skip
+    assert main(args) == 2
+    assert "--frame-id" in capsys.readouterr().err

@@ -133,7 +133,7 @@ LAYERS = (
     ("comcore.geometry",),
     ("comcore.vt",),
     ("comcore.motion", "comcore.camera", "comcore.recordings", "comcore.paper"),
-    ("comcore.active",),
+    ("comcore.active", "comcore.ros"),
     ("comcore.goal",),
     ("comcore.plot",),
     ("comcore.cli", "comcore.bench", "comcore.__main__"),

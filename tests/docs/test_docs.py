@@ -35,6 +35,9 @@ OPTIONAL_MODULES = frozenset(
         "pyarrow",
         "h5py",  # [real]
         "mujoco",  # [mujoco]
+        "rosbags",  # [ros]
+        "rclpy",  # ROS 2's own (not on PyPI): its blocks run only where ROS 2 is installed
+        "geometry_msgs",
     }
 )
 

@@ -37,6 +37,7 @@ PUBLIC = (
     "comcore.recordings.mit_push",
     "comcore.active",
     "comcore.goal",
+    "comcore.ros",
     "comcore.plot",
     "predictors",
     "predictors.oracle",
