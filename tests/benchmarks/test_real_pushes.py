@@ -80,3 +80,19 @@ def test_real_pushes_script_on_simulated_recordings(tmp_path):
     assert disc["vt"]["all"]["error_cm"] == pytest.approx(
         res["real"]["vt"]["all"]["error_cm"], abs=0.1
     )
+
+
+def test_theta_units_real_on_simulated_recordings(tmp_path):
+    """Radians as recorded: no false alarm; the table has a row per k and all pushes."""
+    h5py = pytest.importorskip("h5py")
+    simulators = pytest.importorskip("simulators")
+    data = tmp_path / "data"
+    (data / "abs" / "train").mkdir(parents=True)
+    (data / "shapes.json").write_text(json.dumps({"shapes": {"rect1": {"polygon_m": RECT}}}))
+    write_pushes(data / "abs" / "train", h5py, simulators)
+    stdout = run_script(
+        "benchmarks/realdata/theta_units_real.py", str(data), "--objects", "rect1", "--ks", "2",
+        "--subsets", "2",
+    )  # fmt: skip
+    assert "| rect1 | 2 | 2 |" in stdout and "| rect1 | all | 1 |" in stdout
+    assert "total: 0 false alarms in 3 honest recordings" in stdout
