@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import sys
 import time
@@ -82,6 +83,13 @@ MODELS = {
         {"likelihood": dataclasses.replace(SCALES["likelihood"], model_weight=1.0)},
     ),
 }
+# the tracker's noise widened to the spread of one real push over its 2000 repeats (std of the
+# rotation over 8.5 h at 3 cm, benchmarks/realdata/push_noise.py; the translation's 0.2-0.5 mm
+# is within the default's 0.5 mm)
+MODELS["noise-repeats"] = (
+    _lsm,
+    {"likelihood": comcore.Likelihood(motion_noise=(math.radians(1.1), 0.0005))},
+)
 # a floor on the CoM's error that more pushes do not average away (Likelihood.systematic_error;
 # estimate_posterior's default is comcore.active.RECORDED_SYSTEMATIC_ERROR, the sessions' 0):
 # sys0 is estimate_posterior before it had the floor; that default was chosen on the train

@@ -9,8 +9,11 @@ a robot pushing flat steel plates with a round tip: one file per push, the
 tip's and the object's poses (and a force-torque sensor's wrench) at about
 250 Hz, as h5 (needs h5py: ``pip install comcore[real]``) or JSON, each with
 three tables of rows ``(t, x, y, yaw)`` / ``(t, fx, fy, torque_z)``:
-``tip_pose``, ``object_pose`` and ``ft_wrench``. The file name says what the
-push was (:func:`parse_name`). :func:`load_pushes` turns files into a
+``tip_pose``, ``object_pose`` and ``ft_wrench``. A JSON file is one object
+whose keys are those tables, each a list of rows (``{"tip_pose": [[t, x, y,
+yaw], ...], ...}``, as the lab's analysis scripts write it), in the h5's units
+(seconds of the ROS clock, metres, radians, newtons and newton-metres). The
+file name says what the push was (:func:`parse_name`). :func:`load_pushes` turns files into a
 :class:`comcore.Recording` through :func:`comcore.recording_from_poses`.
 The outlines of the four analytic plates are in :data:`OUTLINES`; others
 (``butter``) come from the dataset's ``shape_db.py``. See docs/how-to/recordings.md.
@@ -82,7 +85,7 @@ for _outline in OUTLINES.values():
 
 _NAME = re.compile(
     r"motion_surface=(?P<surface>[^_]+)_shape=(?P<shape>.+?)_a=(?P<a>[-\d.]+)_v=(?P<v>[-\d.]+)"
-    r"_i=(?P<i>[-\d.]+)_s=(?P<s>[-\d.]+)_t=(?P<t>[-\d.]+)\.(?:h5|json)$"
+    r"_i=(?P<i>[-\d.]+)_s=(?P<s>[-\d.]+)_t=(?P<t>[-\d.]+)(?:_rep=(?P<rep>\d+))?\.(?:h5|json)$"
 )
 
 
@@ -105,6 +108,9 @@ class PushName(NamedTuple):
     angle: float
     """Push angle, radians: the approach direction is the outward normal turned
     counter-clockwise by it; the pusher moves opposite to it."""
+    repeat: int | None = None
+    """The repeat's number (a name ending ``_rep=NNNN``: one push made again and again), or
+    None."""
 
 
 class PushFile(NamedTuple):
@@ -127,7 +133,8 @@ def parse_name(path) -> PushName:
     ------
     ValueError
         If the name does not follow
-        ``motion_surface=<s>_shape=<s>_a=<a>_v=<v>_i=<i>_s=<s>_t=<t>.h5`` (or ``.json``).
+        ``motion_surface=<s>_shape=<s>_a=<a>_v=<v>_i=<i>_s=<s>_t=<t>.h5`` (or ``.json``;
+        a repeat's name ends ``_t=<t>_rep=<n>.h5``).
     """
     base = os.path.basename(os.fspath(path))
     m = _NAME.match(base)
@@ -144,13 +151,19 @@ def parse_name(path) -> PushName:
         round(float(m["i"])),
         float(m["s"]),
         float(m["t"]),
+        None if m["rep"] is None else int(m["rep"]),
     )
 
 
 def _table(data, key: str, path) -> np.ndarray:
     if key not in data:
         raise ValueError(f"{os.fspath(path)!r} has no {key!r} table (found {sorted(data)})")
-    arr = np.asarray(data[key], dtype=float)
+    try:
+        arr = np.asarray(data[key], dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(
+            f"{os.fspath(path)!r}: {key!r} must be a table of numbers, rows (t, x, y, yaw)"
+        ) from e
     if arr.size == 0:
         return arr.reshape(0, 4)
     if arr.ndim != 2 or arr.shape[1] != 4:
@@ -177,12 +190,18 @@ def read_push(path) -> PushFile:
     ImportError
         For an h5 file without h5py (``pip install comcore[real]``).
     ValueError
-        If a table is missing or not of shape (n, 4).
+        If a table is missing or not of shape (n, 4), or a JSON file does not
+        hold one object of tables.
     """
     path = os.fspath(path)
     if path.endswith(".json"):
         with open(path) as f:
             data = json.load(f)
+        if not isinstance(data, dict):
+            raise ValueError(
+                f"{path!r} must hold one JSON object of tables ({{'tip_pose': [[t, x, y, yaw], "
+                f"...], ...}}), got a {type(data).__name__}"
+            )
     else:
         try:
             import h5py

@@ -72,6 +72,50 @@ def test_h5_and_json_files_load_like_their_pose_streams(tmp_path):
     assert sense == 1 == push.motion.sense
 
 
+def test_the_labs_json_layout_reads_like_its_h5(tmp_path):
+    # The lab's analysis scripts write one JSON object per push, pretty-printed, its tables in
+    # their own order and of their own lengths (the streams' rates differ), samples in the
+    # order the ROS stamps came: pnpush_planning's hex-on-plywood file is written that way.
+    obj, tip, wrench = rect_push()
+    obj, wrench = obj[:-3], wrench[1:]
+    scrambled = obj.copy()
+    scrambled[[7, 8]] = scrambled[[8, 7]]
+    write_h5(tmp_path / RECT, scrambled, tip, wrench)
+    name = RECT.replace(".h5", ".json")
+    tables = {"tip_pose": tip, "ft_wrench": wrench, "object_pose": scrambled}
+    (tmp_path / name).write_text(json.dumps({k: v.tolist() for k, v in tables.items()}, indent=4))
+    from_json, from_h5 = mp.read_push(tmp_path / name), mp.read_push(tmp_path / RECT)
+    for field in ("object_pose", "tip_pose", "ft_wrench"):
+        assert np.array_equal(getattr(from_json, field), getattr(from_h5, field))
+    assert from_json.name == from_h5.name and from_json.name.repeat is None
+    assert mp.load_pushes([tmp_path / name]).pushes[0].motion == (
+        mp.load_pushes([tmp_path / RECT]).pushes[0].motion
+    )
+    no_wrench = (
+        tmp_path / "motion_surface=plywood_shape=hex_a=0_v=150_i=1.000_s=0.000_t=-0.349.json"
+    )
+    no_wrench.write_text(json.dumps({"tip_pose": tip.tolist(), "object_pose": obj.tolist()}))
+    read = mp.read_push(no_wrench)
+    assert read.ft_wrench.shape == (0, 4) and read.name.shape == "hex" and read.name.side == 1
+    (tmp_path / "list.json").write_text(json.dumps([tip.tolist()]))
+    with pytest.raises(ValueError, match="must hold one JSON object of tables"):
+        mp.read_push(tmp_path / "list.json")
+    (tmp_path / "ragged.json").write_text(
+        json.dumps({"tip_pose": [[0, 1, 2, 3], [0, 1]], "object_pose": obj.tolist()})
+    )
+    with pytest.raises(ValueError, match="'tip_pose' must be a table of numbers"):
+        mp.read_push(tmp_path / "ragged.json")
+
+
+def test_a_repeats_name_says_its_number():
+    base = "motion_surface=delrin_shape=rect1_a=0_v=20_i=0.000_s=0.700_t=0.000"
+    name = mp.parse_name(base + "_rep=0042.h5")
+    assert name.repeat == 42 and name.surface == "delrin" and name.speed == 0.02
+    assert name._replace(repeat=None) == mp.parse_name(base + ".h5")
+    with pytest.raises(ValueError, match="not named like"):
+        mp.parse_name(base + "_rep=x.h5")
+
+
 def test_a_longer_window_and_a_finer_mask(tmp_path):
     obj, tip, wrench = rect_push()
     write_h5(tmp_path / RECT, obj, tip, wrench)
