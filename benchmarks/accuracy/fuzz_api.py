@@ -1420,49 +1420,76 @@ def _verify_estimate_session(result, kwargs):
 
 
 def _toy_index_error(x):
-    return [1, 2][int(x) + 5]
+    return [1.0, 2.0][int(x)]  # x = 5: an IndexError that names nothing
 
 
 def _toy_nan(x):
-    return math.nan if not math.isfinite(float(x)) else float(x)
+    return float(x) * 0.0  # NaN for a NaN, no refusal
+
+
+def _toy_nan_for_odd(x):
+    return math.sqrt(x) if x >= 0 else math.nan  # a may_accept -1 answered with NaN
 
 
 def _toy_sleep(x):
-    time.sleep(60)
+    if x == 2:
+        time.sleep(60)
+    return x
 
 
 def _toy_clear(x):
-    raise ValueError(f"x must be a finite number, got {x!r}")
+    if not math.isfinite(x):
+        raise ValueError(f"x must be a finite number, got {x!r}")
+    return x
 
 
 def _toy_vague(x):
-    raise ValueError("bad input")
+    if not math.isfinite(x):
+        raise ValueError("bad input")
+    return x
+
+
+def _toy_numpy_error(x):
+    return np.ones(3) + np.ones(int(x))  # x = 2: numpy's broadcast error
 
 
 def _toy_mutates(points):
-    arr = points if isinstance(points, np.ndarray) else np.zeros(1)
-    arr[...] = 0
-    return 1.0
+    points[0] = 0.0
+    return len(points)
 
 
 def _toy_dies(x):
-    os._exit(3)
+    if x == 2:
+        os._exit(3)
+    return x
 
 
 def _toy_allocates(x):
-    return np.ones((10**6, 10**6)).sum()
+    return float(np.empty(int(x * 1e8)).size)  # x = 20: 16 GB of address space
 
 
 def toy_targets() -> list[Target]:
-    """Toy functions whose class is known, one per class."""
-    nan = (_c("nan", math.nan, R),)
-    ok = (_c("one", 1.0, A),)
+    """Toy functions whose class is known: the tests' cases for the classifier and the pool."""
+
+    def one(label, value, verdict):
+        return (_c(label, value, verdict),)
+
+    def baseline_x(value=1.0):
+        return lambda: dict(x=value)
+
+    def toy(name, call, odd, base=None):
+        return Target(name, call, base or baseline_x(), (Arg("x", odd),), toy=True)
+
     return [
-        Target("toy_index_error", _toy_index_error, lambda: dict(x=-5), (Arg("x", ok),), toy=True),
-        Target("toy_nan", _toy_nan, lambda: dict(x=1.0), (Arg("x", nan),), toy=True),
-        Target("toy_sleep", _toy_sleep, lambda: dict(x=1.0), (Arg("x", ok),), toy=True),
-        Target("toy_clear", _toy_clear, lambda: dict(x=1.0), (Arg("x", nan),), toy=True),
-        Target("toy_vague", _toy_vague, lambda: dict(x=1.0), (Arg("x", nan),), toy=True),
+        toy("toy_index_error", _toy_index_error, one("five", 5, A), baseline_x(0)),
+        toy("toy_nan", _toy_nan, one("nan", math.nan, R)),
+        toy("toy_nan_for_odd", _toy_nan_for_odd, one("negative", -1.0, A)),
+        toy("toy_sleep", _toy_sleep, one("two", 2, A)),
+        toy("toy_clear", _toy_clear, one("nan", math.nan, R)),
+        toy("toy_vague", _toy_vague, one("nan", math.nan, R)),
+        toy("toy_numpy_error", _toy_numpy_error, one("two", 2, A), baseline_x(3)),
+        toy("toy_accepts", _toy_clear, one("two", 2.0, A)),
+        toy("toy_silent", _toy_clear, one("huge", 1e300, R)),
         Target(
             "toy_mutates",
             _toy_mutates,
@@ -1470,8 +1497,8 @@ def toy_targets() -> list[Target]:
             (Arg("points", (_f("array", lambda rng, base: np.ones(3), A),)),),
             toy=True,
         ),
-        Target("toy_dies", _toy_dies, lambda: dict(x=1.0), (Arg("x", ok),), toy=True),
-        Target("toy_allocates", _toy_allocates, lambda: dict(x=1.0), (Arg("x", ok),), toy=True),
+        toy("toy_dies", _toy_dies, one("two", 2, A)),
+        toy("toy_allocates", _toy_allocates, one("twenty", 20, A), baseline_x(0.01)),
     ]
 
 
@@ -1622,7 +1649,7 @@ def _pickled(value):
         return None
 
 
-def run_case(targets: list[Target], case: Case, seed: int, capture: bool = True) -> dict:
+def run_case(targets: list[Target], case: Case, seed: int, show_traceback: bool = False) -> dict:
     """Build one case's arguments, call it and describe what happened (in this process)."""
     target = targets[case.target]
     row = dict(
@@ -1665,8 +1692,8 @@ def run_case(targets: list[Target], case: Case, seed: int, capture: bool = True)
         try:
             result = target.call(**kwargs)
         except BaseException as exc:
-            if not capture:
-                raise
+            if show_traceback:
+                traceback.print_exc()
             row["seconds"] = time.perf_counter() - start
             tb = traceback.extract_tb(exc.__traceback__)
             frame_file = tb[-1].filename if tb else ""
@@ -1712,6 +1739,8 @@ def _module_of(filename: str) -> str:
             if top in parts:
                 parts = parts[len(parts) - 1 - parts[::-1].index(top) :]
                 break
+        else:
+            parts = parts[-1:]
     return ".".join(parts).removesuffix(".py")
 
 
@@ -1777,10 +1806,10 @@ def run_pool(
                     row = reader.recv()
                 except (EOFError, OSError):
                     proc.join(1)
-                    row = _bare_row(targets, case, "died", f"exit code {proc.exitcode}")
+                    row = _bare_row(targets, case, seed, "died", f"exit code {proc.exitcode}")
             elif now >= deadline:
                 proc.kill()
-                row = _bare_row(targets, case, "timeout", f"over {timeout:g} s")
+                row = _bare_row(targets, case, seed, "timeout", f"over {timeout:g} s")
             if row is None:
                 continue
             proc.join(5)
@@ -1793,7 +1822,7 @@ def run_pool(
     return [rows[c.case_id] for c in cases]
 
 
-def _bare_row(targets, case, outcome, message):
+def _bare_row(targets, case, seed, outcome, message):
     target = targets[case.target]
     row = dict(
         case=case.case_id,
@@ -1815,6 +1844,11 @@ def _bare_row(targets, case, outcome, message):
         arg = next(a for a in target.args if a.name == case.arg)
         odd = arg.catalogue()[case.entry]
         row.update(label=odd.label, verdict=odd.verdict)
+        try:  # the child's value, rebuilt here from the same generator for the reproducer
+            base = target.baseline().get(arg.name, _default(target.call, arg.name))
+            row["value"] = describe(odd.make(np.random.default_rng([seed, case.case_id]), base))
+        except Exception:
+            pass
     row["class"] = classify(outcome, row["verdict"])
     return row
 
@@ -1890,7 +1924,7 @@ def main(argv=None) -> int:
     if args.replay is not None:
         cases = plan(targets, args.seed, max(n or 0, args.replay + 1))
         case = cases[args.replay]
-        row = run_case(targets, case, args.seed, capture=False)
+        row = run_case(targets, case, args.seed, show_traceback=True)
         print(json.dumps(row, indent=1, default=str))
         return 0
     cases = plan(targets, args.seed, n)
