@@ -22,13 +22,15 @@ Each call runs in a forked child (``--workers`` at a time) under an address-spac
 memory) and a wall-clock limit (``--timeout`` seconds). The classes:
 
 * ``refused_clearly``: a TypeError, ValueError or ComcoreError whose message names the
-  mutated argument (its name, or an alias the target declares, as a whole word), raised
-  by comcore rather than from inside numpy or scipy (the innermost frame).
+  mutated argument as a whole word, singular or plural (its name; an alias the target
+  declares, such as ``StopRule`` for ``stop``; "object" for a mask, as comcore's messages
+  call it), raised by comcore rather than from inside numpy or scipy (the innermost frame).
 * ``unclear_error``: any other exception (IndexError, ZeroDivisionError, MemoryError, a
   RuntimeError ...), or a TypeError/ValueError that does not name the argument or comes
   from inside numpy/scipy (a broadcast error, "could not convert string to float").
 * ``silent``: the call returned although the value is ``must_refuse``; or it returned
-  (whatever the label) a NaN/inf somewhere in its result (the path is kept), or an answer
+  (whatever the label) a NaN/inf somewhere in its result (the path is kept; a target
+  may declare a path where inf is documented, ``check_mu``'s open upper bound), or an answer
   the target's own check finds wrong (``sample_pushes`` returning pushes that miss the
   mask, an estimate outside the mask's box).
 * ``accepted``: the baseline or a ``may_accept`` value returned a finite answer.
@@ -142,7 +144,7 @@ POSITIVE = (  # a positive number with no natural bound (a scale, a tolerance)
     _f("baseline_x2", lambda rng, base: 2 * base, A),
     _f("random_scale", lambda rng, base: float(base * rng.uniform(0.5, 2.0)), A),
 )
-LENGTH = (  # a length in metres: a camera's resolution, a push's travel, a radius
+LENGTH = (  # a length in metres: a radius, a tolerance (5e-324 may mean "exactly")
     *SCALAR_TYPES,
     _c("zero", 0.0, R),
     _c("-0.0", -0.0, R),
@@ -153,6 +155,8 @@ LENGTH = (  # a length in metres: a camera's resolution, a push's travel, a radi
     _f("baseline_x2", lambda rng, base: 2 * base, A),
     _f("random_scale", lambda rng, base: float(base * rng.uniform(0.5, 2.0)), A),
 )
+LENGTH_STRICT = LENGTH  # a resolution or a push's travel: 5e-324 m is no camera and no push
+LENGTH = tuple(Odd(o.label, o.make, A) if o.label == "tiny" else o for o in LENGTH_STRICT)
 NONNEG_LENGTH = tuple(Odd(o.label, o.make, A) if o.label in ("zero", "-0.0") else o for o in LENGTH)
 NONNEG = tuple(Odd(o.label, o.make, A) if o.label in ("zero", "-0.0") else o for o in POSITIVE)
 PROBABILITY = (
@@ -249,7 +253,9 @@ def _points_odd(width: int) -> tuple[Odd, ...]:
         _f("huge_inside", with_value(1e300), R),
         _f("wrong_width", lambda rng, base: np.zeros((3, width + 1)), R),
         _f("three_d", lambda rng, base: np.zeros((2, 3, width)), R),
-        _f("transposed", lambda rng, base: np.array(base, float).reshape(-1, width).T.copy(), R),
+        _f(
+            "transposed", lambda rng, base: np.array(base, float).reshape(-1, width)[:1].T.copy(), R
+        ),
         _f(
             "object_dtype",
             lambda rng, base: np.array(base, float).reshape(-1, width).astype(object),
@@ -411,7 +417,7 @@ def mask_odd(one_object: bool) -> tuple[Odd, ...]:
         _f("other_resolution", lambda rng, base: comcore.Mask(_square(), resolution=0.001), A),
         _f(
             "wide_frame",
-            lambda rng, base: comcore.Mask(np.pad(_square(), ((100, 300), (200, 500)))),
+            lambda rng, base: comcore.Mask(np.pad(_square(), ((0, 400), (0, 700)))),
             A,
         ),
         _f("random_polygon", lambda rng, base: comcore.Mask(_random_polygon(rng)), A),
@@ -653,6 +659,7 @@ CATALOGUE: dict[str, tuple[Odd, ...]] = {
     "positive": POSITIVE,
     "nonneg": NONNEG,
     "length": LENGTH,
+    "length_strict": LENGTH_STRICT,
     "nonneg_length": NONNEG_LENGTH,
     "probability": PROBABILITY,
     "count": COUNT,
@@ -688,6 +695,10 @@ CATALOGUE: dict[str, tuple[Odd, ...]] = {
 # per argument fuzzed.
 
 
+# comcore's messages call a mask "the object" ("actions must hit the object")
+KIND_ALIASES = {"object_mask": ("object",), "any_mask": ("object",)}
+
+
 @dataclass
 class Arg:
     """One argument fuzzed: its kind, its baseline, the words that name it in a message."""
@@ -697,6 +708,12 @@ class Arg:
     aliases: tuple[str, ...] = ()
     verdicts: dict[str, str] = field(default_factory=dict)  # overrides by label
     compare: bool = True  # pickled before and after the call (False: generators, callables)
+    base: Callable[[], Any] | None = None  # the baseline where the baseline call omits it
+
+    def names(self) -> tuple[str, ...]:
+        """The words that name this argument in a message: its own, its aliases, its kind's."""
+        kind = self.kind if isinstance(self.kind, str) else ""
+        return (self.name, *self.aliases, *KIND_ALIASES.get(kind, ()))
 
     def catalogue(self) -> tuple[Odd, ...]:
         """This argument's odd values, with its verdict overrides applied."""
@@ -714,6 +731,7 @@ class Target:
     args: tuple[Arg, ...]
     verify: Callable[[Any, dict], str | None] | None = None
     toy: bool = False
+    nonfinite_ok: tuple[str, ...] = ()  # result paths where inf is documented (no upper bound)
 
 
 def _mask0():
@@ -820,6 +838,12 @@ def _est_kwargs():
 
 
 STOP = (comcore.StopRule, lambda: comcore.PushChoice(), lambda: comcore.StopRule(max_pushes=3))
+# estimate_posterior chooses no pushes: it reads StopRule.target_radius only
+POSTERIOR_STOP = (
+    comcore.StopRule,
+    lambda: comcore.PushChoice(),
+    lambda: comcore.StopRule(target_radius=0.01),
+)
 LIKELIHOOD = (
     comcore.Likelihood,
     lambda: comcore.StopRule(),
@@ -832,6 +856,8 @@ CHOICE = (
 )
 
 MASK_ARG = Arg("mask", "object_mask")
+# the frame conventions and the validators are arithmetic on finite numbers: 1e300 is one
+FINITE_OK = {"huge": A, "huge_inside": A}
 ACTIONS_ARG = Arg("actions", "actions", verdicts={"misses_the_object": A})
 MOTIONS_ARG = Arg("motions", "motions")
 
@@ -844,7 +870,7 @@ def api_targets() -> list[Target]:
             "Mask",
             comcore.Mask,
             lambda: dict(data=_square(), resolution=0.0025),
-            (Arg("data", "mask_data", aliases=("mask",)), Arg("resolution", "length")),
+            (Arg("data", "mask_data", aliases=("mask",)), Arg("resolution", "length_strict")),
         ),
         T(
             "Action",
@@ -914,8 +940,8 @@ def api_targets() -> list[Target]:
                 Arg("theta_units", str_option(("auto", "rad", "deg"))),
                 Arg("pusher_radius", "nonneg_length"),
                 Arg("prior", "prior"),
-                Arg("likelihood", group_odd(*LIKELIHOOD)),
-                Arg("stop", group_odd(*STOP)),
+                Arg("likelihood", group_odd(*LIKELIHOOD), aliases=("Likelihood",)),
+                Arg("stop", group_odd(*POSTERIOR_STOP), aliases=("StopRule",)),
                 Arg("model", "model"),
             ),
             verify=_verify_estimate,
@@ -936,6 +962,7 @@ def api_targets() -> list[Target]:
                 Arg(
                     "candidates",
                     "actions",
+                    base=lambda: list(ACTIONS0),
                     verdicts={"none": A, "empty_rows": R, "misses_the_object": A},
                 ),
                 Arg("pusher_radius", "nonneg_length"),
@@ -943,9 +970,9 @@ def api_targets() -> list[Target]:
                 Arg("rng", "rng", compare=False),
                 Arg("prior", "prior"),
                 Arg("model", "model"),
-                Arg("likelihood", group_odd(*LIKELIHOOD)),
-                Arg("stop", group_odd(*STOP)),
-                Arg("choice", group_odd(*CHOICE)),
+                Arg("likelihood", group_odd(*LIKELIHOOD), aliases=("Likelihood",)),
+                Arg("stop", group_odd(*STOP), aliases=("StopRule",)),
+                Arg("choice", group_odd(*CHOICE), aliases=("PushChoice",)),
             ),
         ),
         T(
@@ -987,10 +1014,15 @@ def api_targets() -> list[Target]:
             ),
             (
                 MASK_ARG,
-                Arg("push", "push", compare=False),
-                Arg("candidates", "actions", verdicts={"none": A, "empty_rows": R}),
-                Arg("stop", group_odd(*STOP)),
-                Arg("choice", group_odd(*CHOICE)),
+                Arg("push", "push", compare=False, aliases=("motion",)),
+                Arg(
+                    "candidates",
+                    "actions",
+                    base=lambda: list(ACTIONS0),
+                    verdicts={"none": A, "empty_rows": R},
+                ),
+                Arg("stop", group_odd(*STOP), aliases=("StopRule",)),
+                Arg("choice", group_odd(*CHOICE), aliases=("PushChoice",)),
                 Arg("rng", "rng", compare=False),
             ),
             verify=_verify_estimate,
@@ -1000,10 +1032,10 @@ def api_targets() -> list[Target]:
             comcore.sample_pushes,
             lambda: dict(mask=_mask0(), n=10, rng=0),
             (
-                Arg("mask", "object_mask"),
+                Arg("mask", "any_mask"),
                 Arg("n", "count", verdicts={"zero": A}),
                 Arg("cone", "angle", verdicts={"negative": R, "ten_rad": R, "huge": R}),
-                Arg("travel", "length"),
+                Arg("travel", "length_strict"),
                 Arg("standoff", "nonneg_length"),
                 Arg("clearance", "nonneg_length"),
                 Arg("rng", "rng", compare=False),
@@ -1016,7 +1048,7 @@ def api_targets() -> list[Target]:
             lambda: dict(outline=SQUARE_M),
             (
                 Arg("outline", "outline"),
-                Arg("resolution", "length"),
+                Arg("resolution", "length_strict"),
                 Arg("margin", "nonneg_length"),
             ),
         ),
@@ -1029,7 +1061,7 @@ def api_targets() -> list[Target]:
                 Arg("threshold", "coord", verdicts={"negative": R}),
                 Arg("object", str_option(("auto", "dark", "light"))),
                 Arg("fill_holes", "bool"),
-                Arg("resolution", "length"),
+                Arg("resolution", "length_strict"),
                 Arg("roi", ROI),
             ),
         ),
@@ -1049,8 +1081,8 @@ def api_targets() -> list[Target]:
                 Arg("outline", "outline"),
                 Arg("pushes", "pose_pushes"),
                 Arg("pusher_radius", "nonneg_length"),
-                Arg("travel", "length"),
-                Arg("resolution", "length"),
+                Arg("travel", "length_strict"),
+                Arg("resolution", "length_strict"),
                 Arg("com", "point", verdicts={"none": A, "huge": R}),
                 Arg("contact_tolerance", "length"),
             ),
@@ -1091,7 +1123,7 @@ def api_targets() -> list[Target]:
                 Arg("selection", str_option(("sense", "information"))),
                 Arg("n_candidates", "count"),
                 Arg("cone", "angle", verdicts={"negative": R, "ten_rad": R}),
-                Arg("travel", "length"),
+                Arg("travel", "length_strict"),
             ),
         ),
         T(
@@ -1118,7 +1150,7 @@ def api_targets() -> list[Target]:
                 rng=0,
             ),
             (
-                Arg("mask", "object_mask", verdicts={"wide_frame": A}),
+                Arg("mask", "object_mask", aliases=("view",), verdicts={"wide_frame": A}),
                 Arg("goal", "goal"),
                 Arg("pusher_radius", "nonneg_length"),
                 Arg("learn", "bool"),
@@ -1143,17 +1175,17 @@ def api_targets() -> list[Target]:
                 center=(0.0, 0.0),
             ),
             (
-                Arg("points", "points"),
-                Arg("theta", "angle"),
-                Arg("translation", "point"),
-                Arg("center", "point"),
+                Arg("points", "points", verdicts=FINITE_OK),
+                Arg("theta", "angle", verdicts=FINITE_OK),
+                Arg("translation", "point", verdicts=FINITE_OK),
+                Arg("center", "point", verdicts=FINITE_OK),
             ),
         ),
         T(
             "conventions.ccw_cross",
             conventions.ccw_cross,
             lambda: dict(a=np.array([1.0, 0.0]), b=np.array([0.0, 1.0])),
-            (Arg("a", "points"), Arg("b", "points")),
+            (Arg("a", "points", verdicts=FINITE_OK), Arg("b", "points", verdicts=FINITE_OK)),
         ),
         T(
             "conventions.check_plausible",
@@ -1168,7 +1200,10 @@ def api_targets() -> list[Target]:
             "conventions.object_motion_from_camera",
             conventions.object_motion_from_camera,
             lambda: dict(motion=(0.1, 1.0, 0.0), pose_theta=0.2),
-            (Arg("motion", "motion"), Arg("pose_theta", "angle")),
+            (
+                Arg("motion", "motion", verdicts=FINITE_OK),
+                Arg("pose_theta", "angle", verdicts=FINITE_OK),
+            ),
         ),
         T(
             "conventions.pixel_centres",
@@ -1180,25 +1215,31 @@ def api_targets() -> list[Target]:
             "conventions.quarter_turn_ccw",
             conventions.quarter_turn_ccw,
             lambda: dict(vectors=np.array([[1.0, 0.0]])),
-            (Arg("vectors", "points"),),
+            (Arg("vectors", "points", verdicts=FINITE_OK),),
         ),
         T(
             "conventions.rotate_vectors",
             conventions.rotate_vectors,
             lambda: dict(vectors=np.array([[1.0, 0.0]]), theta=0.3),
-            (Arg("vectors", "points"), Arg("theta", "angle")),
+            (
+                Arg("vectors", "points", verdicts=FINITE_OK),
+                Arg("theta", "angle", verdicts=FINITE_OK),
+            ),
         ),
         T(
             "conventions.rotation_matrix",
             conventions.rotation_matrix,
             lambda: dict(theta=0.3),
-            (Arg("theta", "angle"),),
+            (Arg("theta", "angle", verdicts=FINITE_OK),),
         ),
         T(
             "conventions.rotation_sense",
             conventions.rotation_sense,
             lambda: dict(theta=np.array([0.1, -0.1, 0.0])),
-            (Arg("theta", "angle"), Arg("tol", "nonneg")),
+            (
+                Arg("theta", "angle", verdicts={**FINITE_OK, "array_2": A, "empty_array": A}),
+                Arg("tol", "nonneg"),
+            ),
         ),
         T(
             "conventions.rotate_components",
@@ -1206,14 +1247,14 @@ def api_targets() -> list[Target]:
             lambda: dict(
                 x=np.array([1.0]), y=np.array([0.0]), cos=math.cos(0.3), sin=math.sin(0.3)
             ),
-            (Arg("x", "coord"), Arg("cos", "coord", verdicts={"huge": R})),
+            (Arg("x", "coord", verdicts=FINITE_OK), Arg("cos", "coord", verdicts={"huge": R})),
         ),
         # comcore.checks
         T(
             "checks.check_actions",
             checks.check_actions,
             lambda: dict(actions=list(ACTIONS0)),
-            (ACTIONS_ARG, Arg("allow_empty", "bool")),
+            (Arg("actions", "actions", verdicts=FINITE_OK), Arg("allow_empty", "bool")),
         ),
         T(
             "checks.check_mask",
@@ -1225,13 +1266,17 @@ def api_targets() -> list[Target]:
             "checks.check_motions",
             checks.check_motions,
             lambda: dict(motions=list(MOTIONS0), n=4),
-            (Arg("motions", "motions"), Arg("n", "count", verdicts={"zero": A})),
+            (
+                Arg("motions", "motions", verdicts=FINITE_OK),
+                Arg("n", "count", verdicts={"zero": A}),
+            ),
         ),
         T(
             "checks.check_mu",
             checks.check_mu,
             lambda: dict(mu=0.3),
             (Arg("mu", "mu", verdicts={"none": A}),),
+            nonfinite_ok=("result[1]",),  # (low, inf): no upper bound on the friction
         ),
         T(
             "checks.check_one_object",
@@ -1243,13 +1288,13 @@ def api_targets() -> list[Target]:
             "checks.check_point",
             checks.check_point,
             lambda: dict(value=(1.0, 2.0)),
-            (Arg("value", "point", aliases=("point",)),),
+            (Arg("value", "point", aliases=("point",), verdicts=FINITE_OK),),
         ),
         T(
             "checks.check_points",
             checks.check_points,
             lambda: dict(points=[(1.0, 2.0)]),
-            (Arg("points", "points"),),
+            (Arg("points", "points", verdicts=FINITE_OK),),
         ),
         T(
             "checks.check_positive",
@@ -1363,7 +1408,7 @@ def api_targets() -> list[Target]:
             vt.region,
             lambda: dict(mask=_mask0(), action=ACTIONS0[0], theta=0.2),
             (
-                Arg("mask", "object_mask"),
+                Arg("mask", "any_mask"),
                 Arg("action", "action"),
                 Arg("theta", "angle"),
                 Arg("mu", "mu"),
@@ -1381,7 +1426,7 @@ def api_targets() -> list[Target]:
                 Arg("vertices_m", "outline", aliases=("vertices",)),
                 Arg("com", "point", verdicts={"none": A}),
                 Arg("mu_contact", "nonneg"),
-                Arg("resolution", "length"),
+                Arg("resolution", "length_strict"),
             ),
         ),
         T(
@@ -1405,7 +1450,7 @@ def api_targets() -> list[Target]:
             "predictors.EllipsoidPredictor.predict",
             _ellipsoid_predict,
             lambda: dict(mask=_mask0(), actions=np.array(ACTIONS0, float)),
-            (MASK_ARG, Arg("actions", "actions", verdicts={"misses_the_object": A})),
+            (Arg("mask", "any_mask"), Arg("actions", "actions", verdicts={"misses_the_object": A})),
         ),
     ]
     return targets
@@ -1631,6 +1676,13 @@ def describe(value) -> str:
     return text if len(text) <= 160 else text[:157] + "..."
 
 
+def _base(target, arg, kwargs):
+    """An argument's baseline value: the baseline call's, the Arg's own, or the default."""
+    if arg.name in kwargs:
+        return kwargs[arg.name]
+    return arg.base() if arg.base is not None else _default(target.call, arg.name)
+
+
 def _default(call, name):
     """The default of ``call``'s parameter ``name`` where it has a number, else 1.0."""
     try:
@@ -1675,9 +1727,9 @@ def run_case(targets: list[Target], case: Case, seed: int, show_traceback: bool 
             arg = next(a for a in target.args if a.name == case.arg)
             odd = arg.catalogue()[case.entry]
             rng = np.random.default_rng([seed, case.case_id])
-            value = odd.make(rng, kwargs.get(arg.name, _default(target.call, arg.name)))
+            value = odd.make(rng, _base(target, arg, kwargs))
             kwargs[arg.name] = value
-            names = (arg.name, *arg.aliases)
+            names = arg.names()
             row.update(label=odd.label, verdict=odd.verdict, value=describe(value))
             compared = {arg.name: _pickled(value)} if arg.compare else {}
         else:
@@ -1715,6 +1767,7 @@ def run_case(targets: list[Target], case: Case, seed: int, show_traceback: bool 
         else:
             row["seconds"] = time.perf_counter() - start
             problem = find_nonfinite(result)
+            problem = None if problem in target.nonfinite_ok else problem
             problem = f"NaN or inf at {problem}" if problem else None
             if problem is None and target.verify is not None:
                 problem = target.verify(result, kwargs)
@@ -1845,7 +1898,7 @@ def _bare_row(targets, case, seed, outcome, message):
         odd = arg.catalogue()[case.entry]
         row.update(label=odd.label, verdict=odd.verdict)
         try:  # the child's value, rebuilt here from the same generator for the reproducer
-            base = target.baseline().get(arg.name, _default(target.call, arg.name))
+            base = _base(target, arg, target.baseline())
             row["value"] = describe(odd.make(np.random.default_rng([seed, case.case_id]), base))
         except Exception:
             pass
