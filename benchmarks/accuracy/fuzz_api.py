@@ -43,6 +43,8 @@ memory) and a wall-clock limit (``--timeout`` seconds). The classes:
 
 Besides its class, a row says whether the call changed one of its input arrays or lists
 in place (``mutated``: pickled before and after; generators and callables are not compared).
+The measured counts, and why they are not comparable with an earlier uncommitted pass:
+docs/results/robustness.md.
 """
 
 from __future__ import annotations
