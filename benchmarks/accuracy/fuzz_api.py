@@ -109,11 +109,11 @@ def _const(value):
     return lambda rng, base: value
 
 
-def _f(label, make, verdict):
+def _f(label, make, verdict):  # a value built per case (from the generator or the baseline)
     return Odd(label, make, verdict)
 
 
-def _c(label, value, verdict):
+def _c(label, value, verdict):  # a constant value
     return Odd(label, _const(value), verdict)
 
 
@@ -734,7 +734,6 @@ class Target:
     baseline: Callable[[], dict]
     args: tuple[Arg, ...]
     verify: Callable[[Any, dict], str | None] | None = None
-    toy: bool = False
     nonfinite_ok: tuple[str, ...] = ()  # result paths where inf is documented (no upper bound)
 
 
@@ -1539,7 +1538,7 @@ def toy_targets() -> list[Target]:
         return lambda: dict(x=value)
 
     def toy(name, call, odd, base=None):
-        return Target(name, call, base or baseline_x(), (Arg("x", odd),), toy=True)
+        return Target(name, call, base or baseline_x(), (Arg("x", odd),))
 
     return [
         toy("toy_index_error", _toy_index_error, one("five", 5, A), baseline_x(0)),
@@ -1556,7 +1555,6 @@ def toy_targets() -> list[Target]:
             _toy_mutates,
             lambda: dict(points=[1.0]),
             (Arg("points", (_f("array", lambda rng, base: np.ones(3), A),)),),
-            toy=True,
         ),
         toy("toy_dies", _toy_dies, one("two", 2, A)),
         toy("toy_allocates", _toy_allocates, one("twenty", 20, A), baseline_x(0.01)),
