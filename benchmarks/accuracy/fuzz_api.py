@@ -2,7 +2,8 @@
 
 Run: ``python benchmarks/accuracy/fuzz_api.py [--seed 0] [--n 0] [--timeout 10]
 [--workers 2] [--memory-gb 4] [--examples 3] [--json rows.json]``;
-``--replay ID`` runs one case in this process and prints its traceback or result;
+``--replay ID`` runs one case in this process (under the same limits) and prints its
+traceback and its row;
 ``--targets toy`` runs the harness's own toy functions (the tests' known cases).
 
 Each target is a public callable with a valid baseline call (a 20 x 20 pixel square, four
@@ -63,6 +64,7 @@ import multiprocessing.connection as mpc  # noqa: E402
 import pickle  # noqa: E402
 import re  # noqa: E402
 import resource  # noqa: E402
+import signal  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 import traceback  # noqa: E402
@@ -1968,6 +1970,11 @@ def report(rows: list[dict], examples: int) -> str:
     return "\n".join(lines)
 
 
+def _hung(case_id, timeout):
+    print(f"case {case_id}: hang (over {timeout:g} s)", file=sys.stderr, flush=True)
+    os._exit(124)
+
+
 def main(argv=None) -> int:
     """Parse the options, run the cases and print the report."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -1991,7 +1998,14 @@ def main(argv=None) -> int:
     if args.replay is not None:
         cases = plan(targets, args.seed, max(n or 0, args.replay + 1))
         case = cases[args.replay]
+        # the pool's limits, here: SIGALRM ends a hang, RLIMIT_AS turns a huge allocation
+        # into a MemoryError
+        memory = int(args.memory_gb * 2**30)
+        resource.setrlimit(resource.RLIMIT_AS, (memory, resource.getrlimit(resource.RLIMIT_AS)[1]))
+        signal.signal(signal.SIGALRM, lambda *_: _hung(case.case_id, args.timeout))
+        signal.alarm(math.ceil(args.timeout))
         row = run_case(targets, case, args.seed, show_traceback=True)
+        signal.alarm(0)
         print(json.dumps(row, indent=1, default=str))
         return 0
     cases = plan(targets, args.seed, n)
