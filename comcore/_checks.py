@@ -18,10 +18,38 @@ __all__ = [
     "check_pair",
     "check_point",
     "check_points",
+    "refuse_complex",
 ]
 
 
+def refuse_complex(value, name: str) -> None:
+    """A TypeError naming ``name`` if ``value`` holds complex numbers.
+
+    numpy's ``asarray(value, dtype=float)`` keeps only their real part, with a
+    warning the caller may never see; a complex coordinate is always a mistake.
+    Anything numpy cannot read as one array passes, for the conversion to refuse.
+
+    Examples
+    --------
+    >>> refuse_complex([1.0, 2.0], "actions")
+    >>> refuse_complex([1.0, 2.0 + 1j], "actions")
+    Traceback (most recent call last):
+    ...
+    TypeError: actions must hold real numbers, got complex ones (numpy would keep only their real part)
+    """  # noqa: E501
+    try:
+        complex_ = np.iscomplexobj(value)
+    except (TypeError, ValueError):
+        return
+    if complex_:
+        raise TypeError(
+            f"{name} must hold real numbers, got complex ones (numpy would keep only their "
+            "real part)"
+        )
+
+
 def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
+    refuse_complex(value, name)
     if isinstance(value, row_type):
         arr = np.asarray([tuple(value)], dtype=float)
     else:

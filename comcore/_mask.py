@@ -18,7 +18,7 @@ from ._neighbourhood import (
     padded_crop,
     true_pixels,
 )
-from .conventions import DEFAULT_RESOLUTION, check_plausible
+from .conventions import DEFAULT_RESOLUTION, check_image_size, check_plausible
 
 __all__ = ["Mask"]
 
@@ -42,6 +42,7 @@ def _as_bool_image(data) -> np.ndarray:
         )
     if arr.size == 0:
         raise ValueError(f"mask data must not be empty, got shape {arr.shape}")
+    check_image_size(arr.shape, "mask data")
     if arr.dtype == bool:
         return arr.copy()
     if arr.dtype.kind not in "iuf":

@@ -11,10 +11,14 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["DEFAULT_RESOLUTION", "PLAUSIBLE", "Plausible", "check_plausible"]
+__all__ = ["DEFAULT_RESOLUTION", "MAX_IMAGE_PIXELS", "PLAUSIBLE", "Plausible", "check_plausible"]
 
 #: Default camera resolution in metres per pixel (2.5 mm, as in the simulator).
 DEFAULT_RESOLUTION = 0.0025
+#: The most pixels an image (a mask, a camera frame) may have: 8192 x 8192, twice an 8K
+#: camera's. Beyond it comcore refuses the image by its shape instead of asking numpy for
+#: gigabytes (a broadcast view, a mask drawn in millimetres read as metres).
+MAX_IMAGE_PIXELS = 8192 * 8192
 
 
 class Plausible(NamedTuple):

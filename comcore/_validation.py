@@ -22,6 +22,7 @@ from ._checks import (  # the low-level checks, re-exported
     check_pair,
     check_point,
     check_points,
+    refuse_complex,
 )
 from ._mask import Mask
 from ._types import Action, Motion
@@ -213,6 +214,8 @@ def check_priors(priors, name: str = "priors") -> tuple[np.ndarray, np.ndarray]:
     for i, pair in enumerate(priors):
         try:
             a, m = pair
+            refuse_complex(a, f"{name}[{i}]")
+            refuse_complex(m, f"{name}[{i}]")
             a = np.asarray(tuple(a) if isinstance(a, tuple) else a, dtype=float).reshape(-1)
             m = np.asarray(tuple(m) if isinstance(m, tuple) else m, dtype=float).reshape(-1)
         except (TypeError, ValueError) as e:
@@ -382,6 +385,8 @@ def check_rng(rng, name: str = "rng") -> np.random.Generator:
     if isinstance(rng, np.random.BitGenerator):
         return np.random.default_rng(rng)
     try:
+        if not isinstance(rng, (list, tuple, np.ndarray)) or len(rng) == 0:
+            raise TypeError  # a dict, a set, an empty sequence: no seed anybody meant
         seeds = [int(s) for s in rng if not isinstance(s, (bool, float, str))]
         if len(seeds) != len(rng) or any(s < 0 for s in seeds):
             raise ValueError

@@ -33,17 +33,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import check_finite, check_point, check_points
-from ._units import DEFAULT_RESOLUTION, PLAUSIBLE, Plausible, check_plausible
+from ._checks import check_finite, check_point, check_points, refuse_complex
+from ._units import DEFAULT_RESOLUTION, MAX_IMAGE_PIXELS, PLAUSIBLE, Plausible, check_plausible
 
 __all__ = [
     "ANGLE_EPS",
     "DEFAULT_RESOLUTION",
     "LENGTH_EPS",
+    "MAX_IMAGE_PIXELS",
     "PLAUSIBLE",
     "Plausible",
     "apply_motion",
     "ccw_cross",
+    "check_image_size",
     "check_plausible",
     "object_motion_from_camera",
     "pixel_centres",
@@ -64,6 +66,7 @@ def _finite_array(value, name: str) -> np.ndarray:
     """``value`` as a float array if it holds only finite real numbers, else a clear error."""
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be array_like of real numbers, got {type(value).__name__}")
+    refuse_complex(value, name)
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as e:
@@ -111,6 +114,7 @@ def rotation_matrix(theta: float) -> np.ndarray:
     try:
         if isinstance(theta, (str, bytes)):
             raise TypeError("text")
+        refuse_complex(theta, "theta")
         angle = np.asarray(theta, dtype=float)
     except (TypeError, ValueError) as e:
         raise TypeError(f"theta must be an angle in radians, got {type(theta).__name__}") from e
@@ -258,10 +262,30 @@ def pixel_centres(image) -> np.ndarray:
     """  # noqa: E501
     if not (isinstance(image, np.ndarray) and image.dtype == bool and image.ndim == 2):
         image = _bool_image(image, "image")
+    check_image_size(image.shape, "image")
     if image.size == 0:
         raise ValueError(f"image must not be empty, got shape {image.shape}")
     rows, cols = np.nonzero(image)
     return np.column_stack([cols, rows]).astype(float)
+
+
+def check_image_size(shape, name: str) -> None:
+    """A ValueError naming ``name`` if an image of ``shape`` (H, W) has over :data:`MAX_IMAGE_PIXELS`.
+
+    Examples
+    --------
+    >>> check_image_size((720, 1280), "frame")
+    >>> check_image_size((100_000, 100_000), "mask data")
+    Traceback (most recent call last):
+    ...
+    ValueError: mask data of 100000 x 100000 pixels is larger than MAX_IMAGE_PIXELS (67108864, 8192 x 8192): crop it to the object's neighbourhood, or check the resolution's unit
+    """  # noqa: E501
+    h, w = (int(v) for v in shape[:2])
+    if h * w > MAX_IMAGE_PIXELS:
+        raise ValueError(
+            f"{name} of {h} x {w} pixels is larger than MAX_IMAGE_PIXELS ({MAX_IMAGE_PIXELS}, "
+            "8192 x 8192): crop it to the object's neighbourhood, or check the resolution's unit"
+        )
 
 
 def _bool_image(image, name: str) -> np.ndarray:
@@ -279,6 +303,7 @@ def _bool_image(image, name: str) -> np.ndarray:
         raise TypeError(f"{want}, got dtype {arr.dtype}")
     if arr.ndim != 2:
         raise ValueError(f"{want}, got {arr.ndim}-D shape {arr.shape}")
+    check_image_size(arr.shape, name)
     if arr.dtype != bool:
         bad = (arr != 0) & (arr != 1)
         if bad.any():
@@ -310,6 +335,7 @@ def quarter_turn_ccw(vectors) -> np.ndarray:
     ...
     ValueError: vectors must be finite pixel vectors (x, y); vector 1 is (nan, 2.0)
     """
+    refuse_complex(vectors, "vectors")
     try:
         v = np.asarray(vectors, dtype=float)
     except (TypeError, ValueError) as e:

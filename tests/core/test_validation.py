@@ -60,3 +60,41 @@ def test_validators_do_not_mutate_input():
     out = comcore.checks.check_actions(arr)
     assert arr.flags.writeable and out is not arr
     assert not out.flags.writeable
+
+
+# -- what the fuzz harness (benchmarks/accuracy/fuzz_api.py) found accepted ---------------
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda m, a, k: comcore.estimate_heatmap(m, np.array(a, complex), k),
+        lambda m, a, k: comcore.estimate_progressive(m, a, np.array(k, complex)),
+        lambda m, a, k: comcore.checks.check_actions([(0, 1, 2, 3 + 1j)]),
+        lambda m, a, k: comcore.conventions.rotation_matrix(0.1 + 0.2j),
+        lambda m, a, k: comcore.conventions.rotate_vectors([(1 + 1j, 0)], 0.1),
+    ],
+)
+def test_complex_numbers_are_refused_not_cast(call):
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
+    motions = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
+    with pytest.raises(TypeError, match="real numbers|angle in radians"):
+        call(mask, actions, motions)
+
+
+@pytest.mark.parametrize("rng", [{}, {"seed": 1}, [], set(), {1, 2}])
+def test_a_dict_set_or_empty_sequence_is_no_seed(rng):
+    with pytest.raises(TypeError, match="rng must be None, a non-negative int seed"):
+        comcore.checks.check_rng(rng)
+    assert comcore.checks.check_rng([1, 2]).random() == np.random.default_rng([1, 2]).random()
+
+
+def test_an_image_over_max_image_pixels_is_refused_by_its_shape():
+    huge = np.broadcast_to(np.True_, (100_000, 100_000))  # a view: no memory behind it
+    with pytest.raises(ValueError, match="mask data of 100000 x 100000 pixels .*MAX_IMAGE_PIXELS"):
+        comcore.Mask(huge)
+    with pytest.raises(ValueError, match="image of 100000 x 100000 pixels"):
+        comcore.conventions.pixel_centres(huge)
+    side = int(np.sqrt(comcore.conventions.MAX_IMAGE_PIXELS))
+    assert comcore.conventions.pixel_centres(np.zeros((side, 1), bool)).shape == (0, 2)
