@@ -27,12 +27,24 @@ Choices (written down here)
   That is the whole of the camera model: no tag pose in 3-D (``solvePnP``) is
   needed for a tag that lies in a known plane, and the homography is what a
   user of comcore already has for the masks.
-* **The pose.** The marker's four outer corners (those of its black border,
-  in ``cv2.aruco``'s order: top-left, top-right, bottom-right, bottom-left of
-  the marker image) are mapped by the homography; the pose's ``(x, y)`` is
-  their mean and ``theta`` the least-squares rotation that takes the upright
-  square's corners onto them (2-D Procrustes). ``theta = 0``: the marker
-  upright on screen, its top edge along +x.
+* **The corners.** ``cv2.aruco`` finds the marker (contour corner
+  refinement); its four outer corners (those of the black border, in
+  ``cv2.aruco``'s order: top-left, top-right, bottom-right, bottom-left of the
+  marker image) are then refined from the border's four outer edges: along
+  each, at one-pixel steps over its middle 70 %, the profile across the edge
+  is sampled (bilinear) from half a cell inside to a cell outside, the edge
+  sits where it crosses halfway between the side's dark and light levels, a
+  line is fitted through those points (total least squares, outliers beyond
+  three robust deviations dropped) and the corners are where adjacent lines
+  meet. On rendered frames this is several times more precise than OpenCV's
+  own refinements (``CORNER_REFINE_SUBPIX``, ``_CONTOUR``, ``_APRILTAG``),
+  whose rotation errors grow as the cells get small (docs/results/camera.md,
+  ``benchmarks/accuracy/bench_tags.py``). A side without enough edge points
+  (the border against a dark background) keeps OpenCV's corners.
+* **The pose.** The corners are mapped by the homography; the pose's
+  ``(x, y)`` is their mean and ``theta`` the least-squares rotation that takes
+  the upright square's corners onto them (2-D Procrustes). ``theta = 0``: the
+  marker upright on screen, its top edge along +x.
 * **The offset.** The object's area centroid in the tag's frame,
   ``centroid_in_tag`` (pixels along the tag's x and y axes), places the object
   about the tag: measured once from the first frame's mask
@@ -56,6 +68,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from scipy import ndimage
 
 from .._mask import Mask
 from .._types import Motion
@@ -88,6 +101,12 @@ SIZE_TOLERANCE = 0.15
 #: After a frame where the marker was found, the next frame is searched first this many
 #: marker sides around it (image pixels), then in the whole frame.
 SEARCH_MARGIN_SIDES = 3.0
+
+#: A profile across the marker's edge reaches this many cells inside and outside it.
+EDGE_REACH_CELLS = (0.5, 1.0)
+#: A side whose light and dark levels differ by less than this (grey levels) keeps
+#: OpenCV's corners: no edge to fit.
+MIN_EDGE_CONTRAST = 20.0
 
 #: What a frame's status can be.
 STATUSES = ("found", "missing", "ambiguous", "wrong_size")
@@ -406,7 +425,8 @@ def track_tag(
     frames = _check_images(images)
 
     params = cv2.aruco.DetectorParameters()
-    params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_SUBPIX
+    params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_CONTOUR
+    cells = int(d.markerSize) + 2
     detector = cv2.aruco.ArucoDetector(d, params)
 
     poses: list[TagPose | None] = []
@@ -430,6 +450,7 @@ def track_tag(
             window = None
             continue
         window = _window(corners, image.shape)
+        corners = _refine_edges(image, corners, cells)
         if undistort is not None:
             corners = cv2.undistortPoints(
                 corners.reshape(-1, 1, 2), undistort[0], undistort[1], P=undistort[0]
@@ -463,6 +484,75 @@ def _find(detector, image: np.ndarray, tag_id: int):
     if hits.size > 1:
         return ("ambiguous", None)
     return ("found", np.asarray(corners[hits[0]], dtype=float).reshape(4, 2))
+
+
+def _edge_line(image, a, b, centre, cell):
+    """``(normal, offset)`` of the outer edge from corner ``a`` to ``b``, or None."""
+    edge = b - a
+    length = float(np.hypot(*edge))
+    along = edge / length
+    normal = np.array([along[1], -along[0]])
+    if normal @ ((a + b) / 2 - centre) < 0:  # outwards
+        normal = -normal
+    inner = min(max(EDGE_REACH_CELLS[0] * cell, 1.0), 3.0)
+    outer = min(max(EDGE_REACH_CELLS[1] * cell, 1.5), 4.0)
+    step = 0.25
+    across = np.arange(-inner, outer + 1e-9, step)
+    s = np.arange(0.15 * length, 0.85 * length, 1.0)
+    base = a + s[:, None] * along
+    points = base[:, None, :] + across[None, :, None] * normal  # (m, k, 2)
+    profile = ndimage.map_coordinates(
+        image, [points[..., 1].ravel(), points[..., 0].ravel()], order=1, mode="nearest"
+    ).reshape(points.shape[:2])
+    dark, light = np.median(profile[:, 0]), np.median(profile[:, -1])
+    if light - dark < MIN_EDGE_CONTRAST:
+        return None
+    mid = 0.5 * (dark + light)
+    first = np.argmax(profile > mid, axis=1)  # the first sample past halfway, outwards
+    ok = first > 0
+    i = np.clip(first, 1, len(across) - 1)
+    rows = np.arange(len(s))
+    p0, p1 = profile[rows, i - 1], profile[rows, i]
+    d = across[i - 1] + step * (mid - p0) / np.where(p1 > p0, p1 - p0, 1.0)
+    q = (base + d[:, None] * normal)[ok]
+    for _ in range(2):
+        if len(q) < 4:
+            return None
+        m = q.mean(axis=0)
+        n = np.linalg.svd(q - m)[2][1]
+        r = (q - m) @ n
+        spread = 1.4826 * np.median(np.abs(r - np.median(r)))
+        q = q[np.abs(r) <= max(3 * spread, 0.05)]
+    if len(q) < 4:
+        return None
+    m = q.mean(axis=0)
+    n = np.linalg.svd(q - m)[2][1]
+    return n, float(n @ m)
+
+
+def _refine_edges(image: np.ndarray, corners: np.ndarray, cells: int) -> np.ndarray:
+    """The corners where the marker's four fitted outer edges meet (see the module)."""
+    lo = np.maximum(np.floor(corners.min(axis=0)).astype(int) - 6, 0)
+    hi = np.minimum(np.ceil(corners.max(axis=0)).astype(int) + 7, image.shape[::-1])
+    patch = image[lo[1] : hi[1], lo[0] : hi[0]].astype(float)
+    local = corners - lo
+    centre = local.mean(axis=0)
+    side = float(np.linalg.norm(local - np.roll(local, -1, axis=0), axis=1).mean())
+    lines = [
+        _edge_line(patch, local[k], local[(k + 1) % 4], centre, side / cells) for k in range(4)
+    ]
+    if any(line is None for line in lines):
+        return corners
+    out = np.empty((4, 2))
+    for k in range(4):  # corner k is where the edges into and out of it meet
+        (n1, d1), (n2, d2) = lines[k - 1], lines[k]
+        a = np.array([n1, n2])
+        if abs(np.linalg.det(a)) < 0.5:  # the edges are not near perpendicular: keep OpenCV's
+            return corners
+        out[k] = np.linalg.solve(a, [d1, d2])
+    if np.abs(out - local).max() > 2.0:  # the fit wandered off: keep OpenCV's
+        return corners
+    return out + lo
 
 
 def _window(corners: np.ndarray, shape) -> tuple[int, int, int, int]:
