@@ -27,7 +27,9 @@ straight down (a fixed homography, given to ``track_tag``).
 * **masks from the frames**: ``comcore.measure_motion`` on
   ``comcore.mask_from_image`` of the same two frames (rectified first by
   ``cv2.warpPerspective`` with ``--perspective``; the tag's dark cells are
-  holes, filled): the masks a user of the camera gets.
+  holes, filled): the masks a user of the camera gets. A pair where it
+  raises (``ImageError``: the tag's dark cells cut a small object in parts)
+  is counted.
 
 Motions ``measure_motion`` flags ambiguous are counted and left out of its
 figures.
@@ -116,6 +118,7 @@ def run(args, side: float) -> dict:
     back = np.linalg.inv(camera)
     out = {"tags": [], "opencv": [], "exact": [], "segmented": [], "lost": 0, "frames": 0}
     out["ambiguous"] = {"exact": 0, "segmented": 0}
+    out["unsegmented"] = 0
     cv2 = _tags._cv2()
     seconds = 0.0
     for _ in range(args.trials):
@@ -161,15 +164,23 @@ def run(args, side: float) -> dict:
         if None not in raw:
             offset = centroid_in_tag(raw[0], masks[0])
             out["opencv"].append(motion_error(_tags.motion_from_tags(*raw, offset), truth))
-        seen = [
-            comcore.mask_from_image(
-                cv2.warpPerspective(f, back, (cols, rows), flags=cv2.INTER_LINEAR)
-                if args.perspective else f,
-                object="bright", resolution=RESOLUTION,
-            )
-            for f in frames
-        ]  # fmt: skip
+        try:
+            seen = [
+                comcore.mask_from_image(
+                    cv2.warpPerspective(f, back, (cols, rows), flags=cv2.INTER_LINEAR)
+                    if args.perspective
+                    else f,
+                    object="bright",
+                    resolution=RESOLUTION,
+                )
+                for f in frames
+            ]
+        except comcore.ImageError:  # e.g. the tag's dark cells cut a small object in parts
+            out["unsegmented"] += 1
+            seen = None
         for kind, pair in (("exact", masks), ("segmented", seen)):
+            if pair is None:
+                continue
             measured = comcore.measure_motion(*pair)
             if measured.ambiguous:
                 out["ambiguous"][kind] += 1
@@ -222,6 +233,7 @@ def main(argv=None) -> None:
         print(
             f"  lost frames: {result['lost']} of {result['frames']}; masks flagged ambiguous: "
             f"{flagged['exact']} exact, {flagged['segmented']} from the frames; "
+            f"frame pairs mask_from_image refused: {result['unsegmented']}; "
             f"track_tag {result['ms_per_frame']:.1f} ms per frame"
         )
 

@@ -62,3 +62,4 @@ def test_bench_tags_script_runs():
         assert re.search(rf"rotation median {NUMBER} deg, p90 {NUMBER} deg; translation", line)
     lost = r"  lost frames: 0 of 4; masks flagged ambiguous: .* ms per frame"
     assert re.fullmatch(lost, lines[5])
+    assert "mask_from_image refused: 0" in lines[5]
