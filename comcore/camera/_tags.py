@@ -56,9 +56,11 @@ Choices (written down here)
   ``tag_size``: another plane, a false detection) has no pose: its status
   says why and its index is in :attr:`TagTrack.lost`; a motion that needs it
   is ``None``. Nothing is interpolated.
-* **The neighbourhood.** After a frame where the marker was found, the next
-  is searched first in a window around it (:data:`SEARCH_MARGIN_SIDES` sides
-  of the marker each way), then, if it is not there, in the whole frame.
+* **The whole frame is searched, the neighbourhood refined.** A second marker
+  of the id anywhere in the frame makes it ambiguous, which only a search of
+  the whole frame can tell, so every frame is searched whole (a search first
+  in a window around the last pose would miss that copy and call the frame
+  found). The edge fit reads only the marker's neighbourhood.
 """
 
 from __future__ import annotations
@@ -98,10 +100,6 @@ TAG_DICTIONARIES = (
 #: A found marker whose mean side differs from ``tag_size`` by more than this share is
 #: refused (status ``"wrong_size"``): a marker in another plane or a false detection.
 SIZE_TOLERANCE = 0.15
-#: After a frame where the marker was found, the next frame is searched first this many
-#: marker sides around it (image pixels), then in the whole frame.
-SEARCH_MARGIN_SIDES = 3.0
-
 #: A profile across the marker's edge reaches this many cells inside and outside it.
 EDGE_REACH_CELLS = (0.5, 1.0)
 #: A side whose light and dark levels differ by less than this (grey levels) keeps
@@ -431,25 +429,12 @@ def track_tag(
 
     poses: list[TagPose | None] = []
     status: list[str] = []
-    window = None  # (x0, y0, x1, y1) in image pixels around the last found marker
     for image in frames:
-        found = None
-        if window is not None:
-            x0, y0, x1, y1 = window
-            found = _find(detector, image[y0:y1, x0:x1], tag_id)
-            if found is not None and found[0] == "found":
-                found = ("found", found[1] + (x0, y0))
-            else:
-                found = None
-        if found is None:
-            found = _find(detector, image, tag_id)
-        what, corners = found
+        what, corners = _find(detector, image, tag_id)
         if what != "found":
             poses.append(None)
             status.append(what)
-            window = None
             continue
-        window = _window(corners, image.shape)
         corners = _refine_edges(image, corners, cells)
         if undistort is not None:
             corners = cv2.undistortPoints(
@@ -553,14 +538,6 @@ def _refine_edges(image: np.ndarray, corners: np.ndarray, cells: int) -> np.ndar
     if np.abs(out - local).max() > 2.0:  # the fit wandered off: keep OpenCV's
         return corners
     return out + lo
-
-
-def _window(corners: np.ndarray, shape) -> tuple[int, int, int, int]:
-    side = float(np.linalg.norm(corners - np.roll(corners, -1, axis=0), axis=1).max())
-    grow = SEARCH_MARGIN_SIDES * side
-    lo = np.floor(corners.min(axis=0) - grow).astype(int)
-    hi = np.ceil(corners.max(axis=0) + grow).astype(int)
-    return (max(lo[0], 0), max(lo[1], 0), min(hi[0], shape[1]), min(hi[1], shape[0]))
 
 
 def centroid_in_tag(tag: TagPose, mask) -> np.ndarray:
