@@ -128,7 +128,27 @@ class TagPose(NamedTuple):
 
 @dataclass(frozen=True)
 class TagTrack:
-    """One marker tracked over frames: its pose where it was found, and why not elsewhere."""
+    """One marker tracked over frames: its pose where it was found, and why not elsewhere.
+
+    :func:`track_tag` makes one; a lost frame has no pose, and the motions
+    that need it are ``None``.
+
+    Examples
+    --------
+    >>> track = TagTrack(
+    ...     (TagPose(50.0, 40.0, 0.0, 30.0), None, TagPose(60.0, 40.0, 0.1, 30.0)),
+    ...     ("found", "missing", "found"),
+    ...     (1,),
+    ... )
+    >>> track.motions((0.0, 0.0))
+    (None, None)
+    >>> track.motion(0, 2, (0.0, 0.0))
+    Motion(theta=0.1, tx=10.0, ty=0.0)
+    >>> track.motion(0, 1, (0.0, 0.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: after frame 1 has no tag pose (status 'missing'): its motion cannot be measured
+    """
 
     poses: tuple[TagPose | None, ...]
     """One per frame: the marker's pose, or None where it was not found."""
