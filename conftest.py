@@ -17,7 +17,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent
 #: What each extra brings that the examples import.
 EXTRA_MODULES = {
-    "sim": ("shapely", "trimesh", "pymunk"),
+    "sim": ("shapely", "trimesh", "pymunk", "cv2"),
     "anp": ("torch",),
     "plot": ("matplotlib",),
     "mujoco": ("mujoco",),
@@ -26,6 +26,7 @@ EXTRA_MODULES = {
 DOCTESTS_NEED = {
     "comcore/plot": "plot",
     "comcore/bench/__init__.py": "sim",
+    "comcore/camera/_tags.py": "sim",
     "predictors/anp": "anp",
     "predictors/oracle.py": "sim",
     "simulators": "sim",

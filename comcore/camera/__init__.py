@@ -4,11 +4,31 @@
 ``_light``, the object in ``_object``, the inputs in ``_input``);
 :func:`measure_motion` registers two masks into a :class:`MotionMeasurement`
 (the fit in ``_registration_fit``); ``_pose_tracking`` keeps a session's pose
-against its first mask. May import the base modules, :mod:`comcore.geometry` and
+against its first mask; ``_tags`` tracks an AprilTag or ArUco marker stuck on
+the object (:func:`track_tag`, needs opencv) and turns its poses into motions.
+May import the base modules, :mod:`comcore.geometry` and
 :mod:`comcore.vt`.
 """
 
 from ._image import mask_from_image
 from ._registration import MotionMeasurement, measure_motion
+from ._tags import (
+    TAG_DICTIONARIES,
+    TagPose,
+    TagTrack,
+    centroid_in_tag,
+    motion_from_tags,
+    track_tag,
+)
 
-__all__ = ["MotionMeasurement", "mask_from_image", "measure_motion"]
+__all__ = [
+    "TAG_DICTIONARIES",
+    "MotionMeasurement",
+    "TagPose",
+    "TagTrack",
+    "centroid_in_tag",
+    "mask_from_image",
+    "measure_motion",
+    "motion_from_tags",
+    "track_tag",
+]

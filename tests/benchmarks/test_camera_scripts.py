@@ -50,3 +50,16 @@ def test_bench_measure_motion_in_a_wide_frame():
     lines = run_script("benchmarks/accuracy/bench_measure_motion.py", *args, timeout=120).splitlines()
     assert lines[0].endswith("images [300, 400] to [300, 400] px")
     assert "  in the camera frame against the masks alone: largest difference of a motion component 0" in lines
+
+
+def test_bench_tags_script_runs():
+    pytest.importorskip("cv2")  # the tags are drawn and found with cv2.aruco
+    args = ["--trials", "2", "--tag-sizes", "30", "--frame", "320x240", "--area", "60"]
+    lines = run_script("benchmarks/accuracy/bench_tags.py", *args, timeout=120).splitlines()
+    assert lines[0].startswith("tag 30 mm (3.75 px per cell) on a star of 60 cm^2, 1 mm/px")
+    for line, name in zip(lines[1:5], ("tags", "OpenCV's corners", "exact masks", "masks from")):
+        assert line.startswith(f"  {name}")
+        assert re.search(rf"rotation median {NUMBER} deg, p90 {NUMBER} deg; translation", line)
+    lost = r"  lost frames: 0 of 4; masks flagged ambiguous: .* ms per frame"
+    assert re.fullmatch(lost, lines[5])
+    assert "mask_from_image refused: 0" in lines[5]

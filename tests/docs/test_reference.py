@@ -59,6 +59,7 @@ NOT_REFERENCED = {
     "predictors.anp.predictor": "re-exported by predictors.anp, documented there",
     "predictors.anp.shapes": "the ANP's training shapes",
     "predictors.anp.train": "a script",
+    "simulators.tag_frames": "the frame renderer of the tag tests, benchmark and how-to",
 }
 PACKAGES = ("comcore", "predictors", "simulators")
 
