@@ -114,7 +114,8 @@ def _mesh_outline(path: Path) -> np.ndarray:
         raise ValueError(f"{path}: the mesh has no section at z = {height:g}")
     to_plane = np.eye(4)
     to_plane[2, 3] = -height  # keeps x and y: the object's frame
-    planar, _ = section.to_planar(to_2D=to_plane)
+    flatten = getattr(section, "to_2D", None) or section.to_planar  # to_planar: older trimesh
+    planar, _ = flatten(to_2D=to_plane)
     polygons = list(planar.polygons_full)
     if not polygons:
         raise ValueError(f"{path}: the mesh's section at z = {height:g} holds no closed polygon")

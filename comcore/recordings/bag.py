@@ -538,5 +538,5 @@ def recording_from_bag(
             f"({tolerance:g} m) of the object's outline (topic {object_topic!r}) while the "
             "object's poses last: are both in one frame, and the outline in the object's?"
         )
-    names = [f"push {k + 1} at {p[0, 0]:.2f} s" for k, (_, p) in enumerate(pieces)]
+    names = [f"push {k + 1} at {round(p[0, 0], 2) + 0.0:.2f} s" for k, (_, p) in enumerate(pieces)]
     return recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
