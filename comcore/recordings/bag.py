@@ -18,8 +18,11 @@ time), taken from the integer nanoseconds so that nothing is lost to rounding.
 By default (``time="auto"``) a topic's times are its messages' ``header.stamp``
 (each transform's own header in a ``tf2_msgs/TFMessage``) when every one is
 nonzero, else the bag's receive times; ``time="header"`` or ``"receive"``
-chooses. The two topics need not share their times: the object's pose is
-interpolated linearly at the pusher's times (:func:`comcore.recording_from_poses`).
+chooses. Messages whose times are a little out of order (by at most
+:data:`MAX_REORDER`: a tracker's stamps jitter) are sorted by time; a time
+further back, or one repeated, is refused. The two topics need not share
+their times: the object's pose is interpolated linearly at the pusher's times
+(:func:`comcore.recording_from_poses`).
 
 **Poses** are read seen from above: ``x`` and ``y`` of the position, and the
 yaw about ``z`` of the orientation (``atan2(2(wz + xy), 1 - 2(y^2 + z^2))``),
@@ -54,6 +57,7 @@ from ._splitting import DEFAULT_SEPARATION_M, split_pushes
 
 __all__ = [
     "MAX_DISTANCE",
+    "MAX_REORDER",
     "MAX_SPAN",
     "MAX_TILT",
     "QUATERNION_NORM_TOLERANCE",
@@ -80,6 +84,10 @@ TIME_SOURCES = ("auto", "header", "receive")
 #: Largest tilt (radians, 20 degrees) of the object's z axis from vertical: a flat object on a
 #: table, tracked in a z-up frame, tilts by a few degrees at most.
 MAX_TILT = math.radians(20.0)
+#: Largest time (seconds) a message's stamp may lie before an earlier message's: within it the
+#: messages are sorted by time (a tracker's stamps jitter by a few milliseconds), beyond it
+#: the times are refused as not increasing (a clock that jumped back).
+MAX_REORDER = 0.1
 #: Largest difference of a quaternion's norm from 1 (they are written normalised).
 QUATERNION_NORM_TOLERANCE = 1e-3
 #: Largest span (metres) of a topic's positions along x or y: a tabletop, a lab.
@@ -342,25 +350,8 @@ def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
     frames = sorted({r[2] for r in rows})
     if len({f.lstrip("/") for f in frames}) > 1:
         raise ValueError(f"topic {topic!r} holds poses in several frames: {frames}")
-    received = np.array([r[0] for r in rows], dtype=np.int64)
-    stamps = np.array([r[1] for r in rows], dtype=np.int64)
-    source = time
-    if time == "auto":
-        source = "header" if np.all(stamps != 0) else "receive"
-    elif time == "header" and np.any(stamps == 0):
-        raise ValueError(
-            f"topic {topic!r}: {int(np.sum(stamps == 0))} of its header stamps are zero "
-            "(time='receive' uses the bag's receive times)"
-        )
-    t = ((stamps if source == "header" else received) - start) * 1e-9
-    steps = np.diff(t)
-    if np.any(steps <= 0):
-        k = int(np.flatnonzero(steps <= 0)[0]) + 1
-        hint = " (time='receive' uses the bag's receive times)" if source == "header" else ""
-        raise ValueError(
-            f"topic {topic!r}: its {source} times are not increasing: message {k} is at "
-            f"{t[k]:.9f} s, after {t[k - 1]:.9f} s{hint}"
-        )
+    t, order, source = _times(rows, topic, start, time)
+    rows = [rows[i] for i in order]
     xy = np.array([r[4] for r in rows], dtype=float)
     _check_metres(xy, topic)
     q = np.array([r[5] for r in rows], dtype=float)
@@ -374,6 +365,40 @@ def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
     poses.setflags(write=False)
     child = rows[0][3] if msgtype in _CHILD_FRAME_TYPES else ""
     return BagPoses(poses, frames[0], child, msgtype, source)
+
+
+def _times(rows, topic: str, start: int, time: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """Seconds since ``start`` of each row, sorted; the order; the source (header, receive)."""
+    received = np.array([r[0] for r in rows], dtype=np.int64)
+    stamps = np.array([r[1] for r in rows], dtype=np.int64)
+    source = time
+    if time == "auto":
+        source = "header" if np.all(stamps != 0) else "receive"
+    elif time == "header" and np.any(stamps == 0):
+        raise ValueError(
+            f"topic {topic!r}: {int(np.sum(stamps == 0))} of its header stamps are zero "
+            "(time='receive' uses the bag's receive times)"
+        )
+    t = ((stamps if source == "header" else received) - start) * 1e-9
+    hint = " (time='receive' uses the bag's receive times)" if source == "header" else ""
+    behind = np.maximum.accumulate(t) - t
+    if behind.max() > MAX_REORDER:
+        k = int(np.argmax(behind > MAX_REORDER))
+        raise ValueError(
+            f"topic {topic!r}: its {source} times are not increasing: message {k} is at "
+            f"{t[k]:.9f} s, {behind[k]:.3g} s before an earlier message's (out of order by "
+            f"at most {MAX_REORDER:g} s is sorted){hint}"
+        )
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    repeated = np.flatnonzero(np.diff(t) == 0)
+    if len(repeated):
+        k = int(order[repeated[0] + 1])
+        raise ValueError(
+            f"topic {topic!r}: its {source} times are not increasing: message {k} repeats the "
+            f"time {t[repeated[0]]:.9f} s ({len(repeated)} repeated){hint}"
+        )
+    return t, order, source
 
 
 def _check_metres(xy: np.ndarray, topic: str) -> None:

@@ -223,18 +223,36 @@ def test_a_non_unit_quaternion_is_refused(tmp_path):
         bag.poses_from_bag(path, "/plate")
 
 
-def test_times_not_increasing_are_refused_and_receive_times_can_be_chosen(tmp_path):
+def test_stamps_a_little_out_of_order_are_sorted(tmp_path):
     msgs = rows()
-    msgs[5] = (msgs[5][0], msgs[3][1], *msgs[5][2:])  # a stamp from the past
-    path = small(tmp_path, {"/plate": (POSE, msgs)})
+    msgs[5], msgs[6] = (
+        (msgs[5][0], msgs[6][1], *msgs[5][2:]),
+        (msgs[6][0], msgs[5][1], *msgs[6][2:]),
+    )
+    read = bag.poses_from_bag(small(tmp_path, {"/plate": (POSE, msgs)}), "/plate")
+    assert np.all(np.diff(read.poses[:, 0]) > 0)
+    assert read.poses[5, 1] == pytest.approx(0.006) and read.poses[6, 1] == pytest.approx(0.005)
+
+
+def test_times_not_increasing_are_refused_and_receive_times_can_be_chosen(tmp_path):
+    back = rows()
+    back[10] = (back[10][0], back[10][1] - S, *back[10][2:])  # a clock one second back
+    path = small(tmp_path, {"/plate": (POSE, back)})
     with pytest.raises(
         ValueError,
-        match=r"topic '/plate': its header times are not increasing: message 5 .*time='receive'",
+        match=r"topic '/plate': its header times are not increasing: message 10 is at -0.901000000 s, 0.99 s before an earlier message's .*time='receive'",
     ):
         bag.poses_from_bag(path, "/plate")
     read = bag.poses_from_bag(path, "/plate", time="receive")
     assert read.time_source == "receive"
     assert np.allclose(read.poses[:, 0], 0.01 * np.arange(20), atol=1e-12)  # from the bag's start
+    repeated = rows()
+    repeated[5] = (repeated[5][0], repeated[4][1], *repeated[5][2:])
+    path = small(tmp_path / "..", {"/plate": (POSE, repeated)}, fmt="mcap")
+    with pytest.raises(
+        ValueError, match=r"topic '/plate': .* not increasing: message 5 repeats the time"
+    ):
+        bag.poses_from_bag(path, "/plate")
     with pytest.raises(ValueError, match="time must be one of"):
         bag.poses_from_bag(path, "/plate", time="wall")
 
