@@ -122,7 +122,10 @@ def _reader(path):
     path = Path(os.fspath(path))
     if not path.exists():
         raise ValueError(f"path: no such bag: {path}")
-    return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+    try:
+        return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+    except Exception as e:  # rosbags raises its own error types (and OSError) for a bad path
+        raise ValueError(f"path: cannot read {path} as a bag: {e}") from e
 
 
 class _Open:

@@ -87,9 +87,10 @@ def test_the_recording_gives_the_simulators_motions(log, written):
 
 
 def test_ros1_sqlite3_and_mcap_give_identical_recordings(written):
+    paths = [*written.values(), next(written["mcap"].glob("*.mcap"))]  # the MCAP file alone too
     recs = [
         bag.recording_from_bag(path, "/plate/pose", "/tip", bags.OUTLINE, bags.RADIUS)
-        for path in written.values()
+        for path in paths
     ]
     assert len(recs[0].pushes) == 20
     for rec in recs[1:]:
@@ -151,6 +152,11 @@ def test_a_missing_topic_lists_the_bags_topics(tmp_path):
         bag.poses_from_bag(path, "/plate")
     with pytest.raises(ValueError, match="no such bag"):
         bag.poses_from_bag(tmp_path / "none.bag", "/tip")
+    (tmp_path / "text.bag").write_text("not a bag")
+    (tmp_path / "folder").mkdir()
+    for bad in ("text.bag", "folder"):
+        with pytest.raises(ValueError, match=rf"path: cannot read .*{bad} as a bag"):
+            bag.bag_topics(tmp_path / bad)
 
 
 def test_an_unsupported_type_names_the_topic_its_type_and_the_supported(tmp_path):
