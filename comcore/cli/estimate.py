@@ -22,7 +22,9 @@ the tip's radius (``--pusher-radius``) give the mask and the pushes through
 :func:`comcore.recordings.bag.recording_from_bag` (needs ``comcore[ros]``). The
 mask is drawn from the outline, so ``--resolution`` is then the mask's pixel
 size, not a camera's, and has a default (2.5 mm). The pushes are numbered as
-the lines of the pushes CSV the recording would make (the first is line 2).
+the lines of the pushes CSV the recording would make (the first is line 2). The
+CoM is also given in the object's frame (the outline's, of the object topic's poses):
+the JSON's ``com_object_m``.
 
 The default method, ``posterior``, scores the pushes with the motion model of
 :class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
@@ -442,7 +444,7 @@ def _bag_options(args) -> None:
 
 
 def _read(args, resolution: float, pusher_radius: float):
-    """The mask and the pushes: of the bag, or of the mask image and the CSV."""
+    """The mask, the pushes and the bag's Recording (None for the mask image and the CSV)."""
     if args.bag:
         mask, recorded, rec = read_bag(
             args.bag, args.object_topic, args.pusher_topic, args.outline, pusher_radius,
@@ -450,13 +452,13 @@ def _read(args, resolution: float, pusher_radius: float):
             pusher_child_frame=args.pusher_child_frame,
         )  # fmt: skip
         print(f"comcore estimate: --bag: {rec.report()}".replace("\n", "\n  "), file=sys.stderr)
-        return mask, recorded
+        return mask, recorded, rec
     mask_path, pushes_path = _inputs(args)
     mask = read_mask(
         mask_path, resolution, args.object, threshold=args.threshold,
         background=args.background, roi=args.roi,
     )  # fmt: skip
-    return mask, read_pushes(pushes_path)
+    return mask, read_pushes(pushes_path), None
 
 
 def _inputs(args):
@@ -567,7 +569,7 @@ def run(args) -> int:
             raise InputError(
                 f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
             )
-        mask, recorded = _read(args, resolution, pusher_radius)
+        mask, recorded, from_bag = _read(args, resolution, pusher_radius)
         if args.theta_units == "deg":
             recorded = recorded.theta_from_degrees()
         contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
@@ -608,6 +610,8 @@ def run(args) -> int:
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake)
+    if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
+        result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
     code = _overlay(args, mask, pushes, shown, result)
     if code:

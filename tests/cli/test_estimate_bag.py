@@ -65,7 +65,9 @@ def test_the_bag_gives_the_estimate_of_its_mask_png_and_pushes_csv(
             "--resolution", repr(rec.mask.resolution), "--pusher-radius", str(bags.RADIUS), *method]  # fmt: skip
     code, from_csv, err = run_json(capsys, argv)
     assert code == 0, err
+    com_object = from_bag.pop("com_object_m")  # only --bag knows the object's frame
     assert from_bag == from_csv
+    assert com_object == rec.object_from_pixels(np.array(from_bag["com_px"]))[0].tolist()
     assert from_bag["n_pushes"] == 6 and from_bag["resolution"] == 0.0025
 
 
