@@ -356,14 +356,21 @@ def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
     t, order, source = _times(rows, topic, start, time)
     rows = [rows[i] for i in order]
     xy = np.array([r[4] for r in rows], dtype=float)
+    bad = np.flatnonzero(~np.isfinite(xy).all(axis=1))
+    if len(bad):
+        raise ValueError(
+            f"topic {topic!r}: the position of message {int(order[bad[0]])} is not finite "
+            f"({xy[bad[0]].tolist()}); {len(bad)} message(s) so"
+        )
     _check_metres(xy, topic)
     q = np.array([r[5] for r in rows], dtype=float)
     if check_orientation:
-        _check_quaternions(q, topic)
+        _check_quaternions(q, topic, order)
     norm = np.linalg.norm(q, axis=1)
-    unit = q / np.where(norm > 0, norm, 1.0)[:, None]
+    usable = np.isfinite(norm) & (norm > 0)  # unchecked, a zero or NaN quaternion: yaw 0
+    unit = np.where(usable[:, None], q, [0.0, 0.0, 0.0, 1.0]) / np.where(usable, norm, 1.0)[:, None]
     x, y, z, w = unit.T
-    yaw = np.where(norm > 0, np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)), 0.0)
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
     poses = np.column_stack([t, xy, np.unwrap(yaw)])
     poses.setflags(write=False)
     child = rows[0][3] if msgtype in _CHILD_FRAME_TYPES else ""
@@ -416,14 +423,18 @@ def _check_metres(xy: np.ndarray, topic: str) -> None:
         )
 
 
-def _check_quaternions(q: np.ndarray, topic: str) -> None:
-    """Unit norm, and a rotation about z (the object's z axis near vertical)."""
+def _check_quaternions(q: np.ndarray, topic: str, index: np.ndarray) -> None:
+    """Unit norm, and a rotation about z (the object's z axis near vertical).
+
+    ``index``: each row's message number in the bag, for the messages.
+    """
     norm = np.linalg.norm(q, axis=1)
-    bad = np.flatnonzero(np.abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE)
+    bad = np.flatnonzero(~(np.abs(norm - 1.0) <= QUATERNION_NORM_TOLERANCE))  # NaN too
     if len(bad):
         k = int(bad[0])
         raise ValueError(
-            f"topic {topic!r}: the orientation of message {k} has norm {norm[k]:.6g}, not 1 "
+            f"topic {topic!r}: the orientation of message {int(index[k])} has norm "
+            f"{norm[k]:.6g}, not 1 "
             f"(x, y, z, w = {', '.join(f'{v:.6g}' for v in q[k])}); {len(bad)} message(s) so"
         )
     x, y = q[:, 0] / norm, q[:, 1] / norm
@@ -433,8 +444,8 @@ def _check_quaternions(q: np.ndarray, topic: str) -> None:
         k = int(bad[0])
         axis = "x" if abs(x[k]) >= abs(y[k]) else "y"
         raise ValueError(
-            f"topic {topic!r}: the orientation of message {k} tilts the object's z axis "
-            f"{math.degrees(tilt[k]):.1f} degrees from vertical (at most "
+            f"topic {topic!r}: the orientation of message {int(index[k])} tilts the object's z "
+            f"axis {math.degrees(tilt[k]):.1f} degrees from vertical (at most "
             f"{math.degrees(MAX_TILT):g}): its rotation is about {axis}, not z: is the frame "
             f"z-up? ({len(bad)} message(s) so)"
         )

@@ -138,9 +138,10 @@ def rows(n=20, *, x=0.0, y=0.0, q=(0.0, 0.0, 0.0, 1.0), child="plate", step=0.00
     ]
 
 
-def small(tmp_path, topics, fmt="rosbag1", **kw):
+def small(folder, topics, fmt="rosbag1", **kw):
+    folder.mkdir(parents=True, exist_ok=True)
     name = "small.bag" if fmt == "rosbag1" else "small"
-    return bags.small_bag(tmp_path / name, fmt, topics, **kw)
+    return bags.small_bag(folder / name, fmt, topics, **kw)
 
 
 def test_a_missing_topic_lists_the_bags_topics(tmp_path):
@@ -221,6 +222,24 @@ def test_a_rotation_not_about_z_is_refused(tmp_path, axis, q):
     assert bag.poses_from_bag(path, "/plate", check_orientation=False).poses.shape == (20, 4)
 
 
+def test_non_finite_values_are_refused_where_they_are_used(tmp_path):
+    msgs = rows()
+    msgs[7] = (*msgs[7][:3], float("nan"), *msgs[7][4:])
+    path = small(tmp_path, {"/plate": (POSE, msgs)})
+    with pytest.raises(
+        ValueError, match=r"topic '/plate': the position of message 7 is not finite"
+    ):
+        bag.poses_from_bag(path, "/plate")
+    nan_q = (float("nan"),) * 4
+    path = small(tmp_path / "second", {"/tip": (POSE, rows(q=nan_q))}, fmt="mcap")
+    with pytest.raises(
+        ValueError, match=r"topic '/tip': the orientation of message 0 has norm nan"
+    ):
+        bag.poses_from_bag(path, "/tip")
+    tip = bag.poses_from_bag(path, "/tip", check_orientation=False)  # the tip's yaw: not used
+    assert np.all(tip.poses[:, 3] == 0.0) and np.all(np.isfinite(tip.poses))
+
+
 def test_a_non_unit_quaternion_is_refused(tmp_path):
     path = small(tmp_path, {"/plate": (POSE, rows(q=(0.0, 0.0, 0.5, 0.5)))})
     with pytest.raises(
@@ -254,7 +273,7 @@ def test_times_not_increasing_are_refused_and_receive_times_can_be_chosen(tmp_pa
     assert np.allclose(read.poses[:, 0], 0.01 * np.arange(20), atol=1e-12)  # from the bag's start
     repeated = rows()
     repeated[5] = (repeated[5][0], repeated[4][1], *repeated[5][2:])
-    path = small(tmp_path / "..", {"/plate": (POSE, repeated)}, fmt="mcap")
+    path = small(tmp_path / "second", {"/plate": (POSE, repeated)}, fmt="mcap")
     with pytest.raises(
         ValueError, match=r"topic '/plate': .* not increasing: message 5 repeats the time"
     ):
