@@ -1,6 +1,6 @@
 """The pnpush project's preliminary ROS 1 bags through comcore.recordings.bag.
 
-The MIT MCube lab's pnpush repository (github.com/peterkty/pnpush) holds 22 bags of an ABB
+Peter K.-T. Yu's pnpush repository (github.com/peterkty/pnpush) holds 22 bags of an ABB
 arm pushing three blocks tracked by Vicon, under
 ``catkin_ws/src/pnpush_planning/preliminary_push_testing/{Al_block,Plastic_block,St_block}/``,
 and the steel block's mesh as ``catkin_ws/src/pnpush_config/models/object_meshes/SteelBlock.stl``.
