@@ -52,8 +52,9 @@ import numpy as np
 
 from ..geometry._outline import check_outline
 from ._outline_file import read_outline
+from ._pose_streams import stream
 from ._recording import DEFAULT_CONTACT_TOLERANCE_M, Recording, recording_from_poses
-from ._splitting import DEFAULT_SEPARATION_M, split_pushes
+from ._splitting import DEFAULT_SEPARATION_M, pusher_gaps, split_pushes
 
 __all__ = [
     "MAX_DISTANCE",
@@ -572,10 +573,13 @@ def recording_from_bag(
         contact_tolerance=tolerance,
     )  # fmt: skip
     if not pieces:
+        _, gap = pusher_gaps(poly, stream(obj.poses, "object"), pusher.poses, pusher_radius)
+        closest = f"{gap.min():.3g} m" if len(gap) else "nothing: no time in common"
         raise ValueError(
             f"the pusher (topic {pusher_topic!r}) never comes within contact_tolerance "
             f"({tolerance:g} m) of the object's outline (topic {object_topic!r}) while the "
-            "object's poses last: are both in one frame, and the outline in the object's?"
+            f"object's poses last (the closest: {closest}): are both in one frame, and the "
+            "outline in the object's?"
         )
     names = [f"push {k + 1} at {round(p[0, 0], 2) + 0.0:.2f} s" for k, (_, p) in enumerate(pieces)]
     return recording_from_poses(poly, pieces, pusher_radius, names=names, **options)

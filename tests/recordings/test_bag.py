@@ -295,7 +295,8 @@ def test_recording_errors_name_the_topics(tmp_path):
     square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
     far = small(tmp_path, {"/plate": (POSE, rows(step=0.0)), "/tip": (POSE, rows(x=0.5))})
     with pytest.raises(
-        ValueError, match=r"the pusher \(topic '/tip'\) never comes within .*\(topic '/plate'\)"
+        ValueError,
+        match=r"the pusher \(topic '/tip'\) never comes within .*\(topic '/plate'\) .*\(the closest: 0.4[0-9]* m\)",
     ):
         bag.recording_from_bag(far, "/plate", "/tip", square, 0.004)
     frames = tmp_path / "frames"
