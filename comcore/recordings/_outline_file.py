@@ -72,7 +72,7 @@ def read_outline(path) -> np.ndarray:
 
 def _csv_outline(path: Path) -> np.ndarray:
     """The vertices of a CSV of ``x, y`` rows (a header row optional)."""
-    rows = []
+    rows: list[list[float]] = []
     try:
         with path.open(newline="", encoding="utf-8-sig") as f:
             for number, row in enumerate(csv.reader(f), start=1):
@@ -109,7 +109,7 @@ def _mesh_outline(path: Path) -> np.ndarray:
     mesh = trimesh.load(path, force="mesh")
     low, high = mesh.bounds[:, 2]
     height = low + SECTION_HEIGHT * (high - low)
-    section = mesh.section(plane_origin=[0.0, 0.0, height], plane_normal=[0.0, 0.0, 1.0])
+    section = mesh.section(plane_origin=[0.0, 0.0, height], plane_normal=[0.0, 0.0, 1.0])  # type: ignore[attr-defined]
     if section is None:
         raise ValueError(f"{path}: the mesh has no section at z = {height:g}")
     to_plane = np.eye(4)

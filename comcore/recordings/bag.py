@@ -316,7 +316,7 @@ def poses_from_bag(
                 f"{msgtype}, which names no child frame"
             )
         start = int(reader.start_time)
-        rows = []
+        rows: list[tuple] = []
         connections = [c for c in reader.connections if c.topic == topic]
         for connection, received, raw in reader.messages(connections=connections):
             msg = reader.deserialize(raw, connection.msgtype)
