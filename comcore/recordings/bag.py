@@ -298,6 +298,8 @@ def poses_from_bag(
         raise ValueError(f"time must be one of {TIME_SOURCES}, got {time!r}")
     if not isinstance(topic, str):
         raise TypeError(f"topic must be a str, got {type(topic).__name__}")
+    if child_frame is not None and not isinstance(child_frame, str):
+        raise TypeError(f"child_frame must be a str or None, got {type(child_frame).__name__}")
     with _Open(path) as reader:
         if topic not in reader.topics:
             raise ValueError(

@@ -278,6 +278,10 @@ def test_times_not_increasing_are_refused_and_receive_times_can_be_chosen(tmp_pa
         ValueError, match=r"topic '/plate': .* not increasing: message 5 repeats the time"
     ):
         bag.poses_from_bag(path, "/plate")
+    with pytest.raises(TypeError, match="topic must be a str"):
+        bag.poses_from_bag(path, 3)
+    with pytest.raises(TypeError, match="child_frame must be a str or None, got int"):
+        bag.poses_from_bag(path, "/plate", child_frame=3)
     with pytest.raises(ValueError, match="time must be one of"):
         bag.poses_from_bag(path, "/plate", time="wall")
 
