@@ -21,10 +21,12 @@ EXTRA_MODULES = {
     "anp": ("torch",),
     "plot": ("matplotlib",),
     "mujoco": ("mujoco",),
+    "ros": ("rosbags",),
 }
 #: Modules (or folders) whose doctests need an extra, from the repository root.
 DOCTESTS_NEED = {
     "comcore/plot": "plot",
+    "comcore/recordings/bag.py": "ros",
     "comcore/bench/__init__.py": "sim",
     "comcore/camera/_tags.py": "sim",
     "predictors/anp": "anp",

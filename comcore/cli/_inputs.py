@@ -1,4 +1,4 @@
-"""The files of ``comcore estimate``: the mask image and the CSV of pushes.
+"""The files of ``comcore estimate``: the mask image and the CSV of pushes, or a ROS bag.
 
 Every problem is an :class:`InputError` naming the option and, for the CSV, the
 file's line numbers (the header is line 1), never a 0-based index.
@@ -23,6 +23,7 @@ __all__ = [
     "Pushes",
     "check_resolution",
     "line_list",
+    "read_bag",
     "read_mask",
     "read_pushes",
     "screen_pushes",
@@ -186,6 +187,37 @@ def read_pushes(path) -> Pushes:
         if values[i, 0] == values[i, 2] and values[i, 1] == values[i, 3]:
             raise InputError(f"--pushes: {path} line {line}: the push has zero length")
     return Pushes(values[:, :4], values[:, 4:], np.asarray(lines, int))
+
+
+def read_bag(
+    path, object_topic: str, pusher_topic: str, outline, pusher_radius: float, resolution: float,
+    *, object_child_frame: str | None = None, pusher_child_frame: str | None = None,
+) -> tuple[comcore.Mask, Pushes, comcore.Recording]:  # fmt: skip
+    """The mask and pushes of a bag (:func:`comcore.recordings.bag.recording_from_bag`).
+
+    ``outline`` is the path of the outline's file (``--outline``). The pushes
+    are numbered as the rows of the pushes CSV the recording would make (the
+    first is line 2), so that the messages and the JSON read alike for both
+    inputs. What is wrong (the bag, a topic, the outline, rosbags missing) is
+    an InputError naming the option.
+    """
+    try:
+        poly = comcore.recordings.read_outline(outline)
+    except (ValueError, ImportError) as e:
+        raise InputError(f"--outline: {e}") from e
+    try:
+        import comcore.recordings.bag as bag
+
+        rec = bag.recording_from_bag(
+            path, object_topic, pusher_topic, poly, pusher_radius, resolution=resolution,
+            object_child_frame=object_child_frame, pusher_child_frame=pusher_child_frame,
+        )  # fmt: skip
+    except (ValueError, ImportError) as e:
+        raise InputError(f"--bag: {e}") from e
+    if not rec.pushes:
+        raise InputError(f"--bag: no push could be used: {rec.report()}")
+    lines = np.arange(2, len(rec.pushes) + 2)
+    return rec.mask, Pushes(rec.actions, rec.motions, lines), rec
 
 
 def line_list(lines) -> str:

@@ -67,6 +67,10 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
     x, y = est.com
     print(f"CoM: ({x:.2f}, {y:.2f}) px (column, row) = ({est.com_m[0]:.4f}, "
           f"{est.com_m[1]:.4f}) m {MASK_FRAME}")  # fmt: skip
+    if "com_object_m" in result:
+        ox, oy = result["com_object_m"]
+        print(f"CoM in the object's frame (the outline's, of --object-topic): ({ox:.4f}, "
+              f"{oy:.4f}) m")  # fmt: skip
     n_kept = result["n_pushes"] - len(result["dropped_lines"])
     print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
           "pushes used")  # fmt: skip

@@ -14,6 +14,18 @@ refuses them, and so is a recording where most pushes would be dropped (with
 a hint when swapping the x and y columns makes them hit). ``--example`` runs on
 the small recording shipped in ``comcore/data/examples/``.
 
+``--bag`` takes a robot's ROS bag instead of the mask and the CSV: the object's
+and the pusher's pose topics (``--object-topic``, ``--pusher-topic``, with
+``--object-child-frame`` / ``--pusher-child-frame`` for a ``/tf`` topic), the
+object's outline in its own frame (``--outline``: a polygon CSV or a mesh) and
+the tip's radius (``--pusher-radius``) give the mask and the pushes through
+:func:`comcore.recordings.bag.recording_from_bag` (needs ``comcore[ros]``). The
+mask is drawn from the outline, so ``--resolution`` is then the mask's pixel
+size, not a camera's, and has a default (2.5 mm). The pushes are numbered as
+the lines of the pushes CSV the recording would make (the first is line 2). The
+CoM is also given in the object's frame (the outline's, of the object topic's poses):
+the JSON's ``com_object_m``.
+
 The default method, ``posterior``, scores the pushes with the motion model of
 :class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
 ``--pusher-radius`` metres); ``--model none`` is the Voting Theorem alone.
@@ -57,6 +69,7 @@ from ._inputs import (
     InputError,
     check_resolution,
     line_list,
+    read_bag,
     read_mask,
     read_pushes,
     screen_pushes,
@@ -133,7 +146,7 @@ def example_files() -> dict[str, Path]:
 def add_arguments(parser) -> None:
     """Options of ``comcore estimate``."""
     add = parser.add_argument
-    files = parser.add_argument_group("input (--mask and --pushes, or --example)")
+    files = parser.add_argument_group("input (--mask and --pushes, --bag, or --example)")
     files.add_argument(
         "--mask", help="image of the object seen from above: a mask or a photo on a plain table"
     )
@@ -143,6 +156,7 @@ def add_arguments(parser) -> None:
         action="store_true",
         help="use the example shipped with comcore (an object image and 40 simulated pushes)",
     )
+    _add_bag_arguments(parser)
     add(
         "--object",
         choices=("auto", "bright", "dark"),
@@ -210,6 +224,33 @@ def add_arguments(parser) -> None:
     picture.add_argument("--no-overlay", action="store_true", help="write no picture")
 
 
+#: The options of a bag input, each with its help; all but the child frames are required.
+BAG_OPTIONS = {
+    "--object-topic": "the topic of the object's pose (PoseStamped, TransformStamped, /tf, "
+    "Odometry), in one frame with the pusher's, z up, metres",
+    "--pusher-topic": "the topic of the pusher tip's centre (its orientation is not used)",
+    "--object-child-frame": "the object's child frame, for a /tf topic that carries several",
+    "--pusher-child-frame": "the tip's child frame, for a /tf topic that carries several",
+    "--outline": "the object's outline in its own frame (the object topic's): a CSV of x,y "
+    "vertices in metres, or a mesh (.stl, .obj, ...: its footprint, needs comcore[sim])",
+}
+
+
+def _add_bag_arguments(parser) -> None:
+    """``--bag`` and its topics, child frames and outline."""
+    bag = parser.add_argument_group(
+        "a ROS bag instead (--bag, --object-topic, --pusher-topic, --outline; needs comcore[ros])"
+    )
+    bag.add_argument(
+        "--bag",
+        metavar="BAG",
+        help="a ROS 1 .bag or a rosbag2 folder (sqlite3 or MCAP) holding the object's and the "
+        "pusher's poses: the mask is drawn from --outline and the pushes are cut from the poses",
+    )
+    for option, text in BAG_OPTIONS.items():
+        bag.add_argument(option, metavar="FILE" if option == "--outline" else "NAME", help=text)
+
+
 def _add_status_arguments(parser) -> None:
     """``--target-radius``: the region's radius for status ``ok`` (:data:`EPILOG`)."""
     parser.add_argument(
@@ -228,8 +269,9 @@ def _add_unit_arguments(parser) -> None:
         "--resolution",
         type=float,
         metavar="METRES_PER_PIXEL",
-        help=f"required (unless --example): {RESOLUTION_HELP}; values outside [{lo:g}, {hi:g}] "
-        "are refused",
+        help=f"required (unless --example or --bag): {RESOLUTION_HELP}; values outside "
+        f"[{lo:g}, {hi:g}] are refused. With --bag: the pixel size of the mask drawn from "
+        f"--outline (default {comcore.conventions.DEFAULT_RESOLUTION:g})",
     )
     parser.add_argument(
         "--theta-units",
@@ -301,7 +343,7 @@ def overlay_path(args) -> Path | None:
         return Path(args.overlay)
     if getattr(args, "example", False):
         return Path("example-overlay.png")
-    return Path(f"{Path(args.mask).stem}-overlay.png")
+    return Path(f"{Path(getattr(args, 'bag', None) or args.mask).stem}-overlay.png")
 
 
 def estimate(
@@ -388,6 +430,46 @@ def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
     return replaced
 
 
+def _bag_options(args) -> None:
+    """With ``--bag``: its options given and nothing of the other inputs; without it, none."""
+    given = [o for o in BAG_OPTIONS if getattr(args, o[2:].replace("-", "_")) is not None]
+    if not args.bag:
+        if given:
+            raise InputError(f"{', '.join(given)} need --bag (they say what to read in the bag)")
+        return
+    others = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes),
+                             ("--example", args.example), ("--background", args.background),
+                             ("--roi", args.roi)) if v]  # fmt: skip
+    if others:
+        raise InputError(
+            f"--bag replaces --mask and --pushes (and the image's options); give one or the "
+            f"other, not --bag with {', '.join(others)}"
+        )
+    if args.theta_units == "deg":
+        raise InputError("--theta-units deg: the rotations read from --bag are radians")
+    missing = [o for o in ("--object-topic", "--pusher-topic", "--outline") if o not in given]
+    if missing:
+        raise InputError(f"{' and '.join(missing)} required with --bag")
+
+
+def _read(args, resolution: float, pusher_radius: float):
+    """The mask, the pushes and the bag's Recording (None for the mask image and the CSV)."""
+    if args.bag:
+        mask, recorded, rec = read_bag(
+            args.bag, args.object_topic, args.pusher_topic, args.outline, pusher_radius,
+            resolution, object_child_frame=args.object_child_frame,
+            pusher_child_frame=args.pusher_child_frame,
+        )  # fmt: skip
+        print(f"comcore estimate: --bag: {rec.report()}".replace("\n", "\n  "), file=sys.stderr)
+        return mask, recorded, rec
+    mask_path, pushes_path = _inputs(args)
+    mask = read_mask(
+        mask_path, resolution, args.object, threshold=args.threshold,
+        background=args.background, roi=args.roi,
+    )  # fmt: skip
+    return mask, read_pushes(pushes_path), None
+
+
 def _inputs(args):
     if args.example:
         if args.mask or args.pushes:
@@ -395,10 +477,10 @@ def _inputs(args):
         files = example_files()
         return files["mask"], files["pushes"]
     if args.resolution is None:
-        raise InputError(f"--resolution required (or --example): {RESOLUTION_HELP}")
+        raise InputError(f"--resolution required (or --example, or --bag): {RESOLUTION_HELP}")
     if not (args.mask and args.pushes):
         missing = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes)) if not v]
-        raise InputError(f"{' and '.join(missing)} required (or --example)")
+        raise InputError(f"{' and '.join(missing)} required (or --example, or --bag)")
     return Path(args.mask), Path(args.pushes)
 
 
@@ -474,7 +556,9 @@ def _metres(value, flag: str, kind: str) -> float:
 
 
 def _resolution(args) -> float:
-    """``--resolution``, checked; with ``--example`` and none, the example's own."""
+    """``--resolution``, checked; without it the example's own, or the mask's default (--bag)."""
+    if args.resolution is None and args.bag:
+        return comcore.conventions.DEFAULT_RESOLUTION
     if args.resolution is None:  # _inputs allows it only with --example
         return float(json.loads(example_files()["truth"].read_text())["resolution"])
     return check_resolution(args.resolution)
@@ -487,7 +571,9 @@ def run(args) -> int:
     :data:`EXIT_INCONSISTENT` when the status is ``inconsistent``.
     """
     try:
-        mask_path, pushes_path = _inputs(args)
+        _bag_options(args)
+        if not args.bag:
+            _inputs(args)  # the mask and CSV options, checked before the numbers
         resolution = _resolution(args)
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
@@ -498,11 +584,7 @@ def run(args) -> int:
             raise InputError(
                 f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
             )
-        mask = read_mask(
-            mask_path, resolution, args.object, threshold=args.threshold,
-            background=args.background, roi=args.roi,
-        )  # fmt: skip
-        recorded = read_pushes(pushes_path)
+        mask, recorded, from_bag = _read(args, resolution, pusher_radius)
         if args.theta_units == "deg":
             recorded = recorded.theta_from_degrees()
         contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
@@ -543,6 +625,8 @@ def run(args) -> int:
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake)
+    if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
+        result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
     code = _overlay(args, mask, pushes, shown, result)
     if code:

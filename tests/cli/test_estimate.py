@@ -173,7 +173,7 @@ def bad_case(tmp, name):
     if name == "example and files":
         return ["--example", "--mask", str(mask)], "--example replaces --mask and --pushes"
     if name == "no input":
-        return ["--mask", str(mask)], "--pushes required (or --example)"
+        return ["--mask", str(mask)], "--pushes required (or --example, or --bag)"
     raise AssertionError(name)
 
 
@@ -265,9 +265,11 @@ def test_help_shows_the_defaults_and_the_unit(capsys):
     with pytest.raises(SystemExit):
         main(["estimate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert "--resolution METRES_PER_PIXEL required (unless --example): the size of one image " \
-        "pixel on the table, in METRES per pixel" in text
-    assert "[1e-05, 0.05] are refused" in text and "default 0.0025" not in text
+    assert "--resolution METRES_PER_PIXEL required (unless --example or --bag): the size of one " \
+        "image pixel on the table, in METRES per pixel" in text
+    # no default for a camera's scale; with --bag it is the drawn mask's pixel, which has one
+    assert "[1e-05, 0.05] are refused. With --bag: the pixel size of the mask drawn from " \
+        "--outline (default 0.0025)" in text and text.count("default 0.0025") == 1
     assert "estimator (default posterior)" in text and "(default auto:" in text
 
 
@@ -643,7 +645,7 @@ def test_without_resolution_the_error_says_what_it_is_and_how_to_measure_it(file
     assert main(["estimate", "--mask", str(mask), "--pushes", str(pushes)]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.count("\n") == 1
-    assert captured.err.startswith("comcore estimate: --resolution required (or --example): ")
+    assert captured.err.startswith("comcore estimate: --resolution required (or --example, or --bag): ")
     assert "METRES per pixel" in captured.err and "photograph a ruler" in captured.err
 
 

@@ -12,6 +12,7 @@ HEAVY = (
     "shapely",
     "dask",
     "h5py",
+    "rosbags",
     "mujoco",
     "pyarrow",
     "tqdm",

@@ -15,7 +15,8 @@ ROOT = Path(__file__).resolve().parents[2]
 PAGES = [*sorted((ROOT / "docs").rglob("*.md")), ROOT / "README.md"]
 BLOCK = re.compile(r"```python\n(.*?)```", re.S)
 
-#: Top-level modules of the optional extras in pyproject.toml ([sim], [anp], [plot], [bench]).
+#: Top-level modules of the optional extras in pyproject.toml ([sim], [anp], [plot], [bench],
+#: [real], [ros], [mujoco]), and ROS 2's own (rclpy, geometry_msgs: not on PyPI).
 #: A block may be skipped only when one of these is missing; any other missing module (a
 #: misspelled import, a renamed comcore module) fails the test.
 OPTIONAL_MODULES = frozenset(

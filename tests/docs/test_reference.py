@@ -35,6 +35,7 @@ PUBLIC = (
     "comcore.camera",
     "comcore.recordings",
     "comcore.recordings.mit_push",
+    "comcore.recordings.bag",
     "comcore.active",
     "comcore.goal",
     "comcore.ros",

@@ -1,0 +1,587 @@
+"""ROS bags (ROS 1 ``.bag``, rosbag2 in sqlite3 or MCAP) as comcore inputs.
+
+Not imported by ``import comcore``; import it explicitly (needs rosbags:
+``pip install comcore[ros]``)::
+
+    import comcore.recordings.bag
+
+A robot that pushes records the object's pose (motion capture, a tracker) and
+the pusher tip's on two topics. :func:`poses_from_bag` reads one topic into
+rows ``(t, x, y, yaw)``, checked; :func:`recording_from_bag` reads both, cuts
+the log into pushes (:func:`comcore.recordings.split_pushes`) and turns them
+into a :class:`comcore.Recording` (:func:`comcore.recording_from_poses`);
+:func:`bag_topics` lists what a bag holds. The topics may hold any of
+:data:`SUPPORTED_TYPES`. See docs/how-to/bag.md.
+
+**Times** are seconds since the bag's start (its first message's receive
+time), taken from the integer nanoseconds so that nothing is lost to rounding.
+By default (``time="auto"``) a topic's times are its messages' ``header.stamp``
+(each transform's own header in a ``tf2_msgs/TFMessage``) when every one is
+nonzero, else the bag's receive times; ``time="header"`` or ``"receive"``
+chooses. Messages whose times are a little out of order (by at most
+:data:`MAX_REORDER`: a tracker's stamps jitter) are sorted by time; a time
+further back, or one repeated, is refused. The two topics need not share
+their times: the object's pose is interpolated linearly at the pusher's times
+(:func:`comcore.recording_from_poses`).
+
+**Poses** are read seen from above: ``x`` and ``y`` of the position, and the
+yaw about ``z`` of the orientation (``atan2(2(wz + xy), 1 - 2(y^2 + z^2))``),
+unwrapped (:func:`numpy.unwrap`). The object's quaternions are checked (unit
+norm within :data:`QUATERNION_NORM_TOLERANCE`, and the object's ``z`` axis
+within :data:`MAX_TILT` of vertical: a frame that is not ``z`` up would give a
+wrong yaw); the pusher's orientation is not used (a tool pointing down is
+turned half a turn about ``x``) and not checked. Positions that span more than
+:data:`MAX_SPAN` or lie farther than :data:`MAX_DISTANCE` from the frame's
+origin are refused as millimetres.
+
+Examples
+--------
+>>> import comcore.recordings.bag as bag
+>>> bag.SUPPORTED_TYPES[0]
+'geometry_msgs/msg/PoseStamped'
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from ..geometry._outline import check_outline
+from ._outline_file import read_outline
+from ._pose_streams import stream
+from ._recording import DEFAULT_CONTACT_TOLERANCE_M, Recording, recording_from_poses
+from ._splitting import DEFAULT_SEPARATION_M, pusher_gaps, split_pushes
+
+__all__ = [
+    "MAX_DISTANCE",
+    "MAX_REORDER",
+    "MAX_SPAN",
+    "MAX_TILT",
+    "QUATERNION_NORM_TOLERANCE",
+    "SUPPORTED_TYPES",
+    "TIME_SOURCES",
+    "BagPoses",
+    "bag_topics",
+    "poses_from_bag",
+    "recording_from_bag",
+]
+
+#: The message types a pose topic may hold (rosbags' names; ROS 1's are the same without
+#: ``msg/``).
+SUPPORTED_TYPES = (
+    "geometry_msgs/msg/PoseStamped",
+    "geometry_msgs/msg/TransformStamped",
+    "tf2_msgs/msg/TFMessage",
+    "nav_msgs/msg/Odometry",
+)
+#: Types whose messages name a child frame (``child_frame_id``).
+_CHILD_FRAME_TYPES = SUPPORTED_TYPES[1:]
+#: Where a topic's times come from (``time=``): the default first.
+TIME_SOURCES = ("auto", "header", "receive")
+#: Largest tilt (radians, 20 degrees) of the object's z axis from vertical: a flat object on a
+#: table, tracked in a z-up frame, tilts by a few degrees at most.
+MAX_TILT = math.radians(20.0)
+#: Largest time (seconds) a message's stamp may lie before an earlier message's: within it the
+#: messages are sorted by time (a tracker's stamps jitter by a few milliseconds), beyond it
+#: the times are refused as not increasing (a clock that jumped back).
+MAX_REORDER = 0.1
+#: Largest difference of a quaternion's norm from 1 (they are written normalised).
+QUATERNION_NORM_TOLERANCE = 1e-3
+#: Largest span (metres) of a topic's positions along x or y: a tabletop, a lab.
+MAX_SPAN = 10.0
+#: Largest distance (metres) of a topic's position from its frame's origin.
+MAX_DISTANCE = 100.0
+
+
+class BagPoses(NamedTuple):
+    """One topic's poses, as :func:`poses_from_bag` reads them."""
+
+    poses: np.ndarray
+    """Rows ``(t, x, y, yaw)``, shape (n, 4), read-only: seconds since the bag's start,
+    metres, radians (counter-clockwise seen from above, unwrapped)."""
+    frame_id: str
+    """The frame the poses are in (the headers' ``frame_id``)."""
+    child_frame_id: str
+    """The frame whose poses they are, for types that name it; ``""`` otherwise."""
+    msgtype: str
+    """The topic's message type (one of :data:`SUPPORTED_TYPES`)."""
+    time_source: str
+    """``"header"`` or ``"receive"``: where the times came from."""
+
+
+def _reader(path):
+    """An unopened ``rosbags.highlevel.AnyReader`` of ``path`` (ImportError without rosbags)."""
+    try:
+        from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
+    except ImportError as e:
+        raise ImportError("reading ROS bags needs rosbags: pip install comcore[ros]") from e
+    path = Path(os.fspath(path))
+    if not path.exists():
+        raise ValueError(f"path: no such bag: {path}")
+    try:
+        return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+    except Exception as e:  # rosbags raises its own error types (and OSError) for a bad path
+        raise ValueError(f"path: cannot read {path} as a bag: {e}") from e
+
+
+class _Open:
+    """``with _Open(path) as reader``: the bag opened, its errors as ValueError."""
+
+    def __init__(self, path):
+        self.path = path
+        self.reader = _reader(path)
+
+    def __enter__(self):
+        try:
+            self.reader.open()
+        except Exception as e:  # rosbags raises its own error types for a bad file
+            raise ValueError(f"path: cannot read {os.fspath(self.path)} as a bag: {e}") from e
+        return self.reader
+
+    def __exit__(self, *exc):
+        self.reader.close()
+
+
+def bag_topics(path) -> dict[str, str]:
+    """The topics of a bag and their message types, sorted by topic.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ROS 1 ``.bag`` file, or a rosbag2 folder (sqlite3 or MCAP).
+
+    Returns
+    -------
+    dict of str to str
+        ``{topic: message type}``, in rosbags' names (``geometry_msgs/msg/PoseStamped``).
+
+    Raises
+    ------
+    ValueError
+        If there is no such bag, or it cannot be read.
+    ImportError
+        Without rosbags (``pip install comcore[ros]``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from rosbags.rosbag1 import Writer
+    >>> from rosbags.typesys import Stores, get_typestore
+    >>> import comcore.recordings.bag as bag
+    >>> store = get_typestore(Stores.ROS1_NOETIC)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "empty.bag"
+    >>> with Writer(path) as writer:
+    ...     _ = writer.add_connection("/tip", "geometry_msgs/msg/PoseStamped", typestore=store)
+    >>> bag.bag_topics(path)
+    {'/tip': 'geometry_msgs/msg/PoseStamped'}
+    """
+    with _Open(path) as reader:
+        return {topic: reader.topics[topic].msgtype for topic in sorted(reader.topics)}
+
+
+def _listing(topics: dict) -> str:
+    return ", ".join(f"{t} ({info.msgtype})" for t, info in sorted(topics.items())) or "none"
+
+
+def _entries(msg, msgtype: str):
+    """``(stamp_ns, frame_id, child_frame_id, position, orientation)`` of one message's poses."""
+    if msgtype == "tf2_msgs/msg/TFMessage":
+        for tr in msg.transforms:
+            yield from _entries(tr, "geometry_msgs/msg/TransformStamped")
+        return
+    if msgtype == "geometry_msgs/msg/PoseStamped":
+        child, position, orientation = "", msg.pose.position, msg.pose.orientation
+    elif msgtype == "geometry_msgs/msg/TransformStamped":
+        child, position, orientation = (
+            msg.child_frame_id, msg.transform.translation, msg.transform.rotation,
+        )  # fmt: skip
+    else:  # nav_msgs/msg/Odometry
+        pose = msg.pose.pose
+        child, position, orientation = msg.child_frame_id, pose.position, pose.orientation
+    stamp = msg.header.stamp
+    yield (
+        int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec),
+        msg.header.frame_id,
+        child,
+        (position.x, position.y),
+        (orientation.x, orientation.y, orientation.z, orientation.w),
+    )
+
+
+def _same_frame(a: str, b: str) -> bool:
+    """Frame names equal but for a leading ``/`` (ROS 1's ``/world`` is ``world``)."""
+    return a.lstrip("/") == b.lstrip("/")
+
+
+def poses_from_bag(
+    path,
+    topic: str,
+    *,
+    child_frame: str | None = None,
+    check_orientation: bool = True,
+    time: str = "auto",
+) -> BagPoses:
+    """Read one topic's poses as rows ``(t, x, y, yaw)``, checked.
+
+    See the module's docstring for the times, the yaw and the checks.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ROS 1 ``.bag`` file, or a rosbag2 folder (sqlite3 or MCAP).
+    topic : str
+        A topic holding one of :data:`SUPPORTED_TYPES`.
+    child_frame : str, optional
+        For transforms and odometry: the child frame whose poses to read
+        (``child_frame_id``; a leading ``/`` does not matter). Needed when the
+        topic carries several (a ``/tf`` topic does).
+    check_orientation : bool, optional
+        Check the quaternions (default True; the pusher's are not used, and
+        :func:`recording_from_bag` does not check them). A zero quaternion
+        unchecked gives the yaw 0.
+    time : {"auto", "header", "receive"}, optional
+        Where the times come from (:data:`TIME_SOURCES`; default ``"auto"``:
+        the headers' stamps when every one is nonzero, else the receive times).
+
+    Returns
+    -------
+    BagPoses
+
+    Raises
+    ------
+    ValueError
+        Each naming the topic: not in the bag (the bag's topics are listed),
+        of a type not supported, empty, a child frame needed or not seen (the
+        child frames seen are listed), poses in several frames, times not
+        increasing, positions that look like millimetres, a quaternion not of
+        unit norm or whose rotation is not about ``z``.
+    ImportError
+        Without rosbags (``pip install comcore[ros]``).
+
+    Examples
+    --------
+    A pusher tip's pose at 100 Hz, written to a ROS 1 bag and read back:
+
+    >>> import pathlib, tempfile
+    >>> from rosbags.rosbag1 import Writer
+    >>> from rosbags.typesys import Stores, get_typestore
+    >>> import comcore.recordings.bag as bag
+    >>> store = get_typestore(Stores.ROS1_NOETIC)
+    >>> ros = store.types
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tip.bag"
+    >>> with Writer(path) as writer:
+    ...     tip = writer.add_connection("/tip", "geometry_msgs/msg/PoseStamped", typestore=store)
+    ...     for k in range(3):
+    ...         ns = 1_700_000_000_000_000_000 + 10_000_000 * k
+    ...         stamp = ros["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+    ...         header = ros["std_msgs/msg/Header"](seq=k, stamp=stamp, frame_id="world")
+    ...         point = ros["geometry_msgs/msg/Point"](x=0.01 * k, y=0.2, z=0.0)
+    ...         turn = ros["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
+    ...         pose = ros["geometry_msgs/msg/Pose"](position=point, orientation=turn)
+    ...         msg = ros["geometry_msgs/msg/PoseStamped"](header=header, pose=pose)
+    ...         data = store.serialize_ros1(msg, "geometry_msgs/msg/PoseStamped")
+    ...         writer.write(tip, ns, data)
+    >>> read = bag.poses_from_bag(path, "/tip")
+    >>> read.poses.round(3).tolist(), read.frame_id, read.time_source
+    ([[0.0, 0.0, 0.2, 0.0], [0.01, 0.01, 0.2, 0.0], [0.02, 0.02, 0.2, 0.0]], 'world', 'header')
+    >>> bag.poses_from_bag(path, "/object")
+    Traceback (most recent call last):
+    ...
+    ValueError: topic '/object' is not in ...tip.bag; its topics: /tip (geometry_msgs/msg/PoseStamped)
+    """  # noqa: E501
+    if time not in TIME_SOURCES:
+        raise ValueError(f"time must be one of {TIME_SOURCES}, got {time!r}")
+    if not isinstance(topic, str):
+        raise TypeError(f"topic must be a str, got {type(topic).__name__}")
+    if child_frame is not None and not isinstance(child_frame, str):
+        raise TypeError(f"child_frame must be a str or None, got {type(child_frame).__name__}")
+    with _Open(path) as reader:
+        if topic not in reader.topics:
+            raise ValueError(
+                f"topic {topic!r} is not in {os.fspath(path)}; its topics: "
+                f"{_listing(reader.topics)}"
+            )
+        msgtype = reader.topics[topic].msgtype
+        if msgtype not in SUPPORTED_TYPES:
+            raise ValueError(
+                f"topic {topic!r} holds {msgtype}, not a pose comcore reads; supported: "
+                f"{', '.join(SUPPORTED_TYPES)}"
+            )
+        if child_frame is not None and msgtype not in _CHILD_FRAME_TYPES:
+            raise ValueError(
+                f"child_frame is for topics of transforms or odometry; topic {topic!r} holds "
+                f"{msgtype}, which names no child frame"
+            )
+        start = int(reader.start_time)
+        rows: list[tuple] = []
+        connections = [c for c in reader.connections if c.topic == topic]
+        for connection, received, raw in reader.messages(connections=connections):
+            msg = reader.deserialize(raw, connection.msgtype)
+            rows.extend((int(received), *e) for e in _entries(msg, msgtype))
+    if not rows:
+        raise ValueError(f"topic {topic!r} holds no message")
+    rows = _of_child(rows, topic, child_frame, msgtype)
+    return _poses(rows, topic, msgtype, start, check_orientation, time)
+
+
+def _of_child(rows: list, topic: str, child_frame: str | None, msgtype: str) -> list:
+    """The rows of the child frame asked for (or the only one)."""
+    if msgtype not in _CHILD_FRAME_TYPES:
+        return rows
+    seen = sorted({r[3] for r in rows})
+    if child_frame is None:
+        if len(seen) > 1:
+            raise ValueError(
+                f"topic {topic!r} carries the poses of {len(seen)} child frames: give the child "
+                f"frame to read (child_frame=, --object-child-frame, --pusher-child-frame), one "
+                f"of {seen}"
+            )
+        return rows
+    chosen = [r for r in rows if _same_frame(r[3], child_frame)]
+    if not chosen:
+        raise ValueError(
+            f"topic {topic!r} carries no pose of the child frame {child_frame!r}; the child "
+            f"frames it carries: {seen}"
+        )
+    return chosen
+
+
+def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
+    """The checked rows ``(t, x, y, yaw)`` of ``(received, stamp, frame, child, xy, q)``."""
+    frames = sorted({r[2] for r in rows})
+    if len({f.lstrip("/") for f in frames}) > 1:
+        raise ValueError(f"topic {topic!r} holds poses in several frames: {frames}")
+    t, order, source = _times(rows, topic, start, time)
+    rows = [rows[i] for i in order]
+    xy = np.array([r[4] for r in rows], dtype=float)
+    bad = np.flatnonzero(~np.isfinite(xy).all(axis=1))
+    if len(bad):
+        raise ValueError(
+            f"topic {topic!r}: the position of message {int(order[bad[0]])} is not finite "
+            f"({xy[bad[0]].tolist()}); {len(bad)} message(s) so"
+        )
+    _check_metres(xy, topic)
+    q = np.array([r[5] for r in rows], dtype=float)
+    if check_orientation:
+        _check_quaternions(q, topic, order)
+    norm = np.linalg.norm(q, axis=1)
+    usable = np.isfinite(norm) & (norm > 0)  # unchecked, a zero or NaN quaternion: yaw 0
+    unit = np.where(usable[:, None], q, [0.0, 0.0, 0.0, 1.0]) / np.where(usable, norm, 1.0)[:, None]
+    x, y, z, w = unit.T
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    poses = np.column_stack([t, xy, np.unwrap(yaw)])
+    poses.setflags(write=False)
+    child = rows[0][3] if msgtype in _CHILD_FRAME_TYPES else ""
+    return BagPoses(poses, frames[0], child, msgtype, source)
+
+
+def _times(rows, topic: str, start: int, time: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """Seconds since ``start`` of each row, sorted; the order; the source (header, receive)."""
+    received = np.array([r[0] for r in rows], dtype=np.int64)
+    stamps = np.array([r[1] for r in rows], dtype=np.int64)
+    source = time
+    if time == "auto":
+        source = "header" if np.all(stamps != 0) else "receive"
+    elif time == "header" and np.any(stamps == 0):
+        raise ValueError(
+            f"topic {topic!r}: {int(np.sum(stamps == 0))} of its header stamps are zero "
+            "(time='receive' uses the bag's receive times)"
+        )
+    t = ((stamps if source == "header" else received) - start) * 1e-9
+    hint = " (time='receive' uses the bag's receive times)" if source == "header" else ""
+    behind = np.maximum.accumulate(t) - t
+    if behind.max() > MAX_REORDER:
+        k = int(np.argmax(behind > MAX_REORDER))
+        raise ValueError(
+            f"topic {topic!r}: its {source} times are not increasing: message {k} is at "
+            f"{t[k]:.9f} s, {behind[k]:.3g} s before an earlier message's (out of order by "
+            f"at most {MAX_REORDER:g} s is sorted){hint}"
+        )
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    repeated = np.flatnonzero(np.diff(t) == 0)
+    if len(repeated):
+        k = int(order[repeated[0] + 1])
+        raise ValueError(
+            f"topic {topic!r}: its {source} times are not increasing: message {k} repeats the "
+            f"time {t[repeated[0]]:.9f} s ({len(repeated)} repeated){hint}"
+        )
+    return t, order, source
+
+
+def _check_metres(xy: np.ndarray, topic: str) -> None:
+    """Refuse positions that look like millimetres (:data:`MAX_SPAN`, :data:`MAX_DISTANCE`)."""
+    span = float(np.ptp(xy, axis=0).max())
+    distance = float(np.hypot(xy[:, 0], xy[:, 1]).max())
+    if span > MAX_SPAN or distance > MAX_DISTANCE:
+        raise ValueError(
+            f"topic {topic!r}: its positions span {span:.4g} m and lie up to {distance:.4g} m "
+            f"from the frame's origin (at most {MAX_SPAN:g} m and {MAX_DISTANCE:g} m are "
+            "believed): are they in millimetres? comcore reads metres"
+        )
+
+
+def _check_quaternions(q: np.ndarray, topic: str, index: np.ndarray) -> None:
+    """Unit norm, and a rotation about z (the object's z axis near vertical).
+
+    ``index``: each row's message number in the bag, for the messages.
+    """
+    norm = np.linalg.norm(q, axis=1)
+    bad = np.flatnonzero(~(np.abs(norm - 1.0) <= QUATERNION_NORM_TOLERANCE))  # NaN too
+    if len(bad):
+        k = int(bad[0])
+        raise ValueError(
+            f"topic {topic!r}: the orientation of message {int(index[k])} has norm "
+            f"{norm[k]:.6g}, not 1 "
+            f"(x, y, z, w = {', '.join(f'{v:.6g}' for v in q[k])}); {len(bad)} message(s) so"
+        )
+    x, y = q[:, 0] / norm, q[:, 1] / norm
+    tilt = np.arccos(np.clip(1 - 2 * (x * x + y * y), -1.0, 1.0))  # the z axis from vertical
+    bad = np.flatnonzero(tilt > MAX_TILT)
+    if len(bad):
+        k = int(bad[0])
+        axis = "x" if abs(x[k]) >= abs(y[k]) else "y"
+        raise ValueError(
+            f"topic {topic!r}: the orientation of message {int(index[k])} tilts the object's z "
+            f"axis {math.degrees(tilt[k]):.1f} degrees from vertical (at most "
+            f"{math.degrees(MAX_TILT):g}): its rotation is about {axis}, not z: is the frame "
+            f"z-up? ({len(bad)} message(s) so)"
+        )
+
+
+def recording_from_bag(
+    path,
+    object_topic: str,
+    pusher_topic: str,
+    outline,
+    pusher_radius: float,
+    *,
+    object_child_frame: str | None = None,
+    pusher_child_frame: str | None = None,
+    time: str = "auto",
+    separation: float = DEFAULT_SEPARATION_M,
+    **options,
+) -> Recording:
+    """Read a bag's object and pusher poses into a :class:`comcore.Recording`.
+
+    The two topics are read by :func:`poses_from_bag` (the object's
+    orientation checked, the pusher's not used), cut into pushes where the
+    pusher is more than ``separation`` from the object
+    (:func:`comcore.recordings.split_pushes`), and turned into the mask,
+    actions and motions by :func:`comcore.recording_from_poses`, which
+    interpolates the object's pose linearly at the pusher's times. Pushes are
+    named ``"push <k> at <t> s"`` (``k`` from 1, ``t`` the piece's first
+    pusher time since the bag's start).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ROS 1 ``.bag`` file, or a rosbag2 folder (sqlite3 or MCAP).
+    object_topic, pusher_topic : str
+        The topics of the object's pose and of the pusher tip's centre, in one
+        frame (``z`` up, metres).
+    outline : array_like, shape (k, 2), or str or os.PathLike
+        The object's outline in its own frame (the frame of the object
+        topic's poses), metres, or a file :func:`comcore.recordings.read_outline`
+        reads (a polygon CSV or a mesh).
+    pusher_radius : float
+        Radius of the round pusher's tip, metres (>= 0).
+    object_child_frame, pusher_child_frame : str, optional
+        The child frames to read, for topics of transforms (``/tf``) that carry several.
+    time : {"auto", "header", "receive"}, optional
+        Where the times come from (see :func:`poses_from_bag`).
+    separation : float, optional
+        Gap (metres) past which the pusher has left the object: where the log
+        is cut (default 5 mm).
+    **options
+        Passed to :func:`comcore.recording_from_poses`: ``travel``,
+        ``resolution``, ``com``, ``margin``, ``standoff``, ``contact_tolerance``
+        (the last is the splitting's too).
+
+    Returns
+    -------
+    Recording
+
+    Raises
+    ------
+    ValueError
+        As :func:`poses_from_bag`, naming the topic; if the two topics' frames
+        differ, or the pusher never touches the object.
+    TypeError
+        For an option :func:`comcore.recording_from_poses` does not take, or ``names``.
+    ImportError
+        Without rosbags (``pip install comcore[ros]``).
+
+    Examples
+    --------
+    A bag of four pushes, its ROS 2 messages written to MCAP (a 6 cm square
+    plate that does not move here; the tip comes up to it from 2 cm away and
+    goes 1.2 cm in, four times):
+
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> from rosbags.rosbag2 import StoragePlugin, Writer
+    >>> from rosbags.typesys import Stores, get_typestore
+    >>> import comcore.recordings.bag as bag
+    >>> store = get_typestore(Stores.ROS2_HUMBLE)
+    >>> ros = store.types
+    >>> def pose(ns, x, y):
+    ...     stamp = ros["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+    ...     header = ros["std_msgs/msg/Header"](stamp=stamp, frame_id="world")
+    ...     point = ros["geometry_msgs/msg/Point"](x=x, y=y, z=0.0)
+    ...     turn = ros["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
+    ...     body = ros["geometry_msgs/msg/Pose"](position=point, orientation=turn)
+    ...     msg = ros["geometry_msgs/msg/PoseStamped"](header=header, pose=body)
+    ...     return store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "pushes"
+    >>> t = np.arange(801) / 100  # 8 s at 100 Hz
+    >>> tip_y = -0.054 + 0.015 * (1 - np.cos(np.pi * t))  # 3 cm up and back, 4 times
+    >>> with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+    ...     kind = "geometry_msgs/msg/PoseStamped"
+    ...     plate = writer.add_connection("/plate", kind, typestore=store)
+    ...     tip = writer.add_connection("/tip", kind, typestore=store)
+    ...     for ti, y in zip(t, tip_y):
+    ...         ns = 10**9 + round(ti * 1e9)
+    ...         writer.write(plate, ns, pose(ns, 0.0, 0.0))
+    ...         writer.write(tip, ns, pose(ns, 0.01, float(y)))
+    >>> square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
+    >>> rec = bag.recording_from_bag(path, "/plate", "/tip", square, 0.004, travel=0.01)
+    >>> len(rec.pushes), rec.pushes[1].name, rec.pushes[1].action.direction
+    (4, 'push 2 at 1.51 s', (0.0, -1.0))
+    """
+    if "names" in options:
+        raise TypeError("recording_from_bag names the pushes itself: names is not an option")
+    if isinstance(outline, (str, os.PathLike)):
+        outline = read_outline(outline)
+    poly = check_outline(outline)
+    obj = poses_from_bag(path, object_topic, child_frame=object_child_frame, time=time)
+    pusher = poses_from_bag(
+        path, pusher_topic, child_frame=pusher_child_frame, check_orientation=False, time=time
+    )
+    if obj.frame_id and pusher.frame_id and not _same_frame(obj.frame_id, pusher.frame_id):
+        raise ValueError(
+            f"the object's poses (topic {object_topic!r}) are in the frame {obj.frame_id!r}, the "
+            f"pusher's (topic {pusher_topic!r}) in {pusher.frame_id!r}: comcore takes both in "
+            "one frame"
+        )
+    tolerance = options.get("contact_tolerance", DEFAULT_CONTACT_TOLERANCE_M)
+    pieces = split_pushes(
+        poly, obj.poses, pusher.poses, pusher_radius, separation=separation,
+        contact_tolerance=tolerance,
+    )  # fmt: skip
+    if not pieces:
+        _, gap = pusher_gaps(poly, stream(obj.poses, "object"), pusher.poses, pusher_radius)
+        closest = f"{gap.min():.3g} m" if len(gap) else "nothing: no time in common"
+        raise ValueError(
+            f"the pusher (topic {pusher_topic!r}) never comes within contact_tolerance "
+            f"({tolerance:g} m) of the object's outline (topic {object_topic!r}) while the "
+            f"object's poses last (the closest: {closest}): are both in one frame, and the "
+            "outline in the object's?"
+        )
+    names = [f"push {k + 1} at {round(p[0, 0], 2) + 0.0:.2f} s" for k, (_, p) in enumerate(pieces)]
+    return recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
