@@ -128,6 +128,8 @@ RESOLUTION_HELP = (
 )
 #: ``--frame-id``'s default: the mask frame (metres, x along the columns, y down the rows).
 MASK_FRAME_ID = "comcore_mask"
+#: ``--frame-id``'s default with ``--bag`` and no ``--object-child-frame``: the object's frame.
+OBJECT_FRAME_ID = "object"
 #: The motion models of ``--model`` (the posterior's), the default first.
 MODELS = ("limit-surface", "none")
 
@@ -208,10 +210,11 @@ def add_arguments(parser) -> None:
     add("--json", action="store_true", help="print one JSON object instead of text")
     add(
         "--frame-id",
-        default=MASK_FRAME_ID,
         help="the tf frame named in the JSON's ROS messages (\"ros\": InertiaStamped and "
-        "PoseWithCovarianceStamped fields, comcore.ros.ros_messages); default "
-        f"{MASK_FRAME_ID}: the mask frame's metres, x along the columns, y down the rows",
+        "PoseWithCovarianceStamped fields, comcore.ros.ros_messages). With --mask: the CoM in "
+        f"the mask frame's metres (x along the columns, y down the rows), default {MASK_FRAME_ID}. "
+        "With --bag: in the object's frame (the outline's, the object topic's), default "
+        f"--object-child-frame or {OBJECT_FRAME_ID}",
     )
     picture = parser.add_mutually_exclusive_group()
     picture.add_argument(
@@ -484,8 +487,8 @@ def _inputs(args):
     return Path(args.mask), Path(args.pushes)
 
 
-def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
-    """The JSON object of a run (without the overlay)."""
+def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None) -> dict:
+    """The JSON object of a run (without the overlay); ``frame``: a bag's object frame."""
     status = comcore.Status.INCONSISTENT if mistake else est.status
     return {
         "com_px": list(est.com),
@@ -510,7 +513,7 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None) -> dict:
         "overlay_replaced": False,
         "ros": comcore.ros.ros_messages(
             dataclasses.replace(est, status=status), frame_id=args.frame_id,
-            resolution=mask.resolution,
+            resolution=None if frame is not None else mask.resolution, frame=frame,
         ),
     }
 
@@ -578,6 +581,10 @@ def run(args) -> int:
         pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
         systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
         args.target_radius = _target(args.target_radius)
+        if args.frame_id is None:
+            args.frame_id = (
+                (args.object_child_frame or OBJECT_FRAME_ID) if args.bag else MASK_FRAME_ID
+            )
         if not args.frame_id.strip():
             raise InputError("--frame-id must name a tf frame, got an empty string")
         if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
@@ -624,7 +631,7 @@ def run(args) -> int:
             else status_meaning(est.status, args.target_radius)
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
-    result = _result(args, mask, recorded, pushes, dropped, est, mistake)
+    result = _result(args, mask, recorded, pushes, dropped, est, mistake, frame=from_bag)
     if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
         result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est

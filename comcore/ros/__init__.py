@@ -3,6 +3,7 @@
 :func:`ros_messages` lays an :class:`comcore.Estimate` out as the fields of
 ``geometry_msgs/msg/InertiaStamped`` and ``geometry_msgs/msg/PoseWithCovarianceStamped``
 (plain dicts; ``_messages`` says each choice: frames, unknown variances, stamps).
+A cell's bags come in through :mod:`comcore.recordings.bag`, beside the other recordings.
 Imports numpy only, through the base modules; it may import every layer up to
 :mod:`comcore.recordings` and :mod:`comcore.camera`, never :mod:`comcore.active`.
 """

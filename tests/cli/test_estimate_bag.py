@@ -66,7 +66,17 @@ def test_the_bag_gives_the_estimate_of_its_mask_png_and_pushes_csv(
     code, from_csv, err = run_json(capsys, argv)
     assert code == 0, err
     com_object = from_bag.pop("com_object_m")  # only --bag knows the object's frame
+    ros_bag, ros_csv = from_bag.pop("ros"), from_csv.pop("ros")  # each in its own frame
     assert from_bag == from_csv
+    inertia = ros_bag["inertia_stamped"]
+    assert [inertia["inertia"]["com"][a] for a in "xy"] == pytest.approx(com_object, abs=1e-12)
+    assert inertia["header"]["frame_id"] == "object"
+    assert ros_csv["inertia_stamped"]["header"]["frame_id"] == "comcore_mask"
+    assert [ros_csv["inertia_stamped"]["inertia"]["com"][a] for a in "xy"] == from_csv["com_m"]
+    cov_bag = np.reshape(ros_bag["pose_with_covariance_stamped"]["pose"]["covariance"], (6, 6))
+    cov_csv = np.reshape(ros_csv["pose_with_covariance_stamped"]["pose"]["covariance"], (6, 6))
+    flip = np.diag([1.0, -1.0])  # the mask's y down is the object's y up
+    np.testing.assert_allclose(cov_bag[:2, :2], flip @ cov_csv[:2, :2] @ flip, atol=1e-18)
     assert com_object == rec.object_from_pixels(np.array(from_bag["com_px"]))[0].tolist()
     assert from_bag["n_pushes"] == 6 and from_bag["resolution"] == 0.0025
 
@@ -126,3 +136,13 @@ def test_without_rosbags_the_message_says_what_to_install(recorded, capsys, monk
     assert (
         "--bag: reading ROS bags needs rosbags: pip install comcore[ros]" in capsys.readouterr().err
     )
+
+
+def test_the_ros_frame_is_the_object_child_frame_or_the_one_named(recorded, capsys):
+    code, result, err = run_json(capsys, bag_args(recorded, "--method", "centroid"))
+    assert code == 0, err
+    assert result["ros"]["inertia_stamped"]["header"]["frame_id"] == "object"
+    code, result, err = run_json(
+        capsys, bag_args(recorded, "--method", "centroid", "--frame-id", "plate")
+    )
+    assert result["ros"]["pose_with_covariance_stamped"]["header"]["frame_id"] == "plate"
