@@ -30,8 +30,17 @@ LEGACY = {
 
 
 def toy_case(seed: int):
-    """The docstring's toy robot: 0.1 rad in the Voting Theorem's sense."""
-    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    """A toy robot: 0.1 rad in the Voting Theorem's sense, on an object with no symmetry.
+
+    A square would offer pushes whose gains tie exactly, and which of them rounding picks
+    differs between CPUs (numpy's SIMD paths): the record would hold on one machine only.
+    """
+    data = np.zeros((46, 46), bool)
+    data[8:38, 8:38] = True
+    data[8:17, 27:38] = False  # a notch in one corner
+    data[30:38, 8:12] = False  # a smaller one in the opposite corner
+    data[17:21, 38:41] = True  # a tab
+    mask = comcore.Mask(data)
     true_com = np.array([17.0, 20.0])
 
     def push(action):

@@ -148,8 +148,26 @@ class Candidates:
                 post.pixels, post.sense_weights, self.lines[idx], scoring.flip_prob,
                 scoring.line_scale_px,
             )  # fmt: skip
-        best = int(np.argmax(gains))
+        best = first_best(gains)
         return int(idx[best]), float(gains[best])
+
+
+#: Gains (bits) within this of the best are a tie, broken by the candidate's order: a
+#: symmetric object offers candidates whose gains differ only by rounding, which differs
+#: between CPUs (numpy's SIMD paths), and the session must choose the same push on every one.
+TIE_BITS = 1e-12
+
+
+def first_best(gains) -> int:
+    """Index of the first gain within :data:`TIE_BITS` of the largest.
+
+    Examples
+    --------
+    >>> first_best([0.5, 1.0, 1.0 + 1e-15, 0.9])  # 1.0 and 1.0 + 1e-15: a tie
+    1
+    """
+    gains = np.asarray(gains, dtype=float)
+    return int(np.flatnonzero(gains >= gains.max() - TIE_BITS)[0])
 
 
 def binary_entropy(q):
