@@ -11,7 +11,9 @@ rows ``(t, x, y, yaw)``, checked; :func:`recording_from_bag` reads both, cuts
 the log into pushes (:func:`comcore.recordings.split_pushes`) and turns them
 into a :class:`comcore.Recording` (:func:`comcore.recording_from_poses`);
 :func:`bag_topics` lists what a bag holds. The topics may hold any of
-:data:`SUPPORTED_TYPES`. See docs/how-to/bag.md.
+:data:`SUPPORTED_TYPES`. :func:`images_from_bag` reads a camera topic
+(:data:`IMAGE_TYPES`) into arrays, for :func:`comcore.mask_from_image` or a
+tag tracker. See docs/how-to/bag.md.
 
 **Times** are seconds since the bag's start (its first message's receive
 time), taken from the integer nanoseconds so that nothing is lost to rounding.
@@ -45,18 +47,20 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
 from ..geometry._outline import check_outline
+from ._bag_images import IMAGE_TYPES, BagImage, images_from_bag
+from ._bag_reader import _listing, _Open
 from ._outline_file import read_outline
 from ._pose_streams import stream
 from ._recording import DEFAULT_CONTACT_TOLERANCE_M, Recording, recording_from_poses
 from ._splitting import DEFAULT_SEPARATION_M, pusher_gaps, split_pushes
 
 __all__ = [
+    "IMAGE_TYPES",
     "MAX_DISTANCE",
     "MAX_REORDER",
     "MAX_SPAN",
@@ -64,8 +68,10 @@ __all__ = [
     "QUATERNION_NORM_TOLERANCE",
     "SUPPORTED_TYPES",
     "TIME_SOURCES",
+    "BagImage",
     "BagPoses",
     "bag_topics",
+    "images_from_bag",
     "poses_from_bag",
     "recording_from_bag",
 ]
@@ -113,40 +119,6 @@ class BagPoses(NamedTuple):
     """``"header"`` or ``"receive"``: where the times came from."""
 
 
-def _reader(path):
-    """An unopened ``rosbags.highlevel.AnyReader`` of ``path`` (ImportError without rosbags)."""
-    try:
-        from rosbags.highlevel import AnyReader
-        from rosbags.typesys import Stores, get_typestore
-    except ImportError as e:
-        raise ImportError("reading ROS bags needs rosbags: pip install comcore[ros]") from e
-    path = Path(os.fspath(path))
-    if not path.exists():
-        raise ValueError(f"path: no such bag: {path}")
-    try:
-        return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
-    except Exception as e:  # rosbags raises its own error types (and OSError) for a bad path
-        raise ValueError(f"path: cannot read {path} as a bag: {e}") from e
-
-
-class _Open:
-    """``with _Open(path) as reader``: the bag opened, its errors as ValueError."""
-
-    def __init__(self, path):
-        self.path = path
-        self.reader = _reader(path)
-
-    def __enter__(self):
-        try:
-            self.reader.open()
-        except Exception as e:  # rosbags raises its own error types for a bad file
-            raise ValueError(f"path: cannot read {os.fspath(self.path)} as a bag: {e}") from e
-        return self.reader
-
-    def __exit__(self, *exc):
-        self.reader.close()
-
-
 def bag_topics(path) -> dict[str, str]:
     """The topics of a bag and their message types, sorted by topic.
 
@@ -182,10 +154,6 @@ def bag_topics(path) -> dict[str, str]:
     """
     with _Open(path) as reader:
         return {topic: reader.topics[topic].msgtype for topic in sorted(reader.topics)}
-
-
-def _listing(topics: dict) -> str:
-    return ", ".join(f"{t} ({info.msgtype})" for t, info in sorted(topics.items())) or "none"
 
 
 def _entries(msg, msgtype: str):
