@@ -98,6 +98,8 @@ def check_plausible(value: float, name: str, kind: str) -> float:
     ...
     ValueError: pusher_radius 5 m is implausible (expected at most 0.05 m): did you mean millimetres, 0.005?
     """  # noqa: E501
+    if kind not in PLAUSIBLE:
+        raise ValueError(f"kind must be one of {', '.join(sorted(PLAUSIBLE))}, got {kind!r}")
     rule = PLAUSIBLE[kind]
     v = float(value)
     if rule.low <= v <= rule.high:

@@ -269,6 +269,14 @@ def pixel_centres(image) -> np.ndarray:
     return np.column_stack([cols, rows]).astype(float)
 
 
+def _motion_values(motion, name: str) -> np.ndarray:
+    """``motion`` as 3 finite numbers ``(theta, tx, ty)``, or an error naming ``name``."""
+    arr = _finite_array(motion, name).reshape(-1)
+    if arr.shape != (3,):
+        raise ValueError(f"{name} must be 3 numbers (theta, tx, ty), got shape {np.shape(motion)}")
+    return arr
+
+
 def check_image_size(shape, name: str) -> None:
     """A ValueError naming ``name`` if an image of ``shape`` (H, W) has over :data:`MAX_IMAGE_PIXELS`.
 
@@ -429,8 +437,8 @@ def object_motion_from_camera(motion, pose_theta: float) -> np.ndarray:
     >>> np.round(object_motion_from_camera((0.1, 0.0, -2.0), np.pi / 2), 12) + 0.0
     array([0.1, 2. , 0. ])
     """
-    theta, tx, ty = (float(v) for v in np.asarray(motion, dtype=float).reshape(3))
-    t = rotate_vectors(np.array([tx, ty]), -float(pose_theta))
+    theta, tx, ty = (float(v) for v in _motion_values(motion, "motion"))
+    t = rotate_vectors(np.array([tx, ty]), -check_finite(pose_theta, "pose_theta"))
     return np.array([theta, t[0], t[1]])
 
 

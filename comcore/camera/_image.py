@@ -10,7 +10,7 @@ from scipy import ndimage
 
 from .._errors import ImageError
 from .._mask import Mask
-from ..conventions import DEFAULT_RESOLUTION
+from ..conventions import DEFAULT_RESOLUTION, check_image_size
 from ..geometry._regions import EIGHT_CONNECTED
 from ._input import check_background, grey_image, read_image, roi_window
 from ._object import find_object
@@ -303,6 +303,10 @@ def mask_from_image(
     """
     if isinstance(image, (str, os.PathLike)):
         image = read_image(image)
+    if not isinstance(fill_holes, (bool, np.bool_)):
+        raise TypeError(f"fill_holes must be True or False, got {fill_holes!r}")
+    if np.ndim(image) >= 2:  # before the float copy: a huge view would ask for gigabytes
+        check_image_size(np.shape(image), "image")
     grey, floor = grey_image(image)
     if object not in OBJECTS:
         raise ValueError(f"object must be one of {', '.join(map(repr, OBJECTS))}, got {object!r}")

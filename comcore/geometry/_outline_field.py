@@ -18,7 +18,7 @@ from scipy import ndimage
 
 from .._mask import Mask
 from .._neighbourhood import LocalArrays, filter_halo, margin_px, padded_crop
-from .._validation import check_actions, check_mask, check_positive
+from .._validation import check_actions, check_count, check_mask, check_positive
 
 __all__ = ["OutlineField", "outline_field"]
 
@@ -48,7 +48,8 @@ class OutlineField:
     """
 
     def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
-        self.pad = pad
+        mask = check_mask(mask)
+        self.pad = pad = check_count(pad, "pad")
         # On the object's neighbourhood, grown when asked elsewhere: the whole image's numbers.
         window = mask._box.grown_by(margin_px(mask.resolution) + FIELD_HALO_PX, pad)
         self._local = LocalArrays(

@@ -18,7 +18,7 @@ from .._errors import SessionError
 from .._mask import Mask
 from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
-from .._validation import check_count, check_mask, check_physical, check_rng
+from .._validation import check_count, check_mask, check_one_object, check_physical, check_rng
 from ..active._likelihood import gyration_px
 from ..active._option_groups import check_groups, check_reads_only, names_the_group
 from ..active._options import (
@@ -238,7 +238,7 @@ class GoalSession(PushLoop):
         n_particles: int = PLANNING_PARTICLES,
         push_directions=None,
     ):
-        self._first = check_mask(mask)
+        self._first = check_one_object(mask)
         if not isinstance(goal, Goal):
             raise TypeError(f"goal must be a comcore.Goal, got {type(goal).__name__}")
         if not isinstance(learn, (bool, np.bool_)):

@@ -98,3 +98,40 @@ def test_an_image_over_max_image_pixels_is_refused_by_its_shape():
         comcore.conventions.pixel_centres(huge)
     side = int(np.sqrt(comcore.conventions.MAX_IMAGE_PIXELS))
     assert comcore.conventions.pixel_centres(np.zeros((side, 1), bool)).shape == (0, 2)
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "match"),
+    [
+        (lambda: comcore.conventions.check_plausible(0.0025, "resolution", "bogus"),
+         ValueError, "kind must be one of angle_noise, .*got 'bogus'"),
+        (lambda: comcore.mask_from_image(np.pad(np.ones((20, 20)), 4) * 200, fill_holes="no"),
+         TypeError, "fill_holes must be True or False, got 'no'"),
+        (lambda: comcore.mask_from_image(np.broadcast_to(np.uint8(3), (100_000, 100_000))),
+         ValueError, "image of 100000 x 100000 pixels is larger than MAX_IMAGE_PIXELS"),
+        (lambda: comcore.conventions.object_motion_from_camera((0.1, 0, 0), float("nan")),
+         ValueError, "pose_theta must be a finite number"),
+        (lambda: comcore.conventions.object_motion_from_camera((float("nan"), 0, 0), 0.2),
+         ValueError, "motion must be finite"),
+        (lambda: comcore.conventions.object_motion_from_camera((0.1, 0), 0.2),
+         ValueError, r"motion must be 3 numbers \(theta, tx, ty\)"),
+        (lambda: comcore.geometry.OutlineField(np.ones((5, 5), bool)),
+         TypeError, "mask must be a comcore.Mask"),
+        (lambda: comcore.geometry.OutlineField(comcore.Mask(np.pad(np.ones((9, 9)), 3)), pad=2.5),
+         TypeError, "pad must be an int"),
+    ],
+)  # fmt: skip
+def test_more_fuzz_findings_are_refused_by_name(call, error, match):
+    with pytest.raises(error, match=match):
+        call()
+
+
+def test_a_goal_session_refuses_a_ring_as_the_active_session_does():
+    ring = np.zeros((40, 40), bool)
+    ring[5:35, 5:35] = True
+    ring[12:28, 12:28] = False
+    goal = comcore.Goal(displacement=(0.03, 0.0))
+    with pytest.raises(ValueError, match="mask has holes of 256 px"):
+        comcore.GoalSession(comcore.Mask(ring), goal=goal, model=None)
+    with pytest.raises(ValueError, match="mask has holes of 256 px"):
+        comcore.ActiveSession(comcore.Mask(ring), model=None)
