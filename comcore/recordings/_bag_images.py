@@ -13,13 +13,12 @@ receive time).
 
 from __future__ import annotations
 
-import os
 from typing import NamedTuple
 
 import numpy as np
 
 from ..conventions import check_image_size
-from ._bag_reader import _listing, _Open
+from ._bag_reader import _Open, _topic_type
 
 __all__ = ["IMAGE_TYPES", "BagImage", "images_from_bag"]
 
@@ -135,17 +134,7 @@ def images_from_bag(path, topic: str, *, every: int = 1, start: float = 0.0, sto
     if not (np.isfinite(float(start)) and float(start) < stop):
         raise ValueError(f"start must be finite and below stop, got {start!r} and {stop!r}")
     with _Open(path) as reader:
-        if topic not in reader.topics:
-            raise ValueError(
-                f"topic {topic!r} is not in {os.fspath(path)}; its topics: "
-                f"{_listing(reader.topics)}"
-            )
-        msgtype = reader.topics[topic].msgtype
-        if msgtype not in IMAGE_TYPES:
-            raise ValueError(
-                f"topic {topic!r} holds {msgtype}, not a camera image; comcore reads "
-                f"{', '.join(IMAGE_TYPES)}"
-            )
+        msgtype = _topic_type(reader, path, topic, IMAGE_TYPES, "a camera image")
         decode = _decode_raw if msgtype == IMAGE_TYPES[0] else _decode_compressed
         begin = int(reader.start_time)
         connections = [c for c in reader.connections if c.topic == topic]

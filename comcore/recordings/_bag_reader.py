@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["_Open", "_listing", "_reader"]
+__all__ = ["_Open", "_listing", "_reader", "_topic_type"]
 
 
 def _reader(path):
@@ -44,3 +44,21 @@ class _Open:
 
 def _listing(topics: dict) -> str:
     return ", ".join(f"{t} ({info.msgtype})" for t, info in sorted(topics.items())) or "none"
+
+
+def _topic_type(reader, path, topic: str, supported: tuple, kind: str) -> str:
+    """The message type of ``topic`` in the open bag, if it is one of ``supported``.
+
+    Otherwise a ValueError naming the topic: not in the bag (its topics listed), or
+    holding another type (``kind`` says what was wanted, the supported types listed).
+    """
+    if topic not in reader.topics:
+        raise ValueError(
+            f"topic {topic!r} is not in {os.fspath(path)}; its topics: {_listing(reader.topics)}"
+        )
+    msgtype = reader.topics[topic].msgtype
+    if msgtype not in supported:
+        raise ValueError(
+            f"topic {topic!r} holds {msgtype}, not {kind}; supported: {', '.join(supported)}"
+        )
+    return msgtype

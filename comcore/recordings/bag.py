@@ -53,7 +53,7 @@ import numpy as np
 
 from ..geometry._outline import check_outline
 from ._bag_images import IMAGE_TYPES, BagImage, images_from_bag
-from ._bag_reader import _listing, _Open
+from ._bag_reader import _Open, _topic_type
 from ._outline_file import read_outline
 from ._pose_streams import stream
 from ._recording import DEFAULT_CONTACT_TOLERANCE_M, Recording, recording_from_poses
@@ -269,17 +269,7 @@ def poses_from_bag(
     if child_frame is not None and not isinstance(child_frame, str):
         raise TypeError(f"child_frame must be a str or None, got {type(child_frame).__name__}")
     with _Open(path) as reader:
-        if topic not in reader.topics:
-            raise ValueError(
-                f"topic {topic!r} is not in {os.fspath(path)}; its topics: "
-                f"{_listing(reader.topics)}"
-            )
-        msgtype = reader.topics[topic].msgtype
-        if msgtype not in SUPPORTED_TYPES:
-            raise ValueError(
-                f"topic {topic!r} holds {msgtype}, not a pose comcore reads; supported: "
-                f"{', '.join(SUPPORTED_TYPES)}"
-            )
+        msgtype = _topic_type(reader, path, topic, SUPPORTED_TYPES, "a pose comcore reads")
         if child_frame is not None and msgtype not in _CHILD_FRAME_TYPES:
             raise ValueError(
                 f"child_frame is for topics of transforms or odometry; topic {topic!r} holds "
