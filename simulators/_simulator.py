@@ -43,6 +43,8 @@ MAX_STEPS_PER_PUSH = 100_000
 #: Most pixels of the camera image (4096 x 4096): rasterising the footprint takes index
 #: arrays of 16 bytes a pixel (256 MiB here); a larger image is a ``margin`` or a
 #: ``resolution`` typed in the wrong unit (a margin of 7239 m asked numpy for 488 TiB).
+#: A quarter of ``comcore.conventions.MAX_IMAGE_PIXELS`` (the most any comcore image may
+#: have): the simulator rasterises its footprint at every pose it is asked about.
 MAX_IMAGE_PIXELS = 4096 * 4096
 
 
