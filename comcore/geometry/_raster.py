@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_points
+from ..conventions import check_image_size
 
 __all__ = ["rasterise_polygon"]
 
@@ -26,6 +27,7 @@ def _image_shape(shape) -> tuple[int, int]:
             raise TypeError(f"shape must be two integers (rows, cols), got {shape!r}")
         if v < 0:
             raise ValueError(f"shape must be two integers >= 0 (rows, cols), got {shape!r}")
+    check_image_size((h, w), "shape")
     return int(h), int(w)
 
 

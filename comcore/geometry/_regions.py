@@ -8,6 +8,7 @@ from scipy import ndimage
 from .._mask import Mask
 from .._status import Status
 from .._types import Estimate
+from ..conventions import check_image_size
 
 __all__ = [
     "EIGHT_CONNECTED",
@@ -36,11 +37,13 @@ def check_image(image, name: str = "image") -> np.ndarray:
     if isinstance(image, (str, bytes)) or image is None:
         raise TypeError(f"{name} must be a 2-D boolean array, got {type(image).__name__}")
     try:
-        arr = np.array(image)
+        arr = np.asarray(image)
     except (TypeError, ValueError) as e:  # ragged nested lists
         raise TypeError(f"{name} must be a 2-D boolean array; {e}") from e
     if arr.ndim != 2:
         raise ValueError(f"{name} must be a 2-D boolean array, got shape {arr.shape}")
+    check_image_size(arr.shape, name)  # before the copy: a huge view asks for gigabytes
+    arr = arr.copy()
     if arr.dtype != bool:
         if arr.dtype.kind not in "biuf":
             raise TypeError(f"{name} must be a 2-D boolean array, got dtype {arr.dtype}")

@@ -42,7 +42,7 @@ from ._costs import turn_outside
 from ._planner import plan_push, reached
 from ._prior import prior_particles, touches_border
 from ._translation import STANDOFF_M, planning_model
-from ._types import PLANNING_PARTICLES, Goal, MetricPose, hypotheses_from
+from ._types import MAX_PLANNING_PARTICLES, PLANNING_PARTICLES, Goal, MetricPose, hypotheses_from
 
 __all__ = ["GOAL_STATUSES", "GoalSession"]
 
@@ -196,7 +196,8 @@ class GoalSession(PushLoop):
         The model that predicts candidates (default
         :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
     n_particles : int, optional
-        Posterior particles a push is planned over (default 32).
+        Posterior particles a push is planned over (default 32, at most
+        ``MAX_PLANNING_PARTICLES``, 10,000).
     push_directions : array_like, optional
         The only camera directions (radians; 0: +x, pi/2: +y down the screen)
         the robot may push along, where its workspace allows no others
@@ -251,6 +252,11 @@ class GoalSession(PushLoop):
         )
         self._max_travel_px, self._max_pushes = _goal_options(groups, self._first.resolution)
         self._n_particles = check_count(n_particles, "n_particles", 1)
+        if self._n_particles > MAX_PLANNING_PARTICLES:
+            raise ValueError(
+                f"n_particles must be at most {MAX_PLANNING_PARTICLES}, got {n_particles} (the "
+                f"default is {PLANNING_PARTICLES})"
+            )
         self._allowed = None
         if push_directions is not None:
             allowed = np.atleast_1d(np.asarray(push_directions, dtype=float))

@@ -33,6 +33,9 @@ __all__ = [
 
 #: How many (CoM, friction) particles a push is planned over (a systematic draw).
 PLANNING_PARTICLES = 32
+#: The most particles ``GoalSession(n_particles=...)`` takes: each is a motion-model call
+#: per candidate push, so 10,000 already costs minutes a push; more asked numpy for terabytes.
+MAX_PLANNING_PARTICLES = 10_000
 
 
 def _pair(value, name: str) -> tuple[float, float] | None:

@@ -119,6 +119,13 @@ def test_an_image_over_max_image_pixels_is_refused_by_its_shape():
          TypeError, "mask must be a comcore.Mask"),
         (lambda: comcore.geometry.OutlineField(comcore.Mask(np.pad(np.ones((9, 9)), 3)), pad=2.5),
          TypeError, "pad must be an int"),
+        (lambda: comcore.geometry.rasterise_polygon([(0, 0), (3, 0), (0, 3)], (10**6, 10**6)),
+         ValueError, "shape of 1000000 x 1000000 pixels is larger than MAX_IMAGE_PIXELS"),
+        (lambda: comcore.geometry.largest_component(np.broadcast_to(np.True_, (10**5, 10**5))),
+         ValueError, "image of 100000 x 100000 pixels is larger than MAX_IMAGE_PIXELS"),
+        (lambda: comcore.GoalSession(comcore.Mask(np.pad(np.ones((20, 20)), 4)), model=None,
+                                     goal=comcore.Goal(displacement=(0.03, 0)), n_particles=2**63),
+         ValueError, "n_particles must be at most 10000"),
     ],
 )  # fmt: skip
 def test_more_fuzz_findings_are_refused_by_name(call, error, match):
