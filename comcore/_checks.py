@@ -119,11 +119,15 @@ def check_point(value, name: str = "point") -> np.ndarray:
     ...
     ValueError: center must be a single point of shape (2,), got shape (2, 2)
     """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a point (x, y) of 2 numbers, got {type(value).__name__}")
+    try:
+        shape = np.shape(value)
+    except ValueError:  # ragged nested lists
+        shape = None
+    if shape != (2,):
+        raise ValueError(f"{name} must be a single point of shape (2,), got shape {shape}")
     arr = _as_float_rows(value, 2, name, tuple())  # type: ignore[arg-type]
-    if np.ndim(value) != 1 or arr.shape[0] != 1:
-        raise ValueError(
-            f"{name} must be a single point of shape (2,), got shape {np.shape(value)}"
-        )
     return arr[0]
 
 

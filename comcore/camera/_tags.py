@@ -74,8 +74,8 @@ from scipy import ndimage
 
 from .._mask import Mask
 from .._types import Motion
-from .._validation import check_positive
-from ..conventions import rotation_matrix
+from .._validation import check_point, check_positive
+from ..conventions import ccw_cross, rotation_matrix
 
 __all__ = [
     "TAG_DICTIONARIES",
@@ -204,7 +204,7 @@ class TagTrack:
         -------
         tuple of Motion or None, length ``len(poses) - 1``
         """
-        offset = _check_vector(centroid_in_tag, "centroid_in_tag")
+        offset = check_point(centroid_in_tag, "centroid_in_tag")
         return tuple(
             None if a is None or b is None else _motion(a, b, offset)
             for a, b in zip(self.poses[:-1], self.poses[1:])
@@ -235,20 +235,6 @@ def _aruco_dictionary(dictionary):
     cv2 = _cv2()
     code = getattr(cv2.aruco, "DICT_" + name.upper())
     return cv2, cv2.aruco.getPredefinedDictionary(code)
-
-
-def _check_vector(value, name: str) -> np.ndarray:
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be 2 numbers (x, y), got {type(value).__name__}")
-    try:
-        arr = np.array(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name} must be 2 numbers (x, y); {e}") from e
-    if arr.shape != (2,):
-        raise ValueError(f"{name} must have shape (2,), got {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise ValueError(f"{name} must be finite, got {arr.tolist()}")
-    return arr
 
 
 def _check_matrix(value, name: str, shape: tuple[int, ...]) -> np.ndarray:
@@ -312,7 +298,7 @@ def _pose_from_corners(corners: np.ndarray) -> TagPose:
     centre = corners.mean(axis=0)
     p = corners - centre
     q = _UNIT_CORNERS
-    cross = -(q[:, 0] * p[:, 1] - q[:, 1] * p[:, 0]).sum()  # CCW on screen (ccw_cross)
+    cross = ccw_cross(q, p).sum()  # > 0: the corners turned CCW on screen from upright
     dot = (q * p).sum()
     side = float(np.linalg.norm(corners - np.roll(corners, -1, axis=0), axis=1).mean())
     return TagPose(float(centre[0]), float(centre[1]), math.atan2(cross, dot), side)
@@ -587,7 +573,7 @@ def centroid_in_tag(tag: TagPose, mask) -> np.ndarray:
     """
     if not isinstance(tag, TagPose):
         raise TypeError(f"tag must be a TagPose, got {type(tag).__name__}")
-    centre = np.asarray(mask.centroid) if isinstance(mask, Mask) else _check_vector(mask, "mask")
+    centre = np.asarray(mask.centroid) if isinstance(mask, Mask) else check_point(mask, "mask")
     return rotation_matrix(-tag.theta) @ (centre - (tag.x, tag.y))
 
 
@@ -631,4 +617,4 @@ def motion_from_tags(before: TagPose, after: TagPose, centroid_in_tag) -> Motion
     for name, pose in (("before", before), ("after", after)):
         if not isinstance(pose, TagPose):
             raise TypeError(f"{name} must be a TagPose, got {type(pose).__name__}")
-    return _motion(before, after, _check_vector(centroid_in_tag, "centroid_in_tag"))
+    return _motion(before, after, check_point(centroid_in_tag, "centroid_in_tag"))

@@ -70,10 +70,8 @@ def _decode_raw(msg, topic: str, index: int) -> np.ndarray:
             f"({encoding}, {w} px wide: at least {row} bytes a row)"
         )
     rows = data[: h * step].reshape(h, step)[:, :row]
-    image = rows.copy().view(dtype).reshape(h, w, channels) if channels > 1 else None
-    if image is None:
-        image = rows.copy().view(dtype).reshape(h, w)
-    elif order is not None:
+    image = rows.copy().view(dtype).reshape((h, w, channels) if channels > 1 else (h, w))
+    if order is not None:
         image = image[:, :, order]
     return np.ascontiguousarray(image.astype(dtype.newbyteorder("="), copy=False))
 

@@ -14,7 +14,7 @@ from .._validation import _as_float_rows
 from ..conventions import rotate_components
 from ..geometry._outline import outline_signed_distance
 
-__all__ = ["pose_at", "push_window", "stream", "to_frame"]
+__all__ = ["pose_at", "push_window", "pusher_gaps", "stream", "to_frame"]
 
 
 def stream(rows, name: str) -> np.ndarray:
@@ -51,17 +51,28 @@ def _crossing(t: np.ndarray, value: np.ndarray, level: float, k: int) -> float:
     return float(t[k - 1] + f * (t[k] - t[k - 1]))
 
 
+def pusher_gaps(poly, obj: np.ndarray, pusher: np.ndarray, radius: float):
+    """The pusher's rows within the object's time span, and the disc's gap to the outline at each.
+
+    ``poly`` a checked outline, ``obj`` and ``pusher`` streams (:func:`stream`); the gap in
+    metres, negative where the disc overlaps the outline.
+    """
+    pusher = pusher[(pusher[:, 0] >= obj[0, 0]) & (pusher[:, 0] <= obj[-1, 0])]
+    if len(pusher) == 0:
+        return pusher, np.empty(0)
+    poses = pose_at(obj, pusher[:, 0])
+    rel = pusher[:, 1:3] - poses[:, :2]
+    local = np.column_stack(
+        rotate_components(rel[:, 0], rel[:, 1], np.cos(poses[:, 2]), np.sin(poses[:, 2]))
+    )
+    return pusher, outline_signed_distance(poly, local) - radius
+
+
 def push_window(outline, obj, pusher, radius, travel, tolerance):
     """``(t_contact, t_end)`` of one push, or ``(reason, detail)`` when it cannot be used."""
-    covered = (pusher[:, 0] >= obj[0, 0]) & (pusher[:, 0] <= obj[-1, 0])
-    if not covered.any():
+    pus, gap = pusher_gaps(outline, obj, pusher, radius)
+    if len(pus) == 0:
         return "no_object_pose", "the object's poses do not overlap the pusher's in time"
-    pus = pusher[covered]
-    poses = pose_at(obj, pus[:, 0])
-    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
-    rel = pus[:, 1:3] - poses[:, :2]
-    local = np.column_stack(rotate_components(rel[:, 0], rel[:, 1], c, s))
-    gap = outline_signed_distance(outline, local) - radius
     if gap[0] < -tolerance:
         return "starts_inside", (
             f"the pusher's disc overlaps the outline by {-gap[0] * 1000:.2f} mm at its first "

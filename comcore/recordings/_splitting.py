@@ -10,12 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_positive
-from ..conventions import rotate_components
-from ..geometry._outline import check_outline, outline_signed_distance
-from ._pose_streams import pose_at, stream
+from ..geometry._outline import check_outline
+from ._pose_streams import pusher_gaps, stream
 from ._recording import DEFAULT_CONTACT_TOLERANCE_M
 
-__all__ = ["DEFAULT_SEPARATION_M", "pusher_gaps", "split_pushes"]
+__all__ = ["DEFAULT_SEPARATION_M", "split_pushes"]
 
 #: Default gap (metres) between the pusher's disc and the outline past which a push has ended.
 DEFAULT_SEPARATION_M = 0.005
@@ -110,23 +109,6 @@ def split_pushes(
         pieces.append(_piece(obj, pusher[begin : end + 1]))
         begin = end
     return pieces
-
-
-def pusher_gaps(poly, obj: np.ndarray, pusher: np.ndarray, radius: float):
-    """The pusher's rows within the object's time span, and the disc's gap to the outline at each.
-
-    ``poly`` a checked outline, ``obj`` and ``pusher`` streams (:func:`stream`); the gap in
-    metres, negative where the disc overlaps the outline.
-    """
-    pusher = pusher[(pusher[:, 0] >= obj[0, 0]) & (pusher[:, 0] <= obj[-1, 0])]
-    if len(pusher) == 0:
-        return pusher, np.empty(0)
-    poses = pose_at(obj, pusher[:, 0])
-    rel = pusher[:, 1:3] - poses[:, :2]
-    local = np.column_stack(
-        rotate_components(rel[:, 0], rel[:, 1], np.cos(poses[:, 2]), np.sin(poses[:, 2]))
-    )
-    return pusher, outline_signed_distance(poly, local) - radius
 
 
 def _hysteresis(on: np.ndarray, off: np.ndarray) -> np.ndarray:

@@ -55,9 +55,9 @@ from ..geometry._outline import check_outline
 from ._bag_images import IMAGE_TYPES, BagImage, images_from_bag
 from ._bag_reader import _Open, _topic_type
 from ._outline_file import read_outline
-from ._pose_streams import stream
+from ._pose_streams import pusher_gaps, stream
 from ._recording import DEFAULT_CONTACT_TOLERANCE_M, Recording, recording_from_poses
-from ._splitting import DEFAULT_SEPARATION_M, pusher_gaps, split_pushes
+from ._splitting import DEFAULT_SEPARATION_M, split_pushes
 
 __all__ = [
     "IMAGE_TYPES",

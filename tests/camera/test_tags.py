@@ -266,9 +266,9 @@ def test_bad_frames_and_ids_are_named():
         track_tag([frame], 587)
     with pytest.raises(TypeError, match="tag_id must be an int, got float"):
         track_tag([frame], 3.0)
-    with pytest.raises(TypeError, match="centroid_in_tag must be 2 numbers"):
+    with pytest.raises(TypeError, match=r"centroid_in_tag must be a point \(x, y\) of 2 numbers, got str"):
         track_tag([frame], TAG_ID).motions("centre")
-    with pytest.raises(ValueError, match=r"mask must have shape \(2,\), got \(3,\)"):
+    with pytest.raises(ValueError, match=r"mask must be a single point of shape \(2,\), got shape \(3,\)"):
         centroid_in_tag(TagPose(0.0, 0.0, 0.0, 1.0), (1.0, 2.0, 3.0))
     with pytest.raises(TypeError, match="before must be a TagPose, got tuple"):
         motion_from_tags((0.0, 0.0, 0.0, 1.0), TagPose(0.0, 0.0, 0.0, 1.0), (0.0, 0.0))

@@ -166,7 +166,7 @@ def test_apply_motion_keeps_the_shape_of_one_point():
         (([[1.0, 2.0, 3.0]], 0.1, (0, 0), (0, 0)), ValueError, r"points must have shape \(n, 2\)"),
         (([[np.nan, 2.0]], 0.1, (0, 0), (0, 0)), ValueError, r"points must be finite.*\[0\]"),
         (([[1.0, 2.0]], 0.1, (0, np.inf), (0, 0)), ValueError, "translation must be finite"),
-        (([[1.0, 2.0]], 0.1, (0, 0, 0), (0, 0)), ValueError, r"translation must have shape"),
+        (([[1.0, 2.0]], 0.1, (0, 0, 0), (0, 0)), ValueError, r"translation must be a single point of shape \(2,\), got shape \(3,\)"),
         (([[1.0, 2.0]], 0.1, (0, 0), [(0, 0), (1, 1)]), ValueError, "center must be a single"),
     ],
 )
