@@ -49,7 +49,7 @@ from . import vt as vt
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._mask import Mask
 from ._status import Status
-from ._types import Action, Estimate, Motion, PushRecord
+from ._types import Action, Estimate, Motion, PushFrame, PushRecord
 from .active import (
     ActiveSession,
     Likelihood,
@@ -89,6 +89,7 @@ __all__ = [
     "Predictor",
     "PushChoice",
     "PushFailedError",
+    "PushFrame",
     "PushRecord",
     "RecordedPush",
     "Recording",

@@ -21,6 +21,7 @@ __all__ = [
     "Motion",
     "PosteriorDetails",
     "ProgressiveDetails",
+    "PushFrame",
     "PushRecord",
     "SkippedPush",
 ]
@@ -165,6 +166,31 @@ class Motion(_MotionFields):
 
 
 _IDENTITY = Motion(0.0, 0.0, 0.0)
+
+
+class PushFrame(NamedTuple):
+    """One camera frame taken during a push, with where the pusher was when it was taken.
+
+    What :meth:`comcore.ActiveSession.observe` takes as ``frames``: the frames a
+    camera saw while the object moved, in the order they were taken (the
+    mask after the push is the observation itself, not one of them). A plain
+    pair ``(pusher, view)`` does as well.
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.PushFrame((12.0, 30.5), comcore.Motion(0.02, 1.5, 0.0)).pusher
+    (12.0, 30.5)
+    """
+
+    pusher: tuple[float, float]
+    """Where the pusher's leading point was (the point whose path an :class:`Action`
+    gives), in this frame's camera pixels, as the robot reports it."""
+    view: Any
+    """The camera's :class:`comcore.Mask` of the object then (registered by the
+    session, as its observed masks are), or the object's :class:`Motion` since
+    the push began (camera frame, about the object's centroid before the push,
+    as ``observe(motion=...)``), for a caller with its own tracker."""
 class SkippedPush(NamedTuple):
     """One push that could not be used, and why."""
 
