@@ -208,6 +208,13 @@ class PushSimulator:
             self.resolution
         )
 
+    def _pixels_unchecked(self, points_m: np.ndarray) -> np.ndarray:
+        """:meth:`to_pixels` of a (n, 2) array without its checks (NaN stays NaN)."""
+        p = np.asarray(points_m, dtype=float)
+        return np.column_stack([p[:, 0] - self._origin[0], self._origin[1] - p[:, 1]]) / (
+            self.resolution
+        )
+
     def to_world(self, points_px) -> np.ndarray:
         """Pixels to world metres; the inverse of :meth:`to_pixels`.
 
@@ -278,13 +285,23 @@ class PushSimulator:
         return shapely.contains_xy(shapely.Polygon(self.outline_at(pose)), w[:, 0], w[:, 1])
 
     def mask_at(self, pose=None) -> Mask:
-        """The camera's mask of the footprint at ``pose`` (pixel centres inside)."""
+        """The camera's mask of the footprint at ``pose`` (pixel centres inside).
+
+        Only the pixels in the outline's bounding box are tested (a pixel centre
+        outside it is outside the outline), so the cost follows the object's size,
+        not the image's.
+        """
         shapely = require_shapely()
         h, w = self.image_shape
-        rows, cols = np.mgrid[0:h, 0:w]
-        centres = self.to_world(np.column_stack([cols.ravel(), rows.ravel()]))
-        poly = shapely.Polygon(self.outline_at(pose))
-        inside = shapely.contains_xy(poly, centres[:, 0], centres[:, 1]).reshape(h, w)
+        outline = self.outline_at(pose)
+        poly = shapely.Polygon(outline)
+        inside = np.zeros((h, w), bool)
+        (c0, r0), (c1, r1) = _pixel_window(self._pixels_unchecked(outline), h, w)
+        if c0 < c1 and r0 < r1:
+            rows, cols = np.mgrid[r0:r1, c0:c1]
+            centres = self.to_world(np.column_stack([cols.ravel(), rows.ravel()]))
+            window = shapely.contains_xy(poly, centres[:, 0], centres[:, 1])
+            inside[r0:r1, c0:c1] = window.reshape(r1 - r0, c1 - c0)
         if not inside.any():
             corners = self.to_world([(-0.5, -0.5), (w - 0.5, h - 0.5)])
             image = shapely.box(*corners.min(axis=0), *corners.max(axis=0))
@@ -495,6 +512,22 @@ class PushSimulator:
             f"PushSimulator(shape={self.shape!r}, com_px=({self.com_px[0]:.1f}, "
             f"{self.com_px[1]:.1f}), mu_contact={self.mu_contact:.3f})"
         )
+
+
+def _pixel_window(points_px: np.ndarray, h: int, w: int):
+    """The pixels of an ``h`` x ``w`` image whose centres may lie in the points' bounding box.
+
+    ``(c0, r0), (c1, r1)``: columns ``c0:c1`` and rows ``r0:r1``, the box of
+    ``points_px`` padded by a pixel against rounding; the whole image for non-finite
+    points.
+    """
+    if not np.isfinite(points_px).all():
+        return (0, 0), (w, h)
+    lo = np.floor(points_px.min(axis=0)) - 1
+    hi = np.ceil(points_px.max(axis=0)) + 2
+    c0, r0 = (int(min(max(v, 0), n)) for v, n in zip(lo, (w, h)))
+    c1, r1 = (int(min(max(v, 0), n)) for v, n in zip(hi, (w, h)))
+    return (c0, r0), (c1, r1)
 
 
 def _image_shape(bounds_m, margin: float, resolution: float) -> tuple[int, int]:

@@ -200,6 +200,30 @@ def test_camera_frames_accept_one_point():
     assert np.allclose(sim.to_world(sim.to_pixels((0.03, 0.04)))[0], (0.03, 0.04))
 
 
+def _mask_over_the_whole_image(sim, pose):
+    shapely = pytest.importorskip("shapely")
+    h, w = sim.image_shape
+    rows, cols = np.mgrid[0:h, 0:w]
+    centres = sim.to_world(np.column_stack([cols.ravel(), rows.ravel()]))
+    poly = shapely.Polygon(sim.outline_at(pose))
+    return shapely.contains_xy(poly, centres[:, 0], centres[:, 1]).reshape(h, w)
+
+
+def test_mask_at_tests_only_the_outlines_box_and_gives_every_pixel():
+    sim = simulators.random_simulator("Obj12", friction="high", rng=1)
+    rng = np.random.default_rng(0)
+    x0, y0, _ = sim.initial_pose
+    h, w = sim.image_shape
+    for _ in range(40):  # some poses partly out of the image, and turned any way
+        dx, dy = rng.uniform(-0.5, 0.5, 2) * (w, h) * sim.resolution
+        pose = (x0 + dx, y0 + dy, rng.uniform(-7, 7))
+        try:
+            mask = sim.mask_at(pose).data
+        except ValueError:
+            mask = np.zeros((h, w), bool)
+        assert np.array_equal(mask, _mask_over_the_whole_image(sim, pose))
+
+
 def test_too_coarse_a_resolution_says_so():
     sim = PushSimulator.from_polygon(RECT, resolution=1.0)
     with pytest.raises(ValueError, match=r"resolution 1 m per pixel is too coarse .*8 x 6 cm"):
