@@ -60,7 +60,17 @@ class PushResult(NamedTuple):
     normal_px: tuple[float, float] | None = None
     """Unit inward normal at that contact (pixel frame); ``None``: a miss."""
     trajectory: np.ndarray | None = None
-    """Poses along the push, shape (k, 3), when asked for with ``record=True``."""
+    """Poses along the push, shape (k, 3), when asked for with ``record=True``: CoM ``(x, y)``
+    in world metres and angle, the start pose first, then one row per integration step
+    after the first contact (the pymunk engine: and one after the object settled)."""
+    travel_px: np.ndarray | None = None
+    """How far the pusher's leading point had come along the action from its start at
+    each row of ``trajectory``, shape (k,), pixels (as ``contact_px``), with
+    ``record=True``. Row 0 is the travel at the first contact (the object has not moved
+    before it), a miss's one row 0; it never decreases and ends at the action's length.
+    Where the disc was lowered farther back on the line (a notch narrower than the
+    pusher, :meth:`PushSimulator.push`) it starts negative: the disc touched the object
+    before its leading point reached the action's start."""
 
 
 class PushSimulator:
@@ -387,7 +397,8 @@ class PushSimulator:
             Start pose (CoM in metres, angle in radians); default the initial
             pose. Pass a previous result's ``pose`` to push in sequence.
         record : bool, optional
-            Also return the poses along the push (``trajectory``).
+            Also return the poses along the push (``trajectory``) and the pusher's travel
+            at each of them (``travel_px``).
 
         Returns
         -------
@@ -455,9 +466,11 @@ class PushSimulator:
                 c = self.to_pixels(out.contact[i])[0]
                 contact = (float(c[0]), float(c[1]))
                 normal = (float(out.normal[i, 0]), float(-out.normal[i, 1]))
-            traj = None if out.trajectories is None else out.trajectories[i]
+            traj = travel = None
+            if out.trajectories is not None:
+                traj, travel = out.trajectories[i], out.travel[i] / self.resolution
             pose_i = tuple(float(v) for v in out.poses[i])
-            results.append(PushResult(motion, pose_i, contact, normal, traj))
+            results.append(PushResult(motion, pose_i, contact, normal, traj, travel))
         return results
 
     def _check_lengths(self, acts: np.ndarray, name: str) -> None:

@@ -113,6 +113,11 @@ class PymunkEngine:
         body.force, body.torque = (0.0, 0.0), 0.0
 
     def _push_one(self, pose, start_mm, direction, length, t_hit, record):
+        """The poses after each step (``record``) and after settling, (k, 3), world metres.
+
+        With the disc centre's travel from ``start_mm`` (mm) at each row, (k,): the
+        settling row keeps the final travel, ``length``.
+        """
         step = self.settings.step_m * MM
         t_begin = max(0.0, t_hit - 0.5 * step)
         self._reset(pose[2])
@@ -133,7 +138,8 @@ class PymunkEngine:
         traj.append((px, py, body.angle))
         t = np.array(traj)
         t[:, :2] = t[:, :2] / MM + pose[:2]
-        return t
+        travel = t_begin + remaining * np.arange(1, n_steps + 1) / n_steps if record else []
+        return t, np.append(travel, length)
 
     def push_batch(self, poses, starts, ends, record: bool = False) -> BatchOutcome:
         """Same contract as :meth:`simulators.engines._quasistatic.QuasiStaticEngine.push_batch`."""
@@ -142,7 +148,7 @@ class PymunkEngine:
         out = poses.copy()
         hit, blocked = np.zeros(n, bool), np.zeros(n, bool)
         contact, normal = np.full((n, 2), np.nan), np.full((n, 2), np.nan)
-        trajs = []
+        trajs, travel = [], []
         for i in range(n):
             start = (np.asarray(starts[i], float) - poses[i, :2]) * MM
             end = (np.asarray(ends[i], float) - poses[i, :2]) * MM
@@ -152,20 +158,27 @@ class PymunkEngine:
             outline = _rotate(self.outline_mm, poses[i, 2])
             args = (outline, centre0[None], d[None], np.array([length]), self.radius_mm)
             t_hit = first_contacts(*args)[0]
+            back = 0.0  # how far the disc was lowered behind the commanded start (mm)
             if t_hit < 0:  # lowered farther back on the line, beyond the object
                 blocked[i] = True
                 back = 2.0 * np.abs(outline).max() + 2.0 * self.radius_mm + np.hypot(*start)
                 centre0, length = centre0 - back * d, length + back
                 t_hit = first_contacts(outline, centre0[None], d[None], [length], self.radius_mm)[0]
-            traj = np.array([poses[i]])
+            traj, along = np.array([poses[i]]), np.zeros(1)
             if np.isfinite(t_hit):
                 hit[i] = True
                 centre = centre0 + t_hit * d
                 q, _ = closest_points(outline, centre[None])
                 contact[i] = q[0] / MM + poses[i, :2]
                 normal[i] = (q[0] - centre) / self.radius_mm
-                moved = self._push_one(poses[i], centre0, d, length, t_hit, record)
+                moved, moved_travel = self._push_one(poses[i], centre0, d, length, t_hit, record)
                 out[i] = moved[-1]
                 traj = np.vstack([poses[i], moved])
+                # the leading point's travel from the commanded start: the disc centre's
+                # from centre0, less how far centre0 was lowered behind it
+                along = (np.concatenate([[t_hit], moved_travel]) - back) / MM
             trajs.append(traj)
-        return BatchOutcome(out, hit, contact, normal, blocked, trajs if record else None)
+            travel.append(along)
+        if not record:
+            trajs = travel = None
+        return BatchOutcome(out, hit, contact, normal, blocked, trajs, travel)

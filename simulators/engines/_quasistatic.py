@@ -36,7 +36,18 @@ VERTEX_REFINEMENT = 4
 
 @dataclass(frozen=True)
 class BatchOutcome:
-    """Result of :meth:`QuasiStaticEngine.push_batch` (world metres, ``y`` up)."""
+    """Result of :meth:`QuasiStaticEngine.push_batch` (world metres, ``y`` up).
+
+    ``trajectories`` and ``travel`` (``None`` unless ``record``) go together, row for
+    row: per push, the poses along it, (k + 1, 3), and how far (metres) the pusher's
+    leading point had come from the commanded path's start at each of them, (k + 1,).
+    Row 0 is the start pose, at the travel of the first contact (the object has not
+    moved before it); then one row per step. The travel never decreases and ends at
+    the path's length. A miss has a single row, at travel 0. A blocked push (the disc
+    lowered farther back on the line, ``blocked``) is still measured from the
+    commanded start, so it may start negative: the disc touched the object before its
+    leading point reached the commanded start.
+    """
 
     poses: np.ndarray  # (n, 3) final CoM x, y and angle
     hit: np.ndarray  # (n,) whether the pusher touched the object
@@ -44,6 +55,7 @@ class BatchOutcome:
     normal: np.ndarray  # (n, 2) inward normal there (NaN for a miss)
     blocked: np.ndarray  # (n,) the disc overlapped the object at the start of the path
     trajectories: list | None  # per push, (k + 1, 3) poses along it
+    travel: list | None = None  # per push, (k + 1,) leading point's travel (m) at each row
 
 
 class QuasiStaticEngine:
@@ -78,7 +90,8 @@ class QuasiStaticEngine:
     def push_batch(self, poses, starts, ends, record: bool = False) -> BatchOutcome:
         """Push from ``poses`` (n, 3) along the leading-point paths ``starts`` -> ``ends``.
 
-        Raises ValueError if a pusher overlaps the object at its start.
+        Raises ValueError if a pusher overlaps the object at its start. ``record``: also
+        the poses along each push and the pusher's travel at each (:class:`BatchOutcome`).
         """
         L = self.length
         poses = np.array(poses, dtype=float).reshape(-1, 3)
@@ -97,8 +110,10 @@ class QuasiStaticEngine:
         # A disc that overlaps the object where its path starts (a notch narrower than
         # the pusher) is lowered farther back on the same line, beyond the object.
         blocked = t_hit < 0
+        lowered = np.zeros(n)  # how far each disc was lowered behind the commanded start
         if blocked.any():
             back = 2.0 * np.abs(self.outline).max() + 2.0 * self.radius + np.hypot(*rel[blocked].T)
+            lowered[blocked] = back
             centre0[blocked] -= back[:, None] * d[blocked]
             centre_body[blocked] -= back[:, None] * dir_body[blocked]
             total[blocked] += back
@@ -124,19 +139,26 @@ class QuasiStaticEngine:
         out = poses.copy()
         out[idx, :2] = xs * L
         out[idx, 2] = angs
-        trajectories = None
+        trajectories = travel = None
         if record:
             trajectories = [poses[i : i + 1].copy() for i in range(n)]
+            travel = [np.zeros(1) for _ in range(n)]
             for j, i in enumerate(idx):
-                trajectories[i] = np.vstack([poses[i : i + 1], np.array(traj[j]).reshape(-1, 3)])
-        return BatchOutcome(out, hit, contact, normal, blocked, trajectories)
+                rows = np.array(traj[j]).reshape(-1, 4)  # x, y, angle, progress after contact
+                trajectories[i] = np.vstack([poses[i : i + 1], rows[:, :3]])
+                # the leading point is t_hit - lowered past the commanded start at contact
+                progress = np.concatenate([[0.0], rows[:, 3]])
+                travel[i] = (t_hit[i] - lowered[i] + progress) * L
+        return BatchOutcome(out, hit, contact, normal, blocked, trajectories, travel)
 
     def _follow(self, xs, angs, c0, d0, remaining, first_vertex, record):
         """Step the pushers from their first contacts ``c0`` along ``d0`` by ``remaining``.
 
         ``xs`` (n, 2) and ``angs`` (n,) are the objects' poses (normalised
         lengths), updated in place and returned with the recorded trajectories
-        (``None`` unless ``record``).
+        (``None`` unless ``record``): per push, rows ``(x, y, angle, progress)``,
+        metres and radians but ``progress``, the disc's normalised travel since
+        ``c0``.
         """
         L = self.length
         # Each push advances by its own steps, so its result does not depend on the
@@ -186,5 +208,5 @@ class QuasiStaticEngine:
                 angs[rows] += xi[:, 2]
             if record:
                 for j in run:
-                    traj[j].append((xs[j, 0] * L, xs[j, 1] * L, angs[j]))
+                    traj[j].append((xs[j, 0] * L, xs[j, 1] * L, angs[j], progress[j]))
         return xs, angs, traj

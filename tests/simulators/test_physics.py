@@ -234,6 +234,38 @@ def test_pusher_starting_in_a_notch_is_lowered_farther_back():
     assert res.contact_px is not None and res.motion.ty > 0
 
 
+#: A 6 x 4 cm plate with a 2 mm wide notch in its top edge, narrower than the 4 mm pusher.
+NOTCHED = [(0, 0), (0.06, 0), (0.06, 0.04), (0.031, 0.04), (0.031, 0.025), (0.029, 0.025),
+           (0.029, 0.04), (0, 0.04)]  # fmt: skip
+
+
+@pytest.mark.parametrize("engine", ["quasistatic", "pymunk"])
+def test_the_pushers_travel_is_recorded_with_the_trajectory(engine):
+    if engine == "pymunk":
+        pytest.importorskip("pymunk")
+    shapely = pytest.importorskip("shapely")
+    sim = PushSimulator.from_polygon(NOTCHED, settings=simulators.EngineSettings(engine=engine))
+    outline = shapely.Polygon(sim.outline_at())
+    on_edge = simulators.action_from_world(sim, (0.045, 0.05), (0.0, -1.0))
+    in_notch = simulators.action_from_world(sim, (0.03, 0.035), (0.0, -1.0), 0.02, 0.0)
+    for action, blocked in ((on_edge, False), (in_notch, True)):
+        res = sim.push(action, record=True)
+        travel = res.travel_px
+        assert travel.shape == (len(res.trajectory),)
+        assert np.all(np.diff(travel) >= 0)
+        length = math.hypot(action[2] - action[0], action[3] - action[1])
+        assert travel[-1] == pytest.approx(length, abs=1e-9)
+        # row 0: the travel at the first contact, where the disc trailing the leading
+        # point touches the outline; in the notch it came from farther back than the start
+        d = np.subtract(action[2:], action[:2]) / length
+        centre = sim.to_world(np.asarray(action[:2]) + (travel[0] - sim.pusher_radius / sim.resolution) * d)[0]
+        gap = shapely.distance(outline, shapely.Point(*centre)) - sim.pusher_radius
+        assert abs(gap) < 1e-9
+        assert (travel[0] < 0) == blocked
+    miss = sim.push((0, 0, 0, 5), record=True)
+    assert miss.travel_px.tolist() == [0.0] and len(miss.trajectory) == 1
+
+
 def test_bad_actions():
     sim = PushSimulator.from_polygon(RECT)
     with pytest.raises(ValueError, match="single action"):

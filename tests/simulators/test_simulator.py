@@ -55,6 +55,9 @@ def test_push_result_fields():
     assert res.normal_px == pytest.approx((1.0, 0.0), abs=1e-9)
     assert res.trajectory.shape[1] == 3 and np.allclose(res.trajectory[0], sim.initial_pose)
     assert np.allclose(res.trajectory[-1], res.pose)
+    assert res.travel_px.shape == (len(res.trajectory),)
+    assert res.travel_px[-1] == pytest.approx(20.0)  # the action's length, pixels
+    assert sim.push(comcore.Action(cx - 30, cy + 4, cx - 10, cy + 4)).travel_px is None
 
 
 def test_push_motions_matches_push_and_handles_empty():
