@@ -24,7 +24,7 @@ from ._mass import MassDistribution, tilt_to_com
 from ._objects import BENCHMARK_AREAS_CM2, BENCHMARK_OBJECTS, load_object
 from ._pushes import action_from_world, normal_pushes_through_com
 from ._random import FRICTION_CLASSES, MASS_STYLES, random_com, random_simulator
-from ._robot import DEFAULT_CAMERA_MARGIN, RobotPush, SimulatedRobot
+from ._robot import DEFAULT_CAMERA_MARGIN, DEFAULT_PUSHER_SPEED, RobotPush, SimulatedRobot
 from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
@@ -43,6 +43,7 @@ __all__ = [
     "BENCHMARK_OBJECTS",
     "DEFAULT_CAMERA_MARGIN",
     "DEFAULT_PUSHER_RADIUS",
+    "DEFAULT_PUSHER_SPEED",
     "ENGINES",
     "FRICTION_CLASSES",
     "MASS_STYLES",

@@ -28,6 +28,7 @@ from ._simulator import PushResult, PushSimulator
 
 __all__ = [
     "DEFAULT_CAMERA_MARGIN",
+    "DEFAULT_PUSHER_SPEED",
     "RobotPush",
     "SimulatedRobot",
     "camera_frame_margin",
@@ -46,6 +47,12 @@ DEFAULT_CAMERA_MARGIN = 0.15
 RETREAT_STEP_M = 0.001
 #: At most this many retreat steps (5 cm) before the push is refused.
 MAX_RETREAT_STEPS = 50
+#: The pusher's speed along its path (m/s) that times the frames of ``execute(...,
+#: frame_rate=...)``: 3 cm in 1.5 s, about an arm's slow, quasi-static push.
+DEFAULT_PUSHER_SPEED = 0.02
+#: ``execute(..., frame_rate=...)`` refuses a push that would take more frames than this
+#: (each is a camera mask kept in memory): a frame rate in the wrong unit.
+MAX_FRAMES_PER_PUSH = 1000
 
 
 class RobotPush(NamedTuple):
@@ -66,6 +73,17 @@ class RobotPush(NamedTuple):
     """The simulator's result (world pose, contact)."""
     frames: tuple = ()
     """Camera masks during the push (``execute(..., frames=k)``), the last at its end."""
+    path: tuple[comcore.PushFrame, ...] = ()
+    """Camera frames taken during the push at ``execute(..., frame_rate=...)``: each a
+    :class:`comcore.PushFrame`, the pusher's leading point then (camera pixels, on the
+    ``executed`` path) and the camera's mask then (with ``mask_noise``). The mask after
+    the push (:meth:`SimulatedRobot.camera_mask`) is not one of them."""
+    path_times: tuple[float, ...] = ()
+    """When each frame of ``path`` was taken, seconds since the push began: ``k /
+    frame_rate`` for ``k = 1, 2, ...``, strictly before the push ended."""
+    path_poses: tuple[Motion, ...] = ()
+    """The object's true pose at each frame of ``path``, relative to the first mask (the
+    convention of :attr:`SimulatedRobot.pose`)."""
 
 
 def perturb_actions(actions, offset_px, angle, retreat=None) -> np.ndarray:
@@ -140,6 +158,67 @@ def noisy_mask(mask: Mask, flip: float, rng: np.random.Generator) -> Mask:
     if not out.any():  # pragma: no cover - a mask of one pixel, flipped away
         out = data
     return Mask(out, resolution=mask.resolution)
+
+
+def _poses_at_travel(trajectory, travel, at) -> np.ndarray:
+    """Poses interpolated linearly in the pusher's travel along a recorded push.
+
+    Parameters
+    ----------
+    trajectory : array_like, shape (k, 3)
+        Poses along the push (``PushResult.trajectory``).
+    travel : array_like, shape (k,)
+        The pusher's travel at each of them, non-decreasing (``PushResult.travel_px``).
+    at : array_like, shape (m,)
+        Travels (the unit of ``travel``) to give the pose at.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, 3)
+        Each row linear between the two recorded poses around its travel (the angle
+        too); the first pose before the first recorded travel (the pusher has not
+        reached the object), the last after the last.
+
+    Examples
+    --------
+    >>> _poses_at_travel([[0, 0, 0], [0, 0, 0], [1.0, 0, 0.2]], [4.0, 4.0, 6.0], [3.0, 5.0])
+    array([[0. , 0. , 0. ],
+           [0.5, 0. , 0.1]])
+    """
+    poses = np.asarray(trajectory, dtype=float).reshape(-1, 3)
+    along = np.asarray(travel, dtype=float).reshape(-1)
+    q = np.asarray(at, dtype=float).reshape(-1)
+    if len(along) == 1:
+        return np.repeat(poses, len(q), axis=0)
+    i = np.clip(np.searchsorted(along, q, side="right") - 1, 0, len(along) - 2)
+    span = along[i + 1] - along[i]
+    w = np.divide(q - along[i], span, out=np.zeros_like(q), where=span > 0)
+    w = np.clip(w, 0.0, 1.0)
+    return poses[i] + w[:, None] * (poses[i + 1] - poses[i])
+
+
+def _frame_times(duration: float, frame_rate: float) -> np.ndarray:
+    """The times ``k / frame_rate`` (``k = 1, 2, ...``) strictly before ``duration`` (seconds).
+
+    A time within a relative 1e-9 of ``duration`` counts as the end, not before it.
+
+    Examples
+    --------
+    >>> _frame_times(0.3, 10.0).tolist(), _frame_times(0.05, 10.0).tolist()
+    ([0.1, 0.2], [])
+    """
+    n = max(math.ceil(duration * frame_rate * (1.0 - 1e-9)) - 1, 0)
+    return np.arange(1, n + 1) / frame_rate
+
+
+def _check_frame_rate(frame_rate, frames) -> float:
+    """``frame_rate`` (Hz) as a float, refusing a bad one and ``frames`` given beside it."""
+    rate = check_positive(frame_rate, "frame_rate")
+    if frames:
+        raise TypeError(
+            f"execute takes frames (a count, got {frames!r}) or frame_rate (Hz), not both"
+        )
+    return rate
 
 
 def camera_frame_margin(shape, camera_margin: float, com_m=None) -> float:
@@ -228,6 +307,10 @@ class SimulatedRobot:
       0.5 shifts the outline by about half a pixel, pixel by pixel; every
       :meth:`camera_mask` call draws afresh, like a new camera frame.
 
+    A video camera: ``execute(action, frame_rate=...)`` also returns the frames a
+    camera at that rate saw during the push, the pusher moving along its path at
+    ``speed`` (:meth:`execute`).
+
     Parameters
     ----------
     simulator : PushSimulator
@@ -248,6 +331,10 @@ class SimulatedRobot:
     engine : str or EngineSettings, optional
         The physics playing the world: ``"quasistatic"``, ``"pymunk"`` or full
         :class:`EngineSettings`; default the simulator's.
+    speed : float, optional
+        The pusher's speed along its path, m/s (default :data:`DEFAULT_PUSHER_SPEED`):
+        what times the frames of ``execute(..., frame_rate=...)``. The pushes are
+        quasi-static whatever it is.
     rng : None, int or numpy.random.Generator, optional
         Seed of the pusher and camera noise (:func:`comcore.checks.check_rng`).
 
@@ -273,6 +360,7 @@ class SimulatedRobot:
         camera_margin: float | None = DEFAULT_CAMERA_MARGIN,
         resolution: float | None = None,
         engine=None,
+        speed: float = DEFAULT_PUSHER_SPEED,
         rng=None,
     ):
         if not isinstance(simulator, PushSimulator):
@@ -282,6 +370,7 @@ class SimulatedRobot:
         self.pusher_error = check_positive(pusher_error, "pusher_error", allow_zero=True)
         self.angle_error = check_positive(angle_error, "angle_error", allow_zero=True)
         self.mask_noise = check_probability(mask_noise, "mask_noise", open_high=True)
+        self.speed = check_positive(speed, "speed")
         if camera_margin is None:
             margin = simulator.margin
         else:
@@ -338,13 +427,15 @@ class SimulatedRobot:
         """The CoM ``(x, y)`` in world metres and the body angle (radians) now."""
         return self._world
 
-    def _exact_mask(self) -> Mask:
-        mask = self.simulator.mask_at(self._world)
+    def _exact_mask(self, pose=None, when: str | None = None) -> Mask:
+        """The noise-free mask at ``pose`` (default: now); ``when`` names it in the error."""
+        mask = self.simulator.mask_at(self._world if pose is None else pose)
         d = mask.data
         if d[0].any() or d[-1].any() or d[:, 0].any() or d[:, -1].any():
+            when = f"after {self.pushes} push(es)" if when is None else when
             raise ValueError(
-                "the object left the camera's view (its mask touches the image border) after "
-                f"{self.pushes} push(es); build the robot with a larger camera_margin "
+                "the object left the camera's view (its mask touches the image border) "
+                f"{when}; build the robot with a larger camera_margin "
                 f"(now {self.simulator.margin:g} m)"
             )
         return mask
@@ -396,7 +487,7 @@ class SimulatedRobot:
     def _retreat(self, starts: np.ndarray, directions: np.ndarray) -> np.ndarray:
         return retreat_starts(self.simulator, self._world, starts, directions)
 
-    def execute(self, action, frames: int = 0) -> RobotPush:
+    def execute(self, action, frames: int = 0, *, frame_rate: float | None = None) -> RobotPush:
         """Push the object from where it is now; the object stays where the push leaves it.
 
         Parameters
@@ -407,6 +498,22 @@ class SimulatedRobot:
             Also return this many camera masks (with ``mask_noise``) taken during the
             push, evenly spaced along its steps, the last one at its end: what a
             video camera gives a tracker that follows the object (default none).
+        frame_rate : float, optional
+            Also return the frames of a camera taking one every ``1 / frame_rate``
+            seconds (Hz) during the push, in ``RobotPush.path`` (with
+            ``path_times`` and ``path_poses``). The push starts at time 0 with the
+            pusher's leading point at the start of the executed path and moves along
+            it at :attr:`speed`; frames are taken at ``1 / frame_rate``,
+            ``2 / frame_rate``, ... strictly before it reaches the end (the mask
+            after the push is :meth:`camera_mask`'s). Each frame holds where the
+            leading point is then and the camera's mask (with ``mask_noise``, drawn
+            afresh) of the object at the pose interpolated, linearly in the
+            pusher's travel, between the engine's recorded poses (the start pose
+            until the pusher reaches the object). A frame costs one rasterisation
+            of the footprint over its bounding box (:meth:`PushSimulator.mask_at`)
+            and, with ``mask_noise``, a noise draw over the whole image;
+            benchmarks/timing/bench_push_frames.py measures it
+            (docs/how-to/your-robot.md gives the figures). Not with ``frames``.
 
         Returns
         -------
@@ -418,8 +525,14 @@ class SimulatedRobot:
         ------
         ValueError
             If ``action`` is not one finite, non-zero-length action, or the
-            commanded start lies inside the object as it is now (the robot is
+            commanded start lies inside the object as it is now; if ``frame_rate``
+            is not a finite number > 0, or would take more than
+            :data:`MAX_FRAMES_PER_PUSH` frames; if a frame's mask touches the image
+            border, as :meth:`camera_mask` (the robot's pose and history are
             unchanged then).
+        TypeError
+            If ``frame_rate`` is not a number, or ``frames`` and ``frame_rate`` are
+            both given.
         """
         acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
@@ -427,6 +540,17 @@ class SimulatedRobot:
         if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 0:
             raise ValueError(f"frames must be an integer >= 0, got {frames!r}")
         sim = self.simulator
+        rate = None
+        if frame_rate is not None:
+            rate = _check_frame_rate(frame_rate, frames)
+            length_m = math.hypot(*(acts[0, 2:] - acts[0, :2])) * sim.resolution
+            n_frames = len(_frame_times(length_m / self.speed, rate))
+            if n_frames > MAX_FRAMES_PER_PUSH:
+                raise ValueError(
+                    f"frame_rate {rate:g} Hz takes {n_frames} frames during this push "
+                    f"({length_m:.3g} m at speed {self.speed:g} m/s), more than "
+                    f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
+                )
         shapely = require_shapely()
         start_w = sim.to_world(acts[0, :2])[0]
         if shapely.contains_xy(shapely.Polygon(sim.outline_at(self._world)), *start_w):
@@ -450,7 +574,10 @@ class SimulatedRobot:
         x, y, a = before
         c, s = math.cos(a), math.sin(a)
         body = np.array(comcore.conventions.rotate_components(w[0] - x, w[1] - y, c, s))
-        result = sim.push(executed[0], pose=before, record=bool(frames))
+        result = sim.push(executed[0], pose=before, record=bool(frames) or rate is not None)
+        path = ()
+        if rate is not None:  # before the pose changes: a frame out of view changes nothing
+            path = self._path_frames(executed[0], result, rate)
         self._world = tuple(float(v) for v in result.pose)
         shots: tuple = ()
         if frames:
@@ -469,9 +596,28 @@ class SimulatedRobot:
             result.contact_px is not None,
             result,
             shots,
+            *path,
         )
         self.history.append(record)
         return record
+
+    def _path_frames(self, executed: np.ndarray, result: PushResult, rate: float) -> tuple:
+        """``(path, path_times, path_poses)`` of :class:`RobotPush` for ``execute``'s frames."""
+        sim = self.simulator
+        start, end = executed[:2], executed[2:]
+        length_px = float(np.hypot(*(end - start)))
+        times = _frame_times(length_px * sim.resolution / self.speed, rate)
+        along = times * self.speed / sim.resolution  # the leading point's travel, pixels
+        pushers = start + along[:, None] * ((end - start) / length_px)
+        poses = _poses_at_travel(result.trajectory, result.travel_px, along)
+        frames = []
+        for t, pusher, pose in zip(times, pushers, poses):
+            when = f"at t = {t:.3g} s during push {self.pushes + 1}"
+            mask = noisy_mask(self._exact_mask(tuple(pose), when), self.mask_noise, self._rng)
+            frames.append(comcore.PushFrame((float(pusher[0]), float(pusher[1])), mask))
+        first = sim.initial_pose
+        motions = tuple(self._motion_between(self._first_centroid_body, first, p) for p in poses)
+        return tuple(frames), tuple(float(t) for t in times), motions
 
     def place(self, pose=None) -> None:
         """Put the object at ``pose`` (CoM ``(x, y)`` in world metres, angle), not a push.
