@@ -22,7 +22,7 @@ from comcore import Action, Motion
 from comcore.conventions import rotate_components, rotation_matrix
 
 from .._deps import require_shapely
-from .._robot import DEFAULT_CAMERA_MARGIN, camera_frame_margin
+from .._robot import DEFAULT_CAMERA_MARGIN, MAX_FRAMES_PER_PUSH, _frame_times, camera_frame_margin
 from .._simulator import PushSimulator
 from ._camera import CameraSettings, CameraSetup, homography_table_to_image, warp_to_grid
 from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco
@@ -52,6 +52,19 @@ class MujocoPush(NamedTuple):
     """CoM ``(x, y)`` (table metres) and angle after the push."""
     lag_m: float
     """Largest distance between the pusher and its commanded point during the push (m)."""
+    path: tuple[comcore.PushFrame, ...] = ()
+    """Camera frames rendered during the push at ``execute(..., frame_rate=...)``: each a
+    :class:`comcore.PushFrame`, the pusher's leading point then (grid pixels, from the
+    pusher's simulated position: its centre plus ``pusher_radius`` along the push) and
+    the mask of the frame (:meth:`MujocoRobot.camera_mask`'s steps, the object taken as
+    the bright side: the pusher is in the picture, dark). The frame after the push
+    (:meth:`MujocoRobot.camera_mask`) is not one of them."""
+    path_times: tuple[float, ...] = ()
+    """When each frame of ``path`` was rendered, simulated seconds since the pusher began
+    to move (whole time steps)."""
+    path_poses: tuple[Motion, ...] = ()
+    """The object's pose at each frame of ``path`` relative to the first frame (the
+    convention of :attr:`MujocoRobot.pose`)."""
 
 
 def _yaw(quat) -> float:
@@ -67,7 +80,9 @@ class MujocoRobot:
     the pusher follows each commanded path at ``settings.speed`` on slide joints,
     backs off 5 mm, is parked out of view, and the scene settles ``settings.settle``
     seconds before the next frame. Frames: a top-down perspective camera
-    (``camera``), rendered offscreen (``MUJOCO_GL=egl``, set if unset).
+    (``camera``), rendered offscreen (``MUJOCO_GL=egl``, set if unset);
+    ``execute(action, frame_rate=...)`` also renders the frames a camera at that rate
+    sees during the push, the pusher in the picture.
 
     Parameters
     ----------
@@ -276,7 +291,9 @@ class MujocoRobot:
         self.data.ctrl[:] = q
         self._mj.mj_forward(self.model, self.data)
 
-    def execute(self, action, frames: int = 0, *, retract: bool = True) -> MujocoPush:
+    def execute(
+        self, action, frames: int = 0, *, retract: bool = True, frame_rate: float | None = None
+    ) -> MujocoPush:
         """Push the object from where it is now along ``action`` (grid pixels).
 
         The pusher's centre is lowered ``pusher_radius`` behind the path's start
@@ -284,20 +301,58 @@ class MujocoRobot:
         the line at ``settings.speed`` to the end, backs off 5 mm and is parked out of
         view; the scene settles ``settings.settle`` s. ``retract=False`` leaves the
         pusher where the path ended, touching the object, in the next frames (what a
-        camera sees of an arm that does not move away). ``frames`` is there for
-        ``SimulatedRobot.execute``'s callers: only 0 (no frames during the push).
+        camera sees of an arm that does not move away).
+
+        Parameters
+        ----------
+        action : Action or array_like, shape (4,)
+            The pusher's leading point's path, grid pixels.
+        frames : int, optional
+            Only 0: there for ``SimulatedRobot.execute``'s callers; the MuJoCo robot
+            takes frames at a rate (``frame_rate``), not a count of them.
+        retract : bool, optional
+            Back the pusher off and park it after the push (default).
+        frame_rate : float, optional
+            Also render the camera's frames during the push, one every
+            ``1 / frame_rate`` simulated seconds (Hz, at most one per time step),
+            from when the pusher begins to move until before its set point reaches
+            the path's end; each becomes a mask as :meth:`camera_mask` makes one
+            (rendered, warped to the grid, :func:`comcore.mask_from_image`, here
+            with ``object="bright"``: the pusher is in the picture, dark on the grey
+            table, and is never taken for the object). ``MujocoPush.path`` holds
+            them, with ``path_times`` and ``path_poses``. A frame costs a render,
+            a warp and a ``mask_from_image``: benchmarks/timing/bench_push_frames.py
+            measures it (docs/how-to/your-robot.md gives the figures).
 
         Raises
         ------
         ValueError
             If ``action`` is not one finite, non-zero-length action, or it starts inside
-            the object as it is now, or ``frames`` is not 0 (the robot is unchanged then).
+            the object as it is now, ``frames`` is not 0, or ``frame_rate`` is not a
+            finite number > 0, above ``1 / settings.timestep`` or would take more than
+            ``MAX_FRAMES_PER_PUSH`` frames (the robot is unchanged then).
+        comcore.ImageError
+            If a frame rendered during the push does not show the whole object
+            (:func:`comcore.mask_from_image`'s refusal); the scene is put back as it
+            was before the push.
+        TypeError
+            If ``frame_rate`` is not a number.
         """
         if frames:
             raise ValueError(
-                f"frames={frames!r}: the MuJoCo robot renders no frames during a push (take "
-                "camera_mask() after it; simulators.SimulatedRobot records frames)"
+                f"frames={frames!r}: the MuJoCo robot takes no count of frames; for camera "
+                "frames during the push give frame_rate= (Hz, simulated time), or take "
+                "camera_mask() after it"
             )
+        dt = self.model.opt.timestep
+        rate = None
+        if frame_rate is not None:
+            rate = comcore.checks.check_positive(frame_rate, "frame_rate")
+            if rate * dt > 1.0 + 1e-9:
+                raise ValueError(
+                    f"frame_rate must be at most one frame per time step ({1 / dt:g} Hz, "
+                    f"settings.timestep {dt:g} s), got {rate:g} Hz"
+                )
         acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
@@ -319,11 +374,24 @@ class MujocoRobot:
         before = self._body_pose()
         centroid = self._to_body(np.asarray(outline.centroid.coords[0]), before)
         mj, model, data = self._mj, self.model, self.data
-        dt = model.opt.timestep
         length = float(np.dot(c1 - c0, d))
+        step = self.settings.speed * dt
+        shots: dict[int, int] = {}  # time step -> frame index
+        if rate is not None:
+            n_forward = max(1, math.ceil(length / step))
+            ticks = np.round(_frame_times(n_forward * dt, rate) / dt).astype(int)
+            ticks = ticks[(ticks >= 1) & (ticks < n_forward)]
+            if len(ticks) > MAX_FRAMES_PER_PUSH:
+                raise ValueError(
+                    f"frame_rate {rate:g} Hz takes {len(ticks)} frames during this push "
+                    f"({length:.3g} m at speed {self.settings.speed:g} m/s), more than "
+                    f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
+                )
+            shots = {int(k): i for i, k in enumerate(ticks)}
+        state = self._state()
         self._set_pusher(c0)
         lag, hit = 0.0, False
-        step = self.settings.speed * dt
+        seen = []  # per frame: time, RGB frame, leading point (table metres), pose
         for travel in (length, -BACK_OFF_M) if retract else (length,):
             origin = data.qpos[7:9].copy()
             n = max(1, math.ceil(abs(travel) / step))
@@ -333,18 +401,58 @@ class MujocoRobot:
                 if not hit and data.ncon:
                     hit = bool(np.any(data.contact.geom[: data.ncon] == self._pusher_geom))
                 lag = max(lag, float(np.hypot(*(data.qpos[7:9] - data.ctrl))))
+                if travel > 0 and k in shots:
+                    # mj_step leaves the bodies' frames one step behind qpos: bring them up
+                    mj.mj_kinematics(model, data)
+                    lead = data.qpos[7:9] + PARK_XY + self.simulator.pusher_radius * d
+                    seen.append((k * dt, self.camera_frame(), lead, self.pose))
             if travel > 0:  # hold the end point until the servo has caught up
                 mj.mj_step(model, data, nstep=max(1, round(HOLD_S / dt)))
         if retract:
             self._set_pusher(PARK_XY)
         self._settle()
+        path = self._path_frames(seen, state)
         after = self._body_pose()
         record = MujocoPush(
             Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
-            self.world_pose, lag,
+            self.world_pose, lag, *path,
         )  # fmt: skip
         self.history.append(record)
         return record
+
+    def _state(self) -> np.ndarray:
+        """The scene's full integration state (MuJoCo's ``mjSTATE_INTEGRATION``)."""
+        mj = self._mj
+        spec = mj.mjtState.mjSTATE_INTEGRATION
+        state = np.empty(mj.mj_stateSize(self.model, spec))
+        mj.mj_getState(self.model, self.data, state, spec)
+        return state
+
+    def _restore(self, state: np.ndarray) -> None:
+        mj = self._mj
+        mj.mj_setState(self.model, self.data, state, mj.mjtState.mjSTATE_INTEGRATION)
+        mj.mj_forward(self.model, self.data)
+
+    def _path_frames(self, seen, state) -> tuple:
+        """``(path, path_times, path_poses)`` of :class:`MujocoPush` from the rendered frames.
+
+        A frame that ``mask_from_image`` refuses puts the scene back to ``state`` (before
+        the push) and raises its error.
+        """
+        grid, frames = self.simulator, []
+        to_image = self.homography_grid_to_image()
+        for t, image, lead, _ in seen:
+            warped = warp_to_grid(image, to_image, grid.image_shape)
+            try:
+                mask = comcore.mask_from_image(warped, resolution=self.resolution, object="bright")
+            except comcore.ImageError as e:
+                self._restore(state)
+                raise comcore.ImageError(
+                    f"the frame at t = {t:.3g} s of push {self.pushes + 1}: {e}"
+                ) from e
+            p = grid.to_pixels(lead)[0]
+            frames.append(comcore.PushFrame((float(p[0]), float(p[1])), mask))
+        return tuple(frames), tuple(s[0] for s in seen), tuple(s[3] for s in seen)
 
     def place(self, pose=None) -> None:
         """Put the object at ``pose`` (CoM ``(x, y)`` table metres, angle); default the start.

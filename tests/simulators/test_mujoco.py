@@ -144,13 +144,85 @@ def test_the_callers_simulator_is_not_modified():
     assert np.array_equal(sim.mask.data, mask) and sim.margin == margin
 
 
-def test_the_mujoco_robot_takes_no_frames_during_a_push(plate):
+def test_the_mujoco_robot_takes_frames_at_a_rate_not_a_count(plate):
     _sim, robot = plate
     action = comcore.sample_pushes(robot.camera_mask(), 1, rng=0)[0]
     pose, pushes = robot.world_pose, robot.pushes
-    with pytest.raises(ValueError, match="renders no frames during a push"):
+    with pytest.raises(ValueError, match=r"frames=3: .* no count of frames; .* give frame_rate="):
         robot.execute(action, frames=3)
+    for rate, error in (
+        (0, ValueError),
+        (math.nan, ValueError),
+        (True, TypeError),
+        ("10", TypeError),
+    ):
+        with pytest.raises(error, match="frame_rate must be"):
+            robot.execute(action, frame_rate=rate)
+    with pytest.raises(
+        ValueError, match=r"frame_rate must be at most one frame per time step \(1000 Hz"
+    ):
+        robot.execute(action, frame_rate=5000)
     assert robot.world_pose == pose and robot.pushes == pushes
+
+
+def test_frames_during_a_push_register_to_the_true_poses(plate):
+    sim, robot = plate
+    robot.place(None)
+    first = robot.camera_mask()
+    grid = robot.simulator
+    start = (sim.com_m[0] - 0.02, 0.07)  # down onto the top edge, left of the CoM: it turns
+    action = simulators.action_from_world(grid, start, (0.0, -1.0), travel_m=0.015)
+    push = robot.execute(action, frame_rate=10)
+    speed, times = robot.settings.speed, np.array(push.path_times)
+    length = 0.025  # the standoff (1 cm) and the travel: the pusher's set point's path
+    assert len(push.path) == len(push.path_poses) == 24  # 0.1 s ... 2.4 s of the 2.5 s push
+    np.testing.assert_allclose(times, 0.1 * np.arange(1, 25), rtol=0, atol=1e-9)
+    assert times[-1] < length / speed
+    start_px, end_px = np.asarray(action[:2]), np.asarray(action[2:])
+    unit = (end_px - start_px) / np.hypot(*(end_px - start_px))
+    for frame, t, pose in zip(push.path, times, push.path_poses):
+        offset = np.asarray(frame.pusher) - start_px
+        across = offset[0] * unit[1] - offset[1] * unit[0]
+        along = offset @ unit * grid.resolution
+        assert abs(across) < 0.5  # on the path, the servo a fraction of a millimetre behind
+        assert speed * t - 0.002 < along <= speed * t + 1e-4
+        seen = comcore.measure_motion(first, frame.view).motion
+        assert abs(seen.theta - pose.theta) < math.radians(1.5)
+        assert math.hypot(seen.tx - pose.tx, seen.ty - pose.ty) < 1.5
+    poses = np.array(push.path_poses)
+    assert abs(poses[-1, 0]) > math.radians(2)  # it turned, and the frames saw it turn
+    assert abs(push.pose.theta - poses[-1, 0]) < math.radians(1.5)
+
+
+def test_frames_leave_the_physics_alone_and_a_refused_frame_undoes_the_push(plate, monkeypatch):
+    sim, robot = plate
+    robot.place(None)
+    grid = robot.simulator
+    start = (sim.com_m[0] - 0.02, 0.065)
+    action = simulators.action_from_world(grid, start, (0.0, -1.0), 0.005, 0.005)
+    state, pushes, pose = robot._state(), robot.pushes, robot.world_pose
+    plain = robot.execute(action)
+    robot._restore(state)
+    assert robot.world_pose == pose
+    framed = robot.execute(action, frame_rate=10)
+    assert framed.world_pose == plain.world_pose and framed.path and not plain.path
+    robot._restore(state)
+    calls = []
+
+    def refuses_the_third(image, **options):
+        calls.append(options)
+        if len(calls) == 3:
+            raise comcore.ImageError("no object: a test")
+        return mask_from_image(image, **options)
+
+    mask_from_image = comcore.mask_from_image
+    monkeypatch.setattr(comcore, "mask_from_image", refuses_the_third)
+    with pytest.raises(
+        comcore.ImageError, match=r"the frame at t = 0\.15 s of push \d+: no object"
+    ):
+        robot.execute(action, frame_rate=20)
+    assert calls[0] == {"resolution": robot.resolution, "object": "bright"}
+    assert robot.world_pose == pose and robot.pushes == pushes + 2
 
 
 def test_comcore_bench_runs_active_robot_on_mujoco(tmp_path):

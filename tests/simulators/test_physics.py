@@ -258,7 +258,9 @@ def test_the_pushers_travel_is_recorded_with_the_trajectory(engine):
         # row 0: the travel at the first contact, where the disc trailing the leading
         # point touches the outline; in the notch it came from farther back than the start
         d = np.subtract(action[2:], action[:2]) / length
-        centre = sim.to_world(np.asarray(action[:2]) + (travel[0] - sim.pusher_radius / sim.resolution) * d)[0]
+        centre = sim.to_world(
+            np.asarray(action[:2]) + (travel[0] - sim.pusher_radius / sim.resolution) * d
+        )[0]
         gap = shapely.distance(outline, shapely.Point(*centre)) - sim.pusher_radius
         assert abs(gap) < 1e-9
         assert (travel[0] < 0) == blocked
