@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from tests.scripts import run_script
@@ -29,3 +31,14 @@ def test_the_active_benchmark_runs():
 def test_the_hop_check_runs():
     out = run_script("benchmarks/mujoco/mujoco_hop.py")
     assert out.count("feet down") == 4
+
+
+def test_the_push_frames_benchmark_runs_on_mujoco():
+    out = run_script(
+        "benchmarks/timing/bench_push_frames.py", "--robots", "mujoco", "--pushes", "1",
+        "--travel", "0.005", "--rate", "4", "--camera", "80x60",
+    )  # fmt: skip
+    lines = out.splitlines()
+    row = r"\| mujoco \| 80 x 60 rendered, 178 x 175 grid \| 0\.01 \| [1-9]\d* \|"
+    assert re.match(row, lines[3])
+    assert lines[4].startswith("mujoco: the pusher in the picture changes a frame's mask by")

@@ -21,3 +21,14 @@ def test_sim_fidelity_runs():
     assert "normal push through the CoM" in out
     assert "bit-identical on repeat True" in out
     assert "growing with the lever arm: True" in out
+
+
+def test_bench_push_frames_runs():
+    out = run_script(
+        "benchmarks/timing/bench_push_frames.py", "--robots", "quasistatic,pymunk", "--pushes", "1",
+        "--repeats", "1", "--travel", "0.01",
+    )  # fmt: skip
+    lines = out.splitlines()
+    assert lines[1].startswith("| robot | camera | speed (m/s) | frames per push |")
+    assert lines[3].startswith("| quasistatic | 178 x 175 mask | 0.02 | 10 |")  # 2 cm in 1 s
+    assert lines[4].startswith("| pymunk | 178 x 175 mask | 0.02 | 10 |")
