@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ __all__ = [
     "Estimate",
     "HeatmapDetails",
     "Motion",
+    "PathPoint",
     "PosteriorDetails",
     "ProgressiveDetails",
     "PushFrame",
@@ -168,6 +170,20 @@ class Motion(_MotionFields):
 _IDENTITY = Motion(0.0, 0.0, 0.0)
 
 
+class PathPoint(NamedTuple):
+    """One pose of the object during a push, as a session scored it (in a :class:`PushRecord`)."""
+
+    travel: float
+    """How far (pixels) the pusher had gone along the push as scored (``PushRecord.action``),
+    from its start."""
+    motion: Motion
+    """The object's motion since the push began, in the first mask's frame, about its
+    centroid (as ``PushRecord.motion`` is the whole push's)."""
+    residual_px: float | None = None
+    """The RMS outline residual (pixels) of the registration that measured it (None: a
+    motion the caller's tracker gave)."""
+
+
 class PushFrame(NamedTuple):
     """One camera frame taken during a push, with where the pusher was when it was taken.
 
@@ -257,6 +273,12 @@ class PushRecord:
     log_evidence : float or None
         The log-probability the posterior before the push gave its motion (its
         evidence, nats); None for a miss or a failed push.
+    path : tuple of PathPoint
+        The object's poses during the push that were scored (from the frames
+        given to ``observe(..., frames=...)``; empty without frames).
+    dropped_frames : tuple of (int, str)
+        The frames given that were not scored: their index among those given
+        and why (:mod:`comcore.active._path`).
     """
 
     action: Action
@@ -271,6 +293,8 @@ class PushRecord:
     residual_px: float | None = None
     symmetry: int = 1
     log_evidence: float | None = None
+    path: tuple = ()
+    dropped_frames: tuple = ()
 
     def __post_init__(self):
         if self.outcome not in OUTCOMES:
@@ -293,6 +317,27 @@ class PushRecord:
                 raise ValueError(f"PushRecord.residual_px must be >= 0 or None, got {residual}")
             set_(self, "residual_px", residual)
         set_(self, "rotation_observed", bool(self.rotation_observed))
+        set_(self, "path", _path_points(self.path))
+        set_(self, "dropped_frames", tuple((int(i), str(why)) for i, why in self.dropped_frames))
+
+
+def _path_point(travel, motion, residual_px=None) -> PathPoint:
+    travel = _finite_float(travel, "path travel", "PushRecord")
+    if residual_px is not None:
+        residual_px = _finite_float(residual_px, "path residual_px", "PushRecord")
+    return PathPoint(travel, Motion(*motion), residual_px)
+
+
+def _path_points(path) -> tuple:
+    """``PushRecord.path`` as PathPoints, their travel finite and non-decreasing."""
+    try:
+        points = tuple(_path_point(*p) for p in path)
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"PushRecord.path must be (travel, motion) pairs: {e}") from e
+    travel = [p.travel for p in points]
+    if any(b < a for a, b in itertools.pairwise(travel)):
+        raise ValueError(f"PushRecord.path's travel must not decrease, got {travel}")
+    return points
 
 
 def _readonly(array: np.ndarray) -> np.ndarray:

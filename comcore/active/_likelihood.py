@@ -41,13 +41,17 @@ from ..vt._senses import _LOGISTIC_STD, UNEXPLAINED_STDS, SenseTally
 from ._grid import GridPosterior
 from ._motion_term import (
     NEAR_LINE_M,
+    com_shift,
     excess_surprise,
     log_likelihood,
+    model_predictions,
     motion_terms,
     offset_marginal,
+    theta_scale,
 )
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, Likelihood, mu_grid
 from ._options import SESSION_SYSTEMATIC_ERROR as FLOOR
+from ._path_term import path_log_likelihood
 
 __all__ = [
     "LINE_BLUR_M",
@@ -99,6 +103,7 @@ class Scoring:
     model_scales: tuple
     pusher_radius: float = 0.0
     systematic_px: float = 0.0
+    path_wander: float | None = None
 
     @classmethod
     def build(
@@ -136,6 +141,7 @@ class Scoring:
             model_weights=likelihood.model_weight,
             model_scales=likelihood.model_scales,
             pusher_radius=pusher_radius,
+            path_wander=likelihood.path_wander,
         )
 
     @property
@@ -195,6 +201,7 @@ def push_evidence(
     *,
     rotation_observed: bool = True,
     tracking=None,
+    path=None,
 ) -> tuple[Evidence, np.ndarray]:
     """Log-likelihood over the grid of one push's object-frame motion, as :class:`Evidence`.
 
@@ -226,6 +233,10 @@ def push_evidence(
     tracking : (float, float), optional
         Standard deviations (rad, px) of this motion's measurement error
         (default ``scoring.tracking``).
+    path : PushPath, optional
+        The object's poses during the push (:mod:`comcore.active._path`): their
+        density given the end pose joins the model's term. Ignored without a
+        model or with the rotation unobserved.
     """
     observed = np.asarray(motion, dtype=float)
     tracking = scoring.tracking if tracking is None else tuple(tracking)
@@ -235,10 +246,13 @@ def push_evidence(
     distances = force_line_distances(post.pixels, lines)[:, :, None]  # (p, m, 1)
     excess = _sense_excess(distances, sense, flip_prob, scoring.line_scale_px)
     terms = None
+    if path is not None and (not rotation_observed or not path.points):
+        path = None
     if scoring.models:
+        model_path = None if scoring.path_wander is None else path
         terms = _model_terms(
             post, scoring, mask, action, distances, observed, rotation_observed, tracking,
-            flip_prob,
+            flip_prob, model_path,
         )  # fmt: skip
         excess = excess + terms[2]
 
@@ -270,8 +284,9 @@ def sense_flip_prob(flip_prob: float, theta: float, track_theta: float, observed
 
 
 def _model_terms(
-    post, scoring, mask, action, distances, observed, rotation_observed, tracking, flip_prob
-):
+    post, scoring, mask, action, distances, observed, rotation_observed, tracking, flip_prob,
+    path=None,
+):  # fmt: skip
     """The model's log-likelihood of the motion, of its flipped sense, and the excess surprise.
 
     Each (p, m, k); hypotheses more than :data:`PRUNE_LOG` nats below the best
@@ -291,13 +306,25 @@ def _model_terms(
         noise = ((factor * th_a, factor * th_n), (factor * tr_a, factor * tr_r))
         return (np.abs(distances), offset, *noise, scoring.near_px)
 
-    def scored(motion):
+    along = weights = None
+    if path is not None:
+        along = path_predictions(scoring, mask, action, post.pixels, per_model, path)
+        weights = np.exp(post.log_w).reshape(*alive.shape[:2], -1, n_s).sum(axis=-1)
+
+    def scored(motion, sign=1.0):
         """The motion's log-likelihood per scale factor, and its base scales' residuals."""
         base = motion_terms(motion, predicted, *args(1.0), **kw)
-        terms = [
-            log_likelihood(base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw))
-            for c in scoring.model_scales
-        ]
+        terms = []
+        for c in scoring.model_scales:
+            term = log_likelihood(
+                base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw)
+            )
+            if along is not None:
+                term = term + path_term(
+                    path, along, motion, predicted, offset, np.abs(distances), c, scoring,
+                    weights, sign,
+                )  # fmt: skip
+            terms.append(term)
         full = np.stack(terms, axis=-1).reshape(alive.shape)
         return np.where(alive, full, -np.inf), base
 
@@ -305,7 +332,7 @@ def _model_terms(
     # The consistency check keeps the base scales (a wider factor must not hide a misfit).
     model_excess = excess_surprise(base)
     if rotation_observed:
-        flipped_term, flipped_base = scored(observed * np.array([-1.0, 1.0, 1.0]))
+        flipped_term, flipped_base = scored(observed * np.array([-1.0, 1.0, 1.0]), -1.0)
         # A flipped sense explains the motion at the price of the flip.
         flip_cost = np.log((1 - flip_prob) / flip_prob)
         model_excess = np.minimum(model_excess, excess_surprise(flipped_base) + flip_cost)
@@ -313,6 +340,69 @@ def _model_terms(
         flipped_term = model_term
     model_excess = np.repeat(model_excess, n_s, axis=-1)
     return model_term, flipped_term, np.where(alive, model_excess, np.inf)
+
+
+def path_predictions(scoring, mask, action, pixels, alive, path) -> np.ndarray:
+    """The model's motion after each of the path's travels, (p, m, k, J, 3) (0 where not asked).
+
+    A model with ``predict_path_hypotheses`` (:class:`comcore.LimitSurfaceModel`) reads
+    them off one integration of the push; any other is asked about the push cut short
+    at each kept frame's travel (the same straight path, ending there).
+    """
+    act = np.asarray(action, dtype=float)
+    out = np.zeros((*alive.shape, len(path.points), 3))
+    direction = (act[2:] - act[:2]) / math.hypot(*(act[2:] - act[:2]))
+    travel = np.array([p.travel for p in path.points])
+    ends = act[:2] + travel[:, None] * direction
+    cut = np.column_stack([np.tile(act[:2], (len(travel), 1)), ends])
+    plain = [k for k, m in enumerate(scoring.models) if not hasattr(m, "predict_path_hypotheses")]
+    if plain:
+        models = tuple(scoring.models[k] for k in plain)
+        pred = model_predictions(models, mask, cut, pixels, scoring.mus, alive[:, :, plain])
+        out[:, :, plain] = np.nan_to_num(pred)
+    for k, model in enumerate(scoring.models):
+        if k in plain:
+            continue
+        for j, mu_j in enumerate(scoring.mus):
+            idx = np.flatnonzero(alive[:, j, k])
+            if len(idx):
+                pred = model.predict_path_hypotheses(
+                    mask, act, pixels[idx], float(mu_j), path.fractions
+                )
+                out[idx, j, k] = pred
+    return np.where(alive[..., None, None], out, 0.0)
+
+
+def path_term(
+    path, along, motion, predicted, offset, lever, factor, scoring, weights, sign=1.0
+):  # fmt: skip
+    """The path's log density given the end pose (:func:`comcore.active._path.path_log_likelihood`).
+
+    Per hypothesis (p, m, k) for the model's scales times ``factor``; ``sign`` -1 scores
+    the path with every rotation negated (the flipped sense). The scales are the
+    end's, averaged (in variance) over the posterior before the push (``weights``,
+    (p, m, k)): one per push, so that the path's density does not favour the
+    hypotheses the model claims to predict best, which its normalising
+    constant would, many frames over.
+    """
+    (th_a, th_n), (tr_a, tr_r) = scoring.theta_noise, scoring.translation_px
+    th_scale = theta_scale(lever, (factor * th_a, factor * th_n), scoring.near_px)
+    moved_pred = predicted[..., 1:] + com_shift(predicted[..., 0], offset)
+    tr_scale = factor * (tr_a + tr_r * np.hypot(moved_pred[..., 0], moved_pred[..., 1]))
+    total = max(float(weights.sum()), 1e-300)
+    th_scale = np.sqrt(
+        float((weights * np.broadcast_to(th_scale, weights.shape) ** 2).sum()) / total
+    )
+    tr_scale = np.sqrt(
+        float((weights * np.broadcast_to(tr_scale, weights.shape) ** 2).sum()) / total
+    )
+    points = path.points
+    if sign < 0:
+        points = tuple(p._replace(motion=p.motion._replace(theta=-p.motion.theta)) for p in points)
+    return path_log_likelihood(
+        points, np.asarray(motion, float), predicted, along, offset, th_scale, tr_scale,
+        path.tracking, path.fractions, scoring.path_wander,
+    )  # fmt: skip
 
 
 def push_log_likelihood(
@@ -396,4 +486,3 @@ def tracking_noise(tracking, residual_px: float, gyration_px: float) -> tuple[fl
     if residual_px is None or not math.isfinite(residual_px):
         return theta, px
     return math.hypot(theta, residual_px / gyration_px), math.hypot(px, residual_px)
-

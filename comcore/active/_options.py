@@ -72,6 +72,9 @@ RECORDED_SYSTEMATIC_ERROR = 0.0015
 SELECTIONS = ("sense", "model")
 #: Friction range searched when ``mu`` is unknown (covers common pusher materials).
 UNKNOWN_MU_RANGE = (0.0, 2.0)
+#: ``Likelihood.path_wander``'s default: chosen on seed-1 paths of the quasi-static and
+#: pymunk engines (benchmarks/calibration/path_wander.py).
+PATH_WANDER = 0.5
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
@@ -141,6 +144,15 @@ class Likelihood:
     model_scales : tuple of float
         Factors on the model's error scales, one unknown factor per session
         marginalised like the friction (``(1.0,)``: the scales as given).
+    path_wander : float or None
+        How much of the motion model's error along a push is not shared by the
+        whole push, relative to its error at the push's end (>= 0): how much
+        the frames of a push (``observe(..., frames=...)``) say to the model
+        beyond its end pose. Small: the model's error is a shape it keeps
+        along the push, and the path tells much; large: little. None: the
+        model scores the end pose alone, and the frames only by the Voting
+        Theorem, each stretch of the path on its own force line
+        (:mod:`comcore.active._path`).
     systematic_error : None or float
         Standard deviation (metres) of an error on the CoM that more pushes do
         not average away (a motion model that errs the same way on every push
@@ -173,6 +185,7 @@ class Likelihood:
     motion_noise: tuple[float, float] = (math.radians(0.5), 0.0005)
     model_weight: Any = (0.25, 0.4, 0.6, 1.0)
     model_scales: tuple[float, ...] = (1.0,)
+    path_wander: float | None = PATH_WANDER
     systematic_error: float | None = None
 
     def model_error_scales(self, lever_m, displacement_m) -> tuple[np.ndarray, np.ndarray]:
@@ -244,6 +257,9 @@ class Likelihood:
         _set(self, "motion_noise", motion_noise)
         _set(self, "model_weight", check_powers(self.model_weight, "model_weight"))
         _set(self, "model_scales", _factors(self.model_scales))
+        if self.path_wander is not None:
+            wander = check_positive(self.path_wander, "path_wander", allow_zero=True)
+            _set(self, "path_wander", wander)
 
 
 @dataclass(frozen=True)

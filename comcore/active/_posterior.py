@@ -46,6 +46,7 @@ from ._options import (
     DEFAULT_PUSHER_RADIUS,
 )
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
+from ._path import PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
 from ._session import session_setup
 from ._stop import offline_status, sense_check
@@ -81,6 +82,7 @@ def estimate_posterior(
     stop=None,
     rng=0,
     theta_units: str = "auto",
+    frames=None,
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
 
@@ -159,6 +161,16 @@ def estimate_posterior(
         With ``model=None`` nothing is checked (the Voting Theorem reads
         only the senses, which the unit does not change); ``pushes`` (a
         session's records, in radians) are not checked either.
+    frames : sequence, shape (n,), of sequences of PushFrame, optional
+        With ``actions``: per push, what the camera saw during it (None or an
+        empty sequence for a push without), as :meth:`comcore.ActiveSession.observe`
+        takes them, in ``mask``'s frame (the object before the push): each
+        frame's pusher in ``mask``'s pixels, its view a motion since the push
+        began (radians and pixels about ``mask``'s centroid, in
+        ``theta_units``) or a mask in ``mask``'s frame. Each push's path is
+        scored with its end pose (:mod:`comcore.active._path`); its record
+        says which frames were dropped and why. Records (``pushes``) carry
+        their paths already.
 
     Returns
     -------
@@ -235,6 +247,8 @@ def estimate_posterior(
         RECORDED_FLOOR,
     )  # fmt: skip
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
+    if frames is not None:
+        given = _with_frames(mask, given, frames, theta_units, pushes, scoring)
     records = [record for _, record in given]
     acts = check_actions([r.action for r in records], "actions", allow_empty=False)
     pixels, prior_weights = prior_grid(mask, prior)
@@ -253,9 +267,15 @@ def estimate_posterior(
             log.add(record, post)
             continue
         tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
+        path = None
+        if record.path:
+            path = PushPath.of(
+                acts[i], record.path, float(con.travel[i]),
+                path_tracking(record.path, scoring.tracking, mask),
+            )  # fmt: skip
         loglik, excess = push_evidence(
             post, scoring, mask, acts[i], lines[i], record.motion,
-            rotation_observed=record.rotation_observed, tracking=tracking,
+            rotation_observed=record.rotation_observed, tracking=tracking, path=path,
         )  # fmt: skip
         log.add(record, post, loglik, excess)
         if kept is not None:
@@ -343,6 +363,48 @@ def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) ->
     flip = sense_flip_prob(scoring.flip_prob, theta, tracking[0], True)
     distances = force_line_distances(pixels, lines)  # (p, m)
     tally.add(distances, sense, flip, scoring.line_scale_px)
+
+
+def _with_frames(mask, given, frames, theta_units, pushes, scoring) -> list:
+    """``given`` with each push's frames read into its record's path (:func:`read_path`)."""
+    if pushes is not None:
+        raise TypeError("frames go with actions and motions; records (pushes) carry their paths")
+    if isinstance(frames, (str, bytes, Mask)) or not hasattr(frames, "__len__"):
+        raise TypeError(
+            f"frames must be a sequence of one frame sequence per push, got {type(frames).__name__}"
+        )
+    if len(frames) != len(given):
+        raise ValueError(f"frames must hold one entry per push ({len(given)}), got {len(frames)}")
+    acts = np.array([r.action for _, r in given], float)
+    con = pusher_contacts(mask, acts, scoring.pusher_radius)
+    out = []
+    for (i, record), push_frames, travel in zip(given, frames, con.travel):
+        if push_frames is None or len(push_frames) == 0 or record.outcome != "evidence":
+            out.append((i, record))
+            continue
+        try:
+            checked = check_frames(push_frames)
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"frames[{i}]: {e}") from e
+        if theta_units == "deg":
+            checked = [
+                f if isinstance(f.view, Mask) else f._replace(view=_turn_in_radians(f.view))
+                for f in checked
+            ]  # fmt: skip
+        identity = Motion.identity()
+        try:
+            path = read_path(
+                mask, identity, record.action, checked, record.motion, float(travel),
+                scoring.tracking, pusher_px=scoring.pusher_px,
+            )  # fmt: skip
+        except ValueError as e:
+            raise ValueError(f"frames[{i}]: {e}") from e
+        out.append((i, dataclasses.replace(record, path=path.points, dropped_frames=path.dropped)))
+    return out
+
+
+def _turn_in_radians(motion: Motion) -> Motion:
+    return Motion(math.radians(motion.theta), motion.tx, motion.ty)
 
 
 def _nearest_pixel(pixels, point) -> int:

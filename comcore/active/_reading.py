@@ -26,8 +26,10 @@ from ..camera._pose_tracking import (
     symmetric_branches,
 )
 from ..conventions import object_motion_from_camera
+from ..geometry._disc_contacts import pusher_contacts
 from ._grid import GridPosterior
 from ._likelihood import Scoring, push_evidence, tracking_noise
+from ._path import PushPath, check_frames, read_path
 
 __all__ = ["PushContext", "best_branch", "object_motion", "push_record", "read_push"]
 
@@ -52,7 +54,9 @@ def object_motion(pose: Motion, reading: PoseReading) -> np.ndarray:
     return object_motion_from_camera(relative(pose, reading.pose), pose.theta)
 
 
-def push_record(base: dict, pose: Motion, action, reading: PoseReading, outcome: str):
+def push_record(
+    base: dict, pose: Motion, action, reading: PoseReading, outcome: str, path=(), dropped=()
+):
     """A :class:`comcore.PushRecord` of a push read as ``reading`` (``base``: the plan's fields)."""
     residual = reading.residual_px
     return PushRecord(
@@ -63,6 +67,8 @@ def push_record(base: dict, pose: Motion, action, reading: PoseReading, outcome:
         rotation_observed=not reading.ambiguous,
         residual_px=residual if math.isfinite(residual) else None,
         symmetry=reading.symmetry,
+        path=path,
+        dropped_frames=dropped,
         **base,
     )
 
@@ -77,30 +83,28 @@ def best_branch(ctx: PushContext, branches, action, lines):
     """
     best = None
     for branch in branches:
-        loglik, excess = push_evidence(
-            ctx.posterior,
-            ctx.scoring,
-            ctx.first,
-            action,
-            lines,
-            object_motion(ctx.pose, branch),
-            rotation_observed=not branch.ambiguous,
-            tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
-        )
+        loglik, excess = branch_evidence(ctx, branch, action, lines)
         evidence = ctx.posterior.predictive(loglik.full)
         if best is None or evidence > best[0]:
             best = (evidence, branch, loglik, excess)
     return best[1:]
 
 
-def read_push(ctx: PushContext, candidates, index: int, mask, motion, failed: bool, executed):
+def read_push(
+    ctx: PushContext, candidates, index: int, mask, motion, failed: bool, executed, frames=None
+):
     """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
 
     ``candidates`` (:class:`comcore.active._choice.Candidates`) and ``index``: the push
     planned; ``mask`` or ``motion``: what the camera or the tracker saw;
     ``failed``: the push could not be made; ``executed``: the path the pusher
-    took (camera pixels) or None. Validates everything; changes nothing.
+    took (camera pixels) or None; ``frames``: what the camera saw during the push
+    (:mod:`comcore.active._path`) or None. Validates everything; changes nothing.
     """
+    if frames is not None:
+        frames = check_frames(frames)
+        if failed:
+            raise TypeError("observe(failed=True) takes no frames: nothing was executed")
     planned = candidates.actions[index]
     done_as = None
     if executed is not None:
@@ -122,7 +126,9 @@ def read_push(ctx: PushContext, candidates, index: int, mask, motion, failed: bo
     reading = read_pose(ctx.first, ctx.pose, mask, motion)
     branches = symmetric_branches(reading, ctx.pose)
     if is_miss(relative(ctx.pose, branches[0].pose), ctx.first.resolution):
-        return push_record(base, ctx.pose, scored, branches[0], "miss"), (), branches[0].pose
+        dropped = tuple((i, "miss") for i in range(len(frames or ())))
+        record = push_record(base, ctx.pose, scored, branches[0], "miss", dropped=dropped)
+        return record, (), branches[0].pose
     action, lines = planned, candidates.lines[index]
     if done_as is not None:
         action, lines = done_as
@@ -132,6 +138,43 @@ def read_push(ctx: PushContext, candidates, index: int, mask, motion, failed: bo
                 "object as the session sees it, but the object moved: pass the path the "
                 "pusher took, in camera pixels"
             )
-    branch, loglik, excess = best_branch(ctx, branches, action, lines)
-    record = push_record(base, ctx.pose, scored, branch, "evidence")
+    points, dropped = (), ()
+    if frames:  # the branch is chosen by its end pose; then its path is scored with it
+        branch = branches[0]
+        if len(branches) > 1:
+            branch = best_branch(ctx, branches, action, lines)[0]
+        path = frame_path(ctx, action, frames, branch)
+        points, dropped = path.points, path.dropped
+        scored_path = path_of(ctx, action, path) if points and not branch.ambiguous else None
+        loglik, excess = branch_evidence(ctx, branch, action, lines, scored_path)
+    else:
+        branch, loglik, excess = best_branch(ctx, branches, action, lines)
+    record = push_record(base, ctx.pose, scored, branch, "evidence", points, dropped)
     return record, (loglik, excess), branch.pose
+
+
+def frame_path(ctx: PushContext, action, frames, branch: PoseReading):
+    """The frames of a push read along ``action`` (object frame) ending at ``branch``."""
+    contact = pusher_contacts(ctx.first, np.asarray(action, float)[None], ctx.scoring.pusher_radius)
+    return read_path(
+        ctx.first, ctx.pose, action, frames, branch.pose, float(contact.travel[0]),
+        ctx.scoring.tracking, pusher_px=ctx.scoring.pusher_px,
+    )  # fmt: skip
+
+
+def path_of(ctx: PushContext, action, path) -> PushPath:
+    """The :class:`PushPath` the likelihood scores of a read path."""
+    act = np.asarray(action, float)
+    scoring = ctx.scoring
+    contact = pusher_contacts(ctx.first, act[None], scoring.pusher_radius)
+    return PushPath.of(act, path.points, float(contact.travel[0]), path.tracking)
+
+
+def branch_evidence(ctx: PushContext, branch: PoseReading, action, lines, path=None):
+    """``(loglik, excess)`` of one reading of the push, with its path where given."""
+    return push_evidence(
+        ctx.posterior, ctx.scoring, ctx.first, action, lines, object_motion(ctx.pose, branch),
+        rotation_observed=not branch.ambiguous,
+        tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
+        path=path,
+    )  # fmt: skip

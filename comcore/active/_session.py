@@ -263,6 +263,7 @@ class ActiveSession(PushLoop):
         motion=None,
         failed: bool = False,
         executed=None,
+        frames=None,
         reset: bool = False,
     ) -> None:
         """Report what the push from :meth:`next_push` did: exactly one of the three.
@@ -285,6 +286,15 @@ class ActiveSession(PushLoop):
             planned; set ``Likelihood(pusher_error=...)`` to how well you know
             this path, not how well the arm follows a command. Default: as
             planned.
+        frames : sequence of PushFrame, optional
+            What the camera saw while the object moved, in the order taken:
+            ``(pusher, view)`` pairs (:class:`comcore.PushFrame`), ``pusher``
+            the pusher's leading point in camera pixels as the robot reports
+            it, ``view`` the camera's mask then (registered as ``mask`` is) or
+            the object's motion since the push began (as ``motion``). The
+            object's path along the push is scored with its end pose
+            (:mod:`comcore.active._path`: how, and which frames are dropped
+            and why, in the push's record). Default: the end pose alone.
         reset : bool, optional
             True: the object was put back in the first pose after the push (a
             robot that resets it, as :func:`comcore.estimate_active`'s ``push``
@@ -318,7 +328,7 @@ class ActiveSession(PushLoop):
             )
         if failed and executed is not None:
             raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
-        record, evidence, pose = self._reading(mask, motion, failed, executed)
+        record, evidence, pose = self._reading(mask, motion, failed, executed, frames)
         self._log.add(record, self._posterior, *evidence)
         self._candidates.made(self._pending)
         if record.outcome != "failed":
@@ -329,11 +339,11 @@ class ActiveSession(PushLoop):
             self._pose, self._mask_now = Motion.identity(), self._first
         self._plan()
 
-    def _reading(self, mask, motion, failed: bool, executed):
+    def _reading(self, mask, motion, failed: bool, executed, frames=None):
         """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
         return read_push(
             PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
-            self._candidates, self._pending, mask, motion, failed, executed,
+            self._candidates, self._pending, mask, motion, failed, executed, frames,
         )  # fmt: skip
 
     def reset_pose(self, pose=None) -> None:

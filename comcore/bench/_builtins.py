@@ -130,6 +130,7 @@ def _active_robot(
     camera_margin=None,
     frames=8,
     executed=False,
+    frame_rate=None,
     **options,
 ):
     """:class:`comcore.ActiveSession` against ``simulators.SimulatedRobot``, never reset.
@@ -149,7 +150,9 @@ def _active_robot(
     its :class:`comcore.PushRecord` (outcome ``"failed"``) counts it.
     ``executed=True`` also tells the session the pusher's real path
     (``observe(..., executed=push.executed)``: a pusher tracked in the camera), so
-    the pusher's error is measured, not guessed.
+    the pusher's error is measured, not guessed. ``frame_rate`` (Hz): the camera's
+    frames during each push, at that rate with the pusher at the robot's speed,
+    go to the session too (``observe(mask, frames=push.path)``; with ``observe="mask"``).
     """
     condition = ctx.condition
     if observe is None:
@@ -171,7 +174,10 @@ def _active_robot(
     while not session.done:
         action = session.next_push()
         try:
-            push = robot.execute(action, frames=frames if observe == "video" else 0)
+            if frame_rate is not None:
+                push = robot.execute(action, frame_rate=float(frame_rate))
+            else:
+                push = robot.execute(action, frames=frames if observe == "video" else 0)
         except ValueError:
             failures += 1
             session.observe(failed=True)
@@ -179,6 +185,8 @@ def _active_robot(
                 break
             continue
         path = {"executed": push.executed} if executed else {}
+        if frame_rate is not None:
+            path["frames"] = push.path
         if observe == "mask":
             session.observe(robot.camera_mask(), **path)
             continue

@@ -265,19 +265,19 @@ def widened(mask: Mask, key, make_whole):
     ids = lattice.whole_ids()
     carried = {}
     for job, motions in per_mu.items():
-        carried[job] = np.full((len(whole.points), 3), np.nan)
+        carried[job] = np.full((len(whole.points), *motions.shape[1:]), np.nan)
         carried[job][ids] = motions
     pushes[key] = (whole, carried)
     return whole, carried
 
 
-def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
+def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",), shape=(3,)):
     """The remembered lattice and node motions of one push (``key``), and the frictions to batch.
 
     Returns ``(lattice, per_mu, mus)``: the push's lattice (``make_lattice()``
     the first time), a dict from ``(spread, friction)`` to a NaN-initialised
-    array of node motions, shape (n_nodes, 3), for every pressure spread in
-    ``spreads``, and the friction values to integrate together: ``mu`` and
+    array of node motions, shape (n_nodes, *shape) (default ``(3,)``), for every
+    pressure spread in ``spreads``, and the friction values to integrate together: ``mu`` and
     those asked about for the push before (an estimator asks about the same
     ones for every push; at most ``MAX_REMEMBERED_MUS``).
     """
@@ -297,5 +297,5 @@ def remembered(mask: Mask, key, make_lattice, mu: float, spreads=("",)):
     for spread in spreads:
         for m in mus:
             if (spread, m) not in per_mu:  # (not setdefault: it would fill an array every call)
-                per_mu[spread, m] = np.full((len(lattice.points), 3), np.nan)
+                per_mu[spread, m] = np.full((len(lattice.points), *shape), np.nan)
     return lattice, per_mu, mus

@@ -204,14 +204,19 @@ class LimitSurfaceModel:
         options = {**options, "batch_pressures": FAMILY}
         return tuple(cls(pusher_radius, pressure, **options) for pressure in FAMILY)
 
-    def _motions(self, mask: Mask, actions: np.ndarray, press: np.ndarray, mu, same_as=None):
-        """Integrated motions under pressures ``press`` (n, N), shape (n, n_actions, 3)."""
+    def _motions(
+        self, mask: Mask, actions: np.ndarray, press: np.ndarray, mu, same_as=None, path=False
+    ):
+        """Integrated motions under pressures ``press`` (n, N), shape (n, n_actions, 3).
+
+        ``path=True``: after every step, (n, n_actions, n_steps + 1, 3).
+        """
         sup = support(mask, self.support_points)
         eps2 = (SMOOTHING_CELLS * sup.cell) ** 2 / mask.area_px  # relative to the push speed
         radius = self.pusher_radius / mask.resolution
         return push_motions(
             outline_field(mask), actions, press, sup.points, np.asarray(mask.centroid), mu,
-            radius, self.n_steps, eps2, same_as,
+            radius, self.n_steps, eps2, same_as, path,
         )  # fmt: skip
 
     def _pressures(self, mask: Mask, coms: np.ndarray, spread: str | None = None) -> np.ndarray:
@@ -268,17 +273,62 @@ class LimitSurfaceModel:
             return np.zeros((len(pts), len(acts), 3))
         if self.node_spacing == 0:
             return self._motions(mask, acts, self._pressures(mask, pts), mu)
-        return np.concatenate([self._interpolated(mask, a, pts, mu) for a in acts], axis=1)
+        return np.concatenate(
+            [self._interpolated(mask, a, pts, mu)[:, None, -1] for a in acts], axis=1
+        )
+
+    def predict_path_hypotheses(self, mask, action, coms, mu, fractions) -> np.ndarray:
+        """Motions part way along one push, for each CoM hypothesis, shape (n_coms, J, 3).
+
+        The optional method of :class:`comcore.HypothesisPredictor` that the
+        frames of a push are scored with (:mod:`comcore.active._path`): the
+        push integrated once, its state after each of its ``n_steps`` steps
+        kept, and read at ``fractions`` (J,) of its travel after first contact
+        (linearly between steps). A predictor without it is asked about the
+        push cut short at each fraction instead.
+
+        Parameters
+        ----------
+        mask : comcore.Mask
+        action : array_like, shape (4,)
+        coms : array_like, shape (n_coms, 2)
+        mu : float
+        fractions : array_like, shape (J,)
+            In [0, 1].
+        """
+        mask = check_mask(mask)
+        act = check_push_lengths(mask, check_actions(np.asarray(action, float)[None]))
+        pts = check_points(coms, "coms")
+        mu = check_number(mu, "mu", allow_inf=True)
+        if mu < 0:
+            raise ValueError(f"mu must be >= 0 (inf allowed), got {mu}")
+        f = np.asarray(fractions, dtype=float).reshape(-1)
+        if not np.isfinite(f).all() or (f < 0).any() or (f > 1).any():
+            raise ValueError(f"fractions must lie in [0, 1], got {f.tolist()}")
+        if len(act) == 0 or len(pts) == 0:
+            return np.zeros((len(pts), len(f), 3))
+        if self.node_spacing == 0:
+            states = self._motions(mask, act, self._pressures(mask, pts), mu, path=True)[:, 0]
+        else:
+            states = self._interpolated(mask, act[0], pts, mu)
+        where = f * self.n_steps
+        lo = np.minimum(np.floor(where).astype(np.intp), self.n_steps - 1)
+        w = (where - lo)[None, :, None]
+        return states[:, lo] * (1 - w) + states[:, lo + 1] * w
 
     def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float):
-        """Motions of one push, interpolated from its lattice's nodes, (n, 1, 3)."""
+        """States of one push after each step, interpolated from its lattice's nodes.
+
+        Shape (n, n_steps + 1, 3); the last row is the push's motion.
+        """
         spreads = tuple(p for p in PRESSURES if p == self.pressure or p in self.batch_pressures)
         settings = (self.pusher_radius, self.n_steps, self.support_points, self.node_spacing)
         key = (settings, spreads, action.tobytes())
         near = mask._box.grown_by(margin_px(mask.resolution))  # the object's neighbourhood
         lattice, known, mus = remembered(
-            mask, key, lambda: PushLattice(mask, action, self.node_spacing, near), mu, spreads
-        )
+            mask, key, lambda: PushLattice(mask, action, self.node_spacing, near), mu, spreads,
+            shape=(self.n_steps + 1, 3),
+        )  # fmt: skip
         found = lattice.cells(pts)
         if found is None:  # a hypothesis off the neighbourhood: the whole image's lattice
             lattice, known = widened(
@@ -287,12 +337,13 @@ class LimitSurfaceModel:
             found = lattice.cells(pts)
         corners, weights, keys = found
         if len(keys) >= len(pts):  # interpolation would not save anything
-            return self._motions(mask, action[None], self._pressures(mask, pts), mu)
-        todo = keys[np.isnan(known[self.pressure, mu][keys, 0])]
+            press = self._pressures(mask, pts)
+            return self._motions(mask, action[None], press, mu, path=True)[:, 0]
+        todo = keys[np.isnan(known[self.pressure, mu][keys, -1, 0])]
         if len(todo):
             self._integrate_nodes(mask, action, lattice, todo, known, mus, spreads)
         motion = known[self.pressure, mu]
-        return np.einsum("kn,kns->ns", weights, motion[corners])[:, None, :]
+        return np.einsum("kn,knts->nts", weights, motion[corners])
 
     def _integrate_nodes(self, mask, action, lattice, todo, known, mus, spreads):
         """Integrate the push at nodes for every pressure spread and friction not yet known.
@@ -303,7 +354,7 @@ class LimitSurfaceModel:
         n, points = len(todo), lattice.points[todo]
         jobs = [
             (spread, m) for spread in spreads for m in sorted(mus, reverse=True)
-            if np.isnan(known[spread, m][todo, 0]).all()
+            if np.isnan(known[spread, m][todo, -1, 0]).all()
         ]  # fmt: skip
         press, same = {}, []
         for k, (spread, _) in enumerate(jobs):
@@ -317,7 +368,7 @@ class LimitSurfaceModel:
             same.append(press[spread][1] * n + np.arange(n))
         out = self._motions(
             mask, action[None], np.vstack([press[spread][0] for spread, _ in jobs]),
-            np.repeat([m for _, m in jobs], n), same_as=np.concatenate(same),
+            np.repeat([m for _, m in jobs], n), same_as=np.concatenate(same), path=True,
         )[:, 0]  # fmt: skip
         for k, job in enumerate(jobs):
             known[job][todo] = out[k * n : (k + 1) * n]

@@ -163,8 +163,9 @@ def slide_twist(p, rx, ry, wrench, xi, eps2, iterations, length, backtrack=True)
 
 
 def push_motions(
-    field, actions, pressure, support, centroid, mu, radius, n_steps, eps2, same_as=None
-):
+    field, actions, pressure, support, centroid, mu, radius, n_steps, eps2, same_as=None,
+    path: bool = False,
+):  # fmt: skip
     """Integrate every push for every pressure distribution: ``(n_p, n_actions, 3)`` motions.
 
     ``pressure`` (n_p, N) over ``support`` (N, 2) points relative to ``centroid``
@@ -174,7 +175,7 @@ def push_motions(
     pressure and a friction at least as high: while a row sticks, it moves as
     that one does, so its sticking solve is not repeated. Motions ``(theta, tx,
     ty)``: rotation (CCW on screen) and displacement of the material point
-    under the centroid; zeros for a miss.
+    under the centroid; zeros for a miss. ``path=True``: after every step (:func:`_path`).
     """
     n_p, n_a = len(pressure), len(actions)
     first, unit, travel, hit, radii = field.pusher_paths(actions, radius)
@@ -187,13 +188,12 @@ def push_motions(
     X, Y, theta = np.full(len(rows), cx0), np.full(len(rows), cy0), np.zeros(len(rows))
     omega_rate = np.full(len(rows), np.nan)  # sticking omega per pixel of contact travel
     xi_slide = np.zeros((len(rows), 3))
-    tan_mu = np.broadcast_to(np.asarray(mu, dtype=float), (n_p,))[rows // n_a]
-    cos_a, sin_a = np.cos(np.arctan(tan_mu)), np.sin(np.arctan(tan_mu))
-    same = np.arange(n_p) if same_as is None else np.asarray(same_as, dtype=np.intp)
-    rep = same[rows // n_a] * n_a + act  # the row this one moves with while attached
-    attached = rep != rows
+    tan_mu, cos_a, sin_a, rep, attached = _friction_rows(mu, same_as, n_p, n_a)
     where = np.full(len(rows), -1)
+    before = []  # with path: the state before each step
     for k in range(1, n_steps + 1):
+        if path:
+            before.append(np.stack([theta, X - cx0, Y - cy0], axis=-1))
         live = rows[hit[act]]
         if not len(live):
             break
@@ -258,7 +258,34 @@ def push_motions(
         Y[live] += dy
         theta[live] += om
     out = np.stack([theta, X - cx0, Y - cy0], axis=-1)
+    if path:
+        return _path(before, out, n_steps).reshape(n_p, n_a, n_steps + 1, 3)
     return out.reshape(n_p, n_a, 3)
+
+
+def _friction_rows(mu, same_as, n_p: int, n_a: int):
+    """Per row (pressure x action): tan, cos and sin of the cone, the row it moves with, attached.
+
+    ``rep`` is the row a row moves with while it sticks (:func:`push_motions`'
+    ``same_as``), ``attached`` whether that is another row.
+    """
+    rows = np.arange(n_p * n_a)
+    tan_mu = np.broadcast_to(np.asarray(mu, dtype=float), (n_p,))[rows // n_a]
+    cos_a, sin_a = np.cos(np.arctan(tan_mu)), np.sin(np.arctan(tan_mu))
+    same = np.arange(n_p) if same_as is None else np.asarray(same_as, dtype=np.intp)
+    rep = same[rows // n_a] * n_a + rows % n_a
+    return tan_mu, cos_a, sin_a, rep, rep != rows
+
+
+def _path(before: list, out: np.ndarray, n_steps: int) -> np.ndarray:
+    """The motion after every step, ``(rows, n_steps + 1, 3)``, the first row zeros.
+
+    Step ``k`` ends at the fraction ``k / n_steps`` of the push's travel after first
+    contact; ``before`` holds the states before the steps taken (the loop stops early
+    when no push touches any more: the rest are the final state ``out``).
+    """
+    rest = [out] * (n_steps + 1 - len(before))
+    return np.stack([*before, *rest], axis=1)
 
 
 def _sliding_twists(

@@ -1,0 +1,287 @@
+"""The frames of a push: read into the object's path, and scored as a path, not a point.
+
+Open this file to change what the camera's frames during a push tell a session.
+
+**Reading** (:func:`read_path`). Each frame is a :class:`comcore.PushFrame`: where the
+pusher's leading point was (camera pixels) and the camera's mask then (registered
+against the first mask, as the session's masks are) or the object's motion since the
+push began. The pusher's position is read as its *travel* along the push as scored
+(the planned path, or the executed one where the robot said so); the frame's pose as
+the object's motion since the push began, in the object's frame. A frame is dropped,
+with a record of why (``PushRecord.dropped_frames``), when
+
+* its mask cannot be registered (``"registration: ..."``: the arm biting the mask,
+  another object, the object cut by the image border),
+* it was taken before the pusher touched the object or within a pixel of the push's
+  end (``"before_contact"``, ``"at_end"``: nothing the end pose does not say),
+* its pose jumps: it lies more than :data:`JUMP_M` (or :data:`JUMP_TURN`) off the
+  straight line between its kept neighbours' poses, and more than six tracking
+  standard deviations (``"jump"``: a registration fault, the pusher's shadow),
+* it is not among the :data:`MAX_PATH_FRAMES` read, evenly spread in travel over
+  those between contact and the end (``"thinned"``: nearby frames tell little more,
+  and each one read costs a registration).
+
+Frames given out of order, or with the pusher off the push's path by more than
+:data:`OFF_PATH_M`, are the caller's mistake: a ValueError naming the frame.
+
+**Scoring**: :mod:`comcore.active._path_term` (the path's density given the end
+pose), :class:`PushPath` what it reads.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._checks import check_point
+from .._mask import Mask
+from .._types import Motion, PathPoint, PushFrame
+from .._validation import check_motions, check_turns
+from ..camera._pose_tracking import object_from_camera, read_pose, relative
+from ..conventions import ccw_cross, object_motion_from_camera
+from ._likelihood import gyration_px, tracking_noise
+
+__all__ = [
+    "JUMP_M",
+    "JUMP_TURN",
+    "MAX_FRAMES",
+    "MAX_PATH_FRAMES",
+    "OFF_PATH_M",
+    "PathReading",
+    "PushPath",
+    "check_frames",
+    "path_tracking",
+    "read_path",
+]
+
+#: Most frames kept per push (evenly spread in travel); the rest are ``"thinned"``.
+MAX_PATH_FRAMES = 8
+#: Most frames one push may be given (a 10 s push at 100 Hz): more is a mistake of units.
+MAX_FRAMES = 1000
+#: A frame whose pusher lies farther than this (metres) off the push's path is refused:
+#: the pusher's position in another frame, or another point of the arm.
+OFF_PATH_M = 0.01
+#: A frame whose pose lies this far (metres, the centroid) off its neighbours' line jumps ...
+JUMP_M = 0.003
+#: ... or whose rotation lies this far (radians) off it.
+JUMP_TURN = 0.05
+#: ... and in either case more than this many tracking standard deviations.
+JUMP_STDS = 6.0
+
+
+class PathReading(NamedTuple):
+    """A push's frames as read: the kept poses and the dropped frames (internal)."""
+
+    points: tuple  # PathPoint, kept, in travel order
+    dropped: tuple  # (index, reason)
+    tracking: tuple  # (rad, px) mean tracking std of the kept frames
+
+
+class PushPath(NamedTuple):
+    """What the likelihood reads of a push's path (internal)."""
+
+    points: tuple  # PathPoint, in travel order, each after contact and before the end
+    fractions: np.ndarray  # (J,) travel after contact over the push's, in (0, 1)
+    tracking: tuple  # (rad, px) the frames' tracking standard deviations
+
+    @classmethod
+    def of(cls, action, points, contact_travel: float, tracking) -> PushPath:
+        """The path of ``points`` along ``action`` (object frame), first touching it there."""
+        act = np.asarray(action, dtype=float)
+        length = float(np.hypot(*(act[2:] - act[:2])))
+        travel = np.array([p.travel for p in points], float)
+        span = max(length - contact_travel, 1e-9)
+        fractions = np.clip((travel - contact_travel) / span, 1e-6, 1 - 1e-6)
+        return cls(tuple(points), fractions, tuple(tracking))
+
+
+def check_frames(frames) -> list:
+    """``frames`` as a list of ``(pusher (2,), view)``, or a named error (nothing is read)."""
+    if isinstance(frames, (str, bytes, Mask, dict)) or not hasattr(frames, "__len__"):
+        raise TypeError(
+            "frames must be a sequence of comcore.PushFrame (pusher, view) pairs, "
+            f"got {type(frames).__name__}"
+        )
+    if len(frames) > MAX_FRAMES:
+        raise ValueError(f"frames must hold at most {MAX_FRAMES} frames, got {len(frames)}")
+    out = []
+    for i, frame in enumerate(frames):
+        if isinstance(frame, (str, bytes, Mask)) or not hasattr(frame, "__len__"):
+            raise TypeError(
+                f"frames[{i}] must be a comcore.PushFrame (pusher, view), got "
+                f"{type(frame).__name__}"
+            )
+        if len(frame) != 2:
+            raise ValueError(f"frames[{i}] must be a pair (pusher, view), got {len(frame)} items")
+        pusher = check_point(frame[0], f"frames[{i}].pusher")
+        view = frame[1]
+        if not isinstance(view, (Mask, Motion)) and not _motion_like(view):
+            raise TypeError(
+                f"frames[{i}].view must be a comcore.Mask or a comcore.Motion, got "
+                f"{type(view).__name__}"
+            )
+        if not isinstance(view, Mask):
+            view = Motion(*check_turns(check_motions(view, n=1, name=f"frames[{i}].view"),
+                                       f"frames[{i}].view")[0])  # fmt: skip
+        out.append(PushFrame((float(pusher[0]), float(pusher[1])), view))
+    return out
+
+
+def _motion_like(view) -> bool:
+    try:
+        arr = np.asarray(view, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return arr.shape == (3,)
+
+
+def read_path(
+    first: Mask,
+    pose: Motion,
+    action,
+    frames: list,
+    end_pose: Motion,
+    contact_travel: float,
+    tracking: tuple[float, float],
+    *,
+    pusher_px: float = 0.0,
+) -> PathReading:
+    """The poses the frames show along the push (object frame), and the frames dropped.
+
+    ``pose``: the object's pose before the push (relative to the first mask);
+    ``action``: the push as scored (object frame); ``end_pose``: the pose after it as
+    read; ``contact_travel``: the pusher's travel (pixels) to first contact;
+    ``tracking``: the motion noise ``(rad, px)`` of a frame without a registration
+    residual; ``pusher_px``: the pusher's error across its path (pixels), widening
+    how far off the path a frame's pusher may be.
+    """
+    act = np.asarray(action, dtype=float)
+    start, end = act[:2], act[2:]
+    length = float(np.hypot(*(end - start)))
+    direction = (end - start) / length
+    off_px = OFF_PATH_M / first.resolution + 3.0 * pusher_px + 2.0
+    dropped: list = []
+    candidates: list = []  # (index, travel) of the frames between contact and the end
+    last_travel = -math.inf
+    for i, frame in enumerate(frames):
+        q = object_from_camera(np.tile(frame.pusher, 2)[None], pose, first.centroid)[0, :2]
+        travel = float(np.dot(q - start, direction))
+        across = float(abs(ccw_cross(direction, q - start)))
+        if across > off_px:
+            raise ValueError(
+                f"frames[{i}].pusher {list(frame.pusher)} lies {across:.1f} px off the push's "
+                f"path (at most {off_px:.1f} px): is it the pusher's leading point, in this "
+                "camera's pixels?"
+            )
+        if travel < last_travel - 1.0:
+            raise ValueError(
+                f"frames[{i}].pusher is {last_travel - travel:.1f} px behind the frame before "
+                "it along the push: frames must be given in the order they were taken"
+            )
+        last_travel = max(last_travel, travel)
+        if travel > length + off_px:
+            raise ValueError(
+                f"frames[{i}].pusher is {travel - length:.1f} px past the push's end: is it the "
+                "pusher of this push?"
+            )
+        if travel <= contact_travel + 1.0:
+            dropped.append((i, "before_contact"))
+        elif travel >= length - 1.0:
+            dropped.append((i, "at_end"))
+        else:
+            candidates.append((i, travel))
+    if len(candidates) > MAX_PATH_FRAMES:  # thinned before registering: a frame costs that
+        chosen = _evenly(np.array([t for _, t in candidates]), MAX_PATH_FRAMES)
+        dropped.extend((c[0], "thinned") for j, c in enumerate(candidates) if j not in chosen)
+        candidates = [c for j, c in enumerate(candidates) if j in chosen]
+    kept: list = []  # (index, travel, motion, tracking, residual)
+    for i, travel in candidates:
+        view = frames[i].view
+        try:
+            if isinstance(view, Mask):
+                reading = read_pose(first, pose, view, None)
+            else:
+                reading = read_pose(first, pose, None, view)
+        except ValueError as e:
+            if not isinstance(view, Mask):
+                raise ValueError(f"frames[{i}].view: {e}") from e
+            dropped.append((i, f"registration: {e}"))
+            continue
+        frame_pose = _nearest_turn(reading.pose, pose, end_pose, reading.symmetry)
+        motion = object_motion_from_camera(relative(pose, frame_pose), pose.theta)
+        residual = reading.residual_px if math.isfinite(reading.residual_px) else None
+        noise = _frame_noise(tracking, residual, first)
+        kept.append((i, travel, Motion(*motion), noise, residual))
+    jump_px = JUMP_M / first.resolution
+    kept = _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px)
+    dropped.sort()
+    points = tuple(PathPoint(t, m, r) for _, t, m, _, r in kept)
+    return PathReading(points, tuple(dropped), path_tracking(points, tracking, first))
+
+
+def path_tracking(points, tracking, first: Mask) -> tuple[float, float]:
+    """The frames' tracking standard deviations (rad, px): the RMS over the points of each's."""
+    if not points:
+        return tuple(tracking)
+    gyration = gyration_px(first)
+    noise = np.array([tracking_noise(tracking, p.residual_px, gyration) for p in points])
+    rms = np.sqrt(np.mean(np.square(noise), axis=0))
+    return float(rms[0]), float(rms[1])
+
+
+def _frame_noise(tracking, residual_px: float, first: Mask) -> tuple[float, float]:
+    return tracking_noise(tracking, residual_px, gyration_px(first))
+
+
+def _nearest_turn(reading: Motion, before: Motion, after: Motion, symmetry: int) -> Motion:
+    """Of the turns a symmetric outline allows, the one nearest the push's own turn."""
+    n = int(symmetry)
+    if n <= 1:
+        return reading
+    step = 2 * math.pi / n
+    lo, hi = sorted((before.theta, after.theta))
+    best = min(
+        (reading.theta + k * step for k in range(-n, n + 1)),
+        key=lambda th: max(lo - th, th - hi, 0.0),
+    )
+    return reading._replace(theta=best)
+
+
+def _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px) -> list:
+    """``kept`` without the frames whose pose jumps off the line between their neighbours."""
+    end = object_motion_from_camera(relative(pose, end_pose), pose.theta)
+    changed = True
+    while changed and kept:
+        changed = False
+        travel = [contact_travel] + [k[1] for k in kept] + [length]
+        poses = [np.zeros(3)] + [np.asarray(k[2], float) for k in kept] + [np.asarray(end)]
+        worst, worst_j = 0.0, None
+        for j, (_, t, _, noise, _) in enumerate(kept, start=1):
+            lo, hi = travel[j - 1], travel[j + 1]
+            f = (t - lo) / (hi - lo) if hi > lo else 0.5
+            line = (1 - f) * poses[j - 1] + f * poses[j + 1]
+            off = poses[j] - line
+            turn, shift = abs(off[0]), float(np.hypot(off[1], off[2]))
+            score = max(
+                (turn - max(JUMP_TURN, JUMP_STDS * noise[0])) / JUMP_TURN,
+                (shift - max(jump_px, JUMP_STDS * noise[1])) / jump_px,
+            )
+            if score > worst:
+                worst, worst_j = score, j - 1
+        if worst_j is not None:
+            dropped.append((kept[worst_j][0], "jump"))
+            kept = kept[:worst_j] + kept[worst_j + 1 :]
+            changed = True
+    return kept
+
+
+def _evenly(travel: np.ndarray, n: int) -> set:
+    """Indices of ``n`` of the travels nearest ``n`` evenly spaced ones."""
+    targets = np.linspace(travel[0], travel[-1], n)
+    chosen: set = set()
+    for t in targets:
+        order = np.argsort(np.abs(travel - t))
+        chosen.add(int(next(j for j in order if int(j) not in chosen)))
+    return chosen
