@@ -72,9 +72,9 @@ RECORDED_SYSTEMATIC_ERROR = 0.0015
 SELECTIONS = ("sense", "model")
 #: Friction range searched when ``mu`` is unknown (covers common pusher materials).
 UNKNOWN_MU_RANGE = (0.0, 2.0)
-#: ``Likelihood.path_wander``'s default: chosen on seed-1 paths of the quasi-static and
-#: pymunk engines (benchmarks/calibration/path_wander.py).
-PATH_WANDER = 0.5
+#: ``Likelihood.path_wander``'s default: chosen among 1, 2 and 4 on seed-1 trials of
+#: ``comcore bench``'s ``active-robot`` with frames at 10 Hz (docs/explanation/calibration.md).
+PATH_WANDER = 2.0
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
