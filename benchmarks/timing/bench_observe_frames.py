@@ -1,0 +1,87 @@
+"""What the frames of a push cost ``ActiveSession.observe``: with and without them.
+
+Run: ``PYTHONPATH=. python benchmarks/timing/bench_observe_frames.py [--objects Obj1,Obj3,...]
+[--frames 30] [--resolution 0.001] [--margin 0.3] [--repeats 3]``.
+
+For each object (high friction, ``rng=1``), a ``simulators.SimulatedRobot`` at
+``--resolution`` metres per pixel with ``--margin`` metres of table round the object
+(0.3 m at 1 mm/px: a camera image of about 700 x 700 pixels) makes the session's first
+push with the camera's frames at the rate that gives about ``--frames`` of them. The
+same push is observed by fresh sessions with the end mask alone and with the frames
+too (``observe(mask, frames=push.path)``: each frame's mask registered, the path
+scored by the limit-surface model); ``observe`` is timed (wall, ``time.perf_counter``)
+``--repeats`` times each, each on fresh copies of the masks (a mask's fields are cached
+per Mask object). Printed: per object the frames given and read, the medians, and the
+median over all. The machine's load shows in the wall times.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import comcore
+import simulators
+
+
+def fresh(mask: comcore.Mask) -> comcore.Mask:
+    """A new Mask object of the same pixels (nothing cached)."""
+    return comcore.Mask(mask.data.copy(), resolution=mask.resolution)
+
+
+def time_observe(first, after, frames, sim, repeats: int) -> tuple[list, int]:
+    """Wall times (s) of ``observe`` on fresh sessions, and the frames the path kept."""
+    times, kept = [], 0
+    for _ in range(repeats):
+        session = comcore.ActiveSession(fresh(first), pusher_radius=sim.pusher_radius, rng=0)
+        session.next_push()
+        copies = None
+        if frames is not None:
+            copies = [comcore.PushFrame(f.pusher, fresh(f.view)) for f in frames]
+        end = fresh(after)
+        start = time.perf_counter()
+        session.observe(end, frames=copies)
+        times.append(time.perf_counter() - start)
+        kept = len(session.estimate().pushes[0].path)
+    return times, kept
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--objects", default="Obj1,Obj3,Obj7,Obj11,Obj19")
+    parser.add_argument("--frames", type=int, default=30)
+    parser.add_argument("--resolution", type=float, default=0.001)
+    parser.add_argument("--margin", type=float, default=0.3)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args(argv)
+    plain_all, framed_all = [], []
+    print("| object | image | frames given / read | observe, end mask (ms) | with frames (ms) |")
+    print("|---|---|---|---|---|")
+    for name in args.objects.split(","):
+        sim = simulators.random_simulator(name, friction="high", rng=1)
+        robot = simulators.SimulatedRobot(
+            sim, resolution=args.resolution, camera_margin=args.margin, rng=1
+        )
+        first = robot.camera_mask()
+        action = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0).next_push()
+        seconds = action.length * robot.resolution / robot.speed
+        rate = args.frames / seconds
+        push = robot.execute(action, frame_rate=rate)
+        after = robot.camera_mask()
+        plain, _ = time_observe(first, after, None, sim, args.repeats)
+        framed, kept = time_observe(first, after, push.path, sim, args.repeats)
+        plain_all += plain
+        framed_all += framed
+        print(
+            f"| {name} | {first.shape[1]} x {first.shape[0]} | {len(push.path)} / {kept} | "
+            f"{1e3 * np.median(plain):.0f} | {1e3 * np.median(framed):.0f} |"
+        )
+    print(
+        f"| median | | | {1e3 * np.median(plain_all):.0f} | {1e3 * np.median(framed_all):.0f} |"
+    )
+
+
+if __name__ == "__main__":
+    main()
