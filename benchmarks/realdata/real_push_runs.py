@@ -38,6 +38,7 @@ class ObjectPushes:
     actions: np.ndarray  # the pushes whose leading line hits the mask, (n, 4)
     motions: dict = field(default_factory=dict)  # world -> (n, 3)
     speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    frames: list = field(default_factory=list)  # per push, its real poses during it (or empty)
     load_seconds: float = 0.0
     sim_seconds: dict = field(default_factory=dict)
 
@@ -72,12 +73,15 @@ def _contacts(mask, actions):
 
 
 def load_object(
-    data_dir, name, outline, *, travel, resolution, max_speed=None, grazing=False
-) -> ObjectPushes:
+    data_dir, name, outline, *, travel, resolution, max_speed=None, grazing=False,
+    frame_rate=None,
+) -> ObjectPushes:  # fmt: skip
     """The recorded pushes of one plate (every file of it under ``data_dir/abs``).
 
     Only the pushes whose leading line enters the mask are scored, unless ``grazing``
-    (with ``use_contacts("disc")``): then every push the recording kept.
+    (with ``use_contacts("disc")``): then every push the recording kept. ``frame_rate``
+    (Hz): the pose streams during each push kept at that rate too (``obj.frames``), for
+    the real world's posteriors.
     """
     start = time.perf_counter()
     files = sorted(glob.glob(os.path.join(data_dir, "abs", "*", f"*_shape={name}_*.h5")))
@@ -85,9 +89,13 @@ def load_object(
         files = [f for f in files if mp.parse_name(f).speed <= max_speed + 1e-9]
     if not files:
         raise FileNotFoundError(f"no h5 files of {name!r} under {data_dir}/abs/*/")
-    rec = mp.load_pushes(files, outline, travel=travel, resolution=resolution)
+    rec = mp.load_pushes(
+        files, outline, travel=travel, resolution=resolution, frame_rate=frame_rate
+    )
     keep = np.ones(len(rec.pushes), bool) if grazing else rec.line_hits
     obj = ObjectPushes(name, rec, rec.mask, np.asarray(rec.com), rec.actions[keep])
+    if frame_rate is not None:
+        obj.frames = [p.frames for p, k in zip(rec.pushes, keep) if k]
     obj.motions["real"] = rec.motions[keep]
     obj.speeds = np.array([mp.parse_name(p.name).speed for p in rec.pushes])[keep]  # nominal
     obj.load_seconds = time.perf_counter() - start
@@ -199,9 +207,13 @@ def subsets(n: int, k: int, count: int, seed: int, salt: int) -> list[np.ndarray
 
 
 def posterior(obj, world, idx, model, options) -> dict:
+    frames = None
+    if obj.frames and world == "real":  # the real poses during each push
+        frames = [obj.frames[i] for i in idx]
     est = comcore.estimate_posterior(
         obj.mask, obj.actions[idx], obj.motions[world][idx], model=model,
-        pusher_radius=_contact_radius, theta_units="rad", **options,  # the dataset's yaw: radians
+        pusher_radius=_contact_radius, theta_units="rad", frames=frames,  # yaw: radians
+        **options,
     )  # fmt: skip
     return score(est, obj.mask, obj.com)
 

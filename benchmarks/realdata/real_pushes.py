@@ -21,6 +21,10 @@ Models (``--models``): ``vt`` (the Voting Theorem alone, ``model=None``), ``lsm`
 estimators refuse the others today); the grazing ones are counted and the Voting
 Theorem is checked on them with the disc's contact.
 
+With ``--frame-rate HZ`` the real pose streams during each push, sub-sampled at that rate
+(``recording_from_poses(..., frame_rate=HZ)``), go to the real world's posteriors as its
+path (``estimate_posterior(..., frames=...)``); the simulated worlds keep end poses.
+
 Writes ``OUT/results.json``, ``OUT/report.md`` and ``OUT/error_vs_k.png``.
 The prior is uniform over the mask everywhere (every plate's CoM is its centroid).
 
@@ -310,6 +314,10 @@ def main(argv=None) -> int:
         help="score pushes at the pusher disc's contact (the estimators' own, every push the "
         "disc touches, grazing ones too) or at the leading line's (the paper's point pusher)",
     )
+    p.add_argument(
+        "--frame-rate", type=float, default=None,
+        help="Hz: the real pose streams during each push at this rate go to the posterior too",
+    )  # fmt: skip
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--no-figure", action="store_true")
     args = p.parse_args(argv)
@@ -332,6 +340,7 @@ def main(argv=None) -> int:
         obj = runs.load_object(
             args.data, name, shapes[name], travel=args.travel, resolution=args.resolution,
             max_speed=args.max_speed, grazing=args.contacts == "disc",
+            frame_rate=args.frame_rate,
         )  # fmt: skip
         for world in worlds:
             if world != "real":

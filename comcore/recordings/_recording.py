@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._mask import Mask
-from .._types import Action, Motion, SkippedPush
+from .._types import Action, Motion, PushFrame, SkippedPush
 from .._validation import _as_float_rows, check_point, check_positive
 from ..conventions import DEFAULT_RESOLUTION, rotate_components
 from ..geometry._contacts import contacts
@@ -43,6 +43,10 @@ DEFAULT_STANDOFF_M = 0.01
 DEFAULT_CONTACT_TOLERANCE_M = 0.002
 #: Why a push is skipped.
 SKIP_REASONS = ("starts_inside", "misses", "short", "no_object_pose")
+
+
+#: Most frames a second ``recording_from_poses`` keeps (the MIT streams run at 250 Hz).
+MAX_FRAME_RATE = 1000.0
 
 
 class RecordedPush(NamedTuple):
@@ -69,6 +73,11 @@ class RecordedPush(NamedTuple):
     path_deviation: float
     """Largest distance (metres) of the pusher's recorded path over the window from the
     straight ``action``."""
+    frames: tuple = ()
+    """The poses during the window as :class:`comcore.PushFrame` (``recording_from_poses(...,
+    frame_rate=...)``; empty without): the pusher's leading point (pixels of the mask) and
+    the object's motion since first contact (in the mask's frame, as ``motion``), for
+    ``comcore.estimate_posterior(..., frames=...)``."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +155,7 @@ def recording_from_poses(
     margin: float = DEFAULT_MARGIN_M,
     standoff: float = DEFAULT_STANDOFF_M,
     contact_tolerance: float = DEFAULT_CONTACT_TOLERANCE_M,
+    frame_rate: float | None = None,
 ) -> Recording:
     """Turn recorded pose streams of pushes into comcore's Mask, Actions and Motions.
 
@@ -211,6 +221,10 @@ def recording_from_poses(
     contact_tolerance : float, optional
         Gap between the disc and the outline that counts as contact, metres
         (default 2 mm; tracking and outline errors).
+    frame_rate : float, optional
+        Also keep, per push, the poses during its window at this rate (Hz,
+        from first contact; the streams interpolated at those times) as
+        ``RecordedPush.frames``, for ``estimate_posterior(..., frames=...)``.
 
     Returns
     -------
@@ -251,6 +265,11 @@ def recording_from_poses(
     travel = check_positive(travel, "travel")
     standoff = check_positive(standoff, "standoff")
     tolerance = check_positive(contact_tolerance, "contact_tolerance", allow_zero=True)
+    rate = None if frame_rate is None else check_positive(frame_rate, "frame_rate")
+    if rate is not None and rate > MAX_FRAME_RATE:
+        raise ValueError(
+            f"frame_rate must be at most {MAX_FRAME_RATE:g} Hz (frames a second), got {rate:g}"
+        )
     mask = mask_from_outline(poly, resolution, margin)
     frame = OutlineFrame(poly, mask.resolution, check_positive(margin, "margin", allow_zero=True))
     if isinstance(pushes, (str, bytes)) or not hasattr(pushes, "__len__"):
@@ -280,7 +299,11 @@ def recording_from_poses(
         if isinstance(window[0], str):
             skipped.append(SkippedPush(i, names[i], *window))
             continue
-        kept.append((i, *_push(frame, obj, pusher, radius, standoff, centroid_m, *window)))
+        pushed = _push(frame, obj, pusher, radius, standoff, centroid_m, *window)
+        frames = ()
+        if rate is not None:
+            frames = _frames(frame, obj, pusher, radius, centroid_m, *window, rate)
+        kept.append((i, *pushed, frames))
     pushes_out = _check_on_mask(mask, kept, radius, names, skipped)
     skipped.sort(key=lambda s: s.index)
     true_com = None
@@ -299,13 +322,7 @@ def _push(frame, obj, pusher, radius, standoff, centroid_m, t_contact, t_end):
     lead = ends + radius * unit
     start = lead[0] - standoff * unit
     action = frame.pixels_from_object(np.vstack([start, lead[1]])).ravel()
-    # The material point under the mask's centroid: where it is at the window's end, in the
-    # object's frame at its start (metres, y up), then in pixels (y down).
-    c1, s1 = math.cos(pose1[2]), math.sin(pose1[2])
-    turned = np.array(rotate_components(centroid_m[0], centroid_m[1], c1, s1, inverse=True))
-    world1 = pose1[:2] + turned
-    moved = to_frame(world1[None], pose0)[0] - centroid_m
-    motion = Motion(pose1[2] - pose0[2], moved[0] / frame.resolution, -moved[1] / frame.resolution)
+    motion = _motion(frame, pose0, pose1, centroid_m)
     inside = (pusher[:, 0] >= t_contact) & (pusher[:, 0] <= t_end)
     path = to_frame(pusher[inside, 1:3], pose0)
     normal = np.array([-unit[1], unit[0]])
@@ -315,6 +332,37 @@ def _push(frame, obj, pusher, radius, standoff, centroid_m, t_contact, t_end):
     speeds = np.hypot(steps[:, 1], steps[:, 2]) / steps[:, 0]
     speed = float(np.median(speeds)) if len(speeds) else _mean_speed(t_contact, t_end, chord)
     return action, motion, speed, t_contact, t_end, deviation
+
+
+def _motion(frame, pose0, pose1, centroid_m) -> Motion:
+    """The rigid motion from ``pose0`` to ``pose1`` as :class:`Motion` defines it (pixels).
+
+    The material point under the mask's centroid: where it is at ``pose1``, in the
+    object's frame at ``pose0`` (metres, y up), then in pixels (y down).
+    """
+    c1, s1 = math.cos(pose1[2]), math.sin(pose1[2])
+    turned = np.array(rotate_components(centroid_m[0], centroid_m[1], c1, s1, inverse=True))
+    world1 = pose1[:2] + turned
+    moved = to_frame(world1[None], pose0)[0] - centroid_m
+    return Motion(pose1[2] - pose0[2], moved[0] / frame.resolution, -moved[1] / frame.resolution)
+
+
+def _frames(frame, obj, pusher, radius, centroid_m, t_contact, t_end, rate) -> tuple:
+    """The window's poses at ``rate`` Hz from first contact, as PushFrames (mask's frame)."""
+    times = t_contact + np.arange(1, int((t_end - t_contact) * rate) + 1) / rate
+    times = times[times < t_end]
+    if not len(times):
+        return ()
+    pose0 = pose_at(obj, [t_contact])[0]
+    ends = to_frame(pose_at(pusher, [t_contact, t_end])[:, :2], pose0)
+    unit = (ends[1] - ends[0]) / np.hypot(*(ends[1] - ends[0]))
+    lead = to_frame(pose_at(pusher, times)[:, :2], pose0) + radius * unit
+    lead_px = frame.pixels_from_object(lead)
+    poses = pose_at(obj, times)
+    return tuple(
+        PushFrame((float(p[0]), float(p[1])), _motion(frame, pose0, pose, centroid_m))
+        for p, pose in zip(lead_px, poses)
+    )
 
 
 def _mean_speed(t0: float, t1: float, chord: np.ndarray) -> float:
@@ -330,7 +378,7 @@ def _check_on_mask(mask, kept, radius, names, skipped) -> list[RecordedPush]:
     line = contacts(mask, actions)
     disc = disc_contacts(mask, actions, radius)
     out = []
-    for j, (i, action, motion, speed, t0, t1, deviation) in enumerate(kept):
+    for j, (i, action, motion, speed, t0, t1, deviation, frames) in enumerate(kept):
         if line.starts_inside[j] or disc.starts_inside[j]:
             skipped.append(
                 SkippedPush(
@@ -362,6 +410,7 @@ def _check_on_mask(mask, kept, radius, names, skipped) -> list[RecordedPush]:
                     t0,
                     t1,
                     deviation,
+                    frames,
                 )
             )
     return out

@@ -229,6 +229,7 @@ def load_pushes(
     com=(0.0, 0.0),
     standoff: float = DEFAULT_STANDOFF_M,
     contact_tolerance: float = DEFAULT_CONTACT_TOLERANCE_M,
+    frame_rate: float | None = None,
 ) -> Recording:
     """Load pushes of one plate from dataset files into a :class:`comcore.Recording`.
 
@@ -241,8 +242,9 @@ def load_pushes(
         The plate's outline in metres, in the frame of the files' object
         poses. Default: :data:`OUTLINES` of the shape the first file's name
         says (``rect1``, ``ellip1``, ``ellip3`` or ``hex``).
-    travel, resolution, standoff, contact_tolerance : float, optional
-        As for :func:`comcore.recording_from_poses` (metres; metres per pixel).
+    travel, resolution, standoff, contact_tolerance, frame_rate : float, optional
+        As for :func:`comcore.recording_from_poses` (metres; metres per pixel; Hz:
+        the pose streams sub-sampled at that rate during each push, for its path).
     pusher_radius : float, optional
         The tip's radius, metres (default 4.75 mm, the dataset's).
     com : array_like, shape (2,) or None, optional
@@ -286,4 +288,5 @@ def load_pushes(
         names=[os.path.basename(p) for p in paths],
         standoff=standoff,
         contact_tolerance=contact_tolerance,
+        frame_rate=frame_rate,
     )

@@ -63,3 +63,12 @@ def test_bench_tags_script_runs():
     lost = r"  lost frames: 0 of 4; masks flagged ambiguous: .* ms per frame"
     assert re.fullmatch(lost, lines[5])
     assert "mask_from_image refused: 0" in lines[5]
+
+
+def test_bench_observe_frames_script_runs():
+    pytest.importorskip("shapely")
+    args = ["--objects", "Obj3", "--repeats", "1", "--resolution", "0.0025", "--margin", "0.1"]
+    lines = run_script("benchmarks/timing/bench_observe_frames.py", *args, timeout=120)
+    rows = [line for line in lines.splitlines() if line.startswith("| Obj3")]
+    assert len(rows) == 1
+    assert re.fullmatch(r"\| Obj3 \| \d+ x \d+ \| \d+ / [1-8] \| \d+ \| \d+ \|", rows[0])

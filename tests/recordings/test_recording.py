@@ -280,3 +280,37 @@ def test_a_simulated_push_comes_back_as_the_simulators_own_motion(start_pose):
     line = sim.to_pixels(lead_world)
     assert np.allclose(np.array(push.action)[[0, 2]], line[0, 0], atol=1e-9)
     assert np.allclose(push.action.direction, (0.0, -1.0), atol=1e-12)
+
+
+def test_frames_at_a_rate_are_the_streams_poses_during_the_window():
+    """frame_rate: the poses within the window, each as the window's own motion would be."""
+    pose0 = np.array([0.7, -1.2, 2.3])
+    rates = np.array([0.011, -0.023, 0.31])
+    pusher = straight_push(pose0, (0.02, -0.05), (0.3, 1.0))
+    t_obj = np.arange(-25, 400) / 237.0
+    obj = np.column_stack([t_obj, pose0 + np.clip(t_obj, 0, None)[:, None] * rates])
+    plain = comcore.recording_from_poses(L_SHAPE, [(obj, pusher)], RADIUS, travel=0.03)
+    rec = comcore.recording_from_poses(
+        L_SHAPE, [(obj, pusher)], RADIUS, travel=0.03, frame_rate=20.0
+    )
+    (push,) = rec.pushes
+    assert plain.pushes[0].frames == ()
+    assert push._replace(frames=()) == plain.pushes[0]
+    assert len(push.frames) == 11  # 0.05 s apart over the window's 0.6 s, strictly inside
+    start = np.asarray(push.action[:2])
+    direction = np.subtract(push.action[2:], start) / np.hypot(*np.subtract(push.action[2:], start))
+    for k, frame in enumerate(push.frames, start=1):
+        t = 0.05 * k
+        assert frame.view.theta == pytest.approx(rates[2] * t, abs=1e-12)
+        along = np.subtract(frame.pusher, start)
+        assert abs(along[0] * direction[1] - along[1] * direction[0]) < 1e-9  # on the action
+        travel_m = along @ direction * rec.mask.resolution
+        assert travel_m == pytest.approx(0.01 + 0.05 * t, abs=1e-9)  # standoff + speed * t
+    frames = [p.frames for p in rec.pushes]
+    est = comcore.estimate_posterior(
+        rec.mask, rec.actions, rec.motions, frames=frames, pusher_radius=RADIUS, bootstrap=0,
+        theta_units="rad",
+    )  # fmt: skip
+    assert len(est.pushes[0].path) > 0
+    with pytest.raises(ValueError, match="frame_rate must be"):
+        comcore.recording_from_poses(L_SHAPE, [(obj, pusher)], RADIUS, frame_rate=0.0)
