@@ -3,7 +3,8 @@
 :class:`ActiveSession` chooses each push, reads its outcome and keeps a posterior
 over the CoM (``_grid``) scored by a push's likelihood (``_likelihood``, the motion
 model's term in ``_motion_term``); the push choice (``_choice``), the stop rule
-(``_stop``), what a user sets (:class:`Likelihood`, :class:`StopRule`,
+(``_stop``), the frames of a push (``_path`` reads them, ``_path_term`` scores them),
+what a user sets (:class:`Likelihood`, :class:`StopRule`,
 :class:`PushChoice` in ``_options``), what it records (``_records``: :class:`SessionState`, and the
 :class:`PosteriorDetails` an estimate carries) and how it reads one push (``_reading``)
 each have a module. :func:`estimate_active` is its
@@ -14,7 +15,7 @@ everything below it: the base modules, :mod:`comcore.geometry`, :mod:`comcore.vt
 :mod:`comcore.motion` and :mod:`comcore.camera`.
 """
 
-from .._types import PosteriorDetails
+from .._types import PathPoint, PosteriorDetails
 from ._bagging import RECORDED_BOOTSTRAP
 from ._blocking import estimate_active
 from ._calibrate import PowerCalibration, calibrate_model_weight
@@ -37,6 +38,7 @@ __all__ = [
     "SESSION_SYSTEMATIC_ERROR",
     "ActiveSession",
     "Likelihood",
+    "PathPoint",
     "PosteriorDetails",
     "PowerCalibration",
     "PushChoice",
