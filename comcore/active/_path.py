@@ -1,4 +1,4 @@
-"""The frames of a push: read into the object's path, and scored as a path, not a point.
+"""The frames of a push: read into the object's path along it, each dropped frame with its reason.
 
 Open this file to change what the camera's frames during a push tell a session.
 
