@@ -28,7 +28,15 @@ from ..active._options import (
     PushChoice,
     StopRule,
 )
-from ..active._reading import PushContext, best_branch, push_record
+from ..active._path import check_frames
+from ..active._reading import (
+    PushContext,
+    best_branch,
+    branch_evidence,
+    frame_path,
+    path_of,
+    push_record,
+)
 from ..active._records import PushLog, PushLoop
 from ..active._session import ActiveSession, session_setup
 from ..camera._pose_tracking import (
@@ -377,7 +385,9 @@ class GoalSession(PushLoop):
         self._handed_out = True
         return self._plan.camera_action
 
-    def observe(self, mask: Mask | None = None, *, motion=None, out_of_view: bool = False):
+    def observe(
+        self, mask: Mask | None = None, *, motion=None, out_of_view: bool = False, frames=None
+    ):
         """Report what the push from :meth:`next_push` did: exactly one of the three.
 
         Parameters
@@ -389,6 +399,11 @@ class GoalSession(PushLoop):
             The push's motion, camera frame, about the object's centroid before it.
         out_of_view : bool, optional
             True: the camera lost the object (status ``"lost"``).
+        frames : sequence of PushFrame, optional
+            What the camera saw during the push, as
+            :meth:`comcore.ActiveSession.observe` takes them: while the session
+            learns the CoM, the object's path along the push is scored with its
+            end pose (:mod:`comcore.active._path`).
 
         Raises
         ------
@@ -408,6 +423,10 @@ class GoalSession(PushLoop):
             raise TypeError(
                 f"observe() takes exactly one of mask, motion or out_of_view=True, got {given}"
             )
+        if frames is not None:
+            frames = check_frames(frames)
+            if out_of_view:
+                raise TypeError("observe(out_of_view=True) takes no frames")
         if mask is not None:
             mask = check_mask(mask)
             if mask.shape != self._first.shape or mask.resolution != self._first.resolution:
@@ -419,7 +438,7 @@ class GoalSession(PushLoop):
             self._n_pushes += 1
             self._handed_out, self._plan, self._final = False, None, Status.LOST
             return
-        record, evidence, pose = self._reading(mask, motion)
+        record, evidence, pose = self._reading(mask, motion, frames)
         self._log.add(record, self._posterior, *evidence)
         self._n_pushes += 1
         if record.outcome == "miss":  # the same push again would not move it either
@@ -430,7 +449,7 @@ class GoalSession(PushLoop):
         self._pose, self._handed_out = pose, False
         self._update()
 
-    def _reading(self, mask, motion):
+    def _reading(self, mask, motion, frames=None):
         """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
         plan = self._plan
         reading = read_pose(self._first, self._pose, mask, motion)  # validates
@@ -454,7 +473,15 @@ class GoalSession(PushLoop):
             return self._record(base, branches[0], outcome), (), branches[0].pose
         ctx = PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration)
         branch, loglik, excess = best_branch(ctx, branches, plan.action, lines)
-        return self._record(base, branch, "evidence"), (loglik, excess), branch.pose
+        points, dropped = (), ()
+        if frames:
+            path = frame_path(ctx, plan.action, frames, branch)
+            points, dropped = path.points, path.dropped
+            if points and not branch.ambiguous:
+                scored = path_of(ctx, plan.action, path)
+                loglik, excess = branch_evidence(ctx, branch, plan.action, lines, scored)
+        record = self._record(base, branch, "evidence", points, dropped)
+        return record, (loglik, excess), branch.pose
 
-    def _record(self, base: dict, reading, outcome: str) -> PushRecord:
-        return push_record(base, self._pose, base["planned"], reading, outcome)
+    def _record(self, base: dict, reading, outcome: str, path=(), dropped=()) -> PushRecord:
+        return push_record(base, self._pose, base["planned"], reading, outcome, path, dropped)

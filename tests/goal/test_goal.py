@@ -179,6 +179,27 @@ def test_session_learns_while_pushing():
     assert any(p.outcome == "evidence" and p.log_evidence is not None for p in after.pushes)
 
 
+def test_session_reads_the_frames_of_its_pushes():
+    """While it learns, the goal session scores each push's path as the active session does."""
+    robot = _robot("Obj13")
+    first = robot.camera_mask()
+    goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
+    plain = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=2), rng=0)
+    framed = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=2), rng=0)
+    action = framed.next_push()
+    assert plain.next_push() == action
+    push = robot.execute(action, frame_rate=10.0)
+    after = robot.camera_mask()
+    plain.observe(after)
+    with pytest.raises(TypeError, match="frames must be a sequence"):
+        framed.observe(after, frames="frames")  # refused, the session still waits
+    framed.observe(after, frames=push.path)
+    record = framed.estimate().pushes[0]
+    assert len(record.path) > 0 and record.dropped_frames
+    assert plain.estimate().pushes[0].path == ()
+    assert framed.estimate().com != plain.estimate().com
+
+
 def test_session_order_errors_leave_it_unchanged():
     first = _plate()
     goal = comcore.Goal(displacement=(0.03, 0.0))
