@@ -73,8 +73,9 @@ SELECTIONS = ("sense", "model")
 #: Friction range searched when ``mu`` is unknown (covers common pusher materials).
 UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: ``Likelihood.path_wander``'s default: chosen among 1, 2 and 4 on seed-1 trials of
-#: ``comcore bench``'s ``active-robot`` with frames at 10 Hz (docs/explanation/calibration.md).
-PATH_WANDER = 2.0
+#: ``comcore bench``'s ``active-robot`` with frames at 10 Hz, on our engine and with noisy
+#: masks (docs/explanation/calibration.md).
+PATH_WANDER = 4.0
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
