@@ -222,23 +222,15 @@ def simulated(rec, outline, real: dict, engine: str, samples: int, mu: float, se
     """Spreads our simulators give for this push: its recorded actions replayed, and the
     median action under the benchmark's realism conditions (pusher error, tracking noise,
     contact friction per trial from the ``low`` class)."""
+    from real_push_runs import simulator_of  # this script's folder is on sys.path
+
     import simulators
     from comcore.bench._realism import MOTION_NOISE, PUSHER_ERROR_M
 
     rng = np.random.default_rng([seed, 30])
-    settings = simulators.EngineSettings(engine="pymunk" if engine == "pymunk" else "quasistatic")
 
     def build(mu_contact):
-        sim = simulators.PushSimulator.from_polygon(
-            outline,
-            mu_contact=mu_contact,
-            resolution=rec.mask.resolution,
-            pusher_radius=rec.pusher_radius,
-            settings=settings,
-        )
-        if not np.array_equal(sim.mask.data, rec.mask.data):
-            raise RuntimeError("the simulator's mask differs from the recording's")
-        return sim
+        return simulator_of(outline, rec.mask, rec.pusher_radius, engine, mu_contact, "rect1")
 
     n = len(rec.pushes)
     pick = np.unique(np.linspace(0, n - 1, min(samples, n)).round().astype(int))

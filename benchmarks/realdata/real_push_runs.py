@@ -102,21 +102,27 @@ def load_object(
     return obj
 
 
-def simulate(obj: ObjectPushes, outline, world: str, mu_contact: float) -> None:
-    """The same pushes through a simulator (uniform pressure): ``obj.motions[world]``."""
+def simulator_of(outline, mask, pusher_radius, engine: str, mu_contact: float, name="plate"):
+    """A simulator of ``outline`` (uniform pressure) whose mask is ``mask``'s, pixel for pixel.
+
+    ``engine``: ``"pymunk"``, or any other name for the quasi-static engine (``"exact"``).
+    """
     import simulators
 
-    start = time.perf_counter()
-    settings = simulators.EngineSettings(engine="pymunk" if world == "pymunk" else "quasistatic")
+    settings = simulators.EngineSettings(engine="pymunk" if engine == "pymunk" else "quasistatic")
     sim = simulators.PushSimulator.from_polygon(
-        outline,
-        mu_contact=mu_contact,
-        resolution=obj.mask.resolution,
-        pusher_radius=mp.PUSHER_RADIUS,
+        outline, mu_contact=mu_contact, resolution=mask.resolution, pusher_radius=pusher_radius,
         settings=settings,
-    )
-    if not np.array_equal(sim.mask.data, obj.mask.data):
-        raise RuntimeError(f"{obj.name}: the simulator's mask differs from the recording's")
+    )  # fmt: skip
+    if not np.array_equal(sim.mask.data, mask.data):
+        raise RuntimeError(f"{name}: the simulator's mask differs from the recording's")
+    return sim
+
+
+def simulate(obj: ObjectPushes, outline, world: str, mu_contact: float) -> None:
+    """The same pushes through a simulator (uniform pressure): ``obj.motions[world]``."""
+    start = time.perf_counter()
+    sim = simulator_of(outline, obj.mask, mp.PUSHER_RADIUS, world, mu_contact, obj.name)
     obj.motions[world] = sim.push_motions(obj.actions)
     obj.sim_seconds[world] = time.perf_counter() - start
 

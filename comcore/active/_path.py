@@ -39,7 +39,12 @@ from .._checks import check_point
 from .._mask import Mask
 from .._types import Motion, PathPoint, PushFrame
 from .._validation import check_motions, check_turns
-from ..camera._pose_tracking import object_from_camera, read_pose, relative
+from ..camera._pose_tracking import (
+    object_from_camera,
+    read_pose,
+    relative,
+    symmetric_branches,
+)
 from ..conventions import ccw_cross, object_motion_from_camera
 from ._likelihood import gyration_px, tracking_noise
 
@@ -49,9 +54,11 @@ __all__ = [
     "MAX_FRAMES",
     "MAX_PATH_FRAMES",
     "OFF_PATH_M",
+    "PATH_SPAN_PX",
     "PathReading",
     "PushPath",
     "check_frames",
+    "path_from_frames",
     "path_tracking",
     "read_path",
 ]
@@ -77,6 +84,7 @@ class PathReading(NamedTuple):
     points: tuple  # PathPoint, kept, in travel order
     dropped: tuple  # (index, reason)
     tracking: tuple  # (rad, px) mean tracking std of the kept frames
+    contact_travel: float  # the pusher's travel (px) to first contact along the push
 
 
 class PushPath(NamedTuple):
@@ -135,6 +143,40 @@ def _motion_like(view) -> bool:
     except (TypeError, ValueError):
         return False
     return arr.shape == (3,)
+
+
+#: The frames' pusher positions tell the path the pusher took when they span this much of
+#: the push (pixels along it) and are at least three.
+PATH_SPAN_PX = 4.0
+
+
+def path_from_frames(camera_action, frames, near_px: float):
+    """The pusher's path as its frames show it (camera pixels), or None if they cannot tell.
+
+    ``camera_action``: the push as planned, in camera pixels; ``frames``: checked
+    (:func:`check_frames`).
+
+    The line fitted (least squares) through the frames' pusher positions, from the
+    planned start's foot on it to the planned end's: where the robot reports where its
+    pusher went, the push is scored as it went (as ``observe(executed=...)``); where it
+    reports the commanded positions, this is the planned path. None when the line's
+    ends lie more than ``near_px`` from the planned ones (the frames are then checked,
+    and refused, against the planned path: :func:`read_path`).
+    """
+    points = np.array([f.pusher for f in frames], dtype=float)
+    act = np.asarray(camera_action, dtype=float)
+    direction = (act[2:] - act[:2]) / np.hypot(*(act[2:] - act[:2]))
+    along = (points - act[:2]) @ direction
+    if len(points) < 3 or np.ptp(along) < PATH_SPAN_PX:
+        return None
+    centre = points.mean(axis=0)
+    axis = np.linalg.svd(points - centre)[2][0]
+    axis = axis if axis @ direction > 0 else -axis
+    start = centre + ((act[:2] - centre) @ axis) * axis
+    end = centre + ((act[2:] - centre) @ axis) * axis
+    if max(np.hypot(*(start - act[:2])), np.hypot(*(end - act[2:]))) > near_px:
+        return None
+    return np.concatenate([start, end])
 
 
 def read_path(
@@ -197,6 +239,7 @@ def read_path(
         dropped.extend((c[0], "thinned") for j, c in enumerate(candidates) if j not in chosen)
         candidates = [c for j, c in enumerate(candidates) if j in chosen]
     kept: list = []  # (index, travel, motion, tracking, residual)
+    gyration = gyration_px(first)
     for i, travel in candidates:
         view = frames[i].view
         try:
@@ -209,16 +252,18 @@ def read_path(
                 raise ValueError(f"frames[{i}].view: {e}") from e
             dropped.append((i, f"registration: {e}"))
             continue
-        frame_pose = _nearest_turn(reading.pose, pose, end_pose, reading.symmetry)
+        frame_pose = _nearest_turn(reading, pose, end_pose)
         motion = object_motion_from_camera(relative(pose, frame_pose), pose.theta)
         residual = reading.residual_px if math.isfinite(reading.residual_px) else None
-        noise = _frame_noise(tracking, residual, first)
+        noise = tracking_noise(tracking, residual, gyration)
         kept.append((i, travel, Motion(*motion), noise, residual))
     jump_px = JUMP_M / first.resolution
     kept = _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px)
     dropped.sort()
     points = tuple(PathPoint(t, m, r) for _, t, m, _, r in kept)
-    return PathReading(points, tuple(dropped), path_tracking(points, tracking, first))
+    return PathReading(
+        points, tuple(dropped), path_tracking(points, tracking, first), float(contact_travel)
+    )
 
 
 def path_tracking(points, tracking, first: Mask) -> tuple[float, float]:
@@ -231,22 +276,15 @@ def path_tracking(points, tracking, first: Mask) -> tuple[float, float]:
     return float(rms[0]), float(rms[1])
 
 
-def _frame_noise(tracking, residual_px: float, first: Mask) -> tuple[float, float]:
-    return tracking_noise(tracking, residual_px, gyration_px(first))
+def _nearest_turn(reading, before: Motion, after: Motion) -> Motion:
+    """The pose, of those a symmetric outline allows, whose turn lies nearest the push's own.
 
-
-def _nearest_turn(reading: Motion, before: Motion, after: Motion, symmetry: int) -> Motion:
-    """Of the turns a symmetric outline allows, the one nearest the push's own turn."""
-    n = int(symmetry)
-    if n <= 1:
-        return reading
-    step = 2 * math.pi / n
+    The poses are :func:`comcore.camera._pose_tracking.symmetric_branches`'; the push's
+    turn runs from ``before``'s to ``after``'s.
+    """
     lo, hi = sorted((before.theta, after.theta))
-    best = min(
-        (reading.theta + k * step for k in range(-n, n + 1)),
-        key=lambda th: max(lo - th, th - hi, 0.0),
-    )
-    return reading._replace(theta=best)
+    branches = symmetric_branches(reading, before)
+    return min(branches, key=lambda r: max(lo - r.pose.theta, r.pose.theta - hi, 0.0)).pose
 
 
 def _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px) -> list:

@@ -247,13 +247,14 @@ def estimate_posterior(
         RECORDED_FLOOR,
     )  # fmt: skip
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
-    if frames is not None:
-        given = _with_frames(mask, given, frames, theta_units, pushes, scoring)
     records = [record for _, record in given]
     acts = check_actions([r.action for r in records], "actions", allow_empty=False)
     pixels, prior_weights = prior_grid(mask, prior)
     con = pusher_contacts(mask, acts, scoring.pusher_radius)
     usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
+    if frames is not None:
+        given = _with_frames(mask, given, frames, theta_units, pushes, scoring, con.travel)
+        records = [record for _, record in given]
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
     log = PushLog(post, credible, scoring.systematic_px)
@@ -365,8 +366,11 @@ def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) ->
     tally.add(distances, sense, flip, scoring.line_scale_px)
 
 
-def _with_frames(mask, given, frames, theta_units, pushes, scoring) -> list:
-    """``given`` with each push's frames read into its record's path (:func:`read_path`)."""
+def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_travel) -> list:
+    """``given`` with each push's frames read into its record's path (:func:`read_path`).
+
+    ``contact_travel`` (n,): each push's travel (pixels) to first contact.
+    """
     if pushes is not None:
         raise TypeError("frames go with actions and motions; records (pushes) carry their paths")
     if isinstance(frames, (str, bytes, Mask)) or not hasattr(frames, "__len__"):
@@ -375,10 +379,8 @@ def _with_frames(mask, given, frames, theta_units, pushes, scoring) -> list:
         )
     if len(frames) != len(given):
         raise ValueError(f"frames must hold one entry per push ({len(given)}), got {len(frames)}")
-    acts = np.array([r.action for _, r in given], float)
-    con = pusher_contacts(mask, acts, scoring.pusher_radius)
     out = []
-    for (i, record), push_frames, travel in zip(given, frames, con.travel):
+    for (i, record), push_frames, travel in zip(given, frames, contact_travel):
         if push_frames is None or len(push_frames) == 0 or record.outcome != "evidence":
             out.append((i, record))
             continue

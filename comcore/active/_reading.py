@@ -29,7 +29,7 @@ from ..conventions import object_motion_from_camera
 from ..geometry._disc_contacts import pusher_contacts
 from ._grid import GridPosterior
 from ._likelihood import Scoring, push_evidence, tracking_noise
-from ._path import OFF_PATH_M, PushPath, check_frames, read_path
+from ._path import OFF_PATH_M, PushPath, check_frames, path_from_frames, read_path
 
 __all__ = ["PushContext", "best_branch", "object_motion", "push_record", "read_push"]
 
@@ -148,43 +148,12 @@ def read_push(
             branch = best_branch(ctx, branches, action, lines)[0]
         path = frame_path(ctx, action, frames, branch)
         points, dropped = path.points, path.dropped
-        scored_path = path_of(ctx, action, path) if points and not branch.ambiguous else None
+        scored_path = path_of(action, path) if points and not branch.ambiguous else None
         loglik, excess = branch_evidence(ctx, branch, action, lines, scored_path)
     else:
         branch, loglik, excess = best_branch(ctx, branches, action, lines)
     record = push_record(base, ctx.pose, scored, branch, "evidence", points, dropped)
     return record, (loglik, excess), branch.pose
-
-
-#: The frames' pusher positions tell the path the pusher took when they span this much of
-#: the push (pixels along it) and are at least three.
-PATH_SPAN_PX = 4.0
-
-
-def path_from_frames(camera_action, frames, near_px: float):
-    """The pusher's path as its frames show it (camera pixels), or None if they cannot tell.
-
-    The line fitted (least squares) through the frames' pusher positions, from the
-    planned start's foot on it to the planned end's: where the robot reports where its
-    pusher went, the push is scored as it went (as ``observe(executed=...)``); where it
-    reports the commanded positions, this is the planned path. None when the line's
-    ends lie more than ``near_px`` from the planned ones (the frames are then checked,
-    and refused, against the planned path: :func:`comcore.active._path.read_path`).
-    """
-    points = np.array([f.pusher for f in frames], dtype=float)
-    act = np.asarray(camera_action, dtype=float)
-    direction = (act[2:] - act[:2]) / np.hypot(*(act[2:] - act[:2]))
-    along = (points - act[:2]) @ direction
-    if len(points) < 3 or np.ptp(along) < PATH_SPAN_PX:
-        return None
-    centre = points.mean(axis=0)
-    axis = np.linalg.svd(points - centre)[2][0]
-    axis = axis if axis @ direction > 0 else -axis
-    start = centre + ((act[:2] - centre) @ axis) * axis
-    end = centre + ((act[2:] - centre) @ axis) * axis
-    if max(np.hypot(*(start - act[:2])), np.hypot(*(end - act[2:]))) > near_px:
-        return None
-    return np.concatenate([start, end])
 
 
 def frame_path(ctx: PushContext, action, frames, branch: PoseReading):
@@ -196,12 +165,9 @@ def frame_path(ctx: PushContext, action, frames, branch: PoseReading):
     )  # fmt: skip
 
 
-def path_of(ctx: PushContext, action, path) -> PushPath:
-    """The :class:`PushPath` the likelihood scores of a read path."""
-    act = np.asarray(action, float)
-    scoring = ctx.scoring
-    contact = pusher_contacts(ctx.first, act[None], scoring.pusher_radius)
-    return PushPath.of(act, path.points, float(contact.travel[0]), path.tracking)
+def path_of(action, path) -> PushPath:
+    """The :class:`PushPath` the likelihood scores of a read path (:class:`PathReading`)."""
+    return PushPath.of(action, path.points, path.contact_travel, path.tracking)
 
 
 def branch_evidence(ctx: PushContext, branch: PoseReading, action, lines, path=None):

@@ -478,7 +478,7 @@ class GoalSession(PushLoop):
             path = frame_path(ctx, plan.action, frames, branch)
             points, dropped = path.points, path.dropped
             if points and not branch.ambiguous:
-                scored = path_of(ctx, plan.action, path)
+                scored = path_of(plan.action, path)
                 loglik, excess = branch_evidence(ctx, branch, plan.action, lines, scored)
         record = self._record(base, branch, "evidence", points, dropped)
         return record, (loglik, excess), branch.pose

@@ -189,3 +189,22 @@ def test_told_the_frictions_the_first_push_is_one_batch_with_the_same_motions(mo
     # The solves run in single precision, in batches of another size: rounding only.
     np.testing.assert_allclose(hinted, plain, rtol=0, atol=1e-6)
     assert np.abs(hinted).max() > 0.01  # the push moves the plate
+
+
+@pytest.mark.parametrize("spacing", [0.01, 0.0])
+def test_path_hypotheses_start_at_rest_and_end_at_the_push(spacing):
+    """predict_path_hypotheses: fraction 0 is no motion, 1 the push's own; in [0, 1] only."""
+    mask = comcore.Mask(np.pad(np.ones((20, 30), bool), 10))
+    model = comcore.LimitSurfaceModel(pusher_radius=0.004, node_spacing=spacing)
+    action = (0.0, 19.0, 30.0, 19.0)
+    coms = [(24.5, 15.0), (20.0, 24.0)]
+    path = model.predict_path_hypotheses(mask, action, coms, 0.5, [0.0, 0.5, 1.0])
+    end = model.predict_hypotheses(mask, [action], coms, 0.5)[:, 0]
+    assert path.shape == (2, 3, 3)
+    assert np.abs(path[:, 0]).max() == 0.0
+    np.testing.assert_allclose(path[:, 2], end, atol=1e-12)
+    assert 0 < abs(path[0, 1, 0]) < abs(path[0, 2, 0])  # it turns on the way
+    with pytest.raises(ValueError, match="fractions must lie in"):
+        model.predict_path_hypotheses(mask, action, coms, 0.5, [0.5, 1.5])
+    with pytest.raises(ValueError, match="fractions must lie in"):
+        model.predict_path_hypotheses(mask, action, coms, 0.5, [np.nan])
