@@ -244,7 +244,8 @@ def read_path(
         view = frames[i].view
         try:
             if isinstance(view, Mask):
-                reading = read_pose(first, pose, view, None)
+                guess = _between(pose, end_pose, travel, contact_travel, length)
+                reading = read_pose(first, pose, view, None, guess=guess)
             else:
                 reading = read_pose(first, pose, None, view)
         except ValueError as e:
@@ -264,6 +265,17 @@ def read_path(
     return PathReading(
         points, tuple(dropped), path_tracking(points, tracking, first), float(contact_travel)
     )
+
+
+def _between(before: Motion, after: Motion, travel, contact_travel, length) -> Motion:
+    """The pose a frame at ``travel`` is registered from: ``before`` to ``after`` in proportion.
+
+    The pusher's travel since contact over the push's (the object moves only after
+    contact); each of theta, tx and ty in proportion, the guess the fit starts from.
+    """
+    span = length - contact_travel
+    f = min(max((travel - contact_travel) / span, 0.0), 1.0) if span > 0 else 1.0
+    return Motion(*((1 - f) * np.asarray(before, float) + f * np.asarray(after, float)))
 
 
 def path_tracking(points, tracking, first: Mask) -> tuple[float, float]:

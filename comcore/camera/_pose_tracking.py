@@ -24,7 +24,7 @@ from .._validation import check_actions, check_mask, check_motions, check_turns
 from ..conventions import apply_motion, rotation_matrix
 from ..geometry._disc_contacts import pusher_contacts
 from ..vt._force_lines import push_force_lines
-from ._registration import _measure
+from ._registration import _measure, _measure_near
 
 __all__ = [
     "MAX_AREA_CHANGE",
@@ -66,6 +66,12 @@ MAX_AREA_CHANGE = 0.25
 #: scored in a frame that far off. The registration's residual already widens the
 #: reading's error by about that much (:func:`comcore.active._likelihood.tracking_noise`).
 SESSION_MAX_THETA_STD = math.radians(2.0)
+#: A frame registered from a predicted pose (:func:`measure_pose`'s ``guess``) is read from
+#: that one fit when its outline residual (RMS pixels) is at most this: a binary mask's
+#: fit of the right rotation leaves a few tenths of a pixel (about one with noisy masks),
+#: a fit caught in another rotation's valley a pixel or more. Above it the frame is
+#: registered as any mask is, from the coarse scan over every rotation.
+WARM_MAX_RESIDUAL_PX = 1.0
 
 
 class PoseReading(NamedTuple):
@@ -139,7 +145,9 @@ def is_miss(motion, resolution: float) -> bool:
     return abs(theta) < MISS_ROTATION and math.hypot(tx, ty) * resolution < MISS_TRANSLATION_M
 
 
-def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
+def measure_pose(
+    first: Mask, mask: Mask, previous: Motion, guess: Motion | None = None
+) -> PoseReading:
     """The pose of the object in ``mask`` relative to ``first`` (comcore.measure_motion).
 
     When the rotation is ambiguous (a disc, or read worse than
@@ -147,13 +155,25 @@ def measure_pose(first: Mask, mask: Mask, previous: Motion) -> PoseReading:
     camera cannot see it turn. For a shape with a rotational
     symmetry the rotation consistent with the masks nearest the previous
     pose's is taken (pushes turn the object far less than a symmetry angle).
+
+    ``guess``: a predicted pose (a frame during a push, between the poses
+    before and after it). The mask is then fitted from it alone
+    (``comcore.camera._registration._measure_near``), and registered from
+    every rotation only if that fit leaves more than
+    :data:`WARM_MAX_RESIDUAL_PX`; ``symmetry`` is then 1, the pose the branch
+    nearest the guess.
     """
     try:
-        # near the previous pose: for a symmetric shape that has turned past pi / n the
-        # smallest consistent rotation is wrong by 2 pi / n
-        m, _ = _measure(
-            first, mask, near_theta=float(previous.theta), max_theta_std=SESSION_MAX_THETA_STD
-        )
+        m = None
+        if guess is not None:
+            near = _measure_near(first, mask, guess, SESSION_MAX_THETA_STD, WARM_MAX_RESIDUAL_PX)
+            m = None if near is None else near[0]
+        if m is None:
+            # near the previous pose: for a symmetric shape that has turned past pi / n the
+            # smallest consistent rotation is wrong by 2 pi / n
+            m, _ = _measure(
+                first, mask, near_theta=float(previous.theta), max_theta_std=SESSION_MAX_THETA_STD
+            )
     except ValueError as e:  # e.g. the object touches the border: part of it out of view
         raise ValueError(f"mask cannot be registered against the first mask: {e}") from e
     theta = previous.theta if m.ambiguous else float(m.motion.theta)
@@ -184,7 +204,7 @@ def symmetric_branches(reading: PoseReading, previous: Motion) -> list[PoseReadi
     return out or [reading]
 
 
-def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
+def read_pose(first: Mask, pose: Motion, mask, motion, guess: Motion | None = None) -> PoseReading:
     """The pose after a push, from the camera's mask or the caller's motion (validated).
 
     ``motion`` (camera frame, about the current centroid) is composed with
@@ -193,7 +213,8 @@ def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
     A mask that is not the first mask's object moved is refused: its area
     changed by more than :data:`MAX_AREA_CHANGE` (a single pixel, the arm in
     view), or its outline lies more than :data:`MAX_RESIDUAL_PX` from the
-    first mask's after the best rigid motion (another object).
+    first mask's after the best rigid motion (another object). ``guess``: a
+    predicted pose to fit the mask from (:func:`measure_pose`).
     """
     if motion is not None:
         m = check_turns(check_motions(motion, n=1, name="motion"), "motion")[0]
@@ -219,7 +240,7 @@ def read_pose(first: Mask, pose: Motion, mask, motion) -> PoseReading:
             f"the first mask's {first.area_px} px ({100 * change:+.0f} %, more than "
             f"{100 * MAX_AREA_CHANGE:.0f} %)" + _NOT_THE_OBJECT
         )
-    reading = measure_pose(first, mask, pose)
+    reading = measure_pose(first, mask, pose, guess)
     if reading.residual_px > MAX_RESIDUAL_PX:
         raise ValueError(
             "mask is not the first mask's object moved: after the rigid motion that matches "

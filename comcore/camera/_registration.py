@@ -255,17 +255,8 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
     return _measure(before, after, near_theta)[0]
 
 
-def _measure(
-    before: Mask, after: Mask, near_theta=0.0, max_theta_std: float = MAX_THETA_STD
-) -> tuple[MotionMeasurement, dict]:
-    """:func:`measure_motion` and its diagnostics (visibility, theta information, fits).
-
-    ``max_theta_std`` (radians): above this predicted std the rotation is called
-    ambiguous (:data:`MAX_THETA_STD` for :func:`measure_motion`; a session
-    tracking an object reads further, ``comcore._session_pose``).
-    """
-    _check_pair(before, after)
-    near = check_finite(near_theta, "near_theta")
+def _window(before: Mask, after: Mask):
+    """The two masks' fields on the window around both objects, and before's centroid there."""
     h, w = before.shape
     rows = np.flatnonzero(before.data.any(axis=1) | after.data.any(axis=1))
     cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
@@ -275,24 +266,11 @@ def _measure(
     crop_before, crop_after = before.data[r0:r1, c0:c1], after.data[r0:r1, c0:c1]
     fields_before = _Fields(crop_before, full=False)
     fields_after = _Fields(crop_after)
-    centre = _centroid(crop_before)  # before's area centroid, in the window
-    t0 = _centroid(crop_after) - centre
+    return fields_before, fields_after, _centroid(crop_before)
 
-    problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
-    radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
-    fits: list[tuple[np.ndarray, float]] = []
-    for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):
-        x = quick.fit(np.array([theta0, *t0]), radius)
-        x[0] = float(_wrap(x[0]))
-        if any(abs(_wrap(x[0] - y[0])) < SAME_ROTATION for y, _ in fits):
-            continue
-        fits.append((x, problem.outline_rms(x)))
-    best_rms = min(r for _, r in fits)
-    consistent = [x for x, r in fits if r <= best_rms + _consistency_tolerance(best_rms)]
-    angles = np.array([x[0] for x in consistent])
-    order = _symmetry_order(angles)
-    chosen = problem.fit(consistent[int(np.argmin(np.abs(_wrap(angles - near))))], radius)
+
+def _measured(problem: _Problem, chosen, near: float, order: int, max_theta_std: float, fits):
+    """The measurement of the fit ``chosen`` and its diagnostics (the observability tests)."""
     visible = problem.visibility(chosen)
     information = problem.theta_information(chosen)
     residual = problem.outline_rms(chosen)
@@ -310,3 +288,63 @@ def _measure(
     }
     measurement = MotionMeasurement(motion, residual, bool(ambiguous), int(symmetry))
     return measurement, diagnostics
+
+
+def _measure(
+    before: Mask, after: Mask, near_theta=0.0, max_theta_std: float = MAX_THETA_STD
+) -> tuple[MotionMeasurement, dict]:
+    """:func:`measure_motion` and its diagnostics (visibility, theta information, fits).
+
+    ``max_theta_std`` (radians): above this predicted std the rotation is called
+    ambiguous (:data:`MAX_THETA_STD` for :func:`measure_motion`; a session
+    tracking an object reads further, ``comcore._session_pose``).
+    """
+    _check_pair(before, after)
+    near = check_finite(near_theta, "near_theta")
+    fields_before, fields_after, centre = _window(before, after)
+    t0 = _centroid(fields_after.data) - centre
+
+    problem = _Problem(fields_before, fields_after, centre)
+    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
+    fits: list[tuple[np.ndarray, float]] = []
+    for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):
+        x = quick.fit(np.array([theta0, *t0]), radius)
+        x[0] = float(_wrap(x[0]))
+        if any(abs(_wrap(x[0] - y[0])) < SAME_ROTATION for y, _ in fits):
+            continue
+        fits.append((x, problem.outline_rms(x)))
+    best_rms = min(r for _, r in fits)
+    consistent = [x for x, r in fits if r <= best_rms + _consistency_tolerance(best_rms)]
+    angles = np.array([x[0] for x in consistent])
+    order = _symmetry_order(angles)
+    chosen = problem.fit(consistent[int(np.argmin(np.abs(_wrap(angles - near))))], radius)
+    return _measured(problem, chosen, near, order, max_theta_std, fits)
+
+
+def _measure_near(
+    before: Mask, after: Mask, guess: Motion, max_theta_std: float, max_residual_px: float
+) -> tuple[MotionMeasurement, dict] | None:
+    """The motion fitted from ``guess`` alone, or None where that fit is not to be trusted.
+
+    For a frame taken during a push, whose pose lies near one the caller can
+    predict (between the poses before and after the push): no coarse scan over
+    theta and no other candidates, the fine fit started from ``guess`` (a quick
+    fit first, as :func:`_measure` does for each candidate). The fit is trusted
+    when its outline residual is at most ``max_residual_px``; the caller then
+    registers the mask with :func:`_measure`. ``symmetry`` is 1 (the fit is the
+    branch nearest the guess); ``ambiguous`` as :func:`_measure` says it, but for
+    a symmetry it cannot see here. Masks checked by the caller.
+    """
+    fields_before, fields_after, centre = _window(before, after)
+    # the guess is a pose of the full image's frame; the window's centre is before's
+    # centroid there too, so the motion's parameters are the same in both
+    problem = _Problem(fields_before, fields_after, centre)
+    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
+    x = quick.fit(np.array([guess.theta, guess.tx, guess.ty], dtype=float), radius)
+    chosen = problem.fit(x, radius)
+    measured = _measured(problem, chosen, float(guess.theta), 1, max_theta_std, [])
+    if not measured[0].residual_px <= max_residual_px:
+        return None
+    return measured

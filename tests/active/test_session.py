@@ -270,7 +270,7 @@ class StandIn:
         self.poses[id(m)] = self.world.pose
         return m
 
-    def __call__(self, first, mask, previous):
+    def __call__(self, first, mask, previous, guess=None):
         from comcore.camera._pose_tracking import PoseReading
 
         self.calls.append((first, mask))

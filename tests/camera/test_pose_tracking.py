@@ -72,3 +72,41 @@ def test_a_hexagon_too_small_to_show_its_turn_stays_ambiguous():
     first, turned = _hexagon(6, 0.0), _hexagon(6, 0.61, (3.0, 2.0))
     reading = measure_pose(first, turned, comcore.Motion(0.2, 0.0, 0.0))
     assert reading.ambiguous and reading.pose.theta == 0.2  # the previous rotation is kept
+
+
+def _triangle(theta: float, shift=(0.0, 0.0), size: int = 90) -> comcore.Mask:
+    """A scalene triangle (no symmetry) turned by ``theta`` on screen and moved, in pixels."""
+    import numpy as np
+
+    corners = np.array([[-22.0, -14.0], [25.0, -9.0], [-6.0, 20.0]])
+    c, s = math.cos(theta), math.sin(theta)
+    # y is down: counter-clockwise on screen is (x, y) -> (x c + y s, -x s + y c)
+    turned = corners @ np.array([[c, -s], [s, c]]) + np.array(shift) + size / 2
+    yy, xx = np.mgrid[0:size, 0:size].astype(float)
+    inside = np.ones((size, size), dtype=bool)
+    for k in range(3):
+        a, b = turned[k], turned[(k + 1) % 3]
+        other = turned[(k + 2) % 3]
+        side = lambda px, py: (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0])  # noqa: E731
+        inside &= np.sign(side(xx, yy)) == np.sign(side(*other))
+    return comcore.Mask(inside, resolution=0.001)
+
+
+def test_a_frame_fitted_from_a_nearby_guess_reads_the_pose_registration_reads():
+    first, moved = _triangle(0.0), _triangle(0.4, (4.0, -3.0))
+    full = measure_pose(first, moved, comcore.Motion.identity())
+    assert abs(full.pose.theta - 0.4) < math.radians(1.0)  # the shapes are what they say
+    warm = measure_pose(first, moved, comcore.Motion.identity(), comcore.Motion(0.3, 2.0, -1.0))
+    assert warm.pose == pytest.approx(full.pose, abs=1e-6)
+    assert warm.residual_px == pytest.approx(full.residual_px, abs=1e-6)
+
+
+def test_a_guess_in_another_rotations_valley_falls_back_to_full_registration():
+    from comcore.camera._pose_tracking import WARM_MAX_RESIDUAL_PX
+    from comcore.camera._registration import _measure_near
+
+    first, moved = _triangle(0.0), _triangle(0.4, (4.0, -3.0))
+    far = comcore.Motion(0.4 + 2.4, 0.0, 0.0)  # most of a half-turn off: the fit stays wrong
+    assert _measure_near(first, moved, far, math.radians(2.0), WARM_MAX_RESIDUAL_PX) is None
+    reading = measure_pose(first, moved, comcore.Motion.identity(), far)
+    assert abs(reading.pose.theta - 0.4) < math.radians(1.0)
