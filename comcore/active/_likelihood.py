@@ -202,6 +202,7 @@ def push_evidence(
     rotation_observed: bool = True,
     tracking=None,
     path=None,
+    memo: dict | None = None,
 ) -> tuple[Evidence, np.ndarray]:
     """Log-likelihood over the grid of one push's object-frame motion, as :class:`Evidence`.
 
@@ -237,6 +238,12 @@ def push_evidence(
         The object's poses during the push (:mod:`comcore.active._path`): their
         density given the end pose joins the model's term. Ignored without a
         model or with the rotation unobserved.
+    memo : dict, optional
+        Keeps the model's predictions for another reading of the same push
+        (a symmetric outline's other rotations) against the same posterior:
+        pass one empty dict to every call for that push. The predictions
+        depend on the push and the posterior's live hypotheses, not on the
+        motion read.
     """
     observed = np.asarray(motion, dtype=float)
     tracking = scoring.tracking if tracking is None else tuple(tracking)
@@ -252,7 +259,7 @@ def push_evidence(
         model_path = None if scoring.path_wander is None else path
         terms = _model_terms(
             post, scoring, mask, action, distances, observed, rotation_observed, tracking,
-            flip_prob, model_path,
+            flip_prob, model_path, memo,
         )  # fmt: skip
         excess = excess + terms[2]
 
@@ -285,18 +292,24 @@ def sense_flip_prob(flip_prob: float, theta: float, track_theta: float, observed
 
 def _model_terms(
     post, scoring, mask, action, distances, observed, rotation_observed, tracking, flip_prob,
-    path=None,
+    path=None, memo=None,
 ):  # fmt: skip
     """The model's log-likelihood of the motion, of its flipped sense, and the excess surprise.
 
     Each (p, m, k); hypotheses more than :data:`PRUNE_LOG` nats below the best
-    are not asked about (their terms are ``-inf``, their excess ``inf``).
+    are not asked about (their terms are ``-inf``, their excess ``inf``). ``memo``:
+    :func:`push_evidence`'s.
     """
     alive = post.log_w > post.log_w.max() - PRUNE_LOG  # (p, m, models x scales)
     n_s = scoring.n_scales
     per_model = alive.reshape(*alive.shape[:2], -1, n_s).any(axis=-1)
     offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
-    predicted, spread = offset_marginal(scoring, mask, action, post.pixels, offset, per_model)
+    memo = {} if memo is None else memo
+    kept = memo.get("offset_marginal")
+    if kept is None or not np.array_equal(kept[0], per_model):  # another posterior's
+        kept = (per_model, offset_marginal(scoring, mask, action, post.pixels, offset, per_model))
+        memo["offset_marginal"] = kept
+    predicted, spread = kept[1]
     # The pusher's offset spreads the prediction: its std adds to the tracking's.
     track = (np.hypot(tracking[0], spread[0]), np.hypot(tracking[1], spread[1]))
     kw = {"rotation": rotation_observed, "tracking": track}

@@ -73,17 +73,19 @@ def push_record(
     )
 
 
-def best_branch(ctx: PushContext, branches, action, lines):
+def best_branch(ctx: PushContext, branches, action, lines, memo: dict | None = None):
     """Of the rotations the masks allow, the one the posterior explains best.
 
     A symmetric outline (a hexagon) turned by more than half its symmetry
     angle looks like a smaller turn the other way: the reading kept is the
     one of highest marginal likelihood, not merely the nearest. Returns
-    ``(branch, loglik, excess)``.
+    ``(branch, loglik, excess)``. ``memo``: the model's predictions for the push,
+    shared by its readings (:func:`comcore.active._likelihood.push_evidence`).
     """
+    memo = {} if memo is None else memo
     best = None
     for branch in branches:
-        loglik, excess = branch_evidence(ctx, branch, action, lines)
+        loglik, excess = branch_evidence(ctx, branch, action, lines, memo=memo)
         evidence = ctx.posterior.predictive(loglik.full)
         if best is None or evidence > best[0]:
             best = (evidence, branch, loglik, excess)
@@ -142,16 +144,17 @@ def read_push(
                 "pusher took, in camera pixels"
             )
     points, dropped = (), ()
+    memo: dict = {}  # the model's predictions for this push, for each reading of it
     if frames:  # the branch is chosen by its end pose; then its path is scored with it
         branch = branches[0]
         if len(branches) > 1:
-            branch = best_branch(ctx, branches, action, lines)[0]
+            branch = best_branch(ctx, branches, action, lines, memo)[0]
         path = frame_path(ctx, action, frames, branch)
         points, dropped = path.points, path.dropped
         scored_path = path_of(action, path) if points and not branch.ambiguous else None
-        loglik, excess = branch_evidence(ctx, branch, action, lines, scored_path)
+        loglik, excess = branch_evidence(ctx, branch, action, lines, scored_path, memo=memo)
     else:
-        branch, loglik, excess = best_branch(ctx, branches, action, lines)
+        branch, loglik, excess = best_branch(ctx, branches, action, lines, memo)
     record = push_record(base, ctx.pose, scored, branch, "evidence", points, dropped)
     return record, (loglik, excess), branch.pose
 
@@ -170,11 +173,16 @@ def path_of(action, path) -> PushPath:
     return PushPath.of(action, path.points, path.contact_travel, path.tracking)
 
 
-def branch_evidence(ctx: PushContext, branch: PoseReading, action, lines, path=None):
-    """``(loglik, excess)`` of one reading of the push, with its path where given."""
+def branch_evidence(
+    ctx: PushContext, branch: PoseReading, action, lines, path=None, *, memo=None
+):  # fmt: skip
+    """``(loglik, excess)`` of one reading of the push, with its path where given.
+
+    ``memo``: :func:`comcore.active._likelihood.push_evidence`'s.
+    """
     return push_evidence(
         ctx.posterior, ctx.scoring, ctx.first, action, lines, object_motion(ctx.pose, branch),
         rotation_observed=not branch.ambiguous,
         tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
-        path=path,
+        path=path, memo=memo,
     )  # fmt: skip

@@ -305,3 +305,31 @@ def test_check_models():
         check_models([model, 3])
     with pytest.raises(ValueError, match="model must not be an empty sequence"):
         check_models([])
+
+
+def test_a_memo_shared_by_a_push_s_readings_changes_no_evidence():
+    """The model's predictions are kept for the push's other readings, not its motion."""
+    scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [ToyModel()])
+    memo: dict = {}
+    for motion in [_true_motion((12.0, 10.0)), (-0.1, 4.0, 1.0), (0.3, 6.0, -2.0)]:
+        fresh, fresh_excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion)
+        kept, kept_excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion, memo=memo)
+        np.testing.assert_array_equal(kept.full, fresh.full)
+        np.testing.assert_array_equal(kept_excess, fresh_excess)
+    assert "offset_marginal" in memo
+    # another posterior (fewer live hypotheses) is not answered from the memo
+    import copy
+
+    from comcore.active._likelihood import PRUNE_LOG
+
+    narrowed = copy.deepcopy(post)
+    cut = np.where(post.pixels[:, 0] < 15, 0.0, -2 * PRUNE_LOG)[:, None, None]  # left half
+    cut = np.broadcast_to(cut, fresh.full.shape)
+    narrowed.update(np.broadcast_to(cut, fresh.tempered.shape), cut)
+    assert (narrowed.log_w > narrowed.log_w.max() - PRUNE_LOG).sum() < post.log_w.size
+    # its memo holds predictions for its live hypotheses only: the wider posterior's
+    # others are asked for, not read as missing
+    narrow_memo: dict = {}
+    push_evidence(narrowed, scoring, PLATE, PUSH, lines[0], motion, memo=narrow_memo)
+    again, _ = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion, memo=narrow_memo)
+    np.testing.assert_array_equal(again.full, fresh.full)
