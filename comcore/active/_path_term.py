@@ -58,8 +58,10 @@ def path_log_likelihood(
         The model's motion after each kept frame's travel.
     offset : numpy.ndarray, shape (p, 1, 1, 2)
         Each hypothesis' CoM minus the first mask's centroid (pixels).
-    theta_scale, translation_scale : numpy.ndarray, broadcast to (p, m, k)
-        The model's error scales at the end (radians, pixels), without tracking.
+    theta_scale, translation_scale : float or numpy.ndarray, broadcast to (p, m, k)
+        The model's error scales at the end (radians, pixels), without tracking:
+        one per push as the session scores it (then the covariance is factored
+        once for every hypothesis), or one per hypothesis.
     tracking : (float, float)
         The frames' tracking standard deviations (radians, pixels).
     fractions : numpy.ndarray, shape (J,)
@@ -79,8 +81,8 @@ def path_log_likelihood(
     moved_obs = obs[:, 1:] + com_shift(obs[:, 0], off)
     moved_pred = pred[..., 1:] + com_shift(pred[..., 0], off)
     shift_res = moved_obs - moved_pred  # (p, m, k, K, 2)
-    th_a = np.square(np.broadcast_to(theta_scale, theta_res.shape[:-1]))
-    tr_a = np.square(np.broadcast_to(translation_scale, theta_res.shape[:-1]))
+    th_a = np.square(np.asarray(theta_scale, float))
+    tr_a = np.square(np.asarray(translation_scale, float))
     total = _conditional_t(theta_res[..., None], th_a, tracking[0] ** 2, lam, vecs, end_var)
     total = total + _conditional_t(shift_res, tr_a, tracking[1] ** 2, lam, vecs, end_var)
     return total
@@ -93,10 +95,13 @@ def _conditional_t(res, a, b: float, lam, vecs, end_var: float):
     conditional of the first ``K - 1`` rows on the last: the joint's quadratic form and
     log-determinant minus the last row's.
     """
-    n_comp = res.shape[-1]
-    proj = np.einsum("...kc,kj->...jc", res, vecs)  # (..., K, c)
-    var = a[..., None] * lam + b  # (..., K)
-    quad = (np.square(proj) / var[..., None]).sum(axis=(-2, -1))
+    n_comp, n_rows = res.shape[-1], res.shape[-2]
+    a = np.asarray(a, float)
+    var = a[..., None] * lam + b  # (..., K), or (K,) for one scale per push
+    # the residuals projected on the eigenvectors: one matrix product over every hypothesis
+    rows = np.moveaxis(res, -1, -2).reshape(-1, n_rows)  # (... c, K)
+    proj = (rows @ vecs).reshape(*res.shape[:-2], n_comp, n_rows)  # (..., c, K)
+    quad = (np.square(proj) / var[..., None, :]).sum(axis=(-2, -1))
     logdet = np.log(var).sum(axis=-1) * n_comp
     end = a * end_var + b
     quad = quad - np.square(res[..., -1, :]).sum(axis=-1) / end
