@@ -85,10 +85,10 @@ def _triangle(theta: float, shift=(0.0, 0.0), size: int = 90) -> comcore.Mask:
     yy, xx = np.mgrid[0:size, 0:size].astype(float)
     inside = np.ones((size, size), dtype=bool)
     for k in range(3):
-        a, b = turned[k], turned[(k + 1) % 3]
-        other = turned[(k + 2) % 3]
-        side = lambda px, py: (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0])  # noqa: E731
-        inside &= np.sign(side(xx, yy)) == np.sign(side(*other))
+        a, b, other = turned[k], turned[(k + 1) % 3], turned[(k + 2) % 3]
+        edge, to_other = b - a, other - a
+        side = edge[0] * (yy - a[1]) - edge[1] * (xx - a[0])  # each pixel's side of edge k
+        inside &= np.sign(side) == np.sign(edge[0] * to_other[1] - edge[1] * to_other[0])
     return comcore.Mask(inside, resolution=0.001)
 
 
