@@ -1,7 +1,7 @@
 """What the frames of a push cost ``ActiveSession.observe``: with and without them.
 
 Run: ``PYTHONPATH=. python benchmarks/timing/bench_observe_frames.py [--objects Obj1,Obj3,...]
-[--frames 30] [--resolution 0.001] [--margin 0.3] [--repeats 3]``.
+[--frames 30] [--resolution 0.001] [--margin 0.3] [--camera 1280x720] [--repeats 3]``.
 
 For each object (high friction, ``rng=1``), a ``simulators.SimulatedRobot`` at
 ``--resolution`` metres per pixel with ``--margin`` metres of table round the object
@@ -11,7 +11,10 @@ same push is observed by fresh sessions with the end mask alone and with the fra
 too (``observe(mask, frames=push.path)``: each frame's mask registered, the path
 scored by the limit-surface model); ``observe`` is timed (wall, ``time.perf_counter``)
 ``--repeats`` times each, each on fresh copies of the masks (a mask's fields are cached
-per Mask object). Printed: per object the frames given and read, the medians, and the
+per Mask object). ``--camera WxH`` places every image (and the pusher's positions) on a
+camera image of that size, the robot's image in its middle (``--margin`` must then leave
+the robot's image no larger): the session sees a 1280 x 720 camera, as the issue's target
+names it. Printed: per object the frames given and read, the medians, and the
 median over all. The machine's load shows in the wall times.
 """
 
@@ -29,6 +32,33 @@ import simulators
 def fresh(mask: comcore.Mask) -> comcore.Mask:
     """A new Mask object of the same pixels (nothing cached)."""
     return comcore.Mask(mask.data.copy(), resolution=mask.resolution)
+
+
+class Canvas:
+    """The robot's camera image placed in the middle of a larger one (``shape`` rows, cols)."""
+
+    def __init__(self, inner: tuple[int, int], shape: tuple[int, int] | None):
+        self.shape = inner if shape is None else shape
+        if self.shape[0] < inner[0] or self.shape[1] < inner[1]:
+            raise SystemExit(
+                f"--camera {self.shape[1]}x{self.shape[0]} is smaller than the robot's image "
+                f"{inner[1]}x{inner[0]}: use a smaller --margin"
+            )
+        self.row = (self.shape[0] - inner[0]) // 2
+        self.col = (self.shape[1] - inner[1]) // 2
+
+    def mask(self, mask: comcore.Mask) -> comcore.Mask:
+        data = np.zeros(self.shape, bool)
+        h, w = mask.shape
+        data[self.row : self.row + h, self.col : self.col + w] = mask.data
+        return comcore.Mask(data, resolution=mask.resolution)
+
+    def point(self, xy, sign: float = 1.0) -> np.ndarray:
+        """A pixel (x, y) of the robot's image on the canvas (``sign`` -1: back)."""
+        return np.asarray(xy, float) + sign * np.array([self.col, self.row], float)
+
+    def frames(self, frames) -> list:
+        return [comcore.PushFrame(self.point(f.pusher), self.mask(f.view)) for f in frames]
 
 
 def time_observe(first, after, frames, sim, repeats: int) -> tuple[list, int]:
@@ -54,8 +84,13 @@ def main(argv=None) -> None:
     parser.add_argument("--frames", type=int, default=30)
     parser.add_argument("--resolution", type=float, default=0.001)
     parser.add_argument("--margin", type=float, default=0.3)
+    parser.add_argument("--camera", default=None, help="WxH, e.g. 1280x720 (default: the robot's)")
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args(argv)
+    camera = None
+    if args.camera is not None:
+        width, height = (int(v) for v in args.camera.lower().split("x"))
+        camera = (height, width)
     plain_all, framed_all = [], []
     print("| object | image | frames given / read | observe, end mask (ms) | with frames (ms) |")
     print("|---|---|---|---|---|")
@@ -64,14 +99,18 @@ def main(argv=None) -> None:
         robot = simulators.SimulatedRobot(
             sim, resolution=args.resolution, camera_margin=args.margin, rng=1
         )
-        first = robot.camera_mask()
+        inner = robot.camera_mask()
+        canvas = Canvas(inner.shape, camera)
+        first = canvas.mask(inner)
         action = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0).next_push()
         seconds = action.length * robot.resolution / robot.speed
         rate = args.frames / seconds
-        push = robot.execute(action, frame_rate=rate)
-        after = robot.camera_mask()
+        ends = np.concatenate([canvas.point(action[:2], -1), canvas.point(action[2:], -1)])
+        push = robot.execute(comcore.Action(*ends), frame_rate=rate)
+        after = canvas.mask(robot.camera_mask())
+        push_frames = canvas.frames(push.path)
         plain, _ = time_observe(first, after, None, sim, args.repeats)
-        framed, kept = time_observe(first, after, push.path, sim, args.repeats)
+        framed, kept = time_observe(first, after, push_frames, sim, args.repeats)
         plain_all += plain
         framed_all += framed
         print(
