@@ -100,8 +100,12 @@ def _conditional_t(res, a, b: float, lam, vecs, end_var: float):
     var = a[..., None] * lam + b  # (..., K), or (K,) for one scale per push
     # the residuals projected on the eigenvectors: one matrix product over every hypothesis
     rows = np.moveaxis(res, -1, -2).reshape(-1, n_rows)  # (... c, K)
-    proj = (rows @ vecs).reshape(*res.shape[:-2], n_comp, n_rows)  # (..., c, K)
-    quad = (np.square(proj) / var[..., None, :]).sum(axis=(-2, -1))
+    if var.ndim == 1:  # one scale per push: whitened by the same matrix for every hypothesis
+        proj = (rows @ (vecs / np.sqrt(var))).reshape(*res.shape[:-2], n_comp, n_rows)
+        quad = np.einsum("...ck,...ck->...", proj, proj)
+    else:
+        proj = (rows @ vecs).reshape(*res.shape[:-2], n_comp, n_rows)  # (..., c, K)
+        quad = (np.square(proj) / var[..., None, :]).sum(axis=(-2, -1))
     logdet = np.log(var).sum(axis=-1) * n_comp
     end = a * end_var + b
     quad = quad - np.square(res[..., -1, :]).sum(axis=-1) / end

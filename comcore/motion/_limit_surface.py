@@ -273,8 +273,9 @@ class LimitSurfaceModel:
             return np.zeros((len(pts), len(acts), 3))
         if self.node_spacing == 0:
             return self._motions(mask, acts, self._pressures(mask, pts), mu)
+        last = np.array([self.n_steps])  # the push's end: the one state interpolated
         return np.concatenate(
-            [self._interpolated(mask, a, pts, mu)[:, None, -1] for a in acts], axis=1
+            [self._interpolated(mask, a, pts, mu, last)[:, None, 0] for a in acts], axis=1
         )
 
     def predict_path_hypotheses(self, mask, action, coms, mu, fractions) -> np.ndarray:
@@ -307,19 +308,24 @@ class LimitSurfaceModel:
             raise ValueError(f"fractions must lie in [0, 1], got {f.tolist()}")
         if len(act) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(f), 3))
-        if self.node_spacing == 0:
-            states = self._motions(mask, act, self._pressures(mask, pts), mu, path=True)[:, 0]
-        else:
-            states = self._interpolated(mask, act[0], pts, mu)
         where = f * self.n_steps
         lo = np.minimum(np.floor(where).astype(np.intp), self.n_steps - 1)
         w = (where - lo)[None, :, None]
-        return states[:, lo] * (1 - w) + states[:, lo + 1] * w
+        if self.node_spacing == 0:
+            states = self._motions(mask, act, self._pressures(mask, pts), mu, path=True)[:, 0]
+            return states[:, lo] * (1 - w) + states[:, lo + 1] * w
+        # only the steps the fractions fall between are interpolated from the lattice
+        steps, index = np.unique(np.concatenate([lo, lo + 1]), return_inverse=True)
+        states = self._interpolated(mask, act[0], pts, mu, steps)
+        below, above = index[: len(lo)], index[len(lo) :]
+        return states[:, below] * (1 - w) + states[:, above] * w
 
-    def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float):
-        """States of one push after each step, interpolated from its lattice's nodes.
+    def _interpolated(self, mask: Mask, action: np.ndarray, pts: np.ndarray, mu: float, steps):
+        """States of one push after the steps ``steps``, interpolated from its lattice's nodes.
 
-        Shape (n, n_steps + 1, 3); the last row is the push's motion.
+        Shape (n, len(steps), 3); step ``n_steps`` is the push's motion, 0 the rest
+        before it. Each step is interpolated on its own (bilinear in the nodes), so
+        asking for the few steps a caller reads costs that many, not ``n_steps + 1``.
         """
         spreads = tuple(p for p in PRESSURES if p == self.pressure or p in self.batch_pressures)
         settings = (self.pusher_radius, self.n_steps, self.support_points, self.node_spacing)
@@ -338,11 +344,11 @@ class LimitSurfaceModel:
         corners, weights, keys = found
         if len(keys) >= len(pts):  # interpolation would not save anything
             press = self._pressures(mask, pts)
-            return self._motions(mask, action[None], press, mu, path=True)[:, 0]
+            return self._motions(mask, action[None], press, mu, path=True)[:, 0][:, steps]
         todo = keys[np.isnan(known[self.pressure, mu][keys, -1, 0])]
         if len(todo):
             self._integrate_nodes(mask, action, lattice, todo, known, mus, spreads)
-        motion = known[self.pressure, mu]
+        motion = known[self.pressure, mu][:, steps]  # (nodes, len(steps), 3)
         return np.einsum("kn,knts->nts", weights, motion[corners])
 
     def _integrate_nodes(self, mask, action, lattice, todo, known, mus, spreads):

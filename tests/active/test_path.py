@@ -44,6 +44,9 @@ def test_conditional_t_is_the_multivariate_t_of_the_path_given_its_end():
     dims = 2 * (len(f) - 1)
     want = -0.5 * (STUDENT_DOF + dims) * np.log1p(quad / STUDENT_DOF) - 0.5 * logdet
     assert got == pytest.approx(want, rel=1e-10)
+    # one scale for every residual path (as a session scores a push): the same density
+    scalar = _conditional_t(np.stack([res, res]), a, b, lam, vecs, 1 + wander**2)
+    assert scalar == pytest.approx([want, want], rel=1e-10)
 
 
 def test_a_path_shaped_as_predicted_scores_above_one_that_is_not():
