@@ -1,7 +1,8 @@
 """What the frames of a push cost ``ActiveSession.observe``: with and without them.
 
 Run: ``PYTHONPATH=. python benchmarks/timing/bench_observe_frames.py [--objects Obj1,Obj3,...]
-[--frames 30] [--resolution 0.001] [--margin 0.3] [--camera 1280x720] [--repeats 3]``.
+[--frames 30] [--resolution 0.001] [--margin 0.3] [--camera 1280x720] [--push 1]
+[--repeats 3]``.
 
 For each object (high friction, ``rng=1``), a ``simulators.SimulatedRobot`` at
 ``--resolution`` metres per pixel with ``--margin`` metres of table round the object
@@ -14,7 +15,10 @@ scored by the limit-surface model); ``observe`` is timed (wall, ``time.perf_coun
 per Mask object). ``--camera WxH`` places every image (and the pusher's positions) on a
 camera image of that size, the robot's image in its middle (``--margin`` must then leave
 the robot's image no larger): the session sees a 1280 x 720 camera, as the issue's target
-names it. Printed: per object the frames given and read, the medians, and the
+names it. ``--push n`` times the session's n-th push (the pushes before it played and
+observed the same way, with or without frames): the first pays once for what a session
+keeps for its mask (the pressure table of the motion model), later ones see a narrower
+posterior. Printed: per object the frames given and read, the medians, and the
 median over all. The machine's load shows in the wall times.
 """
 
@@ -61,20 +65,40 @@ class Canvas:
         return [comcore.PushFrame(self.point(f.pusher), self.mask(f.view)) for f in frames]
 
 
-def time_observe(first, after, frames, sim, repeats: int) -> tuple[list, int]:
-    """Wall times (s) of ``observe`` on fresh sessions, and the frames the path kept."""
-    times, kept = [], 0
-    for _ in range(repeats):
-        session = comcore.ActiveSession(fresh(first), pusher_radius=sim.pusher_radius, rng=0)
-        session.next_push()
-        copies = None
-        if frames is not None:
-            copies = [comcore.PushFrame(f.pusher, fresh(f.view)) for f in frames]
-        end = fresh(after)
-        start = time.perf_counter()
-        session.observe(end, frames=copies)
-        times.append(time.perf_counter() - start)
-        kept = len(session.estimate().pushes[0].path)
+def time_observe(name, args, canvas_shape, with_frames: bool) -> tuple[list, list]:
+    """Wall times (s) of the ``--push``-th ``observe`` on fresh sessions, and the frames read.
+
+    Each repeat plays a new session (and robot, same seeds) from the start: the pushes
+    before the timed one are observed as it is (with its frames or without), so the
+    session's caches (the first mask's pressure table, ...) are those of a session at
+    that push. The timed call gets fresh copies of the masks.
+    """
+    times, kept = [], []
+    for _ in range(args.repeats):
+        sim = simulators.random_simulator(name, friction="high", rng=1)
+        robot = simulators.SimulatedRobot(
+            sim, resolution=args.resolution, camera_margin=args.margin, rng=1
+        )
+        inner = robot.camera_mask()
+        canvas = Canvas(inner.shape, canvas_shape)
+        session = comcore.ActiveSession(canvas.mask(inner), pusher_radius=sim.pusher_radius, rng=0)
+        for n in range(1, args.push + 1):
+            action = session.next_push()
+            seconds = action.length * robot.resolution / robot.speed
+            ends = np.concatenate([canvas.point(action[:2], -1), canvas.point(action[2:], -1)])
+            push = robot.execute(comcore.Action(*ends), frame_rate=args.frames / seconds)
+            after = canvas.mask(robot.camera_mask())
+            frames = canvas.frames(push.path) if with_frames else None
+            if n < args.push:
+                session.observe(after, frames=frames)
+                continue
+            if frames is not None:
+                frames = [comcore.PushFrame(f.pusher, fresh(f.view)) for f in frames]
+            end = fresh(after)
+            start = time.perf_counter()
+            session.observe(end, frames=frames)
+            times.append(time.perf_counter() - start)
+            kept.append((len(push.path), len(session.estimate().pushes[-1].path)))
     return times, kept
 
 
@@ -86,35 +110,27 @@ def main(argv=None) -> None:
     parser.add_argument("--margin", type=float, default=0.3)
     parser.add_argument("--camera", default=None, help="WxH, e.g. 1280x720 (default: the robot's)")
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--push", type=int, default=1, help="time the session's n-th push")
     args = parser.parse_args(argv)
     camera = None
     if args.camera is not None:
         width, height = (int(v) for v in args.camera.lower().split("x"))
         camera = (height, width)
     plain_all, framed_all = [], []
+    print(f"push {args.push} of a session, {args.repeats} repeats")
     print("| object | image | frames given / read | observe, end mask (ms) | with frames (ms) |")
     print("|---|---|---|---|---|")
     for name in args.objects.split(","):
-        sim = simulators.random_simulator(name, friction="high", rng=1)
-        robot = simulators.SimulatedRobot(
-            sim, resolution=args.resolution, camera_margin=args.margin, rng=1
-        )
-        inner = robot.camera_mask()
-        canvas = Canvas(inner.shape, camera)
-        first = canvas.mask(inner)
-        action = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0).next_push()
-        seconds = action.length * robot.resolution / robot.speed
-        rate = args.frames / seconds
-        ends = np.concatenate([canvas.point(action[:2], -1), canvas.point(action[2:], -1)])
-        push = robot.execute(comcore.Action(*ends), frame_rate=rate)
-        after = canvas.mask(robot.camera_mask())
-        push_frames = canvas.frames(push.path)
-        plain, _ = time_observe(first, after, None, sim, args.repeats)
-        framed, kept = time_observe(first, after, push_frames, sim, args.repeats)
+        plain, _ = time_observe(name, args, camera, False)
+        framed, kept = time_observe(name, args, camera, True)
         plain_all += plain
         framed_all += framed
+        shape = camera or simulators.SimulatedRobot(
+            simulators.random_simulator(name, friction="high", rng=1),
+            resolution=args.resolution, camera_margin=args.margin, rng=1,
+        ).camera_mask().shape  # fmt: skip
         print(
-            f"| {name} | {first.shape[1]} x {first.shape[0]} | {len(push.path)} / {kept} | "
+            f"| {name} | {shape[1]} x {shape[0]} | {kept[0][0]} / {kept[0][1]} | "
             f"{1e3 * np.median(plain):.0f} | {1e3 * np.median(framed):.0f} |"
         )
     print(
