@@ -17,6 +17,7 @@ from scipy.special import logsumexp
 
 from .._mask import Mask
 from ..conventions import pixel_centres
+from ._lattice import model_lattice
 
 __all__ = ["GridPosterior", "prior_grid"]
 
@@ -75,6 +76,17 @@ class GridPosterior:
         #: Each temper's log predictive score S_e (nats) so far.
         self.temper_scores = np.zeros(self.n_tempers)
         self._members = np.stack([self.log_w] * self.n_tempers)  # (n_tempers, p, m, k)
+        self._lattices: dict = {}
+
+    def model_lattice(self, stride: int):
+        """The lattice of every ``stride``-th pixel the model's terms are computed on.
+
+        None for stride 1 (every pixel asked); kept for the session
+        (:func:`comcore.active._lattice.model_lattice`).
+        """
+        if stride not in self._lattices:
+            self._lattices[stride] = model_lattice(self.pixels, stride)
+        return self._lattices[stride]
 
     def _normalise(self) -> float:
         top = self.log_w.max()

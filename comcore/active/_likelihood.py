@@ -39,6 +39,7 @@ from ..motion._predictor import HypothesisPredictor
 from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, side_probability
 from ..vt._senses import _LOGISTIC_STD, UNEXPLAINED_STDS, SenseTally
 from ._grid import GridPosterior
+from ._lattice import lattice_stride
 from ._motion_term import (
     NEAR_LINE_M,
     com_shift,
@@ -104,6 +105,7 @@ class Scoring:
     pusher_radius: float = 0.0
     systematic_px: float = 0.0
     path_wander: float | None = None
+    lattice_stride: int = 1
 
     @classmethod
     def build(
@@ -142,6 +144,7 @@ class Scoring:
             model_scales=likelihood.model_scales,
             pusher_radius=pusher_radius,
             path_wander=likelihood.path_wander,
+            lattice_stride=lattice_stride(likelihood.model_spacing, mask.resolution),
         )
 
     @property
@@ -301,13 +304,43 @@ def _model_terms(
     :func:`push_evidence`'s.
     """
     alive = post.log_w > post.log_w.max() - PRUNE_LOG  # (p, m, models x scales)
+    weights = np.exp(post.log_w)
+    lattice = post.model_lattice(scoring.lattice_stride)
+    if lattice is None:
+        return _terms_at(
+            post.pixels, alive, weights, scoring, mask, action, distances, observed,
+            rotation_observed, tracking, flip_prob, path, memo,
+        )  # fmt: skip
+    # a camera finer than the model's spacing: the terms on the lattice, spread to every pixel
+    usable = lattice.gather_any(alive)
+    terms = _terms_at(
+        post.pixels[lattice.nodes], usable, lattice.gather_sum(weights), scoring, mask, action,
+        distances[lattice.nodes], observed, rotation_observed, tracking, flip_prob, path, memo,
+    )  # fmt: skip
+    model_term, flipped_term, excess = (lattice.spread(t, usable) for t in terms)
+    return (
+        np.where(alive, model_term, -np.inf),
+        np.where(alive, flipped_term, -np.inf),
+        np.where(alive, excess, np.inf),
+    )
+
+
+def _terms_at(
+    pixels, alive, weights, scoring, mask, action, distances, observed, rotation_observed,
+    tracking, flip_prob, path, memo,
+):  # fmt: skip
+    """:func:`_model_terms` on the hypotheses ``pixels`` (the posterior's, or its lattice's).
+
+    ``alive`` (p, m, k) says which are asked about, ``weights`` (p, m, k) their posterior
+    mass (the path's scales are averaged over it).
+    """
     n_s = scoring.n_scales
     per_model = alive.reshape(*alive.shape[:2], -1, n_s).any(axis=-1)
-    offset = (post.pixels - np.asarray(mask.centroid))[:, None, None, :]
+    offset = (pixels - np.asarray(mask.centroid))[:, None, None, :]
     memo = {} if memo is None else memo
     kept = memo.get("offset_marginal")
     if kept is None or not np.array_equal(kept[0], per_model):  # another posterior's
-        kept = (per_model, offset_marginal(scoring, mask, action, post.pixels, offset, per_model))
+        kept = (per_model, offset_marginal(scoring, mask, action, pixels, offset, per_model))
         memo["offset_marginal"] = kept
     predicted, spread = kept[1]
     # The pusher's offset spreads the prediction: its std adds to the tracking's.
@@ -319,10 +352,10 @@ def _model_terms(
         noise = ((factor * th_a, factor * th_n), (factor * tr_a, factor * tr_r))
         return (np.abs(distances), offset, *noise, scoring.near_px)
 
-    along = weights = None
+    along = None
     if path is not None:
-        along = path_predictions(scoring, mask, action, post.pixels, per_model, path)
-        weights = np.exp(post.log_w).reshape(*alive.shape[:2], -1, n_s).sum(axis=-1)
+        along = path_predictions(scoring, mask, action, pixels, per_model, path)
+        weights = weights.reshape(*alive.shape[:2], -1, n_s).sum(axis=-1)
 
     def scored(motion, sign=1.0):
         """The motion's log-likelihood per scale factor, and its base scales' residuals."""

@@ -76,6 +76,10 @@ UNKNOWN_MU_RANGE = (0.0, 2.0)
 #: ``comcore bench``'s ``active-robot`` with frames at 10 Hz, on our engine and with noisy
 #: masks (docs/explanation/calibration.md).
 PATH_WANDER = 4.0
+#: ``Likelihood.model_spacing``'s default (metres): the 2.5 mm pixel every accuracy table
+#: was measured at, so that those sessions ask the model about every pixel as before, and a
+#: finer camera asks it about as many hypotheses (:mod:`comcore.active._lattice`).
+MODEL_SPACING = 0.0025
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
 #: Most friction values a likelihood marginalises over: the model is integrated once per
@@ -154,6 +158,14 @@ class Likelihood:
         model scores the end pose alone, and the frames only by the Voting
         Theorem, each stretch of the path on its own force line
         (:mod:`comcore.active._path`).
+    model_spacing : float
+        Spacing (metres, >= 0) of the lattice of CoM hypotheses the motion
+        model is asked about: on a camera finer than it (1 mm per pixel: every
+        second pixel in x and y) the model's terms of every other pixel are
+        interpolated from the lattice's nodes around it
+        (:mod:`comcore.active._lattice`), which keeps the cost of a push that
+        of a 2.5 mm camera. A camera of this size per pixel or coarser, or 0:
+        every pixel asked.
     systematic_error : None or float
         Standard deviation (metres) of an error on the CoM that more pushes do
         not average away (a motion model that errs the same way on every push
@@ -187,6 +199,7 @@ class Likelihood:
     model_weight: Any = (0.25, 0.4, 0.6, 1.0)
     model_scales: tuple[float, ...] = (1.0,)
     path_wander: float | None = PATH_WANDER
+    model_spacing: float = MODEL_SPACING
     systematic_error: float | None = None
 
     def model_error_scales(self, lever_m, displacement_m) -> tuple[np.ndarray, np.ndarray]:
@@ -261,6 +274,10 @@ class Likelihood:
         if self.path_wander is not None:
             wander = check_positive(self.path_wander, "path_wander", allow_zero=True)
             _set(self, "path_wander", wander)
+        spacing = check_physical(
+            self.model_spacing, "model_spacing", "length_noise", allow_zero=True
+        )
+        _set(self, "model_spacing", spacing)
 
 
 @dataclass(frozen=True)
