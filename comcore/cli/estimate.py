@@ -173,7 +173,8 @@ def add_arguments(parser) -> None:
         metavar="CSV",
         help="the frames a camera saw during the pushes: a CSV with the columns "
         + ", ".join(FRAME_COLUMNS)
-        + "; push: 1 for the first data row of --pushes, 2 for the next, ... (the rows of one "
+        + "; push: 1 for the first data row of --pushes (its line 2 after the header), 2 for "
+        "the next row, ... (the rows of one "
         "push in the order taken; a push may have none); px, py: the pusher's leading point "
         "then (pixels); theta, tx, ty: the object's motion since the push began, as in "
         "--pushes (theta in --theta-units). Needs --mask and --pushes, --method posterior and "
