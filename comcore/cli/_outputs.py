@@ -88,6 +88,11 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
         )
     else:
         print(f"CoM region: {region['area_px']} px (radius {region['radius_m'] * 1000:.1f} mm)")
+    if result["n_frames"]:
+        n_read = result["n_frames"]
+        n_dropped = sum(len(p["frames"]) for p in result["dropped_frames"])
+        print(f"frames: {n_read} read, {n_read - n_dropped} scored along their pushes, "
+              f"{n_dropped} not (the JSON's dropped_frames says which and why)")  # fmt: skip
     if result["used_lines"]:
         drawn = ", as the overlay numbers them" if result["overlay"] is not None else ""
         print(f"pushes used (CSV lines, in order{drawn}): "

@@ -14,6 +14,20 @@ refuses them, and so is a recording where most pushes would be dropped (with
 a hint when swapping the x and y columns makes them hit). ``--example`` runs on
 the small recording shipped in ``comcore/data/examples/``.
 
+``--frames`` adds the frames a camera saw during the pushes, a CSV with the
+columns ``push, px, py, theta, tx, ty`` (:mod:`comcore.cli._frames`): ``push``
+numbers the pushes CSV's data rows from 1 (push 1 is its first data row, line 2
+when no line is blank), ``px, py`` is the pusher's leading point in that frame
+(pixels), ``theta, tx, ty`` the object's motion since the push began, in the
+pushes CSV's conventions and in ``--theta-units``. They go to
+:func:`comcore.estimate_posterior` (``frames=``), which scores each push's path
+with its end pose; so ``--frames`` needs ``--mask`` and ``--pushes`` (not
+``--example``, which has none, nor ``--bag``, whose pushes are cut from poses),
+the ``posterior`` method and its motion model (not ``--model none``). The
+frames of a dropped push are dropped with it. The JSON's ``n_frames`` counts
+the frames read and ``dropped_frames`` names, per push, the frames not scored
+and why.
+
 ``--bag`` takes a robot's ROS bag instead of the mask and the CSV: the object's
 and the pusher's pose topics (``--object-topic``, ``--pusher-topic``, with
 ``--object-child-frame`` / ``--pusher-child-frame`` for a ``/tf`` topic), the
@@ -63,6 +77,7 @@ from comcore.active._posterior import MAX_BOOTSTRAP
 from comcore.active._theta_units import THETA_UNITS
 
 from . import _options
+from ._frames import FRAME_COLUMNS, dropped_frames, dropped_note, frame_error, read_frames
 from ._inputs import (
     COLUMNS,
     RESOLUTION_RANGE,
@@ -153,6 +168,18 @@ def add_arguments(parser) -> None:
         "--mask", help="image of the object seen from above: a mask or a photo on a plain table"
     )
     files.add_argument("--pushes", help="CSV with the columns " + ", ".join(COLUMNS))
+    files.add_argument(
+        "--frames",
+        metavar="CSV",
+        help="the frames a camera saw during the pushes: a CSV with the columns "
+        + ", ".join(FRAME_COLUMNS)
+        + "; push: 1 for the first data row of --pushes (its line 2 after the header), 2 for "
+        "the next row, ... (the rows of one "
+        "push in the order taken; a push may have none); px, py: the pusher's leading point "
+        "then (pixels); theta, tx, ty: the object's motion since the push began, as in "
+        "--pushes (theta in --theta-units). Needs --mask and --pushes, --method posterior and "
+        "--model limit-surface",
+    )
     files.add_argument(
         "--example",
         action="store_true",
@@ -360,16 +387,21 @@ def estimate(
     systematic_error: float = SYSTEMATIC_ERROR,
     bootstrap: int = BOOTSTRAP,
     target_radius: float = DEFAULT_TARGET_RADIUS,
+    frames=None,
 ) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes.
 
     ``model`` (one of :data:`MODELS`), ``pusher_radius`` and
     ``systematic_error`` (metres) and ``bootstrap`` are the posterior's; the other
     methods take no model. ``target_radius`` (metres) is the posterior's and
-    Alg. 2's: the region's radius for ``"ok"``.
+    Alg. 2's: the region's radius for ``"ok"``. ``frames``: per push, the
+    :class:`comcore.PushFrame` s taken during it (or None), for the posterior
+    with a motion model only (:func:`comcore.estimate_posterior`'s ``frames``).
     """
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
+    if frames is not None and (method != "posterior" or model == "none"):
+        raise ValueError("frames are scored by the posterior's motion model alone")
     if method == "posterior":
         chosen = None if model == "none" else DEFAULT_MODEL
         return comcore.estimate_posterior(
@@ -377,6 +409,7 @@ def estimate(
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
             bootstrap=bootstrap, stop=comcore.StopRule(target_radius=target_radius),
             theta_units="rad",  # the command checks theta's unit itself
+            frames=frames,
         )  # fmt: skip
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
@@ -431,6 +464,28 @@ def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
     )  # fmt: skip
     ax.figure.savefig(path)
     return replaced
+
+
+def _frames_options(args) -> None:
+    """With ``--frames``: the pushes CSV and the posterior with its motion model."""
+    if args.frames is None:
+        return
+    if args.bag or args.example:
+        other = "--bag" if args.bag else "--example"
+        why = ("its pushes are cut from its poses, not rows of a pushes CSV" if args.bag
+               else "the example has no frames")  # fmt: skip
+        raise InputError(f"--frames goes with --mask and --pushes, not {other} ({why})")
+    if not args.pushes:
+        raise InputError("--frames needs --pushes: its push column numbers the pushes CSV's rows")
+    if args.method != "posterior":
+        raise InputError(
+            f"--frames needs --method posterior (the default): {args.method} scores no path"
+        )
+    if args.model == "none":
+        raise InputError(
+            "--frames needs --model limit-surface (the default): the Voting Theorem alone reads "
+            "each push's sense, not the path its frames show"
+        )
 
 
 def _bag_options(args) -> None:
@@ -505,6 +560,8 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None
         "used_lines": [int(pushes.lines[i]) for i in est.used if 0 <= i < len(pushes.lines)],
         "dropped_lines": {str(k): v for k, v in dropped.items()},
         "n_pushes": len(recorded.lines),
+        "n_frames": 0,  # --frames: the frames read
+        "dropped_frames": [],  # --frames: per push, the frames not scored and why
         "resolution": mask.resolution,
         "object_size_m": object_size_m(mask),
         "region": region_summary(est, mask.resolution, CREDIBLE),
@@ -574,6 +631,7 @@ def run(args) -> int:
     :data:`EXIT_INCONSISTENT` when the status is ``inconsistent``.
     """
     try:
+        _frames_options(args)
         _bag_options(args)
         if not args.bag:
             _inputs(args)  # the mask and CSV options, checked before the numbers
@@ -592,8 +650,10 @@ def run(args) -> int:
                 f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
             )
         mask, recorded, from_bag = _read(args, resolution, pusher_radius)
+        frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
         if args.theta_units == "deg":
             recorded = recorded.theta_from_degrees()
+            frames = None if frames is None else frames.theta_from_degrees()
         contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
         pushes, dropped = screen_pushes(
             mask, recorded, strict=args.strict, pusher_radius=contact_radius
@@ -602,24 +662,30 @@ def run(args) -> int:
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
+    kept = [k for k, line in enumerate(recorded.lines) if int(line) not in dropped]
     if dropped:
+        rows = [k for k, line in enumerate(recorded.lines) if int(line) in dropped]
         print(
             f"comcore estimate: warning: dropped {len(dropped)} of {len(recorded.lines)} pushes "
             f"that miss the object or start inside it: CSV line(s) {line_list(list(dropped))} "
-            "(--strict refuses them)",
+            "(--strict refuses them)" + ("" if frames is None else dropped_note(frames, rows)),
             file=sys.stderr,
         )
     try:
         units = units_mistake(mask, pushes, args.theta_units, pusher_radius)
         est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
                        systematic_error=systematic_error, bootstrap=args.bootstrap,
-                       pusher_radius=pusher_radius,
-                       target_radius=args.target_radius)  # fmt: skip
+                       pusher_radius=pusher_radius, target_radius=args.target_radius,
+                       frames=None if frames is None else frames.of(kept))  # fmt: skip
         mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
     except (TypeError, ValueError) as e:
+        error = None if frames is None else frame_error(str(e), frames, kept, recorded.lines)
+        if error is not None:  # a frame that does not fit its push: the frames CSV's mistake
+            print(f"comcore estimate: {error}", file=sys.stderr)
+            return 2
         print(f"comcore estimate: the pushes do not fit the mask: {e}", file=sys.stderr)
         return 1
     if mistake:
@@ -632,6 +698,9 @@ def run(args) -> int:
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
     result = _result(args, mask, recorded, pushes, dropped, est, mistake, frame=from_bag)
+    if frames is not None:
+        result["n_frames"] = frames.n_frames
+        result["dropped_frames"] = dropped_frames(est, frames, kept, recorded.lines, dropped)
     if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
         result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
