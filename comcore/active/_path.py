@@ -63,8 +63,11 @@ __all__ = [
     "read_path",
 ]
 
-#: Most frames kept per push (evenly spread in travel); the rest are ``"thinned"``.
-MAX_PATH_FRAMES = 8
+#: Most frames kept per push (evenly spread in travel); the rest are ``"thinned"``. Chosen
+#: among 4, 8 and 16 on seed-1 trials of ``comcore bench``'s ``active-robot`` at 10 Hz
+#: (exact, pymunk, noisy masks): 4 erred no more and held the CoM as often as 8 or more
+#: often, at half the registrations; 16 held it less often (docs/explanation/calibration.md).
+MAX_PATH_FRAMES = 4
 #: Most frames one push may be given (a 10 s push at 100 Hz): more is a mistake of units.
 MAX_FRAMES = 1000
 #: A frame whose pusher lies farther than this (metres) off the push's path is refused:
