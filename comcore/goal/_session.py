@@ -50,10 +50,18 @@ from ..camera._pose_tracking import (
 )
 from ..geometry._sampling import DEFAULT_STANDOFF_M, sample_pushes
 from ._costs import pose_cost, turn_outside
-from ._planner import Plan, learning_safe, plan_push, reached
+from ._planner import COARSE_PARTICLES, Plan, learning_safe, plan_push, reached
 from ._prior import prior_particles, touches_border
 from ._translation import STANDOFF_M, planning_model
-from ._types import MAX_PLANNING_PARTICLES, PLANNING_PARTICLES, Goal, MetricPose, hypotheses_from
+from ._types import (
+    MAX_PLANNING_PARTICLES,
+    PLANNING_PARTICLES,
+    CoMHypotheses,
+    Goal,
+    MetricPose,
+    _systematic,
+    hypotheses_from,
+)
 
 __all__ = ["DEFAULT_LEARNING_PUSHES", "GOAL_STATUSES", "GoalSession"]
 
@@ -77,6 +85,9 @@ LEARNING_RULE = StopRule()
 #: travel after contact. Each cut teaches what the whole push does (the sense of the turn is
 #: the same: the same force lines), so the longest safe one of the most informative is made.
 LEARNING_LENGTHS = (0.5, 0.25)
+#: Learning pushes safe under the planner's coarse particles are checked under all of its
+#: particles, the most informative first: at most this many.
+LEARNING_TRIES = 4
 #: What :attr:`GoalSession.status` can say.
 GOAL_STATUSES = (
     Status.WAITING_PUSH,
@@ -426,16 +437,29 @@ class GoalSession(PushLoop):
             off = np.angle(np.exp(1j * (angle[:, None] - self._allowed[None, :])))
             keep = np.abs(off).min(axis=1) <= np.radians(1.0)
             index, camera = index[keep], camera[keep]
-        safe, cost, means = learning_safe(
-            self._first, self._pose, self._goal, self._target, hyps, self._planner,
-            cands.actions[index], self._reach, self._likelihood, turn,
-        )  # fmt: skip
-        offered[:] = False
-        offered[index[safe]] = True
-        best, gain = cands.choose(self._posterior, offered, self._scoring, "sense")
-        self._learning_gain = gain
-        # as an ActiveSession stops "uninformative": a push that teaches nothing is not made
-        if best is None or not gain > LEARNING_RULE.min_information:
+        # safe under a few particles first (as the planner's coarse pass), then the most
+        # informative of those checked under all of them, the next where it is not safe
+        share_index, share = _systematic(hyps.weights, COARSE_PARTICLES)
+        coarse = CoMHypotheses(hyps.coms[share_index], hyps.mus[share_index], share)
+        options = (self._first, self._pose, self._goal, self._target)
+        rest = (self._reach, self._likelihood, turn)
+        safe, _, _ = learning_safe(*options, coarse, self._planner, cands.actions[index], *rest)
+        index, camera = index[safe], camera[safe]
+        for _ in range(LEARNING_TRIES):
+            offered[:] = False
+            offered[index] = True
+            best, gain = cands.choose(self._posterior, offered, self._scoring, "sense")
+            # as an ActiveSession stops "uninformative": a push that teaches nothing is not made
+            if best is None or not gain > LEARNING_RULE.min_information:
+                return None
+            ok, cost, means = learning_safe(
+                *options, hyps, self._planner, cands.actions[[best]], *rest
+            )
+            if ok[0]:
+                break
+            keep = index != best
+            index, camera = index[keep], camera[keep]
+        else:
             return None
         at = int(np.flatnonzero(index == best)[0])
         self._learning_index = best
@@ -445,9 +469,9 @@ class GoalSession(PushLoop):
         return Plan(
             cands.actions[best].copy(),
             Action(*camera[at]),
-            float(cost[at]),
+            float(cost[0]),
             cost_now,
-            Motion(*(float(v[at]) for v in means)),
+            Motion(*(float(v[0]) for v in means)),
             "learn",
         )
 
