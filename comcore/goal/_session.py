@@ -177,7 +177,7 @@ class GoalSession(PushLoop):
     candidate push is expected to bring the object closer nor given a fair
     chance to (the planner's probe), and learning is no way out: the session
     has made ``learning_pushes`` learning pushes in a row and still no push
-    passes, or no learning push is safe, or it does not learn
+    passes, or no learning push is safe and informative, or it does not learn
     (``learn=False``, ``learning_pushes=0``); the goal may need a pull, or a
     push the object's outline does not allow; ``"lost"``: the object left
     the camera's view (a mask that touches the image border, or
@@ -191,13 +191,16 @@ class GoalSession(PushLoop):
     :class:`ActiveSession` would choose to learn the CoM (the most
     informative of its candidates, :meth:`comcore.active._choice.Candidates.choose`:
     200 pushes drawn once on the first mask with ``rng``, ``choice.travel``
-    long), among those safe for the goal
-    (:func:`comcore.goal._planner.learning_safe`: predicted to keep the
-    object in view, to move it, within ``max_turn``, and on average at most
-    :data:`~comcore.goal._planner.LEARNING_SLACK` tolerance, 1 cm by default,
-    farther from the goal's position, or its orientation where the goal sets
-    no position), and plans again on the narrower posterior. At most
-    ``learning_pushes`` in a row (default 3); each counts in the budget.
+    long, and each cut to :data:`LEARNING_LENGTHS` of that), among those
+    safe for the goal (:func:`comcore.goal._planner.learning_safe`:
+    predicted to keep the object in view, to move it, within ``max_turn``,
+    and on average at most :data:`~comcore.goal._planner.LEARNING_SLACK`
+    tolerance, 1 cm by default, farther from the goal's position, or its
+    orientation where the goal sets no position); it must be expected to
+    teach more than an ActiveSession's ``min_information`` (1e-3 bits,
+    :data:`LEARNING_RULE`). Then it plans again on the narrower posterior.
+    At most ``learning_pushes`` in a row (default 3); each counts in the
+    budget.
     :attr:`push_kinds` says why each push was made (``"goal"``, ``"probe"``,
     ``"learn"``), :attr:`next_push_kind` why the planned one is.
 
