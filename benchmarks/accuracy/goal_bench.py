@@ -141,14 +141,18 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         prior = None
     start_rotations = len(robot.history)
     start_theta = robot.pose.theta
+    learning = 0
     if strategy == "estimate-first" and prior is None:
         status, pushes = "lost", 0
     else:
+        if args.learning_pushes is not None:
+            options["learning_pushes"] = args.learning_pushes
         session = comcore.GoalSession(
             first, goal, prior=prior, learn=strategy == "learn", **options
         )
         _drive(robot, session)
         status, pushes = session.status, len(session.pushes) + (session.status == "lost")
+        learning = session.push_kinds.count("learn")
     truth = robot.pose
     target = goal.target_px(first)
     pos_err = math.hypot(truth.tx - target[0], truth.ty - target[1]) * first.resolution
@@ -161,6 +165,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         "status": status,
         "pushes": pushes,
         "estimate_pushes": est_pushes,
+        "learning_pushes": learning,
         "estimate_status": status_est,
         "pos_err_cm": 100 * pos_err,
         "ang_err_deg": math.degrees(ang_err),
@@ -224,6 +229,10 @@ def main(argv=None):
     parser.add_argument(
         "--max-turn", type=float, default=None,
         help="the goals' max_turn, degrees (default: unbounded)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--learning-pushes", type=int, default=None,
+        help="GoalSession(learning_pushes=...): 0 says stuck at once (default: the session's)",
     )  # fmt: skip
     parser.add_argument("--timing", action="store_true", help="print the planner's step times")
     parser.add_argument("--out", default=None, help="JSON lines, one per trial and strategy")

@@ -43,8 +43,13 @@ least a tenth of the allowed travel long after contact
 (:data:`PROBE_LENGTH`) that bring the object closer under at least a quarter
 of the posterior's mass (:data:`PROBE_CHANCE`); it is evidence, and the next
 plan is made on a narrower posterior. Where no push is even that, there is
-none (the session says ``"stuck"``: the goal needs a pull, or the model sees
-no push that helps). To keep a step fast, every candidate is first scored
+none: a learning :class:`comcore.GoalSession` then makes a **learning push**
+(the most informative of an :class:`comcore.ActiveSession`'s candidates among
+those :func:`learning_safe` keeps: in view, moving the object, and at most
+:data:`LEARNING_SLACK` tolerance farther from the goal), and plans again;
+where it cannot, or has made ``learning_pushes`` of them in a row, it says
+``"stuck"`` (the goal needs a pull, or the model sees no push that helps).
+To keep a step fast, every candidate is first scored
 over :data:`COARSE_PARTICLES` particles, and the best :data:`KEPT` and the
 best of each length again over all of them; the follow-ups are pushes along
 directions of the object's own frame, whose predictions serve every pose
@@ -89,7 +94,16 @@ from ._translation import (
 )
 from ._types import CoMHypotheses, Goal, _systematic
 
-__all__ = ["MIN_GAIN", "N_DIRECTIONS", "Plan", "plan_push", "pose_cost", "reached"]
+__all__ = [
+    "LEARNING_SLACK",
+    "MIN_GAIN",
+    "N_DIRECTIONS",
+    "Plan",
+    "learning_safe",
+    "plan_push",
+    "pose_cost",
+    "reached",
+]
 
 #: Camera directions tried at every step (evenly spaced), besides the goal's direction.
 N_DIRECTIONS = 8
@@ -115,6 +129,18 @@ PROBE_LENGTH = 0.1
 #: Two-step lookahead: the best pushes of the full pass whose follow-up is sought, and the
 #: weight of the follow-up's expected cost (1: trusted as the push's own).
 LOOKAHEAD, LOOKAHEAD_WEIGHT = 4, 1.0
+#: Where no push passes the rule above, :class:`comcore.GoalSession` may make a *learning*
+#: push (the most informative, as :class:`comcore.ActiveSession` chooses it) that leaves the
+#: object, on average over the particles, at most this many tolerances farther from the goal
+#: than it is: its position tolerance where the goal sets a position (1 cm by default), else
+#: its orientation tolerance (:func:`learning_safe`).
+LEARNING_SLACK = 1.0
+
+
+#: Why a push was made (:attr:`comcore.GoalSession.push_kinds`): ``"goal"``, expected to bring
+#: the object closer; ``"probe"``, a fair chance to (the planner's probe); ``"learn"``, none
+#: passes either rule and the push is the most informative one that is safe for the goal.
+PUSH_KINDS = ("goal", "probe", "learn")
 
 
 class Plan(NamedTuple):
@@ -125,6 +151,7 @@ class Plan(NamedTuple):
     expected_cost: float
     cost_now: float
     expected_pose: Motion  # the particles' mean pose after the push
+    kind: str = "goal"  # one of PUSH_KINDS
 
 
 def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_radius, allowed):
@@ -273,7 +300,7 @@ def plan_push(
         ).reshape(len(index), len(order))
         closed = share @ follow
         value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
-    best = int(np.argmin(value))
+    best, kind = int(np.argmin(value)), "goal"
     if not np.isfinite(value[best]) or value[best] > cost_now * (1.0 - MIN_GAIN):
         # a probe: no push is expected to help on average (a wide posterior), but one the
         # posterior gives a fair chance to help is made (and teaches it)
@@ -282,11 +309,58 @@ def plan_push(
         likely &= travel >= PROBE_LENGTH * max_travel_px - 1e-6
         if not (likely & np.isfinite(cost)).any():
             return None
-        best = int(np.argmin(np.where(likely, cost, np.inf)))
+        best, kind = int(np.argmin(np.where(likely, cost, np.inf))), "probe"
     return Plan(
         actions[best].copy(),
         Action(*cam_actions[best]),
         float(cost[best]),
         cost_now,
         Motion(*(float(v[best]) for v in means)),
+        kind,
     )
+
+
+def _error_in_tolerances(goal: Goal, target_px, resolution: float, theta, tx, ty):
+    """How far poses are from the goal in tolerances: the position's, else the orientation's."""
+    if target_px is not None:
+        dist_m = np.hypot(tx - target_px[0], ty - target_px[1]) * resolution
+        return dist_m / goal.position_tolerance
+    return np.abs(theta - goal.orientation) / goal.orientation_tolerance
+
+
+def learning_safe(
+    first: Mask,
+    pose: Motion,
+    goal: Goal,
+    target_px,
+    hyps: CoMHypotheses,
+    model,
+    actions: np.ndarray,
+    reach_px: float,
+    scales=_SCALES,
+    turn=None,
+):
+    """Which of ``actions`` (first mask's frame) are safe to make to learn, and what each expects.
+
+    Safe: the push keeps the object's bounding disc in view and moves it
+    (under at least half the particles' mass), keeps within the goal's
+    ``max_turn`` (``turn``, as :func:`plan_push`), and leaves the object on
+    average over the particles at most :data:`LEARNING_SLACK` tolerances
+    farther from the goal than it is now (the position where the goal sets
+    one, else the orientation). Returns ``(safe, cost, poses)``: a bool per
+    action, its expected cost (as :func:`plan_push` scores one) and the
+    particles' mean pose ``(theta, tx, ty)`` after each, arrays.
+    """
+    res = first.resolution
+    now = float(_error_in_tolerances(goal, target_px, res, pose.theta, pose.tx, pose.ty))
+    if len(actions) == 0:
+        empty = np.zeros(0)
+        return np.zeros(0, bool), empty, (empty, empty, empty)
+    cost, (theta, tx, ty, _) = _expected(
+        first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn
+    )
+    weights = hyps.weights[:, None]
+    after = (weights * _error_in_tolerances(goal, target_px, res, theta, tx, ty)).sum(axis=0)
+    safe = np.isfinite(cost) & (after <= now + LEARNING_SLACK + 1e-9)
+    means = tuple((weights * v).sum(axis=0) for v in (theta, tx, ty))
+    return safe, cost, means

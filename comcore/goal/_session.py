@@ -19,6 +19,7 @@ from .._mask import Mask
 from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
 from .._validation import check_count, check_mask, check_one_object, check_physical, check_rng
+from ..active._choice import Candidates
 from ..active._likelihood import gyration_px
 from ..active._option_groups import check_groups, check_reads_only, names_the_group
 from ..active._options import (
@@ -42,17 +43,27 @@ from ..active._session import ActiveSession, session_setup
 from ..camera._pose_tracking import (
     executed_in_object,
     is_miss,
+    moved_mask,
     read_pose,
     relative,
     symmetric_branches,
 )
-from ._costs import turn_outside
-from ._planner import plan_push, reached
+from ..geometry._sampling import DEFAULT_STANDOFF_M, sample_pushes
+from ._costs import pose_cost, turn_outside
+from ._planner import COARSE_PARTICLES, Plan, learning_safe, plan_push, reached
 from ._prior import prior_particles, touches_border
 from ._translation import STANDOFF_M, planning_model
-from ._types import MAX_PLANNING_PARTICLES, PLANNING_PARTICLES, Goal, MetricPose, hypotheses_from
+from ._types import (
+    MAX_PLANNING_PARTICLES,
+    PLANNING_PARTICLES,
+    CoMHypotheses,
+    Goal,
+    MetricPose,
+    _systematic,
+    hypotheses_from,
+)
 
-__all__ = ["GOAL_STATUSES", "GoalSession"]
+__all__ = ["DEFAULT_LEARNING_PUSHES", "GOAL_STATUSES", "GoalSession"]
 
 #: The session says ``"reached"`` when the pose it reads is within the goal's tolerances less
 #: this share of the camera's reading error (:attr:`comcore.Likelihood.motion_noise`: 0.5
@@ -62,6 +73,21 @@ READING_MARGIN = 0.5
 #: up to 5 cm each after contact (an :class:`comcore.ActiveSession`'s are 5 pushes of 3 cm).
 DEFAULT_STOP = StopRule(max_pushes=30)
 DEFAULT_CHOICE = PushChoice(travel=0.05)
+#: ``GoalSession(learning_pushes=...)``'s default: the learning pushes in a row a session may
+#: make where no push passes the planner's rules, before it says ``"stuck"``.
+DEFAULT_LEARNING_PUSHES = 3
+#: The seed the learning pushes' candidates are drawn with where ``rng`` is None.
+LEARNING_SEED = 0
+#: A learning push must be expected to teach more than this rule's ``min_information`` (an
+#: :class:`comcore.ActiveSession`'s default, 1e-3 bits), as an active session's push must.
+LEARNING_RULE = StopRule()
+#: The learning pushes' candidates: an ActiveSession's, and each cut to these shares of its
+#: travel after contact. Each cut teaches what the whole push does (the sense of the turn is
+#: the same: the same force lines), so the longest safe one of the most informative is made.
+LEARNING_LENGTHS = (0.5, 0.25)
+#: Learning pushes safe under the planner's coarse particles are checked under all of its
+#: particles, the most informative first: at most this many.
+LEARNING_TRIES = 4
 #: What :attr:`GoalSession.status` can say.
 GOAL_STATUSES = (
     Status.WAITING_PUSH,
@@ -148,12 +174,35 @@ class GoalSession(PushLoop):
     tolerances (the pose as read, within them less half the reading error
     the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
     default); ``"budget"``: ``stop.max_pushes`` pushes made; ``"stuck"``: no
-    candidate push is expected to bring the object closer (the goal needs a
-    pull, or a push the object's outline does not allow); ``"lost"``: the
-    object left the camera's view (a mask that touches the image border, or
+    candidate push is expected to bring the object closer nor given a fair
+    chance to (the planner's probe), and learning is no way out: the session
+    has made ``learning_pushes`` learning pushes in a row and still no push
+    passes, or no learning push is safe and informative, or it does not learn
+    (``learn=False``, ``learning_pushes=0``); the goal may need a pull, or a
+    push the object's outline does not allow; ``"lost"``: the object left
+    the camera's view (a mask that touches the image border, or
     ``observe(out_of_view=True)``). Reading :attr:`done`, :attr:`status` or
     :attr:`pose` computes nothing: the session checks the goal and plans the
     next push when its state changes (construction, :meth:`observe`).
+
+    **Learning pushes.** Where the posterior is too wide for any push to pass
+    the planner's rules (every push may turn the object a lot either way),
+    a learning session does not stop: it makes the push an
+    :class:`ActiveSession` would choose to learn the CoM (the most
+    informative of its candidates, :meth:`comcore.active._choice.Candidates.choose`:
+    200 pushes drawn once on the first mask with ``rng``, ``choice.travel``
+    long, and each cut to :data:`LEARNING_LENGTHS` of that), among those
+    safe for the goal (:func:`comcore.goal._planner.learning_safe`:
+    predicted to keep the object in view, to move it, within ``max_turn``,
+    and on average at most :data:`~comcore.goal._planner.LEARNING_SLACK`
+    tolerance, 1 cm by default, farther from the goal's position, or its
+    orientation where the goal sets no position); it must be expected to
+    teach more than an ActiveSession's ``min_information`` (1e-3 bits,
+    :data:`LEARNING_RULE`). Then it plans again on the narrower posterior.
+    At most ``learning_pushes`` in a row (default 3); each counts in the
+    budget.
+    :attr:`push_kinds` says why each push was made (``"goal"``, ``"probe"``,
+    ``"learn"``), :attr:`next_push_kind` why the planned one is.
 
     **Poses.** :attr:`pose` is a :class:`comcore.Motion` in pixels (the turn
     since the first mask and how far its area centroid has moved), as
@@ -181,9 +230,10 @@ class GoalSession(PushLoop):
         session starts at its :attr:`~ActiveSession.pose`, where its pushes
         left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
     rng : None, int or numpy.random.Generator, optional
-        Checked and kept for the ActiveSession's shape; the planner draws
-        nothing at random (its particles are a systematic draw), so a session
-        is reproducible whatever the seed.
+        Draws the candidates of the learning pushes (once, when the first is
+        needed; None: seed 0, :data:`LEARNING_SEED`, so that a session with
+        the defaults is reproducible). The planner draws nothing at random
+        (its particles are a systematic draw).
     likelihood : Likelihood, optional
         As for :class:`ActiveSession`.
     stop : StopRule, optional
@@ -209,7 +259,13 @@ class GoalSession(PushLoop):
     push_directions : array_like, optional
         The only camera directions (radians; 0: +x, pi/2: +y down the screen)
         the robot may push along, where its workspace allows no others
-        (default: 8 evenly spaced, and the direction to the goal).
+        (default: 8 evenly spaced, and the direction to the goal). Learning
+        pushes keep to them too (within 1 degree).
+    learning_pushes : int, optional
+        The most learning pushes in a row where no push passes the planner's
+        rules (default 3, :data:`DEFAULT_LEARNING_PUSHES`; 0: say
+        ``"stuck"`` at once, as before). Only a learning session
+        (``learn=True``) makes them.
 
     Raises
     ------
@@ -246,6 +302,7 @@ class GoalSession(PushLoop):
         planner_model=None,
         n_particles: int = PLANNING_PARTICLES,
         push_directions=None,
+        learning_pushes: int = DEFAULT_LEARNING_PUSHES,
     ):
         self._first = check_one_object(mask)
         if not isinstance(goal, Goal):
@@ -273,7 +330,8 @@ class GoalSession(PushLoop):
                     f"push_directions must be finite angles (radians), got {push_directions!r}"
                 )
             self._allowed = allowed
-        check_rng(rng)
+        self._rng = check_rng(LEARNING_SEED if rng is None else rng)
+        self._max_learning = check_count(learning_pushes, "learning_pushes", 0)
         self._radius = check_physical(
             pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
         )
@@ -304,6 +362,10 @@ class GoalSession(PushLoop):
         self._log = PushLog(self._posterior, credible, self._scoring.systematic_px)
         self._n_pushes, self._final, self._plan, self._handed_out = 0, None, None, False
         self._min_travel = 0.0  # after a push that did not move the object: a longer one
+        self._kinds: list[str] = []  # why each recorded push was made
+        self._learning: Candidates | None = None  # the learning pushes' candidates, when needed
+        self._learning_index: int | None = None  # the candidate the planned learning push is
+        self._learning_run = 0  # learning pushes in a row
         self._update()
 
     def _check_goal_in_view(self) -> None:
@@ -339,8 +401,82 @@ class GoalSession(PushLoop):
             self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
             self._likelihood, turn,
         )  # fmt: skip
+        self._learning_index = None
+        if self._plan is None and self._learn and self._learning_run < self._max_learning:
+            self._plan = self._learning_plan(hyps, turn)
         if self._plan is None:
             self._final = Status.STUCK
+
+    def _learning_candidates(self) -> Candidates:
+        """An ActiveSession's candidates (``choice.travel`` long), and each cut shorter."""
+        res = self._first.resolution
+        choice = PushChoice(travel=self._max_travel_px * res)
+        full = sample_pushes(
+            self._first, choice.n_candidates, cone=choice.cone, travel=choice.travel,
+            rng=self._rng,
+        )  # fmt: skip
+        start, vector = full[:, :2], full[:, 2:] - full[:, :2]
+        unit = vector / np.hypot(*vector.T)[:, None]
+        standoff = DEFAULT_STANDOFF_M / res  # sample_pushes' start before the contact
+        cut = [
+            np.hstack([start, start + unit * (standoff + f * self._max_travel_px)])
+            for f in LEARNING_LENGTHS
+        ]
+        return Candidates(
+            self._first, np.vstack([full, *cut]), choice, self._scoring.mus, self._rng,
+            pusher_radius=self._scoring.pusher_radius,
+        )  # fmt: skip
+
+    def _learning_plan(self, hyps, turn) -> Plan | None:
+        """The most informative push safe for the goal, as an ActiveSession chooses (or None)."""
+        if self._learning is None:
+            self._learning = self._learning_candidates()
+        cands = self._learning
+        offered = cands.offerable(self._pose, moved_mask(self._first, self._pose))
+        index = np.flatnonzero(offered)
+        camera = cands.in_pose(self._pose, index)
+        if self._allowed is not None and len(index):  # the robot's directions only
+            angle = np.arctan2(camera[:, 3] - camera[:, 1], camera[:, 2] - camera[:, 0])
+            off = np.angle(np.exp(1j * (angle[:, None] - self._allowed[None, :])))
+            keep = np.abs(off).min(axis=1) <= np.radians(1.0)
+            index, camera = index[keep], camera[keep]
+        # safe under a few particles first (as the planner's coarse pass), then the most
+        # informative of those checked under all of them, the next where it is not safe
+        share_index, share = _systematic(hyps.weights, COARSE_PARTICLES)
+        coarse = CoMHypotheses(hyps.coms[share_index], hyps.mus[share_index], share)
+        options = (self._first, self._pose, self._goal, self._target)
+        rest = (self._reach, self._likelihood, turn)
+        safe, _, _ = learning_safe(*options, coarse, self._planner, cands.actions[index], *rest)
+        index, camera = index[safe], camera[safe]
+        for _ in range(LEARNING_TRIES):
+            offered[:] = False
+            offered[index] = True
+            best, gain = cands.choose(self._posterior, offered, self._scoring, "sense")
+            # as an ActiveSession stops "uninformative": a push that teaches nothing is not made
+            if best is None or not gain > LEARNING_RULE.min_information:
+                return None
+            ok, cost, means = learning_safe(
+                *options, hyps, self._planner, cands.actions[[best]], *rest
+            )
+            if ok[0]:
+                break
+            keep = index != best
+            index, camera = index[keep], camera[keep]
+        else:
+            return None
+        at = int(np.flatnonzero(index == best)[0])
+        self._learning_index = best
+        cost_now = float(pose_cost(
+            self._goal, self._target, self._first.resolution, *self._pose
+        ))  # fmt: skip
+        return Plan(
+            cands.actions[best].copy(),
+            Action(*camera[at]),
+            float(cost[0]),
+            cost_now,
+            Motion(*(float(v[0]) for v in means)),
+            "learn",
+        )
 
     @property
     def goal(self) -> Goal:
@@ -359,6 +495,22 @@ class GoalSession(PushLoop):
         """
         res = self._first.resolution
         return MetricPose(self._pose.theta, self._pose.tx * res, self._pose.ty * res)
+
+    @property
+    def push_kinds(self) -> tuple[str, ...]:
+        """Why each push in :attr:`pushes` was made, in order: ``"goal"``, ``"probe"``, ``"learn"``.
+
+        ``"goal"``: expected to bring the object closer; ``"probe"``: no push
+        was, and this one had a fair chance to (the planner's probe);
+        ``"learn"``: not even that, and this was the most informative push
+        safe for the goal (see the class's *Learning pushes*).
+        """
+        return tuple(self._kinds)
+
+    @property
+    def next_push_kind(self) -> str | None:
+        """Why the planned push (:meth:`next_push`) is made, as :attr:`push_kinds` (None: done)."""
+        return None if self._plan is None else self._plan.kind
 
     @property
     def expected_cost(self) -> float | None:
@@ -441,11 +593,16 @@ class GoalSession(PushLoop):
         record, evidence, pose = self._reading(mask, motion, frames)
         self._log.add(record, self._posterior, *evidence)
         self._n_pushes += 1
-        if record.outcome == "miss":  # the same push again would not move it either
+        self._kinds.append(self._plan.kind)
+        if self._plan.kind == "learn":  # not offered again (a miss too), as an ActiveSession's
+            self._learning.made(self._learning_index)
+            self._learning_run, self._min_travel = self._learning_run + 1, 0.0
+        elif record.outcome == "miss":  # the same push again would not move it either
+            self._learning_run = 0
             travel = np.hypot(*np.subtract(record.action.end, record.action.start))
             self._min_travel = 2 * (travel - STANDOFF_M / self._first.resolution)
         else:
-            self._min_travel = 0.0
+            self._learning_run, self._min_travel = 0, 0.0
         self._pose, self._handed_out = pose, False
         self._update()
 

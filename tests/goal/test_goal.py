@@ -453,3 +453,74 @@ def test_max_turn_bounds_the_follow_ups_too():
     free = follow_ups(*args, directions, None)
     bounded = follow_ups(*args, directions, None, turn=(0.0, 0.0, math.radians(0.01)))
     assert np.isfinite(free).all() and (bounded >= free).all() and (bounded > free).any()
+
+
+# -- learning pushes where no push passes the planner's rules -------------------------------
+
+
+def _too_wide():
+    """A goal no push passes on the plate's uniform prior: 3 cm right, held within 0.5 degrees.
+
+    Only pushes to the right are allowed: every one may turn the plate by more than the
+    tolerance either way, so none is expected to help, nor has a quarter's chance to.
+    """
+    goal = comcore.Goal(displacement=(0.03, 0.0), orientation=0.0,
+                        orientation_tolerance=math.radians(0.5))  # fmt: skip
+    return _plate(), goal, {"model": None, "rng": 0, "push_directions": [0.0]}
+
+
+def test_a_wide_posterior_makes_a_learning_push_where_it_said_stuck():
+    first, goal, options = _too_wide()
+    before = comcore.GoalSession(first, goal, learning_pushes=0, **options)
+    assert before.status == "stuck"  # as every session said before learning pushes
+    assert comcore.GoalSession(first, goal, learn=False, **options).status == "stuck"
+    session = comcore.GoalSession(first, goal, **options)
+    assert session.status == "waiting_push" and session.next_push_kind == "learn"
+    push = session.next_push()
+    assert push.ex > push.sx and abs(push.ey - push.sy) < 1e-6  # the allowed direction only
+    # safe for the goal: on average at most LEARNING_SLACK tolerances (1 cm) farther from it
+    expected = session._plan.expected_pose
+    target = goal.target_px(first)
+    farther = math.hypot(expected.tx - target[0], expected.ty - target[1]) - math.hypot(*target)
+    assert farther * first.resolution <= comcore.goal._planner.LEARNING_SLACK * 0.01 + 1e-9
+    radius = session.estimate().posterior.credible_radius_px
+    session.observe(motion=(0.05, 3.0, 0.0))
+    assert session.push_kinds == ("learn",) and len(session.pushes) == 1
+    assert session.pushes[0].outcome == "evidence"
+    assert session.estimate().posterior.credible_radius_px < 0.8 * radius  # it taught it
+    assert session.status == "waiting_push" and session.next_push_kind in ("goal", "probe")
+    session.next_push()
+    session.observe(motion=(0.0, 3.0, 0.0))
+    assert session.push_kinds[1] in ("goal", "probe")
+
+
+def test_learning_pushes_keep_to_their_budget(monkeypatch):
+    """No push ever passes the planner's rules: ``learning_pushes`` in a row, then stuck."""
+    from comcore.goal import _session as goal_session
+
+    first, goal, options = _too_wide()
+    options = {**options, "push_directions": None}
+    monkeypatch.setattr(goal_session, "plan_push", lambda *args, **kwargs: None)
+    for budget in (0, 1, 3):
+        session = comcore.GoalSession(first, goal, learning_pushes=budget, **options)
+        pushed = []
+        while not session.done:
+            pushed.append(session.next_push())
+            session.observe(motion=(0.05 * (-1) ** len(pushed), 2.0, 0.0))
+        assert session.status == "stuck"
+        assert session.push_kinds == ("learn",) * budget
+        assert len(set(pushed)) == budget  # none made twice, as an ActiveSession's
+    # the session's budget comes first
+    session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=1), **options)
+    session.next_push()
+    session.observe(motion=(0.05, 2.0, 0.0))
+    assert session.status == "budget" and session.push_kinds == ("learn",)
+
+
+def test_learning_pushes_option_is_checked():
+    first, goal, options = _too_wide()
+    with pytest.raises(ValueError, match="learning_pushes must be >= 0, got -1"):
+        comcore.GoalSession(first, goal, learning_pushes=-1, **options)
+    for bad in (1.5, True, "3"):
+        with pytest.raises(TypeError, match="learning_pushes must be an int"):
+            comcore.GoalSession(first, goal, learning_pushes=bad, **options)
