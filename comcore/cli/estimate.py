@@ -163,28 +163,7 @@ def example_files() -> dict[str, Path]:
 def add_arguments(parser) -> None:
     """Options of ``comcore estimate``."""
     add = parser.add_argument
-    files = parser.add_argument_group("input (--mask and --pushes, --bag, or --example)")
-    files.add_argument(
-        "--mask", help="image of the object seen from above: a mask or a photo on a plain table"
-    )
-    files.add_argument("--pushes", help="CSV with the columns " + ", ".join(COLUMNS))
-    files.add_argument(
-        "--frames",
-        metavar="CSV",
-        help="the frames a camera saw during the pushes: a CSV with the columns "
-        + ", ".join(FRAME_COLUMNS)
-        + "; push: 1 for the first data row of --pushes (its line 2 after the header), 2 for "
-        "the next row, ... (the rows of one "
-        "push in the order taken; a push may have none); px, py: the pusher's leading point "
-        "then (pixels); theta, tx, ty: the object's motion since the push began, as in "
-        "--pushes (theta in --theta-units). Needs --mask and --pushes, --method posterior and "
-        "--model limit-surface",
-    )
-    files.add_argument(
-        "--example",
-        action="store_true",
-        help="use the example shipped with comcore (an object image and 40 simulated pushes)",
-    )
+    _add_input_arguments(parser)
     _add_bag_arguments(parser)
     add(
         "--object",
@@ -264,6 +243,32 @@ BAG_OPTIONS = {
     "--outline": "the object's outline in its own frame (the object topic's): a CSV of x,y "
     "vertices in metres, or a mesh (.stl, .obj, ...: its footprint, needs comcore[sim])",
 }
+
+
+def _add_input_arguments(parser) -> None:
+    """``--mask``, ``--pushes``, ``--frames`` and ``--example``."""
+    files = parser.add_argument_group("input (--mask and --pushes, --bag, or --example)")
+    files.add_argument(
+        "--mask", help="image of the object seen from above: a mask or a photo on a plain table"
+    )
+    files.add_argument("--pushes", help="CSV with the columns " + ", ".join(COLUMNS))
+    files.add_argument(
+        "--frames",
+        metavar="CSV",
+        help="the frames a camera saw during the pushes: a CSV with the columns "
+        + ", ".join(FRAME_COLUMNS)
+        + "; push: 1 for the first data row of --pushes (its line 2 after the header), 2 for "
+        "the next row, ... (the rows of one "
+        "push in the order taken; a push may have none); px, py: the pusher's leading point "
+        "then (pixels); theta, tx, ty: the object's motion since the push began, as in "
+        "--pushes (theta in --theta-units). Needs --mask and --pushes, --method posterior and "
+        "--model limit-surface",
+    )
+    files.add_argument(
+        "--example",
+        action="store_true",
+        help="use the example shipped with comcore (an object image and 40 simulated pushes)",
+    )
 
 
 def _add_bag_arguments(parser) -> None:
@@ -624,6 +629,26 @@ def _resolution(args) -> float:
     return check_resolution(args.resolution)
 
 
+def _numbers(args) -> tuple[float, float, float]:
+    """The resolution, pusher radius and systematic error in metres; the other options checked.
+
+    Sets ``args.target_radius`` (metres) and ``args.frame_id`` (its default) in place.
+    """
+    resolution = _resolution(args)
+    pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
+    systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
+    args.target_radius = _target(args.target_radius)
+    if args.frame_id is None:
+        args.frame_id = (args.object_child_frame or OBJECT_FRAME_ID) if args.bag else MASK_FRAME_ID
+    if not args.frame_id.strip():
+        raise InputError("--frame-id must name a tf frame, got an empty string")
+    if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
+        raise InputError(
+            f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
+        )
+    return resolution, pusher_radius, systematic_error
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; its exit code (:data:`EPILOG`).
 
@@ -635,20 +660,7 @@ def run(args) -> int:
         _bag_options(args)
         if not args.bag:
             _inputs(args)  # the mask and CSV options, checked before the numbers
-        resolution = _resolution(args)
-        pusher_radius = _metres(args.pusher_radius, "--pusher-radius", "pusher_radius")
-        systematic_error = _metres(args.systematic_error, "--systematic-error", "length_noise")
-        args.target_radius = _target(args.target_radius)
-        if args.frame_id is None:
-            args.frame_id = (
-                (args.object_child_frame or OBJECT_FRAME_ID) if args.bag else MASK_FRAME_ID
-            )
-        if not args.frame_id.strip():
-            raise InputError("--frame-id must name a tf frame, got an empty string")
-        if not 0 <= args.bootstrap <= MAX_BOOTSTRAP:
-            raise InputError(
-                f"--bootstrap must be 0 to {MAX_BOOTSTRAP} resamplings, got {args.bootstrap}"
-            )
+        resolution, pusher_radius, systematic_error = _numbers(args)
         mask, recorded, from_bag = _read(args, resolution, pusher_radius)
         frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
         if args.theta_units == "deg":
