@@ -76,10 +76,14 @@ def model_lattice(pixels: np.ndarray, stride: int) -> Lattice | None:
     ``pixels`` are pixel centres ``(x, y)`` on the integer grid (as
     :func:`comcore.conventions.pixel_centres` gives them), the nodes those whose
     column and row are multiples of ``stride`` counted from the first pixel's.
+    Hypotheses off the integer grid (none a session makes) get None: every one asked.
     """
     if stride <= 1 or len(pixels) == 0:
         return None
-    grid = np.rint(pixels - pixels.min(axis=0)).astype(np.intp)  # (p, 2) column, row
+    offsets = pixels - pixels.min(axis=0)
+    if np.abs(offsets - np.rint(offsets)).max() > 1e-9:  # not a pixel grid: every one asked
+        return None
+    grid = np.rint(offsets).astype(np.intp)  # (p, 2) column, row
     cell = grid // stride
     on_node = (grid % stride == 0).all(axis=1)
     # the index of the pixel on each lattice node, -1 where the node is off the object

@@ -84,6 +84,7 @@ def test_the_stride_is_the_spacing_in_whole_pixels():
     assert lattice_stride(0.0025, 0.0005) == 5
     assert lattice_stride(0.0, 0.0005) == 1
     assert model_lattice(np.zeros((4, 2)), 1) is None
+    assert model_lattice(np.array([[0.0, 0.0], [1.5, 0.0], [2.0, 1.0]]), 2) is None
 
 
 def test_model_spacing_is_checked():
