@@ -19,7 +19,9 @@ of the goal session, lay outside the band from its orientation at the
 session's start to the goal's (:func:`largest_turn`: for a translation the
 largest ``|orientation - start|``); ``--max-turn`` bounds it in the goals
 (:attr:`comcore.Goal.max_turn`). One JSON line per (trial, strategy) goes to
-``--out``; a table to stdout.
+``--out``; a table to stdout. ``--frame-rate HZ`` gives the ``learn`` and
+``estimate-first`` sessions the camera's frames during each push besides the
+mask after it (``observe(mask, frames=push.path)``: the issue of the frames).
 
 Example::
 
@@ -83,18 +85,27 @@ def _camera(robot):
         return None
 
 
-def _drive(robot, session, loop_limit=200) -> bool:
-    """Run a session (goal or active) on the robot; False when the object left the view."""
+def _drive(robot, session, loop_limit=200, frame_rate=None) -> bool:
+    """Run a session (goal or active) on the robot; False when the object left the view.
+
+    ``frame_rate`` (Hz): the camera's frames during each push are given to the
+    session too (``observe(mask, frames=push.path)``); None: the end masks alone.
+    """
     for _ in range(loop_limit):
         if session.done:
             return True
-        robot.execute(session.next_push())
+        action = session.next_push()
+        if frame_rate is None:
+            robot.execute(action)
+            frames = {}
+        else:
+            frames = {"frames": robot.execute(action, frame_rate=frame_rate).path}
         mask = _camera(robot)
         if mask is None:
             if isinstance(session, comcore.GoalSession):
                 session.observe(out_of_view=True)
             return False
-        session.observe(mask)
+        session.observe(mask, **frames)
     return True
 
 
@@ -134,7 +145,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         )
     elif strategy == "estimate-first":
         active = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0)
-        in_view = _drive(robot, active)
+        in_view = _drive(robot, active, frame_rate=args.frame_rate)
         est_pushes, status_est = len(active.actions), active.status
         prior = active if in_view else None
     else:
@@ -150,7 +161,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         session = comcore.GoalSession(
             first, goal, prior=prior, learn=strategy == "learn", **options
         )
-        _drive(robot, session)
+        _drive(robot, session, frame_rate=args.frame_rate)
         status, pushes = session.status, len(session.pushes) + (session.status == "lost")
         learning = session.push_kinds.count("learn")
     truth = robot.pose
@@ -233,6 +244,11 @@ def main(argv=None):
     parser.add_argument(
         "--learning-pushes", type=int, default=None,
         help="GoalSession(learning_pushes=...): 0 says stuck at once (default: the session's)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--frame-rate", type=float, default=None, metavar="HZ",
+        help="give the sessions the camera's frames during each push at this rate (the robot's "
+        "pusher at its default speed); default: the end masks alone",
     )  # fmt: skip
     parser.add_argument("--timing", action="store_true", help="print the planner's step times")
     parser.add_argument("--out", default=None, help="JSON lines, one per trial and strategy")
