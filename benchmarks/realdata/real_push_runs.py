@@ -232,7 +232,11 @@ def progressive(obj, world, idx) -> dict:
 
 
 def active_pool(obj, world, pool, model, options, seed) -> dict:
-    """``ActiveSession`` choosing among the pool's recorded pushes, shown their motions."""
+    """``ActiveSession`` choosing among the pool's recorded pushes, shown their motions.
+
+    With the real world's pose streams (``obj.frames``) the session is shown each
+    push's frames too (``observe(motion=..., frames=...)``), as ``posterior`` does.
+    """
     options = {k: v for k, v in options.items() if k != "bootstrap"}  # estimate_posterior's
     session = comcore.ActiveSession(
         obj.mask,
@@ -243,10 +247,12 @@ def active_pool(obj, world, pool, model, options, seed) -> dict:
         **options,
     )
     motions = obj.motions[world][pool]
+    real_frames = bool(obj.frames) and world == "real"  # the real poses during each push
     while not session.done:
         action = np.asarray(session.next_push(), dtype=float)
         j = int(np.argmin(np.abs(obj.actions[pool] - action).sum(axis=1)))
-        session.observe(motion=motions[j])
+        frames = obj.frames[int(pool[j])] if real_frames else None
+        session.observe(motion=motions[j], frames=frames)
         session.reset_pose()  # each recorded push started from the plate's rest pose
     out = score(session.estimate(), obj.mask, obj.com)
     out["pushes"] = len(session.actions)

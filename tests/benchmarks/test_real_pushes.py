@@ -96,3 +96,27 @@ def test_theta_units_real_on_simulated_recordings(tmp_path):
     )  # fmt: skip
     assert "| rect1 | 2 | 2 |" in stdout and "| rect1 | all | 1 |" in stdout
     assert "total: 0 false alarms in 3 honest recordings" in stdout
+
+
+def test_real_pushes_frames_reach_the_active_replay(tmp_path):
+    """--frame-rate: the pose streams during each push go to the posteriors and the
+    active replay's session too (each changes; the estimate stays as good)."""
+    h5py = pytest.importorskip("h5py")
+    simulators = pytest.importorskip("simulators")
+    data = tmp_path / "data"
+    (data / "abs" / "train").mkdir(parents=True)
+    (data / "shapes.json").write_text(json.dumps({"shapes": {"rect1": {"polygon_m": RECT}}}))
+    write_pushes(data / "abs" / "train", h5py, simulators)
+    results = {}
+    for label, extra in (("end", []), ("frames", ["--frame-rate", "50"])):
+        out = tmp_path / label
+        run_script(
+            "benchmarks/realdata/real_pushes.py", str(data), "--out", str(out), "--objects",
+            "rect1", "--worlds", "real", "--models", "lsm", "--ks", "2", "--subsets", "2",
+            "--pools", "1", "--no-figure", *extra,
+        )  # fmt: skip
+        results[label] = json.loads((out / "results.json").read_text())["results"]["rect1"]
+    end, framed = (results[k]["real"]["lsm"] for k in ("end", "frames"))
+    for cell in ("all", "active"):
+        assert framed[cell]["error_cm"] != pytest.approx(end[cell]["error_cm"], abs=1e-6)
+        assert framed[cell]["error_cm"] < 0.5
