@@ -39,15 +39,20 @@ def write_pushes(folder, h5py, simulators):
             f.create_dataset("ft_wrench", data=np.zeros((len(t), 4)))
 
 
-def test_real_pushes_script_on_simulated_recordings(tmp_path):
+def data_folder(tmp_path):
+    """A dataset folder (abs/train, shapes.json) with :func:`write_pushes`' four pushes."""
     h5py = pytest.importorskip("h5py")
     simulators = pytest.importorskip("simulators")
-    pytest.importorskip("matplotlib")
     data = tmp_path / "data"
     (data / "abs" / "train").mkdir(parents=True)
-    shapes = {"shapes": {"rect1": {"polygon_m": RECT}}}
-    (data / "shapes.json").write_text(json.dumps(shapes))
+    (data / "shapes.json").write_text(json.dumps({"shapes": {"rect1": {"polygon_m": RECT}}}))
     write_pushes(data / "abs" / "train", h5py, simulators)
+    return data
+
+
+def test_real_pushes_script_on_simulated_recordings(tmp_path):
+    pytest.importorskip("matplotlib")
+    data = data_folder(tmp_path)
     out = tmp_path / "out"
     stdout = run_script(
         "benchmarks/realdata/real_pushes.py", str(data), "--out", str(out), "--objects", "rect1",
@@ -84,12 +89,7 @@ def test_real_pushes_script_on_simulated_recordings(tmp_path):
 
 def test_theta_units_real_on_simulated_recordings(tmp_path):
     """Radians as recorded: no false alarm; the table has a row per k and all pushes."""
-    h5py = pytest.importorskip("h5py")
-    simulators = pytest.importorskip("simulators")
-    data = tmp_path / "data"
-    (data / "abs" / "train").mkdir(parents=True)
-    (data / "shapes.json").write_text(json.dumps({"shapes": {"rect1": {"polygon_m": RECT}}}))
-    write_pushes(data / "abs" / "train", h5py, simulators)
+    data = data_folder(tmp_path)
     stdout = run_script(
         "benchmarks/realdata/theta_units_real.py", str(data), "--objects", "rect1", "--ks", "2",
         "--subsets", "2",
@@ -101,12 +101,7 @@ def test_theta_units_real_on_simulated_recordings(tmp_path):
 def test_real_pushes_frames_reach_the_active_replay(tmp_path):
     """--frame-rate: the pose streams during each push go to the posteriors and the
     active replay's session too (each changes; the estimate stays as good)."""
-    h5py = pytest.importorskip("h5py")
-    simulators = pytest.importorskip("simulators")
-    data = tmp_path / "data"
-    (data / "abs" / "train").mkdir(parents=True)
-    (data / "shapes.json").write_text(json.dumps({"shapes": {"rect1": {"polygon_m": RECT}}}))
-    write_pushes(data / "abs" / "train", h5py, simulators)
+    data = data_folder(tmp_path)
     results = {}
     for label, extra in (("end", []), ("frames", ["--frame-rate", "50"])):
         out = tmp_path / label
