@@ -14,8 +14,9 @@ How it works
 3. **Fine fit.** Both masks are smoothed with a Gaussian of
    :data:`SMOOTHING_PX` pixels (rotation-equivariant, so the two outlines stay
    comparable); the motion minimises the squared difference of the smoothed
-   images over the outline band of ``before`` (``scipy.optimize.least_squares``
-   with the analytic Jacobian, cubic-spline sampling): sub-pixel, sub-degree,
+   images over the outline band of ``before`` (Levenberg-Marquardt,
+   ``scipy.optimize.leastsq`` with ``least_squares(method="lm")``'s tolerances,
+   the analytic Jacobian, cubic-spline sampling): sub-pixel, sub-degree,
    using the whole outline.
 4. **Consistent rotations.** A candidate whose outline residual is within
    :func:`_consistency_tolerance` of the best is consistent with the masks. If
@@ -305,7 +306,7 @@ def _measure(
     t0 = _centroid(fields_after.data) - centre
 
     problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    quick = problem.strided(QUICK_STRIDE, order=1)
     radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
     fits: list[tuple[np.ndarray, float]] = []
     for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):
@@ -340,7 +341,7 @@ def _measure_near(
     # the guess is a pose of the full image's frame; the window's centre is before's
     # centroid there too, so the motion's parameters are the same in both
     problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    quick = problem.strided(QUICK_STRIDE, order=1)
     radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
     x = quick.fit(np.array([guess.theta, guess.tx, guess.ty], dtype=float), radius)
     chosen = problem.fit(x, radius)
