@@ -206,6 +206,7 @@ def push_evidence(
     tracking=None,
     path=None,
     memo: dict | None = None,
+    tempered: bool = True,
 ) -> tuple[Evidence, np.ndarray]:
     """Log-likelihood over the grid of one push's object-frame motion, as :class:`Evidence`.
 
@@ -247,6 +248,9 @@ def push_evidence(
         pass one empty dict to every call for that push. The predictions
         depend on the push and the posterior's live hypotheses, not on the
         motion read.
+    tempered : bool, optional
+        False: ``Evidence.tempered`` holds ``full`` alone (one row), for a caller that
+        reads ``full`` only (a reading weighed against another).
     """
     observed = np.asarray(motion, dtype=float)
     tracking = scoring.tracking if tracking is None else tuple(tracking)
@@ -266,17 +270,17 @@ def push_evidence(
         )  # fmt: skip
         excess = excess + terms[2]
 
+    # the force line's terms are the same at every temper: computed once
+    sides = _sense_logs(distances, observed, theta_tol, scoring.line_scale_px)
+
     def loglik(weight):
         model_term, flipped_term = (None, None) if terms is None else terms[:2]
         if terms is not None:
             model_term, flipped_term = weight * model_term, weight * flipped_term
-        return push_log_likelihood(
-            distances, observed, flip_prob, theta_tol, model_term, flipped_term,
-            scoring.line_scale_px,
-        )  # fmt: skip
+        return _with_flips(sides, flip_prob, model_term, flipped_term)
 
     full = loglik(1.0)
-    weights = scoring.model_weights if terms is not None else (1.0,)
+    weights = scoring.model_weights if terms is not None and tempered else (1.0,)
     tempered = np.stack([full if w == 1.0 else loglik(w) for w in weights])
     return Evidence(tempered, full), excess
 
@@ -475,14 +479,24 @@ def push_log_likelihood(
     scale : float, optional
         Logistic scale (pixels) of the force line's soft edge.
     """
-    theta = float(motion[0])
-    sense = int(rotation_sense(theta, theta_tol))
+    sides = _sense_logs(distances, motion, theta_tol, scale)
+    return _with_flips(sides, flip_prob, model_term, flipped_term)
+
+
+def _sense_logs(distances, motion, theta_tol: float, scale: float):
+    """:func:`push_log_likelihood`'s log probabilities of the observed sense and of its flip."""
+    sense = int(rotation_sense(float(motion[0]), theta_tol))
     floor = 1e-300
     if sense == 0:
-        log_same = log_flip = np.zeros_like(distances)
-    else:
-        log_same = np.log(np.maximum(side_probability(sense * distances, scale), floor))
-        log_flip = np.log(np.maximum(side_probability(-sense * distances, scale), floor))
+        return np.zeros_like(distances), np.zeros_like(distances)
+    log_same = np.log(np.maximum(side_probability(sense * distances, scale), floor))
+    log_flip = np.log(np.maximum(side_probability(-sense * distances, scale), floor))
+    return log_same, log_flip
+
+
+def _with_flips(sides, flip_prob: float, model_term=None, flipped_term=None):
+    """:func:`push_log_likelihood` from the sense's terms ``sides`` (:func:`_sense_logs`)."""
+    log_same, log_flip = sides
     if model_term is not None:
         log_same = log_same + model_term
         log_flip = log_flip + flipped_term
