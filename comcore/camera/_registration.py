@@ -259,8 +259,10 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
 def _window(before: Mask, after: Mask):
     """The two masks' fields on the window around both objects, and before's centroid there."""
     h, w = before.shape
-    rows = np.flatnonzero(before.data.any(axis=1) | after.data.any(axis=1))
-    cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
+    # the two objects' bounding boxes, kept by each Mask: no scan of the camera frame
+    box_b, box_a = before._box, after._box
+    rows = (min(box_b.lo[0], box_a.lo[0]), max(box_b.hi[0], box_a.hi[0]) - 1)
+    cols = (min(box_b.lo[1], box_a.lo[1]), max(box_b.hi[1], box_a.hi[1]) - 1)
     r0, r1 = max(rows[0] - CROP_PAD_PX, 0), min(rows[-1] + CROP_PAD_PX + 1, h)
     c0, c1 = max(cols[0] - CROP_PAD_PX, 0), min(cols[-1] + CROP_PAD_PX + 1, w)
     # everything from here on in the window around the two objects, not the camera frame
