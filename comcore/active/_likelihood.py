@@ -247,7 +247,8 @@ def push_evidence(
         (a symmetric outline's other rotations) against the same posterior:
         pass one empty dict to every call for that push. The predictions
         depend on the push and the posterior's live hypotheses, not on the
-        motion read.
+        motion read; the end pose's terms of each reading are kept too (a
+        reading scored again with its path adds the path's term to them).
     tempered : bool, optional
         False: ``Evidence.tempered`` holds ``full`` alone (one row), for a caller that
         reads ``full`` only (a reading weighed against another).
@@ -346,7 +347,7 @@ def _terms_at(
     if kept is None or not np.array_equal(kept[0], per_model):  # another posterior's
         kept = (per_model, offset_marginal(scoring, mask, action, pixels, offset, per_model))
         memo["offset_marginal"] = kept
-    predicted, spread = kept[1]
+    predicted, spread = kept[1]  # (and the end's terms per reading: end_terms)
     # The pusher's offset spreads the prediction: its std adds to the tracking's.
     track = (np.hypot(tracking[0], spread[0]), np.hypot(tracking[1], spread[1]))
     kw = {"rotation": rotation_observed, "tracking": track}
@@ -361,14 +362,22 @@ def _terms_at(
         along = path_predictions(scoring, mask, action, pixels, per_model, path)
         weights = weights.reshape(*alive.shape[:2], -1, n_s).sum(axis=-1)
 
+    def end_terms(motion):
+        """The end's log-likelihood per scale and its base residuals, kept in ``memo``."""
+        key = ("end_terms", motion.tobytes(), bool(rotation_observed), *map(float, tracking))
+        entry = memo.get(key)
+        if entry is None or entry[0] is not kept:
+            base = motion_terms(motion, predicted, *args(1.0), **kw)
+            factors = [base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw)
+                       for c in scoring.model_scales]  # fmt: skip
+            entry = memo[key] = (kept, base, [log_likelihood(f) for f in factors])
+        return entry[1], entry[2]
+
     def scored(motion, sign=1.0):
         """The motion's log-likelihood per scale factor, and its base scales' residuals."""
-        base = motion_terms(motion, predicted, *args(1.0), **kw)
+        base, plain = end_terms(motion)
         terms = []
-        for c in scoring.model_scales:
-            term = log_likelihood(
-                base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw)
-            )
+        for c, term in zip(scoring.model_scales, plain):
             if along is not None:
                 term = term + path_term(
                     path, along, motion, predicted, offset, np.abs(distances), c, scoring,
