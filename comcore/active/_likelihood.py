@@ -206,6 +206,7 @@ def push_evidence(
     tracking=None,
     path=None,
     memo: dict | None = None,
+    tempered: bool = True,
 ) -> tuple[Evidence, np.ndarray]:
     """Log-likelihood over the grid of one push's object-frame motion, as :class:`Evidence`.
 
@@ -246,7 +247,11 @@ def push_evidence(
         (a symmetric outline's other rotations) against the same posterior:
         pass one empty dict to every call for that push. The predictions
         depend on the push and the posterior's live hypotheses, not on the
-        motion read.
+        motion read; the end pose's terms of each reading are kept too (a
+        reading scored again with its path adds the path's term to them).
+    tempered : bool, optional
+        False: ``Evidence.tempered`` holds ``full`` alone (one row), for a caller that
+        reads ``full`` only (a reading weighed against another).
     """
     observed = np.asarray(motion, dtype=float)
     tracking = scoring.tracking if tracking is None else tuple(tracking)
@@ -266,17 +271,17 @@ def push_evidence(
         )  # fmt: skip
         excess = excess + terms[2]
 
+    # the force line's terms are the same at every temper: computed once
+    sides = _sense_logs(distances, observed, theta_tol, scoring.line_scale_px)
+
     def loglik(weight):
         model_term, flipped_term = (None, None) if terms is None else terms[:2]
         if terms is not None:
             model_term, flipped_term = weight * model_term, weight * flipped_term
-        return push_log_likelihood(
-            distances, observed, flip_prob, theta_tol, model_term, flipped_term,
-            scoring.line_scale_px,
-        )  # fmt: skip
+        return _with_flips(sides, flip_prob, model_term, flipped_term)
 
     full = loglik(1.0)
-    weights = scoring.model_weights if terms is not None else (1.0,)
+    weights = scoring.model_weights if terms is not None and tempered else (1.0,)
     tempered = np.stack([full if w == 1.0 else loglik(w) for w in weights])
     return Evidence(tempered, full), excess
 
@@ -342,7 +347,7 @@ def _terms_at(
     if kept is None or not np.array_equal(kept[0], per_model):  # another posterior's
         kept = (per_model, offset_marginal(scoring, mask, action, pixels, offset, per_model))
         memo["offset_marginal"] = kept
-    predicted, spread = kept[1]
+    predicted, spread = kept[1]  # (and the end's terms per reading: end_terms)
     # The pusher's offset spreads the prediction: its std adds to the tracking's.
     track = (np.hypot(tracking[0], spread[0]), np.hypot(tracking[1], spread[1]))
     kw = {"rotation": rotation_observed, "tracking": track}
@@ -357,14 +362,22 @@ def _terms_at(
         along = path_predictions(scoring, mask, action, pixels, per_model, path)
         weights = weights.reshape(*alive.shape[:2], -1, n_s).sum(axis=-1)
 
+    def end_terms(motion):
+        """The end's log-likelihood per scale and its base residuals, kept in ``memo``."""
+        key = ("end_terms", motion.tobytes(), bool(rotation_observed), *map(float, tracking))
+        entry = memo.get(key)
+        if entry is None or entry[0] is not kept:
+            base = motion_terms(motion, predicted, *args(1.0), **kw)
+            factors = [base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw)
+                       for c in scoring.model_scales]  # fmt: skip
+            entry = memo[key] = (kept, base, [log_likelihood(f) for f in factors])
+        return entry[1], entry[2]
+
     def scored(motion, sign=1.0):
         """The motion's log-likelihood per scale factor, and its base scales' residuals."""
-        base = motion_terms(motion, predicted, *args(1.0), **kw)
+        base, plain = end_terms(motion)
         terms = []
-        for c in scoring.model_scales:
-            term = log_likelihood(
-                base if c == 1.0 else motion_terms(motion, predicted, *args(c), **kw)
-            )
+        for c, term in zip(scoring.model_scales, plain):
             if along is not None:
                 term = term + path_term(
                     path, along, motion, predicted, offset, np.abs(distances), c, scoring,
@@ -475,14 +488,24 @@ def push_log_likelihood(
     scale : float, optional
         Logistic scale (pixels) of the force line's soft edge.
     """
-    theta = float(motion[0])
-    sense = int(rotation_sense(theta, theta_tol))
+    sides = _sense_logs(distances, motion, theta_tol, scale)
+    return _with_flips(sides, flip_prob, model_term, flipped_term)
+
+
+def _sense_logs(distances, motion, theta_tol: float, scale: float):
+    """:func:`push_log_likelihood`'s log probabilities of the observed sense and of its flip."""
+    sense = int(rotation_sense(float(motion[0]), theta_tol))
     floor = 1e-300
     if sense == 0:
-        log_same = log_flip = np.zeros_like(distances)
-    else:
-        log_same = np.log(np.maximum(side_probability(sense * distances, scale), floor))
-        log_flip = np.log(np.maximum(side_probability(-sense * distances, scale), floor))
+        return np.zeros_like(distances), np.zeros_like(distances)
+    log_same = np.log(np.maximum(side_probability(sense * distances, scale), floor))
+    log_flip = np.log(np.maximum(side_probability(-sense * distances, scale), floor))
+    return log_same, log_flip
+
+
+def _with_flips(sides, flip_prob: float, model_term=None, flipped_term=None):
+    """:func:`push_log_likelihood` from the sense's terms ``sides`` (:func:`_sense_logs`)."""
+    log_same, log_flip = sides
     if model_term is not None:
         log_same = log_same + model_term
         log_flip = log_flip + flipped_term

@@ -73,19 +73,22 @@ def push_record(
     )
 
 
-def best_branch(ctx: PushContext, branches, action, lines, memo: dict | None = None):
+def best_branch(
+    ctx: PushContext, branches, action, lines, memo: dict | None = None, tempered: bool = True
+):  # fmt: skip
     """Of the rotations the masks allow, the one the posterior explains best.
 
     A symmetric outline (a hexagon) turned by more than half its symmetry
     angle looks like a smaller turn the other way: the reading kept is the
     one of highest marginal likelihood, not merely the nearest. Returns
     ``(branch, loglik, excess)``. ``memo``: the model's predictions for the push,
-    shared by its readings (:func:`comcore.active._likelihood.push_evidence`).
+    shared by its readings (:func:`comcore.active._likelihood.push_evidence`); ``tempered``
+    False: ``loglik.tempered`` is ``loglik.full`` alone (the branch is all the caller reads).
     """
     memo = {} if memo is None else memo
     best = None
     for branch in branches:
-        loglik, excess = branch_evidence(ctx, branch, action, lines, memo=memo)
+        loglik, excess = branch_evidence(ctx, branch, action, lines, memo=memo, tempered=tempered)
         evidence = ctx.posterior.predictive(loglik.full)
         if best is None or evidence > best[0]:
             best = (evidence, branch, loglik, excess)
@@ -148,7 +151,7 @@ def read_push(
     if frames:  # the branch is chosen by its end pose; then its path is scored with it
         branch = branches[0]
         if len(branches) > 1:
-            branch = best_branch(ctx, branches, action, lines, memo)[0]
+            branch = best_branch(ctx, branches, action, lines, memo, tempered=False)[0]
         path = frame_path(ctx, action, frames, branch)
         points, dropped = path.points, path.dropped
         scored_path = path_of(action, path) if points and not branch.ambiguous else None
@@ -174,15 +177,15 @@ def path_of(action, path) -> PushPath:
 
 
 def branch_evidence(
-    ctx: PushContext, branch: PoseReading, action, lines, path=None, *, memo=None
+    ctx: PushContext, branch: PoseReading, action, lines, path=None, *, memo=None, tempered=True
 ):  # fmt: skip
     """``(loglik, excess)`` of one reading of the push, with its path where given.
 
-    ``memo``: :func:`comcore.active._likelihood.push_evidence`'s.
+    ``memo`` and ``tempered``: :func:`comcore.active._likelihood.push_evidence`'s.
     """
     return push_evidence(
         ctx.posterior, ctx.scoring, ctx.first, action, lines, object_motion(ctx.pose, branch),
         rotation_observed=not branch.ambiguous,
         tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
-        path=path, memo=memo,
+        path=path, memo=memo, tempered=tempered,
     )  # fmt: skip

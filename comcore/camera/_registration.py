@@ -14,8 +14,9 @@ How it works
 3. **Fine fit.** Both masks are smoothed with a Gaussian of
    :data:`SMOOTHING_PX` pixels (rotation-equivariant, so the two outlines stay
    comparable); the motion minimises the squared difference of the smoothed
-   images over the outline band of ``before`` (``scipy.optimize.least_squares``
-   with the analytic Jacobian, cubic-spline sampling): sub-pixel, sub-degree,
+   images over the outline band of ``before`` (Levenberg-Marquardt,
+   ``scipy.optimize.leastsq`` with ``least_squares(method="lm")``'s tolerances,
+   the analytic Jacobian, cubic-spline sampling): sub-pixel, sub-degree,
    using the whole outline.
 4. **Consistent rotations.** A candidate whose outline residual is within
    :func:`_consistency_tolerance` of the best is consistent with the masks. If
@@ -258,8 +259,10 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
 def _window(before: Mask, after: Mask):
     """The two masks' fields on the window around both objects, and before's centroid there."""
     h, w = before.shape
-    rows = np.flatnonzero(before.data.any(axis=1) | after.data.any(axis=1))
-    cols = np.flatnonzero(before.data.any(axis=0) | after.data.any(axis=0))
+    # the two objects' bounding boxes, kept by each Mask: no scan of the camera frame
+    box_b, box_a = before._box, after._box
+    rows = (min(box_b.lo[0], box_a.lo[0]), max(box_b.hi[0], box_a.hi[0]) - 1)
+    cols = (min(box_b.lo[1], box_a.lo[1]), max(box_b.hi[1], box_a.hi[1]) - 1)
     r0, r1 = max(rows[0] - CROP_PAD_PX, 0), min(rows[-1] + CROP_PAD_PX + 1, h)
     c0, c1 = max(cols[0] - CROP_PAD_PX, 0), min(cols[-1] + CROP_PAD_PX + 1, w)
     # everything from here on in the window around the two objects, not the camera frame
@@ -305,7 +308,7 @@ def _measure(
     t0 = _centroid(fields_after.data) - centre
 
     problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    quick = problem.strided(QUICK_STRIDE, order=1)
     radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
     fits: list[tuple[np.ndarray, float]] = []
     for theta0 in _coarse_candidates(fields_before, fields_after, centre, t0):
@@ -340,7 +343,7 @@ def _measure_near(
     # the guess is a pose of the full image's frame; the window's centre is before's
     # centroid there too, so the motion's parameters are the same in both
     problem = _Problem(fields_before, fields_after, centre)
-    quick = _Problem(fields_before, fields_after, centre, stride=QUICK_STRIDE, order=1)
+    quick = problem.strided(QUICK_STRIDE, order=1)
     radius = max(float(np.sqrt(np.mean(np.sum(problem.relative**2, axis=1)))), 1.0)
     x = quick.fit(np.array([guess.theta, guess.tx, guess.ty], dtype=float), radius)
     chosen = problem.fit(x, radius)

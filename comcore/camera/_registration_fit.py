@@ -9,7 +9,9 @@ on theta and the rotation's visibility. The procedure and its constants are in
 
 from __future__ import annotations
 
+import copy
 import math
+from functools import cached_property
 
 import numpy as np
 from scipy import ndimage, optimize
@@ -20,6 +22,8 @@ from ..conventions import rotation_matrix
 SMOOTHING_PX = 1.5
 #: Fewer sub-pixel outline points than this (a tiny or thin object): the pixel-edge midpoints.
 MIN_OUTLINE_POINTS = 8
+#: The fine fit's tolerances on the cost, the step and the gradient (least_squares' defaults).
+FIT_TOL = 1e-8
 
 
 class _Fields:
@@ -32,17 +36,30 @@ class _Fields:
     def __init__(self, data: np.ndarray, full: bool = True):
         img = data.astype(float)
         self.data = data
-        self.smooth = ndimage.gaussian_filter(img, SMOOTHING_PX, mode="constant")
         if not full:
+            self.smooth = ndimage.gaussian_filter(img, SMOOTHING_PX, mode="constant")
             return
-        grad_x = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(0, 1), mode="constant")
+        # ndimage.gaussian_filter filters axis 0 then axis 1: the smoothed image and its
+        # x derivative share the pass along the rows' axis (the same numbers, one pass less)
+        down = ndimage.gaussian_filter1d(img, SMOOTHING_PX, axis=0, mode="constant")
+        self.smooth = ndimage.gaussian_filter1d(down, SMOOTHING_PX, axis=1, mode="constant")
+        grad_x = ndimage.gaussian_filter1d(down, SMOOTHING_PX, axis=1, order=1, mode="constant")
         grad_y = ndimage.gaussian_filter(img, SMOOTHING_PX, order=(1, 0), mode="constant")
         self.images = {1: [self.smooth, grad_x, grad_y]}
         self.images[3] = [ndimage.spline_filter(a, 3, mode="nearest") for a in self.images[1]]
-        outside = ndimage.distance_transform_edt(~data)
-        inside = ndimage.distance_transform_edt(data)
+
+    @cached_property
+    def signed(self) -> np.ndarray:
+        """Signed distance (px, > 0 outside) on the window, when first asked for.
+
+        A fit started near the motion (a frame of a push) samples it only at outline
+        points far from after's outline, if any: its two distance transforms are then
+        not paid.
+        """
+        outside = ndimage.distance_transform_edt(~self.data)
+        inside = ndimage.distance_transform_edt(self.data)
         # zero on the pixel edges between object and background, +-0.5 at the pixels beside them
-        self.signed = np.where(data, 0.5 - inside, outside - 0.5)
+        return np.where(self.data, 0.5 - inside, outside - 0.5)
 
     def signed_at(self, points: np.ndarray) -> np.ndarray:
         """Signed distance (px, > 0 outside) at points (..., 2), bilinear."""
@@ -100,7 +117,6 @@ def _centroid(data: np.ndarray) -> np.ndarray:
     return np.array([cols.mean(), rows.mean()])
 
 
-
 class _Problem:
     """The fine least-squares problem: before's band sampled in after's smoothed image."""
 
@@ -125,23 +141,63 @@ class _Problem:
         # and distances from the signed distance transform alone
         self.thin = len(outline) < MIN_OUTLINE_POINTS
         self.outline = _edge_midpoints(fields_before.data) if self.thin else outline
+        self._last: dict = {}
+
+    def strided(self, stride: int, order: int) -> _Problem:
+        """The same problem on every ``stride``-th band pixel, sampled at spline ``order``.
+
+        What ``_Problem(..., stride=stride, order=order)`` builds, without finding the
+        band and the outline again.
+        """
+        out = copy.copy(self)
+        out.order = order
+        out.relative = np.ascontiguousarray(self.relative[::stride])
+        out.values = np.ascontiguousarray(self.values[::stride])
+        out._last = {}
+        return out
+
+    def _remembered(self, name: str, x, compute) -> np.ndarray:
+        """``compute(x)``, or what it gave for the same ``x`` just before (read-only)."""
+        key = np.asarray(x, dtype=float).tobytes()
+        last = self._last.get(name)
+        if last is None or last[0] != key:
+            last = (key, compute(x))
+            self._last[name] = last
+        return last[1]
 
     def moved(self, points_relative, x) -> np.ndarray:
         return points_relative @ rotation_matrix(x[0]).T + self.centre + x[1:]
 
     def residuals(self, x) -> np.ndarray:
+        return self._remembered("residuals", x, self._residuals)
+
+    def _residuals(self, x) -> np.ndarray:
         return self.after.smooth_at(self.moved(self.relative, x), self.order) - self.values
 
     def jacobian(self, x) -> np.ndarray:
+        return self._remembered("jacobian", x, self._jacobian)
+
+    def _jacobian(self, x) -> np.ndarray:
         gx, gy = self.after.gradient_at(self.moved(self.relative, x), self.order)
         turn = self.relative @ rotation_matrix(x[0] + math.pi / 2).T  # d(moved)/d(theta)
         return np.column_stack([gx * turn[:, 0] + gy * turn[:, 1], gx, gy])
 
     def fit(self, x0, scale) -> np.ndarray:
-        sol = optimize.least_squares(
-            self.residuals, x0, jac=self.jacobian, method="lm", x_scale=[1.0 / scale, 1.0, 1.0]
-        )
-        return sol.x
+        """Levenberg-Marquardt (MINPACK's lmder) from ``x0``, theta scaled by ``scale`` (px).
+
+        ``optimize.leastsq`` with ``optimize.least_squares(method="lm")``'s defaults: the
+        same iterations and the same result, with less of least_squares' overhead (its
+        Jacobian at the solution); the evaluations at ``x0`` it checks are remembered.
+        """
+        x_scale = np.array([1.0 / scale, 1.0, 1.0])
+        if len(self.values) < len(x_scale):  # least_squares says why lm cannot fit it
+            return optimize.least_squares(
+                self.residuals, x0, jac=self.jacobian, method="lm", x_scale=x_scale
+            ).x
+        return optimize.leastsq(
+            self.residuals, np.asarray(x0, dtype=float), Dfun=self.jacobian, full_output=True,
+            ftol=FIT_TOL, xtol=FIT_TOL, gtol=FIT_TOL, maxfev=100 * len(x_scale), diag=1 / x_scale,
+        )[0]  # fmt: skip
 
     def outline_rms(self, x) -> float:
         """RMS distance (px) of before's moved outline to after's outline."""
@@ -151,7 +207,8 @@ class _Problem:
         value, gx, gy = self.after.smooth_and_gradient_at(q)
         dist = (value - 0.5) / np.maximum(np.hypot(gx, gy), 1e-6)  # first order near the outline
         far = np.abs(value - 0.5) > 0.4
-        dist[far] = self.after.signed_at(q[far])
+        if far.any():  # (the signed distance is computed only where it is needed)
+            dist[far] = self.after.signed_at(q[far])
         return float(np.sqrt(np.mean(dist**2)))
 
     def theta_information(self, x) -> float:
