@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/timing/bench_push_frames.py [--robots quasistatic,pymunk,mujoco]
 [--pushes 3] [--repeats 5] [--rate 10] [--travel 0.03] [--camera 320x240] [--object Obj3]
-[--seed 1] [--mask-noise 0]``.
+[--seed 1] [--mask-noise 0] [--shadow-size 4096]``.
 
 For each robot (``SimulatedRobot`` on the quasi-static and the pymunk engine, at its
 default speed; ``MujocoRobot`` with a ``--camera`` camera, at ``MujocoSettings``'
@@ -16,7 +16,9 @@ its frames; their difference over the frames taken is a frame's cost. The median
 the pushes are printed in a table, with the frames per push. For the MuJoCo robot one more push
 measures what the pusher in the picture does to the frames' masks: each frame is
 rendered again with the pusher moved out of view, and the pixels where the two masks
-differ are counted (mean and largest per frame). MuJoCo renders offscreen
+differ are counted (mean and largest per frame). ``--shadow-size`` sets the MuJoCo
+light's shadow map (``CameraSettings.shadow_size``); other than the default, the masks
+after each push are compared with the default's (pixels that differ). MuJoCo renders offscreen
 (``MUJOCO_GL=egl``); without a GPU it is Mesa's software renderer, which the frames'
 cost then mostly is. Robots whose extra (pymunk, mujoco) is missing are skipped, saying so.
 """
@@ -39,12 +41,32 @@ import simulators
 
 ROBOTS = ("quasistatic", "pymunk", "mujoco")
 NEEDS = {"pymunk": "pymunk", "mujoco": "mujoco"}
+#: simulators.CameraSettings' shadow map (texels): the scene the MuJoCo benchmarks render.
+DEFAULT_SHADOW = simulators.CameraSettings().shadow_size
 
 
-def make_robot(kind, sim, camera, mask_noise):
+def shadow_effect(robot, sim, camera, actions) -> list[int]:
+    """Pixels where each push's end mask differs from the default shadow map's (MuJoCo)."""
+    reference = make_robot("mujoco", sim, camera, 0.0)
+    diffs = []
+    try:
+        for action in actions:
+            masks = []
+            for r in (robot, reference):
+                r.place(None)
+                r.execute(action)
+                masks.append(r.camera_mask().data)
+            diffs.append(int(np.count_nonzero(masks[0] ^ masks[1])))
+    finally:
+        reference.close()
+    return diffs
+
+
+def make_robot(kind, sim, camera, mask_noise, shadow_size=DEFAULT_SHADOW):
     """The robot of a row of the table."""
     if kind == "mujoco":
-        return simulators.MujocoRobot(sim, camera=simulators.CameraSettings(camera))
+        settings = simulators.CameraSettings(camera, shadow_size=shadow_size)
+        return simulators.MujocoRobot(sim, camera=settings)
     return simulators.SimulatedRobot(sim, engine=kind, mask_noise=mask_noise, rng=0)
 
 
@@ -95,6 +117,9 @@ def main(argv=None):
     parser.add_argument("--object", default="Obj3")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--mask-noise", type=float, default=0.0)
+    parser.add_argument(
+        "--shadow-size", type=int, default=DEFAULT_SHADOW, help="MuJoCo's shadow map, texels"
+    )
     args = parser.parse_args(argv)
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     unknown = sorted(set(robots) - set(ROBOTS))
@@ -115,7 +140,7 @@ def main(argv=None):
         if kind in NEEDS and importlib.util.find_spec(NEEDS[kind]) is None:
             notes.append(f"{kind}: skipped, {NEEDS[kind]} is not installed")
             continue
-        robot = make_robot(kind, sim, camera, args.mask_noise)
+        robot = make_robot(kind, sim, camera, args.mask_noise, args.shadow_size)
         first = robot.camera_mask()
         actions = comcore.sample_pushes(first, args.pushes, travel=args.travel, rng=args.seed)
         if kind != "mujoco":  # untimed: builds the engine (camera_mask built the renderer)
@@ -147,6 +172,12 @@ def main(argv=None):
                 f"{np.mean(diffs):.2f} px on average, {max(diffs)} px at most ({len(diffs)} "
                 f"frames; the object's mask holds {first.area_px} px)"
             )
+            if args.shadow_size != DEFAULT_SHADOW:
+                diffs = shadow_effect(robot, sim, camera, actions)
+                notes.append(
+                    f"mujoco: with a {args.shadow_size} shadow map the masks after the pushes "
+                    f"differ from the {DEFAULT_SHADOW} map's by {diffs} px"
+                )
             robot.close()
     for note in notes:
         print(note)

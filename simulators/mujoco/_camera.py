@@ -39,11 +39,20 @@ class CameraSettings:
     height : float or None
         Camera height above the object's top face, metres; ``None``: as low as keeps
         the whole grid in view.
+    shadow_size : int
+        Side, texels, of the light's shadow map (MuJoCo's ``visual/quality/shadowsize``,
+        64 to 16384). The object's cast shadow, whose edge the segmentation must tell
+        from the object's, is drawn at that resolution. Without a GPU (Mesa's software
+        renderer) it is most of a frame's render: ``benchmarks/timing/bench_push_frames.py
+        --shadow-size`` measures what a smaller one saves; the masks change by a few
+        pixels at their edges, so the benchmark's figures are for the default.
 
     Examples
     --------
     >>> CameraSettings(image_size=(320, 240)).fov
     0.8
+    >>> CameraSettings(shadow_size=1024).shadow_size
+    1024
     >>> CameraSettings(fov=3.2)
     Traceback (most recent call last):
     ...
@@ -53,6 +62,7 @@ class CameraSettings:
     image_size: tuple = (320, 240)
     fov: float = 0.8
     height: float | None = None
+    shadow_size: int = 4096
 
     def __post_init__(self):
         size = tuple(self.image_size) if np.ndim(self.image_size) == 1 else ()
@@ -72,6 +82,12 @@ class CameraSettings:
             )
         if self.height is not None:
             check_positive(self.height, "height")
+        size = self.shadow_size
+        if not (isinstance(size, (int, np.integer)) and not isinstance(size, bool)):
+            raise TypeError(f"shadow_size must be an int (texels), got {type(size).__name__}")
+        if not 64 <= size <= 16384:
+            raise ValueError(f"shadow_size must be in [64, 16384] texels, got {size}")
+        object.__setattr__(self, "shadow_size", int(size))
 
 
 @dataclass(frozen=True)
@@ -86,6 +102,7 @@ class CameraSetup:
     light_pos: np.ndarray
     light_dir: np.ndarray
     light_cutoff_deg: float
+    shadow_size: int = 4096
 
     @classmethod
     def above(cls, settings: CameraSettings, bounds_m, plane_z: float) -> CameraSetup:
@@ -102,7 +119,7 @@ class CameraSetup:
         direction = (target - light) / np.linalg.norm(target - light)
         return cls(
             (w, h), settings.fov, pos, np.array([1.0, 0, 0, 0, 1.0, 0]), plane_z, light,
-            direction, 70.0,
+            direction, 70.0, settings.shadow_size,
         )  # fmt: skip
 
     @property

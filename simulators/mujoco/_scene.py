@@ -263,7 +263,7 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
           noslip_iterations="{int(s.noslip_iterations)}" gravity="0 0 -9.81"/>
   <visual>
     <global offwidth="{w}" offheight="{h}"/>
-    <quality shadowsize="4096"/>
+    <quality shadowsize="{int(camera.shadow_size)}"/>
     <headlight ambient="0.25 0.25 0.25" diffuse="0.2 0.2 0.2" specular="0 0 0"/>
   </visual>
   <default><geom solref="{s.contact_timeconst:.9g} 1" condim="3"/></default>

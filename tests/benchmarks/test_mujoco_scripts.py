@@ -42,3 +42,16 @@ def test_the_push_frames_benchmark_runs_on_mujoco():
     row = r"\| mujoco \| 80 x 60 rendered, 178 x 175 grid \| 0\.01 \| [1-9]\d* \|"
     assert re.match(row, lines[3])
     assert lines[4].startswith("mujoco: the pusher in the picture changes a frame's mask by")
+
+
+def test_the_push_frames_benchmark_compares_a_smaller_shadow_map():
+    out = run_script(
+        "benchmarks/timing/bench_push_frames.py", "--robots", "mujoco", "--pushes", "1",
+        "--travel", "0.005", "--rate", "4", "--camera", "80x60", "--shadow-size", "512",
+    )  # fmt: skip
+    line = out.splitlines()[5]
+    assert re.fullmatch(
+        r"mujoco: with a 512 shadow map the masks after the pushes differ from the 4096 "
+        r"map's by \[\d+\] px",
+        line,
+    )

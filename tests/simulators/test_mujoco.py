@@ -131,6 +131,10 @@ def test_bad_arguments_are_named():
         simulators.CameraSettings(fov=45)
     with pytest.raises(ValueError, match="image_size must be \\(width, height\\)"):
         simulators.CameraSettings(image_size=(640,))
+    with pytest.raises(ValueError, match="shadow_size must be in \\[64, 16384\\] texels"):
+        simulators.CameraSettings(shadow_size=32)
+    with pytest.raises(TypeError, match="shadow_size must be an int"):
+        simulators.CameraSettings(shadow_size=1024.0)
     with pytest.raises(ValueError, match="camera_margin must be a finite number > 0"):
         simulators.MujocoRobot(sim, camera_margin=-1)
     with pytest.raises(TypeError, match="pose must be three numbers"):
@@ -244,3 +248,22 @@ def test_comcore_bench_runs_active_robot_on_mujoco(tmp_path):
     (row,) = rows
     assert row["condition"] == "mujoco" and row["status"] in ("ok", "budget")
     assert row["error_cm"] < 1.5 and row["pushes_used"] >= 1
+
+
+def test_a_smaller_shadow_map_is_the_scenes_and_the_mask_keeps_its_object(plate):
+    """CameraSettings(shadow_size=...) sets MuJoCo's shadow map; the object's mask stays
+    within the segmentation's edge pixels of the default's."""
+    sim, robot = plate
+    robot.place(None)
+    coarse = simulators.MujocoRobot(
+        sim, camera=simulators.CameraSettings(image_size=SMALL.image_size, shadow_size=512)
+    )
+    try:
+        assert int(robot.model.vis.quality.shadowsize) == 4096
+        assert int(coarse.model.vis.quality.shadowsize) == 512
+        sharp, soft = robot.camera_mask(), coarse.camera_mask()
+        differ = int(np.count_nonzero(sharp.data ^ soft.data))
+        assert differ < 0.05 * sharp.area_px
+        assert np.hypot(*np.subtract(sharp.centroid, soft.centroid)) < 0.5
+    finally:
+        coarse.close()
