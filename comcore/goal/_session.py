@@ -629,14 +629,15 @@ class GoalSession(PushLoop):
             outcome = "evidence" if moved else "miss"
             return self._record(base, branches[0], outcome), (), branches[0].pose
         ctx = PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration)
-        branch, loglik, excess = best_branch(ctx, branches, plan.action, lines)
+        memo: dict = {}  # the model's predictions for this push, for each reading of it
+        branch, loglik, excess = best_branch(ctx, branches, plan.action, lines, memo)
         points, dropped = (), ()
         if frames:
             path = frame_path(ctx, plan.action, frames, branch)
             points, dropped = path.points, path.dropped
             if points and not branch.ambiguous:
                 scored = path_of(plan.action, path)
-                loglik, excess = branch_evidence(ctx, branch, plan.action, lines, scored)
+                loglik, excess = branch_evidence(ctx, branch, plan.action, lines, scored, memo=memo)
         record = self._record(base, branch, "evidence", points, dropped)
         return record, (loglik, excess), branch.pose
 
