@@ -84,7 +84,7 @@ class CameraSettings:
             check_positive(self.height, "height")
         size = self.shadow_size
         if not (isinstance(size, (int, np.integer)) and not isinstance(size, bool)):
-            raise TypeError(f"shadow_size must be an int (texels), got {type(size).__name__}")
+            raise TypeError(f"shadow_size must be an integer (texels), got {type(size).__name__}")
         if not 64 <= size <= 16384:
             raise ValueError(f"shadow_size must be in [64, 16384] texels, got {size}")
         object.__setattr__(self, "shadow_size", int(size))
@@ -102,7 +102,7 @@ class CameraSetup:
     light_pos: np.ndarray
     light_dir: np.ndarray
     light_cutoff_deg: float
-    shadow_size: int = 4096
+    shadow_size: int
 
     @classmethod
     def above(cls, settings: CameraSettings, bounds_m, plane_z: float) -> CameraSetup:
