@@ -46,7 +46,7 @@ from ._options import (
     DEFAULT_PUSHER_RADIUS,
 )
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
-from ._path import PushPath, check_frames, path_tracking, read_path
+from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
 from ._session import session_setup
 from ._stop import offline_status, sense_check
@@ -253,7 +253,9 @@ def estimate_posterior(
     con = pusher_contacts(mask, acts, scoring.pusher_radius)
     usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
     if frames is not None:
-        given = _with_frames(mask, given, frames, theta_units, pushes, scoring, con.travel)
+        given = _with_frames(
+            mask, given, frames, theta_units, pushes, scoring, contact_travel=con.travel
+        )
         records = [record for _, record in given]
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
@@ -366,7 +368,7 @@ def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) ->
     tally.add(distances, sense, flip, scoring.line_scale_px)
 
 
-def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_travel) -> list:
+def _with_frames(mask, given, frames, theta_units, pushes, scoring, *, contact_travel) -> list:
     """``given`` with each push's frames read into its record's path (:func:`read_path`).
 
     ``contact_travel`` (n,): each push's travel (pixels) to first contact.
@@ -392,13 +394,13 @@ def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_trav
             checked = [
                 f if isinstance(f.view, Mask) else f._replace(view=_turn_in_radians(f.view))
                 for f in checked
-            ]  # fmt: skip
-        identity = Motion.identity()
+            ]
+        pose, end = Motion.identity(), record.motion
+        push = FramedPush(
+            mask, pose, record.action, end, float(travel), scoring.tracking, scoring.pusher_px
+        )
         try:
-            path = read_path(
-                mask, identity, record.action, checked, record.motion, float(travel),
-                scoring.tracking, pusher_px=scoring.pusher_px,
-            )  # fmt: skip
+            path = read_path(push, checked)
         except ValueError as e:
             raise ValueError(f"frames[{i}]: {e}") from e
         out.append((i, dataclasses.replace(record, path=path.points, dropped_frames=path.dropped)))
