@@ -108,7 +108,15 @@ def best_branch(
 
 
 def read_push(
-    ctx: PushContext, candidates, index: int, mask, motion, failed: bool, *, executed, frames=None
+    ctx: PushContext,
+    candidates,
+    index: int,
+    mask,
+    motion,
+    failed: bool,
+    *,
+    executed=None,
+    frames=None,
 ):
     """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
 
