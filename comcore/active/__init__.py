@@ -19,11 +19,11 @@ from .._types import PathPoint, PosteriorDetails
 from ._bagging import RECORDED_BOOTSTRAP
 from ._blocking import estimate_active
 from ._calibrate import PowerCalibration, calibrate_model_weight
+from ._likelihood import Likelihood
 from ._option_groups import option_groups
 from ._options import (
     RECORDED_SYSTEMATIC_ERROR,
     SESSION_SYSTEMATIC_ERROR,
-    Likelihood,
     PushChoice,
     StopRule,
 )

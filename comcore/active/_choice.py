@@ -133,15 +133,9 @@ class Candidates:
         if len(idx) == 0:
             return None, None
         if selection == "model":
+            noise = scoring.model_noise
             gains = model_gains(
-                scoring.models,
-                self.mask,
-                post,
-                self.actions[idx],
-                self.lines[idx],
-                scoring.theta_noise,
-                scoring.translation_px,
-                scoring.near_px,
+                scoring.models, self.mask, post, self.actions[idx], self.lines[idx], noise
             ) / math.log(2)
         else:
             gains = sense_information(
@@ -294,9 +288,7 @@ def sense_information(pixels, weights, lines, flip_prob: float, scale: float = L
     return out
 
 
-def model_information(
-    predicted, lever, offset, weights, theta_noise, translation_px, near_line_px
-):
+def model_information(predicted, lever, offset, weights, noise):
     """Expected information (nats) from each push's motion about weighted hypotheses.
 
     ``I = sum_i w_i [log p(y_i | i) - log sum_j w_j p(y_i | j)]`` with ``y_i``
@@ -313,19 +305,21 @@ def model_information(
         Each hypothesis' CoM minus the mask's centroid.
     weights : numpy.ndarray, shape (n,)
         Hypothesis weights, summing to 1.
+    noise : comcore.active._motion_term.ModelNoise
+        The model's error scales (radians, pixels).
 
     Returns
     -------
     numpy.ndarray, shape (a,)
     """
     pred = np.moveaxis(predicted, 1, 0)  # (a, n, 3)
-    th_scale = theta_scale(lever.T, theta_noise, near_line_px)  # (a, n)
+    th_scale = theta_scale(lever.T, noise.theta, noise.near_px)  # (a, n)
     # Observation i (axis 1) seen from hypothesis j (axis 2): both moved at j's CoM.
     theta_i, theta_j = pred[:, :, None, 0], pred[:, None, :, 0]
     off_j = offset[None, None, :, :]
     moved_obs = pred[:, :, None, 1:] + com_shift(theta_i, off_j)
     moved_pred = pred[:, None, :, 1:] + com_shift(theta_j, off_j)
-    tr_abs, tr_rel = translation_px
+    tr_abs, tr_rel = noise.translation_px
     tr_scale = tr_abs + tr_rel * np.hypot(moved_pred[..., 0], moved_pred[..., 1])
     log_p = student_t((theta_i - theta_j) ** 2, th_scale[:, None, :], STUDENT_DOF, 1)
     log_p += student_t(((moved_obs - moved_pred) ** 2).sum(axis=-1), tr_scale, STUDENT_DOF, 2)
@@ -345,7 +339,7 @@ def particles(post: GridPosterior, n: int) -> tuple[np.ndarray, np.ndarray]:
     return index, counts / n
 
 
-def model_gains(models, mask, post, actions, lines, theta_noise, translation_px, near_px):
+def model_gains(models, mask, post, actions, lines, noise):
     """Expected information (nats) about the CoM from each candidate's motion.
 
     The CoM hypotheses are 64 particles drawn from the posterior; the friction
@@ -358,6 +352,8 @@ def model_gains(models, mask, post, actions, lines, theta_noise, translation_px,
     actions : numpy.ndarray, shape (a, 4)
     lines : numpy.ndarray, shape (a, m, 3)
         Force lines of the candidates for each friction value of ``post``.
+    noise : comcore.active._motion_term.ModelNoise
+        The model's error scales (radians, pixels): ``Scoring.model_noise``.
     """
     index, weights = particles(post, MODEL_PARTICLES)
     j = int(np.argmax(post.mu_marginal))
@@ -367,6 +363,4 @@ def model_gains(models, mask, post, actions, lines, theta_noise, translation_px,
     pred = model_predictions(models[k : k + 1], mask, actions, pixels, post.mus[j : j + 1], alive)
     lever = np.abs(force_line_distances(pixels, lines[:, j]))
     offset = pixels - np.asarray(mask.centroid)
-    return model_information(
-        pred[:, 0, 0], lever, offset, weights, theta_noise, translation_px, near_px
-    )
+    return model_information(pred[:, 0, 0], lever, offset, weights, noise)

@@ -60,9 +60,16 @@ class GridPosterior:
     """
 
     def __init__(
-        self, pixels, prior_weights, mus, n_models: int = 1, n_scales: int = 1, n_tempers: int = 1,
+        self,
+        pixels,
+        prior_weights,
+        mus,
+        *,
+        n_models: int = 1,
+        n_scales: int = 1,
+        n_tempers: int = 1,
         mu_weights=None,
-    ):  # fmt: skip
+    ):
         self.pixels = np.asarray(pixels, dtype=float)
         self.mus = np.asarray(mus, dtype=float)
         self.n_models, self.n_scales = int(n_models), int(n_scales)

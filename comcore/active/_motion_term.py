@@ -13,6 +13,7 @@ the Voting Theorem's.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.special import digamma
@@ -22,6 +23,7 @@ from ..conventions import rotate_vectors
 __all__ = [
     "NEAR_LINE_M",
     "STUDENT_DOF",
+    "ModelNoise",
     "com_shift",
     "excess_surprise",
     "log_likelihood",
@@ -45,6 +47,28 @@ NEAR_LINE_M = 0.0375
 #: deviations) and weights. The pusher's offset is marginalised over it.
 HERMITE_NODES = np.array([0.0, -math.sqrt(3.0), math.sqrt(3.0)])
 HERMITE_WEIGHTS = np.array([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0])
+
+
+class ModelNoise(NamedTuple):
+    """The scales of a motion model's errors in pixels of one mask (internal).
+
+    What :func:`motion_terms` and :func:`comcore.active._choice.model_information`
+    read: the session's are ``Scoring.model_noise``.
+    """
+
+    theta: tuple[float, float]
+    """``(absolute, near)`` radians: the rotation's scale (:func:`theta_scale`)."""
+    translation_px: tuple[float, float]
+    """``(absolute, relative)``: the CoM displacement's scale, its absolute part in pixels."""
+    near_px: float
+    """:data:`NEAR_LINE_M` in pixels."""
+
+    def scaled(self, factor: float) -> ModelNoise:
+        """Every scale times ``factor`` (the near-line length as it is)."""
+        (th_a, th_n), (tr_a, tr_r) = self.theta, self.translation_px
+        return self._replace(
+            theta=(factor * th_a, factor * th_n), translation_px=(factor * tr_a, factor * tr_r)
+        )
 
 
 def student_t(residual_sq, scale, dof: float, dim: int):
@@ -78,9 +102,7 @@ def motion_terms(
     predicted,
     lever,
     offset,
-    theta_noise,
-    translation_px,
-    near_line_px,
+    noise: ModelNoise,
     *,
     rotation=True,
     tracking=(0.0, 0.0),
@@ -106,9 +128,8 @@ def motion_terms(
         Distance (px) of each hypothesis' CoM to its force line.
     offset : numpy.ndarray, shape (p, 1, 2)
         Each hypothesis' CoM minus the mask's centroid (px).
-    theta_noise, translation_px : tuple of float
-        ``(absolute, near)`` radians and ``(absolute, relative)`` pixels.
-    near_line_px : float
+    noise : ModelNoise
+        The model's error scales (radians, pixels).
     rotation : bool, optional
         False when the observed rotation is unknown (a registration that
         cannot see the object turn): only the centroid's displacement is
@@ -120,8 +141,8 @@ def motion_terms(
         quadrature.
     """
     track_theta, track_px = tracking
-    th_scale = np.hypot(theta_scale(lever, theta_noise, near_line_px), track_theta)
-    tr_abs, tr_rel = translation_px
+    th_scale = np.hypot(theta_scale(lever, noise.theta, noise.near_px), track_theta)
+    tr_abs, tr_rel = noise.translation_px
     if not rotation:
         pred_t = predicted[..., 1:]
         scale = tr_abs + tr_rel * np.hypot(pred_t[..., 0], pred_t[..., 1])

@@ -17,7 +17,8 @@ import functools
 import inspect
 from typing import Any
 
-from ._options import Likelihood, PushChoice, StopRule
+from ._likelihood import Likelihood
+from ._options import PushChoice, StopRule
 
 __all__ = ["GROUPS", "check_groups", "names_the_group", "option_groups"]
 

@@ -55,6 +55,7 @@ __all__ = [
     "MAX_PATH_FRAMES",
     "OFF_PATH_M",
     "PATH_SPAN_PX",
+    "FramedPush",
     "PathReading",
     "PushPath",
     "check_frames",
@@ -134,8 +135,8 @@ def check_frames(frames) -> list:
                 f"{type(view).__name__}"
             )
         if not isinstance(view, Mask):
-            view = Motion(*check_turns(check_motions(view, n=1, name=f"frames[{i}].view"),
-                                       f"frames[{i}].view")[0])  # fmt: skip
+            name = f"frames[{i}].view"
+            view = Motion(*check_turns(check_motions(view, n=1, name=name), name)[0])
         out.append(PushFrame((float(pusher[0]), float(pusher[1])), view))
     return out
 
@@ -182,38 +183,79 @@ def path_from_frames(camera_action, frames, near_px: float):
     return np.concatenate([start, end])
 
 
-def read_path(
-    first: Mask,
-    pose: Motion,
-    action,
-    frames: list,
-    end_pose: Motion,
-    contact_travel: float,
-    tracking: tuple[float, float],
-    *,
-    pusher_px: float = 0.0,
-) -> PathReading:
+class FramedPush(NamedTuple):
+    """A push whose frames are read (internal): where it ran, from what pose to what pose."""
+
+    first: Mask
+    """The first mask (the object's frame)."""
+    pose: Motion
+    """The object's pose before the push, relative to the first mask."""
+    action: np.ndarray
+    """The push as scored (object frame), shape (4,)."""
+    end_pose: Motion
+    """The pose after the push, as read."""
+    contact_travel: float
+    """The pusher's travel (pixels) along the push to first contact."""
+    tracking: tuple
+    """The motion noise ``(rad, px)`` of a frame without a registration residual."""
+    pusher_px: float = 0.0
+    """The pusher's error across its path (pixels): widens how far off it a frame's pusher
+    may be."""
+
+
+def read_path(push: FramedPush, frames: list) -> PathReading:
     """The poses the frames show along the push (object frame), and the frames dropped.
 
-    ``pose``: the object's pose before the push (relative to the first mask);
-    ``action``: the push as scored (object frame); ``end_pose``: the pose after it as
-    read; ``contact_travel``: the pusher's travel (pixels) to first contact;
-    ``tracking``: the motion noise ``(rad, px)`` of a frame without a registration
-    residual; ``pusher_px``: the pusher's error across its path (pixels), widening
-    how far off the path a frame's pusher may be.
+    ``frames``: checked (:func:`check_frames`), in the order they were taken. A frame
+    whose pusher lies off the push's path, behind the frame before it or past the push's
+    end is a ValueError naming it.
     """
-    act = np.asarray(action, dtype=float)
+    dropped: list = []  # (index, reason)
+    candidates = _between_contact_and_end(push, frames, dropped)
+    if len(candidates) > MAX_PATH_FRAMES:  # thinned before registering: a frame costs that
+        chosen = _evenly(np.array([t for _, t in candidates]), MAX_PATH_FRAMES)
+        dropped.extend((c[0], "thinned") for j, c in enumerate(candidates) if j not in chosen)
+        candidates = [c for j, c in enumerate(candidates) if j in chosen]
+    gyration = gyration_px(push.first)
+    kept = []  # (index, travel, motion, tracking, residual)
+    for i, travel in candidates:
+        pose = _frame_pose(push, i, frames[i].view, travel, dropped)
+        if pose is None:
+            continue
+        motion = object_motion_from_camera(relative(push.pose, pose[0]), push.pose.theta)
+        residual = pose[1] if math.isfinite(pose[1]) else None
+        noise = tracking_noise(push.tracking, residual, gyration)
+        kept.append((i, travel, Motion(*motion), noise, residual))
+    kept = _without_jumps(kept, push, dropped)
+    dropped.sort()
+    points = tuple(PathPoint(t, m, r) for _, t, m, _, r in kept)
+    tracking = path_tracking(points, push.tracking, push.first)
+    return PathReading(points, tuple(dropped), tracking, float(push.contact_travel))
+
+
+def _push_line(push: FramedPush) -> tuple[np.ndarray, np.ndarray, float]:
+    """The push's start (pixels), its unit direction and its length (pixels)."""
+    act = np.asarray(push.action, dtype=float)
     start, end = act[:2], act[2:]
     length = float(np.hypot(*(end - start)))
-    direction = (end - start) / length
-    off_px = OFF_PATH_M / first.resolution + 3.0 * pusher_px + 2.0
-    dropped: list = []
-    candidates: list = []  # (index, travel) of the frames between contact and the end
+    return start, (end - start) / length, length
+
+
+def _between_contact_and_end(push: FramedPush, frames, dropped: list) -> list:
+    """``(index, travel)`` of the frames between first contact and the push's end.
+
+    The others are added to ``dropped`` (``"before_contact"``, ``"at_end"``); a frame
+    whose pusher lies off the path, behind the frame before or past the end is a
+    ValueError naming it.
+    """
+    start, direction, length = _push_line(push)
+    off_px = OFF_PATH_M / push.first.resolution + 3.0 * push.pusher_px + 2.0
+    candidates: list = []
     last_travel = -math.inf
     for i, frame in enumerate(frames):
-        q = object_from_camera(np.tile(frame.pusher, 2)[None], pose, first.centroid)[0, :2]
-        travel = float(np.dot(q - start, direction))
-        across = float(abs(ccw_cross(direction, q - start)))
+        q = object_from_camera(np.tile(frame.pusher, 2)[None], push.pose, push.first.centroid)
+        travel = float(np.dot(q[0, :2] - start, direction))
+        across = float(abs(ccw_cross(direction, q[0, :2] - start)))
         if across > off_px:
             raise ValueError(
                 f"frames[{i}].pusher {list(frame.pusher)} lies {across:.1f} px off the push's "
@@ -231,43 +273,34 @@ def read_path(
                 f"frames[{i}].pusher is {travel - length:.1f} px past the push's end: is it the "
                 "pusher of this push?"
             )
-        if travel <= contact_travel + 1.0:
+        if travel <= push.contact_travel + 1.0:
             dropped.append((i, "before_contact"))
         elif travel >= length - 1.0:
             dropped.append((i, "at_end"))
         else:
             candidates.append((i, travel))
-    if len(candidates) > MAX_PATH_FRAMES:  # thinned before registering: a frame costs that
-        chosen = _evenly(np.array([t for _, t in candidates]), MAX_PATH_FRAMES)
-        dropped.extend((c[0], "thinned") for j, c in enumerate(candidates) if j not in chosen)
-        candidates = [c for j, c in enumerate(candidates) if j in chosen]
-    kept: list = []  # (index, travel, motion, tracking, residual)
-    gyration = gyration_px(first)
-    for i, travel in candidates:
-        view = frames[i].view
-        try:
-            if isinstance(view, Mask):
-                guess = _between(pose, end_pose, travel, contact_travel, length)
-                reading = read_pose(first, pose, view, None, guess=guess)
-            else:
-                reading = read_pose(first, pose, None, view)
-        except ValueError as e:
-            if not isinstance(view, Mask):
-                raise ValueError(f"frames[{i}].view: {e}") from e
-            dropped.append((i, f"registration: {e}"))
-            continue
-        frame_pose = _nearest_turn(reading, pose, end_pose)
-        motion = object_motion_from_camera(relative(pose, frame_pose), pose.theta)
-        residual = reading.residual_px if math.isfinite(reading.residual_px) else None
-        noise = tracking_noise(tracking, residual, gyration)
-        kept.append((i, travel, Motion(*motion), noise, residual))
-    jump_px = JUMP_M / first.resolution
-    kept = _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px)
-    dropped.sort()
-    points = tuple(PathPoint(t, m, r) for _, t, m, _, r in kept)
-    return PathReading(
-        points, tuple(dropped), path_tracking(points, tracking, first), float(contact_travel)
-    )
+    return candidates
+
+
+def _frame_pose(push: FramedPush, index: int, view, travel: float, dropped: list):
+    """``(pose, residual_px)`` of frame ``index``'s view, or None (then added to ``dropped``).
+
+    A mask is registered from the pose in proportion along the push; one that cannot
+    be is dropped (``"registration: ..."``); a motion that cannot be read is a ValueError.
+    """
+    try:
+        if isinstance(view, Mask):
+            length = _push_line(push)[2]
+            guess = _between(push.pose, push.end_pose, travel, push.contact_travel, length)
+            reading = read_pose(push.first, push.pose, view, None, guess=guess)
+        else:
+            reading = read_pose(push.first, push.pose, None, view)
+    except ValueError as e:
+        if not isinstance(view, Mask):
+            raise ValueError(f"frames[{index}].view: {e}") from e
+        dropped.append((index, f"registration: {e}"))
+        return None
+    return _nearest_turn(reading, push.pose, push.end_pose), reading.residual_px
 
 
 def _between(before: Motion, after: Motion, travel, contact_travel, length) -> Motion:
@@ -302,9 +335,14 @@ def _nearest_turn(reading, before: Motion, after: Motion) -> Motion:
     return min(branches, key=lambda r: max(lo - r.pose.theta, r.pose.theta - hi, 0.0)).pose
 
 
-def _without_jumps(kept, contact_travel, length, end_pose, pose, dropped, jump_px) -> list:
-    """``kept`` without the frames whose pose jumps off the line between their neighbours."""
-    end = object_motion_from_camera(relative(pose, end_pose), pose.theta)
+def _without_jumps(kept: list, push: FramedPush, dropped: list) -> list:
+    """``kept`` without the frames whose pose jumps off the line between their neighbours.
+
+    Each frame dropped is added to ``dropped`` (``"jump"``).
+    """
+    end = object_motion_from_camera(relative(push.pose, push.end_pose), push.pose.theta)
+    contact_travel, length = push.contact_travel, _push_line(push)[2]
+    jump_px = JUMP_M / push.first.resolution
     changed = True
     while changed and kept:
         changed = False

@@ -34,23 +34,16 @@ __all__ = ["path_log_likelihood"]
 
 
 def path_log_likelihood(
-    path: tuple,
-    observed_end,
-    predicted_end,
-    predicted_path,
-    offset,
-    theta_scale,
-    translation_scale,
-    tracking: tuple[float, float],
-    fractions,
-    wander: float,
+    path, observed_end, predicted_end, predicted_path, offset, scales, *, wander: float
 ):
     """Log density of a push's path given its end pose, per hypothesis, shape (p, m, k).
 
     Parameters
     ----------
-    path : tuple of PathPoint
-        The kept poses (object frame), ``J`` of them.
+    path : PushPath
+        The kept poses (object frame), ``J`` of them, each frame's travel after
+        contact as a fraction of the push's, in (0, 1), and the frames' tracking
+        standard deviations (radians, pixels) (:class:`comcore.active._path.PushPath`).
     observed_end : numpy.ndarray, shape (3,)
     predicted_end : numpy.ndarray, shape (p, m, k, 3)
         The model's end motion per hypothesis (as the end term scores it).
@@ -58,20 +51,19 @@ def path_log_likelihood(
         The model's motion after each kept frame's travel.
     offset : numpy.ndarray, shape (p, 1, 1, 2)
         Each hypothesis' CoM minus the first mask's centroid (pixels).
-    theta_scale, translation_scale : float or numpy.ndarray, broadcast to (p, m, k)
-        The model's error scales at the end (radians, pixels), without tracking:
-        one per push as the session scores it (then the covariance is factored
-        once for every hypothesis), or one per hypothesis.
-    tracking : (float, float)
-        The frames' tracking standard deviations (radians, pixels).
-    fractions : numpy.ndarray, shape (J,)
-        Each frame's travel after contact over the push's, in (0, 1).
+    scales : (float or numpy.ndarray, float or numpy.ndarray)
+        The model's error scales at the end, rotation (radians) and translation
+        (pixels), without tracking, each broadcast to (p, m, k): one per push as
+        the session scores it (then the covariance is factored once for every
+        hypothesis), or one per hypothesis.
     wander : float
         ``Likelihood.path_wander``.
     """
-    obs = np.vstack([np.asarray([p.motion for p in path], float), observed_end[None]])
+    theta_scale, translation_scale = scales
+    tracking = path.tracking
+    obs = np.vstack([np.asarray([p.motion for p in path.points], float), observed_end[None]])
     pred = np.concatenate([predicted_path, predicted_end[..., None, :]], axis=-2)  # (.., K, 3)
-    f = np.append(np.asarray(fractions, float), 1.0)
+    f = np.append(np.asarray(path.fractions, float), 1.0)
     cov = np.outer(f, f) + wander**2 * np.minimum.outer(f, f)
     lam, vecs = np.linalg.eigh(cov)
     lam = np.maximum(lam, 1e-12)

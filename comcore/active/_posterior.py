@@ -46,7 +46,7 @@ from ._options import (
     DEFAULT_PUSHER_RADIUS,
 )
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
-from ._path import PushPath, check_frames, path_tracking, read_path
+from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
 from ._session import session_setup
 from ._stop import offline_status, sense_check
@@ -253,7 +253,7 @@ def estimate_posterior(
     con = pusher_contacts(mask, acts, scoring.pusher_radius)
     usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
     if frames is not None:
-        given = _with_frames(mask, given, frames, theta_units, pushes, scoring, con.travel)
+        given = _with_frames(mask, given, frames, theta_units, pushes, scoring, travel=con.travel)
         records = [record for _, record in given]
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
@@ -366,10 +366,10 @@ def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) ->
     tally.add(distances, sense, flip, scoring.line_scale_px)
 
 
-def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_travel) -> list:
+def _with_frames(mask, given, frames, theta_units, pushes, scoring, *, travel) -> list:
     """``given`` with each push's frames read into its record's path (:func:`read_path`).
 
-    ``contact_travel`` (n,): each push's travel (pixels) to first contact.
+    ``travel`` (n,): each push's travel (pixels) to first contact.
     """
     if pushes is not None:
         raise TypeError("frames go with actions and motions; records (pushes) carry their paths")
@@ -380,7 +380,7 @@ def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_trav
     if len(frames) != len(given):
         raise ValueError(f"frames must hold one entry per push ({len(given)}), got {len(frames)}")
     out = []
-    for (i, record), push_frames, travel in zip(given, frames, contact_travel):
+    for (i, record), push_frames, contact_travel in zip(given, frames, travel):
         if push_frames is None or len(push_frames) == 0 or record.outcome != "evidence":
             out.append((i, record))
             continue
@@ -392,13 +392,18 @@ def _with_frames(mask, given, frames, theta_units, pushes, scoring, contact_trav
             checked = [
                 f if isinstance(f.view, Mask) else f._replace(view=_turn_in_radians(f.view))
                 for f in checked
-            ]  # fmt: skip
-        identity = Motion.identity()
+            ]
+        push = FramedPush(
+            mask,
+            Motion.identity(),
+            record.action,
+            end_pose=record.motion,
+            contact_travel=float(contact_travel),
+            tracking=scoring.tracking,
+            pusher_px=scoring.pusher_px,
+        )
         try:
-            path = read_path(
-                mask, identity, record.action, checked, record.motion, float(travel),
-                scoring.tracking, pusher_px=scoring.pusher_px,
-            )  # fmt: skip
+            path = read_path(push, checked)
         except ValueError as e:
             raise ValueError(f"frames[{i}]: {e}") from e
         out.append((i, dataclasses.replace(record, path=path.points, dropped_frames=path.dropped)))

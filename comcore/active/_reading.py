@@ -28,8 +28,15 @@ from ..camera._pose_tracking import (
 from ..conventions import object_motion_from_camera
 from ..geometry._disc_contacts import pusher_contacts
 from ._grid import GridPosterior
-from ._likelihood import Scoring, push_evidence, tracking_noise
-from ._path import OFF_PATH_M, PushPath, check_frames, path_from_frames, read_path
+from ._likelihood import PushMemo, Scoring, push_evidence, tracking_noise
+from ._path import (
+    OFF_PATH_M,
+    FramedPush,
+    PushPath,
+    check_frames,
+    path_from_frames,
+    read_path,
+)
 
 __all__ = ["PushContext", "best_branch", "object_motion", "push_record", "read_push"]
 
@@ -55,7 +62,7 @@ def object_motion(pose: Motion, reading: PoseReading) -> np.ndarray:
 
 
 def push_record(
-    base: dict, pose: Motion, action, reading: PoseReading, outcome: str, path=(), dropped=()
+    base: dict, pose: Motion, action, reading: PoseReading, outcome: str, *, path=(), dropped=()
 ):
     """A :class:`comcore.PushRecord` of a push read as ``reading`` (``base``: the plan's fields)."""
     residual = reading.residual_px
@@ -74,8 +81,13 @@ def push_record(
 
 
 def best_branch(
-    ctx: PushContext, branches, action, lines, memo: dict | None = None, tempered: bool = True
-):  # fmt: skip
+    ctx: PushContext,
+    branches,
+    action,
+    lines,
+    memo: PushMemo | None = None,
+    tempered: bool = True,
+):
     """Of the rotations the masks allow, the one the posterior explains best.
 
     A symmetric outline (a hexagon) turned by more than half its symmetry
@@ -85,7 +97,7 @@ def best_branch(
     shared by its readings (:func:`comcore.active._likelihood.push_evidence`); ``tempered``
     False: ``loglik.tempered`` is ``loglik.full`` alone (the branch is all the caller reads).
     """
-    memo = {} if memo is None else memo
+    memo = PushMemo() if memo is None else memo
     best = None
     for branch in branches:
         loglik, excess = branch_evidence(ctx, branch, action, lines, memo=memo, tempered=tempered)
@@ -96,7 +108,15 @@ def best_branch(
 
 
 def read_push(
-    ctx: PushContext, candidates, index: int, mask, motion, failed: bool, executed, frames=None
+    ctx: PushContext,
+    candidates,
+    index: int,
+    mask,
+    motion,
+    failed: bool,
+    *,
+    executed=None,
+    frames=None,
 ):
     """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
 
@@ -147,7 +167,7 @@ def read_push(
                 "pusher took, in camera pixels"
             )
     points, dropped = (), ()
-    memo: dict = {}  # the model's predictions for this push, for each reading of it
+    memo = PushMemo()  # the model's predictions for this push, for each reading of it
     if frames:  # the branch is chosen by its end pose; then its path is scored with it
         branch = branches[0]
         if len(branches) > 1:
@@ -158,17 +178,24 @@ def read_push(
         loglik, excess = branch_evidence(ctx, branch, action, lines, scored_path, memo=memo)
     else:
         branch, loglik, excess = best_branch(ctx, branches, action, lines, memo)
-    record = push_record(base, ctx.pose, scored, branch, "evidence", points, dropped)
+    record = push_record(base, ctx.pose, scored, branch, "evidence", path=points, dropped=dropped)
     return record, (loglik, excess), branch.pose
 
 
 def frame_path(ctx: PushContext, action, frames, branch: PoseReading):
     """The frames of a push read along ``action`` (object frame) ending at ``branch``."""
-    contact = pusher_contacts(ctx.first, np.asarray(action, float)[None], ctx.scoring.pusher_radius)
-    return read_path(
-        ctx.first, ctx.pose, action, frames, branch.pose, float(contact.travel[0]),
-        ctx.scoring.tracking, pusher_px=ctx.scoring.pusher_px,
-    )  # fmt: skip
+    scoring = ctx.scoring
+    contact = pusher_contacts(ctx.first, np.asarray(action, float)[None], scoring.pusher_radius)
+    push = FramedPush(
+        ctx.first,
+        ctx.pose,
+        action,
+        branch.pose,
+        float(contact.travel[0]),
+        scoring.tracking,
+        scoring.pusher_px,
+    )
+    return read_path(push, frames)
 
 
 def path_of(action, path) -> PushPath:
@@ -178,14 +205,21 @@ def path_of(action, path) -> PushPath:
 
 def branch_evidence(
     ctx: PushContext, branch: PoseReading, action, lines, path=None, *, memo=None, tempered=True
-):  # fmt: skip
+):
     """``(loglik, excess)`` of one reading of the push, with its path where given.
 
     ``memo`` and ``tempered``: :func:`comcore.active._likelihood.push_evidence`'s.
     """
     return push_evidence(
-        ctx.posterior, ctx.scoring, ctx.first, action, lines, object_motion(ctx.pose, branch),
+        ctx.posterior,
+        ctx.scoring,
+        ctx.first,
+        action,
+        lines,
+        object_motion(ctx.pose, branch),
         rotation_observed=not branch.ambiguous,
         tracking=tracking_noise(ctx.scoring.tracking, branch.residual_px, ctx.gyration_px),
-        path=path, memo=memo, tempered=tempered,
-    )  # fmt: skip
+        path=path,
+        memo=memo,
+        tempered=tempered,
+    )

@@ -343,7 +343,7 @@ class ActiveSession(PushLoop):
         """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
         return read_push(
             PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
-            self._candidates, self._pending, mask, motion, failed, executed, frames,
+            self._candidates, self._pending, mask, motion, failed, executed=executed, frames=frames,
         )  # fmt: skip
 
     def reset_pose(self, pose=None) -> None:

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._mask import Mask
 from .._types import Motion
-from ..active._options import Likelihood
+from ..active._likelihood import Likelihood
 from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M
 from ..conventions import rotate_components
 from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motions

@@ -20,7 +20,7 @@ from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
 from .._validation import check_count, check_mask, check_one_object, check_physical, check_rng
 from ..active._choice import Candidates
-from ..active._likelihood import gyration_px
+from ..active._likelihood import PushMemo, gyration_px
 from ..active._option_groups import check_groups, check_reads_only, names_the_group
 from ..active._options import (
     DEFAULT_CREDIBLE,
@@ -629,7 +629,7 @@ class GoalSession(PushLoop):
             outcome = "evidence" if moved else "miss"
             return self._record(base, branches[0], outcome), (), branches[0].pose
         ctx = PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration)
-        memo: dict = {}  # the model's predictions for this push, for each reading of it
+        memo = PushMemo()  # the model's predictions for this push, for each reading of it
         branch, loglik, excess = best_branch(ctx, branches, plan.action, lines, memo)
         points, dropped = (), ()
         if frames:
@@ -642,4 +642,6 @@ class GoalSession(PushLoop):
         return record, (loglik, excess), branch.pose
 
     def _record(self, base: dict, reading, outcome: str, path=(), dropped=()) -> PushRecord:
-        return push_record(base, self._pose, base["planned"], reading, outcome, path, dropped)
+        return push_record(
+            base, self._pose, base["planned"], reading, outcome, path=path, dropped=dropped
+        )

@@ -19,7 +19,7 @@ from .._checks import check_finite
 from .._mask import Mask
 from .._types import Estimate
 from ..active._grid import GridPosterior
-from ..active._options import Likelihood, mu_grid
+from ..active._likelihood import Likelihood, mu_grid
 from ..conventions import check_plausible
 
 __all__ = [

@@ -19,6 +19,7 @@ from comcore.active._choice import (
 )
 from comcore.active._grid import GridPosterior, prior_grid
 from comcore.active._likelihood import Scoring
+from comcore.active._motion_term import ModelNoise
 from comcore.camera._pose_tracking import moved_mask
 from comcore.geometry._disc_contacts import pusher_contacts
 from comcore.vt._force_lines import push_force_lines
@@ -181,8 +182,8 @@ def test_a_push_all_hypotheses_predict_alike_teaches_nothing_about_the_com():
     given_ = [(0.0, 17.5, 30.0, 17.5), (0.0, 17.5, 30.0, 17.5), (35.0, 17.5, 10.0, 17.5)]
     cands = _candidates(given_)
     post = _uniform_posterior()
-    gains = model_gains((OneInformative(),), PLATE, post, cands.actions, cands.lines,
-                        (0.01, 0.13), (0.4, 0.056), 15.0)  # fmt: skip
+    noise = ModelNoise(theta=(0.01, 0.13), translation_px=(0.4, 0.056), near_px=15.0)
+    gains = model_gains((OneInformative(),), PLATE, post, cands.actions, cands.lines, noise)
     assert gains[0] > 0.5  # nats: the rotation separates the rows
     assert abs(gains[1] - gains[0]) < 1e-9  # the same push twice: the same gain
     assert gains[2] < 0.1 * gains[0]

@@ -13,6 +13,7 @@ import comcore
 from comcore.active._grid import GridPosterior, prior_grid
 from comcore.active._likelihood import (
     LINE_BLUR_M,
+    PushMemo,
     Scoring,
     check_models,
     consistency_threshold,
@@ -94,13 +95,15 @@ def test_the_model_s_term_adds_when_it_is_the_same_for_either_sense():
     distances = rng.normal(size=(5, 2, 1)) * 4
     term = rng.normal(size=(5, 2, 3))
     alone = push_log_likelihood(distances, (0.1, 0, 0), 0.05, 1e-3)
-    both = push_log_likelihood(distances, (0.1, 0, 0), 0.05, 1e-3, term, term)
+    both = push_log_likelihood(distances, (0.1, 0, 0), 0.05, 1e-3, model_term=term, flipped_term=term)
     assert both.shape == (5, 2, 3)
     np.testing.assert_allclose(both, alone + term, atol=1e-12)
     # a model that explains the flipped sense far better makes a flip the likely reading
-    worse = push_log_likelihood(distances, (0.1, 0, 0), 0.05, 1e-3, term - 50, term)
-    np.testing.assert_allclose(worse, np.log(0.05) + push_log_likelihood(
-        -distances, (0.1, 0, 0), 1e-300, 1e-3) + term, atol=1e-9)  # fmt: skip
+    worse = push_log_likelihood(
+        distances, (0.1, 0, 0), 0.05, 1e-3, model_term=term - 50, flipped_term=term
+    )
+    flipped = push_log_likelihood(-distances, (0.1, 0, 0), 1e-300, 1e-3)
+    np.testing.assert_allclose(worse, np.log(0.05) + flipped + term, atol=1e-9)
 
 
 # -- push_evidence: shapes, senses and the model ------------------------------------------
@@ -310,13 +313,13 @@ def test_check_models():
 def test_a_memo_shared_by_a_push_s_readings_changes_no_evidence():
     """The model's predictions are kept for the push's other readings, not its motion."""
     scoring, post, lines = _setup(comcore.Likelihood(mu=0.4), [ToyModel()])
-    memo: dict = {}
+    memo = PushMemo()
     for motion in [_true_motion((12.0, 10.0)), (-0.1, 4.0, 1.0), (0.3, 6.0, -2.0)]:
         fresh, fresh_excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion)
         kept, kept_excess = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion, memo=memo)
         np.testing.assert_array_equal(kept.full, fresh.full)
         np.testing.assert_array_equal(kept_excess, fresh_excess)
-    assert "offset_marginal" in memo
+    assert memo.offset_marginal is not None and len(memo.end_terms) == 6  # 3 readings x 2 senses
     # another posterior (fewer live hypotheses) is not answered from the memo
     import copy
 
@@ -329,7 +332,7 @@ def test_a_memo_shared_by_a_push_s_readings_changes_no_evidence():
     assert (narrowed.log_w > narrowed.log_w.max() - PRUNE_LOG).sum() < post.log_w.size
     # its memo holds predictions for its live hypotheses only: the wider posterior's
     # others are asked for, not read as missing
-    narrow_memo: dict = {}
+    narrow_memo = PushMemo()
     push_evidence(narrowed, scoring, PLATE, PUSH, lines[0], motion, memo=narrow_memo)
     again, _ = push_evidence(post, scoring, PLATE, PUSH, lines[0], motion, memo=narrow_memo)
     np.testing.assert_array_equal(again.full, fresh.full)

@@ -15,6 +15,7 @@ from comcore.active._likelihood import Scoring
 from comcore.active._motion_term import (
     NEAR_LINE_M,
     STUDENT_DOF,
+    ModelNoise,
     com_shift,
     excess_surprise,
     log_likelihood,
@@ -28,7 +29,7 @@ from comcore.active._motion_term import (
 )
 
 PLATE = comcore.Mask(np.pad(np.ones((20, 20), bool), 6))  # centroid (15.5, 15.5)
-NOISE = {"theta_noise": (0.01, 0.13), "translation_px": (0.4, 0.056), "near_line_px": 15.0}
+NOISE = ModelNoise(theta=(0.01, 0.13), translation_px=(0.4, 0.056), near_px=15.0)
 
 
 # -- Student-t residuals ---------------------------------------------------------------------
@@ -105,8 +106,7 @@ def _shapes(p=4, m=3):
 def test_each_term_is_per_hypothesis_and_a_perfect_prediction_scores_best():
     predicted, lever, offset = _shapes()
     observed = predicted[2, 1]
-    terms = motion_terms(observed, predicted, lever, offset, NOISE["theta_noise"],
-                         NOISE["translation_px"], NOISE["near_line_px"])  # fmt: skip
+    terms = motion_terms(observed, predicted, lever, offset, NOISE)
     assert [t[2] for t in terms] == [1, 2]  # rotation, then the CoM's displacement
     for res_sq, scale, _ in terms:
         assert res_sq.shape == scale.shape == (4, 3) and (scale > 0).all()
@@ -114,8 +114,8 @@ def test_each_term_is_per_hypothesis_and_a_perfect_prediction_scores_best():
     ll = log_likelihood(terms)
     assert ll.shape == (4, 3)
     # against a hypothesis with the same scales, the one that predicted the motion wins
-    same_scales = motion_terms(observed + np.array([0.05, 1.0, -1.0]), predicted, lever, offset,
-                               NOISE["theta_noise"], NOISE["translation_px"], NOISE["near_line_px"])  # fmt: skip
+    moved = observed + np.array([0.05, 1.0, -1.0])
+    same_scales = motion_terms(moved, predicted, lever, offset, NOISE)
     assert log_likelihood(same_scales)[2, 1] < ll[2, 1]
 
 
@@ -126,16 +126,14 @@ def test_the_displacement_is_compared_at_each_hypothesis_com():
     t_p = np.array([5.0, 1.0])
     t_o = t_p + com_shift(theta_p, offset[0])[0] - com_shift(theta_o, offset[0])[0]
     predicted = np.array([[[theta_p, *t_p]]])
-    terms = motion_terms(np.array([theta_o, *t_o]), predicted, np.array([[8.0]]), offset,
-                         NOISE["theta_noise"], NOISE["translation_px"], NOISE["near_line_px"])  # fmt: skip
+    terms = motion_terms(np.array([theta_o, *t_o]), predicted, np.array([[8.0]]), offset, NOISE)
     assert terms[0][0][0, 0] == pytest.approx(0.15**2)
     assert terms[1][0][0, 0] == pytest.approx(0.0, abs=1e-20)
 
 
 def test_the_tracking_noise_adds_in_quadrature_and_the_displacement_scale_grows_with_it():
     predicted, lever, offset = _shapes()
-    args = (predicted[0, 0], predicted, lever, offset, NOISE["theta_noise"],
-            NOISE["translation_px"], NOISE["near_line_px"])  # fmt: skip
+    args = (predicted[0, 0], predicted, lever, offset, NOISE)
     plain = motion_terms(*args)
     noisy = motion_terms(*args, tracking=(0.02, 0.3))
     np.testing.assert_allclose(noisy[0][1], np.hypot(plain[0][1], 0.02))
@@ -149,8 +147,7 @@ def test_the_tracking_noise_adds_in_quadrature_and_the_displacement_scale_grows_
 def test_without_the_rotation_only_the_centroid_displacement_is_scored_and_widened():
     predicted, lever, offset = _shapes()
     observed = np.array([0.3, *predicted[1, 0, 1:]])  # any rotation: it is not seen
-    terms = motion_terms(observed, predicted, lever, offset, NOISE["theta_noise"],
-                         NOISE["translation_px"], NOISE["near_line_px"], rotation=False)  # fmt: skip
+    terms = motion_terms(observed, predicted, lever, offset, NOISE, rotation=False)
     assert len(terms) == 1 and terms[0][2] == 2
     res_sq, scale, _ = terms[0]
     assert res_sq[1, 0] == 0.0
@@ -158,7 +155,7 @@ def test_without_the_rotation_only_the_centroid_displacement_is_scored_and_widen
     # the farther a hypothesis' CoM from the centroid, the wider its scale
     base = 0.4 + 0.056 * np.hypot(predicted[..., 1], predicted[..., 2])
     widened = scale - base
-    th = theta_scale(lever, NOISE["theta_noise"], NOISE["near_line_px"])
+    th = theta_scale(lever, NOISE.theta, NOISE.near_px)
     np.testing.assert_allclose(widened, th * np.hypot(offset[..., 0], offset[..., 1]))
 
 

@@ -103,7 +103,7 @@ def test_the_distinctive_defaults_are_written_once_in_comcore():
         comcore.Likelihood().model_weight,
     ]
     for path in sorted((ROOT / "comcore").rglob("*.py")):
-        if path.name == "_options.py":
+        if path.name in ("_options.py", "_likelihood.py"):  # the groups' own modules
             continue
         found = [v for v in _literals(ast.parse(path.read_text())) if v in distinctive]
         assert not found, f"{path.relative_to(ROOT)} repeats the default(s) {found}"

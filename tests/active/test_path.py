@@ -61,12 +61,12 @@ def test_a_path_shaped_as_predicted_scores_above_one_that_is_not():
     )
 
     def score(points):
+        path = PushPath(points, f, (0.005, 0.2))
+        scales = (np.array(0.05), np.array(1.0))
+        predicted = pred_end[None, None, None], pred_path[None, None, None]
         return float(
-            path_log_likelihood(
-                points, pred_end, pred_end[None, None, None], pred_path[None, None, None],
-                offset, np.array(0.05), np.array(1.0), (0.005, 0.2), f, 0.3,
-            )[0, 0, 0]
-        )  # fmt: skip
+            path_log_likelihood(path, pred_end, *predicted, offset, scales, wander=0.3)[0, 0, 0]
+        )
 
     assert score(straight) > score(bent) + 1.0
 

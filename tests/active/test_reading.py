@@ -42,7 +42,7 @@ def _candidates(ctx, actions=(LEFT, RIGHT)):
 
 
 def _read(ctx, index=0, mask=None, motion=None, failed=False, executed=None):
-    return read_push(ctx, _candidates(ctx), index, mask, motion, failed, executed)
+    return read_push(ctx, _candidates(ctx), index, mask, motion, failed, executed=executed)
 
 
 # -- outcomes -----------------------------------------------------------------------------------
@@ -122,12 +122,12 @@ def test_a_mask_is_registered_against_the_first_and_its_residual_recorded():
     ctx = _context(mask=ell)
     shifted = comcore.Mask(np.roll(ell.data, 3, axis=1))  # 3 px to the right
     cands = _candidates(ctx, [(0.0, 12.0, 20.0, 12.0)])
-    record, evidence, pose = read_push(ctx, cands, 0, shifted, None, False, None)
+    record, evidence, pose = read_push(ctx, cands, 0, shifted, None, False, executed=None)
     assert record.outcome == "evidence" and len(evidence) == 2
     assert pose.theta == pytest.approx(0.0, abs=0.01) and pose.tx == pytest.approx(3.0, abs=0.1)
     assert record.residual_px is not None and 0 <= record.residual_px < 1.5
     with pytest.raises(ValueError, match="mask must have the first mask's shape"):
-        read_push(ctx, cands, 0, comcore.Mask(np.pad(ell.data, 1)), None, False, None)
+        read_push(ctx, cands, 0, comcore.Mask(np.pad(ell.data, 1)), None, False, executed=None)
 
 
 def test_push_record_keeps_the_registration_s_word():
@@ -150,8 +150,8 @@ def test_a_push_executed_off_its_plan_is_scored_where_it_went():
     record, (went, _), _ = _read(ctx, motion=(0.1, 4.0, 0.0), executed=executed)
     assert record.action == pytest.approx(executed) and record.planned == LEFT
     _, (planned, _), _ = _read(ctx, motion=(0.1, 4.0, 0.0))
-    _, (there, _), _ = read_push(ctx, _candidates(ctx, [executed]), 0, None, (0.1, 4.0, 0.0),
-                                 False, None)  # fmt: skip
+    cands = _candidates(ctx, [executed])
+    _, (there, _), _ = read_push(ctx, cands, 0, None, (0.1, 4.0, 0.0), False, executed=None)
     np.testing.assert_allclose(went.full, there.full)
     assert not np.allclose(went.full, planned.full)
 
