@@ -67,6 +67,7 @@ def test_shared_keywords_take_their_default_from_one_place(name, default):
             assert params[name].default is default, f"{entry.__name__}({name}=...)"
 
 
+@pytest.mark.source
 def test_no_function_of_the_active_estimator_defaults_a_grouped_option():
     """A default written in a signature would be a second copy of the group's."""
     assert len(ACTIVE_MODULES) > 10  # the glob found the modules
@@ -96,6 +97,7 @@ def _literals(tree) -> list:
     return out
 
 
+@pytest.mark.source
 def test_the_distinctive_defaults_are_written_once_in_comcore():
     distinctive = [
         comcore.Likelihood().theta_noise,

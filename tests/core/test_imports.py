@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.source  # reads the packages' source files
+
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = ("comcore", "simulators", "predictors")
 

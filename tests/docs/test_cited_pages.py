@@ -6,6 +6,10 @@ import re
 import subprocess
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.source  # reads the packages' source files
+
 ROOT = Path(__file__).resolve().parents[2]
 CITED = re.compile(r"(?<![\w/])docs/[\w./-]+?\.(?:md|png|py)\b")
 

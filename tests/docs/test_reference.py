@@ -233,6 +233,7 @@ def public_modules_with_all(root: Path) -> set[str]:
     return out
 
 
+@pytest.mark.source
 def test_every_public_module_is_in_the_reference_or_left_out_with_a_reason():
     found = public_modules_with_all(ROOT)
     assert "comcore.geometry" in found and "comcore.recordings.mit_push" in found
