@@ -272,6 +272,6 @@ def test_a_status_other_than_ok_is_in_the_title():
 def test_the_robot_figure_of_docs_is_made_by_its_script(tmp_path):
     require_simulators()
     path = tmp_path / "robot_session.png"
-    out = run_script("docs/make_robot_figure.py", str(path))
+    out = run_script("docs/figures/make_robot_figure.py", str(path))
     assert out.startswith(f"saved {path}: status ")
     assert path.read_bytes()[:4] == b"\x89PNG"

@@ -5,7 +5,7 @@ A benchmark object (Obj4, low friction, seed 13) drawn by ``simulators.random_si
 initial pose, the mask as a black-and-white PNG, the pushes and their observed motions as the
 CSV ``comcore estimate`` reads, and the true CoM in truth.json (to check the estimate).
 
-Run: ``python docs/make_estimate_example.py`` (needs comcore[sim]). The files are committed;
+Run: ``python docs/figures/make_estimate_example.py`` (needs comcore[sim]). The files are committed;
 run it again only to change the example.
 """
 
@@ -48,11 +48,11 @@ def main(out: Path) -> None:
         "friction": FRICTION,
         "mu_contact": round(float(sim.mu_contact), 4),
         "seed": SEED,
-        "made_by": "python docs/make_estimate_example.py",
+        "made_by": "python docs/figures/make_estimate_example.py",
     }
     (out / "truth.json").write_text(json.dumps(truth, indent=2) + "\n", encoding="utf-8")
 
 
 if __name__ == "__main__":
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     main(Path(sys.argv[1]) if len(sys.argv) > 1 else root / "comcore" / "data" / "examples")

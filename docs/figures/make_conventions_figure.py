@@ -1,6 +1,6 @@
 """Draw docs/img/conventions.png: the pixel frame, the sign of theta, a push and its sides.
 
-Run: ``python docs/make_conventions_figure.py`` (needs matplotlib).
+Run: ``python docs/figures/make_conventions_figure.py`` (needs matplotlib).
 """
 
 from __future__ import annotations
@@ -85,5 +85,5 @@ if __name__ == "__main__":
     main(
         Path(sys.argv[1])
         if len(sys.argv) > 1
-        else Path(__file__).parent / "img" / "conventions.png"
+        else Path(__file__).resolve().parents[1] / "img" / "conventions.png"
     )

@@ -1,15 +1,15 @@
 """Draw docs/img/robot_session.png: an ActiveSession on a simulated robot's camera frames.
 
-The loop of docs/robot.md ("The loop"): benchmark object Obj2 (low friction, rng 0) on
-``simulators.SimulatedRobot`` (never reset, the pusher 1 mm (std) off its path), grey camera
-frames turned into masks by ``comcore.mask_from_image``, the default session. Left: the
+The loop of docs/tutorials/robot-session.md ("The loop"): benchmark object Obj2 (low friction,
+rng 0) on ``simulators.SimulatedRobot`` (never reset, the pusher 1 mm (std) off its path),
+grey camera frames turned into masks by ``comcore.mask_from_image``, the default session. Left: the
 camera's last frame, cropped to where the object went, with its outline before every push,
 the pushes as the session asked for them (camera pixels, numbered in order: each on the
 object where the push before left it) and the CoM now, estimated and true. Right:
 ``comcore.plot.plot_estimate`` of the session's estimate (the first image's frame, framed on
 the object by default).
 
-Run: ``python docs/make_robot_figure.py [OUT.png]`` (needs comcore[sim,plot]); the default
+Run: ``python docs/figures/make_robot_figure.py [OUT.png]`` (needs comcore[sim,plot]); the default
 output is docs/img/robot_session.png. The tests run it into a temporary folder.
 """
 
@@ -33,7 +33,7 @@ def camera_image(robot) -> np.ndarray:
 
 
 def run_session():
-    """The loop of docs/robot.md; returns what the figure shows."""
+    """The loop of docs/tutorials/robot-session.md; returns what the figure shows."""
     import simulators
 
     robot = simulators.SimulatedRobot(
@@ -137,7 +137,7 @@ def main(out: Path) -> Path:
     comcore.plot.plot_estimate(run["first"], est, truth=run["true_first"], ax=right, title=title)
     fig.suptitle(
         f"ActiveSession on a simulated robot's camera ({OBJECT}, {FRICTION} friction): "
-        "python docs/make_robot_figure.py",
+        "python docs/figures/make_robot_figure.py",
         fontsize=10,
     )
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -147,5 +147,5 @@ def main(out: Path) -> Path:
 
 
 if __name__ == "__main__":
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     main(Path(sys.argv[1]) if len(sys.argv) > 1 else root / "docs" / "img" / "robot_session.png")
