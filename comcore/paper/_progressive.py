@@ -296,7 +296,7 @@ def estimate_progressive(
         keep[chosen] = False
         r = con.point[chosen] - pixel_centres(current)
         allowed = _consistent(
-            r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
+            r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band=band
         )
         if not allowed.any():
             contradicted.append(chosen)
@@ -346,7 +346,7 @@ def _final_region(current, used, contradicted, small, acts, con, unit, sense, co
             k = idx[j : j + step]
             r = con.point[k, None, :] - points
             out[j : j + step] = _consistent_many(
-                r, con.normal[k], unit[k], sense[k], a_lo, a_hi, band
+                r, con.normal[k], unit[k], sense[k], a_lo, a_hi, band=band
             )
         return out
 
