@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -27,6 +28,7 @@ from ._translation import STANDOFF_M, _cross_offsets, line_pushes, predict_motio
 from ._types import Goal
 
 __all__ = [
+    "PlanningContext",
     "follow_ups",
     "model_variance",
     "pose_cost",
@@ -52,6 +54,37 @@ _SCALES = Likelihood()
 
 #: Offsets evenly spaced across the object per direction (the posterior's three added).
 N_OFFSETS = 5
+
+
+class PlanningContext(NamedTuple):
+    """What the goal planner scores every push of one step against (internal).
+
+    The pose and the CoM particles are passed beside it: the planner scores
+    pushes from several poses, over a few particles and over all of them.
+    """
+
+    first: Mask
+    """The first mask: the object's frame, the camera's view and its resolution."""
+    goal: Goal
+    """The goal the pushes are scored against."""
+    target_px: tuple[float, float] | None
+    """The goal's ``(tx, ty)``, pixels (None: the goal sets no position)."""
+    model: object
+    """The motion model that predicts the pushes
+    (:func:`comcore.goal._translation.planning_model`)."""
+    max_travel_px: float
+    """The longest travel after contact the robot allows a push, pixels."""
+    pusher_radius: float
+    """The pusher's radius, metres."""
+    reach_px: float = 0.0
+    """The object's radius about its centroid, pixels: a push must keep that disc in view."""
+    allowed: np.ndarray | None = None
+    """The camera directions (radians) the robot may push along (None: any)."""
+    scales: Likelihood = _SCALES
+    """The session's likelihood, whose model-error scales the cost counts."""
+    turn: tuple[float, float, float] | None = None
+    """None, or ``(low, high, limit)`` radians: no push is offered whose mean predicted
+    orientation lies more than ``limit`` outside ``[low, high]`` (the goal's ``max_turn``)."""
 
 
 def pose_cost(goal: Goal, target_px, resolution: float, theta, tx, ty) -> np.ndarray:
@@ -119,10 +152,7 @@ def model_variance(
     return out
 
 
-def follow_ups(
-    first, poses, goal, target_px, hyps, model, travel_px, radius, directions, owner,
-    scales: Likelihood = _SCALES, turn=None,
-):  # fmt: skip
+def follow_ups(context: PlanningContext, poses, hyps, directions, owner) -> np.ndarray:
     """The least expected cost of one more push from each pose (inf: none), coarse.
 
     ``poses`` is ``(theta, tx, ty)``, three arrays of shape (P,); ``owner``
@@ -130,20 +160,24 @@ def follow_ups(
     prediction then counts :data:`FOLLOW_LEARNED`, as if the first push had
     taught the posterior), or None.
     The follow-ups are pushes along ``directions`` of the object's own frame
-    (radians): their motions do not depend on the pose, so one prediction
-    serves every pose (the view is not checked for them). ``turn``, None or
-    ``(low, high, limit)`` radians, leaves out the follow-ups whose mean
-    predicted orientation lies more than ``limit`` outside ``[low, high]``.
+    (radians), up to the context's travel: their motions do not depend on the
+    pose, so one prediction serves every pose (the view is not checked for
+    them). The context's ``turn`` leaves out the follow-ups whose mean
+    predicted orientation lies more than its limit outside its band.
     """
+    first, goal, target_px, turn = context.first, context.goal, context.target_px, context.turn
+    travel_px = context.max_travel_px
     offsets = np.stack(
         [_cross_offsets(first, a, hyps, N_OFFSETS, halves=False) for a in directions]
     )
     lengths = [f * travel_px for f in FOLLOW_LENGTHS if f * travel_px >= 2.0]
-    actions, _ = line_pushes(first, Motion.identity(), directions, offsets, lengths, radius)
+    actions, _ = line_pushes(
+        first, Motion.identity(), directions, offsets, lengths, context.pusher_radius
+    )
     if len(actions) == 0:
         return np.full(len(poses[0]), np.inf)
-    raw = predict_motions(model, first, actions, hyps)
-    extra = model_variance(goal, first, actions, hyps.coms, raw, scales)
+    raw = predict_motions(context.model, first, actions, hyps)
+    extra = model_variance(goal, first, actions, hyps.coms, raw, context.scales)
     weights = hyps.weights[:, None]
     moves = np.hypot(raw[..., 1], raw[..., 2]) * first.resolution >= MISS_TRANSLATION_M
     moves |= np.abs(raw[..., 0]) >= MISS_ROTATION

@@ -71,13 +71,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._mask import Mask
 from .._types import Action, Motion
 from ..camera._pose_tracking import MISS_ROTATION, MISS_TRANSLATION_M, camera_from_object
 from ._costs import (
-    _SCALES,
     FOLLOW_DIRECTIONS,
     N_OFFSETS,
+    PlanningContext,
     follow_ups,
     model_variance,
     pose_cost,
@@ -99,6 +98,7 @@ __all__ = [
     "MIN_GAIN",
     "N_DIRECTIONS",
     "Plan",
+    "PlanningContext",
     "learning_safe",
     "plan_push",
     "pose_cost",
@@ -154,9 +154,15 @@ class Plan(NamedTuple):
     kind: str = "goal"  # one of PUSH_KINDS
 
 
-def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_radius, allowed):
-    if allowed is not None:
-        directions = np.asarray(allowed, float)
+def _candidates(context: PlanningContext, pose: Motion, hyps: CoMHypotheses, goal_angle, left_px):
+    """The candidate pushes from ``pose`` (first mask's frame) and their direction, offset, length.
+
+    ``goal_angle`` the camera direction to the goal (None: none), ``left_px``
+    the distance left to it (None: free).
+    """
+    first, max_travel_px = context.first, context.max_travel_px
+    if context.allowed is not None:
+        directions = np.asarray(context.allowed, float)
     else:
         directions = np.linspace(0, 2 * np.pi, N_DIRECTIONS, endpoint=False)
         if goal_angle is not None:
@@ -168,18 +174,20 @@ def _candidates(first, pose, goal_angle, hyps, max_travel_px, left_px, pusher_ra
     if left_px is not None:
         lengths += [f * left_px for f in LEFT_FRACTIONS if f * left_px < max_travel_px]
     lengths = np.unique(np.round([v for v in lengths if v >= 2.0], 6))
-    return line_pushes(first, pose, directions, offsets, lengths, pusher_radius)
+    return line_pushes(first, pose, directions, offsets, lengths, context.pusher_radius)
 
 
-def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn=None):
+def _expected(context: PlanningContext, pose: Motion, hyps: CoMHypotheses, actions):
     """Expected cost of each candidate (inf: out of view, or past the turn bound), poses."""
-    raw = predict_motions(model, first, actions, hyps)
+    first, goal, target_px = context.first, context.goal, context.target_px
+    reach_px = context.reach_px
+    raw = predict_motions(context.model, first, actions, hyps)
     motions = camera_motions(raw, pose)  # (n_h, a, 3)
     theta = pose.theta + motions[..., 0]
     tx, ty = pose.tx + motions[..., 1], pose.ty + motions[..., 2]
     weights = hyps.weights[:, None]
     each = pose_cost(goal, target_px, first.resolution, theta, tx, ty)
-    each = each + model_variance(goal, first, actions, hyps.coms, raw, scales)
+    each = each + model_variance(goal, first, actions, hyps.coms, raw, context.scales)
     cost = (weights * each).sum(axis=0)
     h, w = first.shape
     cx = first.centroid[0] + (weights * tx).sum(axis=0)
@@ -190,23 +198,24 @@ def _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scal
     moves = np.hypot(motions[..., 1], motions[..., 2]) * first.resolution >= MISS_TRANSLATION_M
     moves |= np.abs(motions[..., 0]) >= MISS_ROTATION
     keeps_view &= (weights * moves).sum(axis=0) >= 0.5
-    if turn is not None:  # the goal's max_turn: the mean predicted turn outside the band
-        low, high, limit = turn
+    if context.turn is not None:  # the goal's max_turn: the mean predicted turn outside the band
+        low, high, limit = context.turn
         keeps_view &= (weights * turn_outside(theta, (low, high))).sum(axis=0) <= limit + 1e-9
     return np.where(keeps_view, cost, np.inf), (theta, tx, ty, each)
 
 
-def _coarse(
-    first, pose, goal, target_px, hyps, model, travel_px, radius, reach_px, allowed, least, scales,
-    turn,
-):  # fmt: skip
-    """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None)."""
+def _coarse(context: PlanningContext, pose: Motion, hyps: CoMHypotheses, least: float):
+    """Every candidate from ``pose`` in view, and its expected cost over ``hyps`` (or None).
+
+    ``least``: the least travel after contact (pixels) a candidate may have.
+    """
+    first, target_px = context.first, context.target_px
     goal_angle = left = None
     if target_px is not None:
         dx, dy = target_px[0] - pose.tx, target_px[1] - pose.ty
         left = math.hypot(dx, dy)
         goal_angle = math.atan2(dy, dx) if left > 0.5 else None
-    actions, _ = _candidates(first, pose, goal_angle, hyps, travel_px, left, radius, allowed)
+    actions, _ = _candidates(context, pose, hyps, goal_angle, left)
     if len(actions) == 0:
         return None
     cam_actions = camera_from_object(actions, pose, first.centroid)
@@ -218,45 +227,28 @@ def _coarse(
     actions, cam_actions = actions[in_view], cam_actions[in_view]
     if len(actions) == 0:
         return None
-    cost, _ = _expected(first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn)
+    cost, _ = _expected(context, pose, hyps, actions)
     return actions, cam_actions, cost
 
 
 def plan_push(
-    first: Mask,
-    pose: Motion,
-    goal: Goal,
-    target_px,
-    hyps: CoMHypotheses,
-    model,
-    max_travel_px: float,
-    pusher_radius: float,
-    reach_px: float,
-    allowed=None,
-    min_travel_px: float = 0.0,
-    scales=_SCALES,
-    turn=None,
+    context: PlanningContext, pose: Motion, hyps: CoMHypotheses, min_travel_px: float = 0.0
 ) -> Plan | None:
     """The push of least expected remaining pose error, or None when none gets closer.
 
-    ``target_px`` is the goal's ``(tx, ty)`` (None: free); ``reach_px`` the
-    object's radius about its centroid (to keep it in view); ``allowed`` the
-    camera directions (radians) the robot may push along (None: any);
+    ``context`` holds what the step is planned against (the first mask, the
+    goal, the model, the travel, the view, the allowed directions, the
+    model-error scales and the turn bound: :class:`PlanningContext`); ``pose``
+    the object's pose now; ``hyps`` the (CoM, friction) particles;
     ``min_travel_px`` the least travel after contact (the session raises it
-    after a push that did not move the object); ``scales`` the session's
-    :class:`comcore.Likelihood`, whose model-error scales the cost counts
-    (default ``Likelihood()``'s); ``turn`` None or ``(low, high, limit)``
-    radians: no push (nor follow-up) is offered whose mean predicted
-    orientation lies more than ``limit`` outside ``[low, high]`` (the goal's
-    :attr:`~comcore.Goal.max_turn`).
+    after a push that did not move the object).
     """
-    res = first.resolution
-    cost_now = float(pose_cost(goal, target_px, res, pose.theta, pose.tx, pose.ty))
+    first, goal, target_px = context.first, context.goal, context.target_px
+    cost_now = float(pose_cost(goal, target_px, first.resolution, pose.theta, pose.tx, pose.ty))
     # a coarse pass over every candidate with a few particles, then the best few again
     index, share = _systematic(hyps.weights, COARSE_PARTICLES)
     coarse = CoMHypotheses(hyps.coms[index], hyps.mus[index], share)
-    options = (model, max_travel_px, pusher_radius, reach_px, allowed)
-    found = _coarse(first, pose, goal, target_px, coarse, *options, min_travel_px, scales, turn)
+    found = _coarse(context, pose, coarse, min_travel_px)
     if found is None:
         return None
     actions, cam_actions, cost = found
@@ -264,49 +256,18 @@ def plan_push(
     if len(keep) == 0:
         return None
     actions, cam_actions = actions[keep], cam_actions[keep]
-    cost, (theta, tx, ty, each) = _expected(
-        first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn
-    )
+    cost, (theta, tx, ty, each) = _expected(context, pose, hyps, actions)
     weights = hyps.weights[:, None]
     means = [(weights * v).sum(axis=0) for v in (theta, tx, ty)]
-    # two steps: the best few pushes again, each followed by the best push from where it is
-    # expected to leave the object (coarse particles); a push is worth what it leads to
-    # the closed-loop value of a push: the expected cost after the best follow-up from where
-    # each particle says it leaves the object, for the best few pushes and the best of each
-    # length (a long push a wide posterior spreads may still lead closer than a creep)
-    value = cost.copy()
-    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
-    order = spread_picks(cost, travel, LOOKAHEAD) if LOOKAHEAD else []
-    if len(order):
-        after = tuple(v[index][:, order].ravel() for v in (theta, tx, ty))
-        owner = np.repeat(np.arange(len(index)), len(order))
-        if allowed is None:
-            directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
-        else:  # the robot's directions, in the object's frame as it is now
-            directions = np.asarray(allowed, float) + pose.theta
-        follow = follow_ups(
-            first,
-            after,
-            goal,
-            target_px,
-            coarse,
-            model,
-            max_travel_px,
-            pusher_radius,
-            directions,
-            owner,
-            scales,
-            turn,
-        ).reshape(len(index), len(order))
-        closed = share @ follow
-        value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
+    after = tuple(v[index] for v in (theta, tx, ty))  # where each coarse particle leaves it
+    value = _closed_loop(context, pose, coarse, actions, cost, after)
     best, kind = int(np.argmin(value)), "goal"
     if not np.isfinite(value[best]) or value[best] > cost_now * (1.0 - MIN_GAIN):
         # a probe: no push is expected to help on average (a wide posterior), but one the
         # posterior gives a fair chance to help is made (and teaches it)
         likely = (weights * (each < cost_now)).sum(axis=0) >= PROBE_CHANCE
-        travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / res
-        likely &= travel >= PROBE_LENGTH * max_travel_px - 1e-6
+        travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T) - STANDOFF_M / first.resolution
+        likely &= travel >= PROBE_LENGTH * context.max_travel_px - 1e-6
         if not (likely & np.isfinite(cost)).any():
             return None
         best, kind = int(np.argmin(np.where(likely, cost, np.inf))), "probe"
@@ -320,6 +281,34 @@ def plan_push(
     )
 
 
+def _closed_loop(context: PlanningContext, pose: Motion, coarse, actions, cost, after):
+    """Each push's value: the least of its cost and what its best follow-up leads to.
+
+    Two steps: the best :data:`LOOKAHEAD` pushes and the best push of each
+    length (a long push a wide posterior spreads may still lead closer than a
+    creep) are each followed by the best push from where each of the
+    ``coarse`` particles says it leaves the object (``after``: ``(theta, tx,
+    ty)``, each (particles, pushes)); the expected cost after that follow-up,
+    over the particles, is the push's closed-loop value.
+    """
+    value = cost.copy()
+    travel = np.hypot(*(actions[:, 2:] - actions[:, :2]).T)
+    order = spread_picks(cost, travel, LOOKAHEAD) if LOOKAHEAD else []
+    if not len(order):
+        return value
+    n = len(coarse.weights)
+    poses = tuple(v[:, order].ravel() for v in after)
+    owner = np.repeat(np.arange(n), len(order))
+    if context.allowed is None:
+        directions = np.linspace(0, 2 * np.pi, FOLLOW_DIRECTIONS, endpoint=False)
+    else:  # the robot's directions, in the object's frame as it is now
+        directions = np.asarray(context.allowed, float) + pose.theta
+    follow = follow_ups(context, poses, coarse, directions, owner).reshape(n, len(order))
+    closed = coarse.weights @ follow
+    value[order] = np.minimum(cost[order], LOOKAHEAD_WEIGHT * closed)
+    return value
+
+
 def _error_in_tolerances(goal: Goal, target_px, resolution: float, theta, tx, ty):
     """How far poses are from the goal in tolerances: the position's, else the orientation's."""
     if target_px is not None:
@@ -328,37 +317,25 @@ def _error_in_tolerances(goal: Goal, target_px, resolution: float, theta, tx, ty
     return np.abs(theta - goal.orientation) / goal.orientation_tolerance
 
 
-def learning_safe(
-    first: Mask,
-    pose: Motion,
-    goal: Goal,
-    target_px,
-    hyps: CoMHypotheses,
-    model,
-    actions: np.ndarray,
-    reach_px: float,
-    scales=_SCALES,
-    turn=None,
-):
+def learning_safe(context: PlanningContext, pose: Motion, hyps: CoMHypotheses, actions):
     """Which of ``actions`` (first mask's frame) are safe to make to learn, and what each expects.
 
     Safe: the push keeps the object's bounding disc in view and moves it
     (under at least half the particles' mass), keeps within the goal's
-    ``max_turn`` (``turn``, as :func:`plan_push`), and leaves the object on
-    average over the particles at most :data:`LEARNING_SLACK` tolerances
-    farther from the goal than it is now (the position where the goal sets
-    one, else the orientation). Returns ``(safe, cost, poses)``: a bool per
-    action, its expected cost (as :func:`plan_push` scores one) and the
-    particles' mean pose ``(theta, tx, ty)`` after each, arrays.
+    ``max_turn`` (the context's ``turn``, as :func:`plan_push`), and leaves the
+    object on average over the particles at most :data:`LEARNING_SLACK`
+    tolerances farther from the goal than it is now (the position where the
+    goal sets one, else the orientation). Returns ``(safe, cost, poses)``: a
+    bool per action, its expected cost (as :func:`plan_push` scores one) and
+    the particles' mean pose ``(theta, tx, ty)`` after each, arrays.
     """
+    first, goal, target_px = context.first, context.goal, context.target_px
     res = first.resolution
     now = float(_error_in_tolerances(goal, target_px, res, pose.theta, pose.tx, pose.ty))
     if len(actions) == 0:
         empty = np.zeros(0)
         return np.zeros(0, bool), empty, (empty, empty, empty)
-    cost, (theta, tx, ty, _) = _expected(
-        first, pose, goal, target_px, hyps, model, actions, reach_px, scales, turn
-    )
+    cost, (theta, tx, ty, _) = _expected(context, pose, hyps, actions)
     weights = hyps.weights[:, None]
     after = (weights * _error_in_tolerances(goal, target_px, res, theta, tx, ty)).sum(axis=0)
     safe = np.isfinite(cost) & (after <= now + LEARNING_SLACK + 1e-9)

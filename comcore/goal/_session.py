@@ -50,7 +50,14 @@ from ..camera._pose_tracking import (
 )
 from ..geometry._sampling import DEFAULT_STANDOFF_M, sample_pushes
 from ._costs import pose_cost, turn_outside
-from ._planner import COARSE_PARTICLES, Plan, learning_safe, plan_push, reached
+from ._planner import (
+    COARSE_PARTICLES,
+    Plan,
+    PlanningContext,
+    learning_safe,
+    plan_push,
+    reached,
+)
 from ._prior import prior_particles, touches_border
 from ._translation import STANDOFF_M, planning_model
 from ._types import (
@@ -396,14 +403,22 @@ class GoalSession(PushLoop):
         if self._goal.max_turn is not None:  # once past the bound, no push that goes further
             now = float(turn_outside(self._pose.theta, self._band))
             turn = (*self._band, max(self._goal.max_turn, now))
-        self._plan = plan_push(
-            self._first, self._pose, self._goal, self._target, hyps, self._planner,
-            self._max_travel_px, self._radius, self._reach, self._allowed, self._min_travel,
-            self._likelihood, turn,
-        )  # fmt: skip
+        context = PlanningContext(
+            self._first,
+            self._goal,
+            self._target,
+            self._planner,
+            self._max_travel_px,
+            self._radius,
+            reach_px=self._reach,
+            allowed=self._allowed,
+            scales=self._likelihood,
+            turn=turn,
+        )
+        self._plan = plan_push(context, self._pose, hyps, self._min_travel)
         self._learning_index = None
         if self._plan is None and self._learn and self._learning_run < self._max_learning:
-            self._plan = self._learning_plan(hyps, turn)
+            self._plan = self._learning_plan(hyps, context)
         if self._plan is None:
             self._final = Status.STUCK
 
@@ -427,7 +442,7 @@ class GoalSession(PushLoop):
             pusher_radius=self._scoring.pusher_radius,
         )  # fmt: skip
 
-    def _learning_plan(self, hyps, turn) -> Plan | None:
+    def _learning_plan(self, hyps, context: PlanningContext) -> Plan | None:
         """The most informative push safe for the goal, as an ActiveSession chooses (or None)."""
         if self._learning is None:
             self._learning = self._learning_candidates()
@@ -444,9 +459,7 @@ class GoalSession(PushLoop):
         # informative of those checked under all of them, the next where it is not safe
         share_index, share = _systematic(hyps.weights, COARSE_PARTICLES)
         coarse = CoMHypotheses(hyps.coms[share_index], hyps.mus[share_index], share)
-        options = (self._first, self._pose, self._goal, self._target)
-        rest = (self._reach, self._likelihood, turn)
-        safe, _, _ = learning_safe(*options, coarse, self._planner, cands.actions[index], *rest)
+        safe, _, _ = learning_safe(context, self._pose, coarse, cands.actions[index])
         index, camera = index[safe], camera[safe]
         for _ in range(LEARNING_TRIES):
             offered[:] = False
@@ -455,9 +468,7 @@ class GoalSession(PushLoop):
             # as an ActiveSession stops "uninformative": a push that teaches nothing is not made
             if best is None or not gain > LEARNING_RULE.min_information:
                 return None
-            ok, cost, means = learning_safe(
-                *options, hyps, self._planner, cands.actions[[best]], *rest
-            )
+            ok, cost, means = learning_safe(context, self._pose, hyps, cands.actions[[best]])
             if ok[0]:
                 break
             keep = index != best

@@ -124,9 +124,7 @@ class PushLattice:
         self._offset = (i0, j0)
         self.along, self.lever = along[i0:i1], lever[j0:j1]
         grid_a, grid_b = np.meshgrid(self.along, self.lever, indexing="ij")
-        self.points = (
-            self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
-        )  # fmt: skip
+        self.points = self.start + grid_a.reshape(-1, 1) * self.u + grid_b.reshape(-1, 1) * self.w
 
     def whole_ids(self) -> np.ndarray:
         """Each node's index in the whole image's lattice of the same push, (n_nodes,)."""
@@ -229,9 +227,11 @@ def table_pressures(table: LocalArrays, points: np.ndarray, step: float) -> np.n
     i, j = i - origin[0], j - origin[1]
     fx, fy = f[:, :1], f[:, 1:]
     return (
-        values[i, j] * (1 - fx) * (1 - fy) + values[i, j + 1] * (1 - fx) * fy
-        + values[i + 1, j] * fx * (1 - fy) + values[i + 1, j + 1] * fx * fy
-    )  # fmt: skip
+        values[i, j] * (1 - fx) * (1 - fy)
+        + values[i, j + 1] * (1 - fx) * fy
+        + values[i + 1, j] * fx * (1 - fy)
+        + values[i + 1, j + 1] * fx * fy
+    )
 
 
 def _memo(mask: Mask) -> dict:

@@ -215,9 +215,18 @@ class LimitSurfaceModel:
         eps2 = (SMOOTHING_CELLS * sup.cell) ** 2 / mask.area_px  # relative to the push speed
         radius = self.pusher_radius / mask.resolution
         return push_motions(
-            outline_field(mask), actions, press, sup.points, np.asarray(mask.centroid), mu,
-            radius, self.n_steps, eps2, same_as, path,
-        )  # fmt: skip
+            outline_field(mask),
+            actions,
+            press,
+            sup.points,
+            np.asarray(mask.centroid),
+            mu=mu,
+            radius=radius,
+            n_steps=self.n_steps,
+            eps2=eps2,
+            same_as=same_as,
+            path=path,
+        )
 
     def _pressures(self, mask: Mask, coms: np.ndarray, spread: str | None = None) -> np.ndarray:
         """Pressures for CoMs (moved onto the object), (n, N)."""
@@ -332,9 +341,13 @@ class LimitSurfaceModel:
         key = (settings, spreads, action.tobytes())
         near = mask._box.grown_by(margin_px(mask.resolution))  # the object's neighbourhood
         lattice, known, mus = remembered(
-            mask, key, lambda: PushLattice(mask, action, self.node_spacing, near), mu, spreads,
+            mask,
+            key,
+            lambda: PushLattice(mask, action, self.node_spacing, near),
+            mu,
+            spreads,
             shape=(self.n_steps + 1, 3),
-        )  # fmt: skip
+        )
         found = lattice.cells(pts)
         if found is None:  # a hypothesis off the neighbourhood: the whole image's lattice
             lattice, known = widened(
@@ -347,11 +360,13 @@ class LimitSurfaceModel:
             return self._motions(mask, action[None], press, mu, path=True)[:, 0][:, steps]
         todo = keys[np.isnan(known[self.pressure, mu][keys, -1, 0])]
         if len(todo):
-            self._integrate_nodes(mask, action, lattice, todo, known, mus, spreads)
+            self._integrate_nodes(
+                mask, action, lattice, todo, known=known, mus=mus, spreads=spreads
+            )
         motion = known[self.pressure, mu][:, steps]  # (nodes, len(steps), 3)
         return np.einsum("kn,knts->nts", weights, motion[corners])
 
-    def _integrate_nodes(self, mask, action, lattice, todo, known, mus, spreads):
+    def _integrate_nodes(self, mask, action, lattice, todo, *, known, mus, spreads):
         """Integrate the push at nodes for every pressure spread and friction not yet known.
 
         One batch: per spread the friction values highest first, so that a row
@@ -359,22 +374,29 @@ class LimitSurfaceModel:
         """
         n, points = len(todo), lattice.points[todo]
         jobs = [
-            (spread, m) for spread in spreads for m in sorted(mus, reverse=True)
+            (spread, m)
+            for spread in spreads
+            for m in sorted(mus, reverse=True)
             if np.isnan(known[spread, m][todo, -1, 0]).all()
-        ]  # fmt: skip
+        ]
         press, same = {}, []
         for k, (spread, _) in enumerate(jobs):
             if spread not in press:
                 table = pressure_table(
-                    mask, (spread, self.support_points),
+                    mask,
+                    (spread, self.support_points),
                     lambda m, p, spread=spread: self._pressures(m, p, spread),
                     reach_px=_LATTICE_REACH * lattice.spacing,
-                )  # fmt: skip
+                )
                 press[spread] = (table_pressures(table, points, _table_step(mask)), k)
             same.append(press[spread][1] * n + np.arange(n))
         out = self._motions(
-            mask, action[None], np.vstack([press[spread][0] for spread, _ in jobs]),
-            np.repeat([m for _, m in jobs], n), same_as=np.concatenate(same), path=True,
-        )[:, 0]  # fmt: skip
+            mask,
+            action[None],
+            np.vstack([press[spread][0] for spread, _ in jobs]),
+            np.repeat([m for _, m in jobs], n),
+            same_as=np.concatenate(same),
+            path=True,
+        )[:, 0]
         for k, job in enumerate(jobs):
             known[job][todo] = out[k * n : (k + 1) * n]

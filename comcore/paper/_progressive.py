@@ -1,6 +1,48 @@
-"""Alg. 2 of the paper: halve the feasible CoM region push by push."""
+"""Alg. 2 of the paper: halve the feasible CoM region push by push.
+
+:func:`estimate_progressive` decides as follows where the paper is silent (each is tested):
+
+* The loop goes on while the region is larger than ``area_ratio`` of the object AND
+  actions remain (the paper's "or" would never stop); it also stops when no kept action
+  has region pixels on both sides of its line (best score 0: no push can cut the region).
+* Side counts ``n1, n2`` count region pixels more than ``band`` from the action's line;
+  pixels within ``band`` count on neither side.
+* The part kept: :func:`comcore.vt.consistent` with the action's contact point, inward
+  normal and direction, for the sense of ``theta`` and the friction ``mu``. For a push
+  along the normal this is the paper's half-plane; pixels within ``band`` of the deciding
+  line stay in the region.
+* The ``min_score`` pruning (step 9) uses the scores computed on the region before the
+  cut, as the paper's listing does.
+* Contradiction: an action with ``|theta| >= min_rotation`` contradicts the estimate when
+  no pixel of the estimate's region can produce its sense (with the cuts' ``band`` and
+  ``mu``). A chosen one is then skipped instead of applied; one pruned or never reached
+  is checked against the final region, first on its own, then together with the other
+  left-out ones, as the cuts are: in descending ``|theta|`` (ties in index order) each
+  must leave a region pixel that explains it and every surer one (pushes whose regions
+  do not intersect are inconsistent even when none of them cuts). The contradicted are
+  listed skipped ones first, in the order met, then those checked on their own, then
+  together; the fallback estimate is what the other actions give, exactly as if the
+  contradicting ones had not been recorded. Dropping an action is not in itself a
+  contradiction, and an action turning the object less than ``min_rotation`` (whose
+  sense noise may flip) is never called contradicted.
+* Consistent senses are not necessarily right: motions with every theta's sign flipped
+  are explained by a CoM mirrored through the centroid when the pushes' lines pass near
+  it, so such a recording mostly, not always, says ``"inconsistent"``
+  (``benchmarks/accuracy/estimate_methods.py --flips 0,all`` counts how often). The
+  motions' sizes tell the two apart: ``comcore estimate`` checks every recording's sign,
+  and :func:`comcore.estimate_posterior` with its default model calls such a recording
+  ``"inconsistent"``.
+* Which part of a disconnected final region: the paper takes the largest. Here the parts
+  are ranked by (1) the most left-out actions (``|theta| >= min_rotation``, not applied)
+  that a single pixel of the part explains; (2) the number of actions turning the object
+  less than ``min_rotation`` (their lines pass near the CoM) whose line passes within half
+  a pixel diagonal of one of the part's pixel centres; (3) the area; (4) the first in
+  row-major order.
+"""
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -97,82 +139,18 @@ def estimate_progressive(
 ) -> Estimate:
     """Estimate the CoM with Alg. 2: cut the feasible region with the best-splitting push.
 
-    Starting from the whole object, repeatedly pick the kept action whose line
-    splits the current region most evenly (highest :func:`equality_score`),
-    keep the part the Voting Theorem allows for its (predicted) rotation sense,
-    and drop the chosen action and every action that scored below
-    ``min_score``. Stop when the region is at most ``area_ratio`` of the
-    object or no action is left. The CoM is the mean of one 8-connected part
-    of the final region: the part the data point to (see below), the largest
-    when they do not tell the parts apart.
+    Starting from the whole object, repeatedly apply the kept action whose line splits the
+    region most evenly (:func:`equality_score`): keep the part :func:`comcore.vt.consistent`
+    allows for its rotation sense, drop it and every action scoring below ``min_score``,
+    until the region is at most ``area_ratio`` of the object or no action is left. The CoM
+    is the mean of the 8-connected part of the final region the left-out actions point to
+    (:mod:`comcore.paper._progressive` lists the choices the paper leaves open).
 
-    Choices where the paper is silent (each is tested):
-
-    * Loop condition: go on while the region is larger than ``area_ratio`` of
-      the object AND actions remain (the paper's "or" would never stop).
-    * Side counts ``n1, n2`` count region pixels more than ``band`` from the
-      action's line; pixels within ``band`` count on neither side.
-    * Which part to keep: :func:`comcore.vt.consistent` with the action's
-      contact point, inward normal and direction, for the sense of ``theta``
-      and the friction spec ``mu`` (unknown by default). For a push along the
-      normal this is the paper's half-plane; pixels within ``band`` of the
-      deciding line stay in the region.
-    * The ``min_score`` pruning (step 9) uses the scores computed on the
-      region before the cut, as the paper's listing does.
-    * Contradiction. An action with ``|theta| >= min_rotation`` contradicts
-      the estimate when no pixel of the estimate's region can produce its
-      sense (with the ``band`` and ``mu`` of the cuts): no CoM in the region
-      explains it. This is checked for every such action, applied or not:
-      one that is chosen is then skipped instead of applied (its allowed part
-      misses the current region); one that is pruned (low score) or never
-      reached is checked against the final region, first on its own, then
-      together with the other left-out ones, as the cuts are: in descending
-      ``|theta|`` (ties in index order) each must leave a region pixel that
-      explains it and every surer one, else it contradicts them (pushes whose
-      regions do not intersect are inconsistent even when none of them cuts,
-      e.g. when none splits the object, as along its edges). Either way it
-      is listed in ``progressive.contradicted`` (skipped ones first, in the
-      order met, then those checked on their own, then together) and
-      ``status`` is ``"inconsistent"``. The fallback estimate is the one the
-      other actions give, exactly as if the contradicting ones had not been
-      recorded: the region the applied cuts leave and its mean, never a NaN.
-      Dropping an action is not in itself a contradiction: pruned or
-      unreached actions that one region pixel explains together leave
-      ``"ok"`` (or ``"wide"``), and
-      actions turning the object less than ``min_rotation`` (whose sense
-      noise may flip) are never called contradicted.
-    * What ``"ok"`` says: what it says everywhere (:class:`comcore.Status`):
-      the data are consistent and the region reached ``target_radius``. The
-      region is the final one, the part of the cut region the CoM is the mean
-      of (``Estimate.region``): ``"ok"`` when its equivalent-circle radius
-      ``sqrt(area / pi)`` is at most ``target_radius`` (metres, the sessions'
-      6 mm by default), ``"wide"`` when it is larger (the loop's own stop,
-      ``area_ratio`` of the object, is no promise of a radius). It is a
-      feasible region, not a credible one: the CoM is in it when every
-      applied sense is right. Consistent means no action's sense contradicts
-      the region: the senses are consistent, not necessarily right. Recorded motions with every
-      theta's sign flipped (theta counter-clockwise with the y axis up) are
-      explained by a CoM mirrored through the centroid when the pushes' lines
-      pass near it, so such a recording mostly, not always, says
-      ``"inconsistent"`` (``benchmarks/accuracy/estimate_methods.py --flips 0,all``
-      counts how often). The senses cannot
-      tell those two; the motions' sizes can: ``comcore estimate`` checks every
-      recording's sign for every method, and :func:`comcore.estimate_posterior`
-      with its default model calls such a recording ``"inconsistent"``.
-    * Which part of a disconnected final region: the paper takes the largest.
-      Here the parts are ranked by the evidence first, area only after it:
-      (1) the most left-out actions (``|theta| >= min_rotation``, not
-      applied) that a single pixel of the part explains; (2) the number of
-      actions turning the object less than ``min_rotation`` (their lines pass
-      near the CoM, the premise of ``min_rotation`` and of Alg. 1) whose line
-      crosses the part, i.e. passes within half a pixel diagonal of one of
-      its pixel centres; (3) the area; (4) the first in row-major order.
-    * The loop also stops when no kept action has region pixels on both
-      sides of its line (best score 0): such a push cannot cut the region.
-    * No action with ``|theta| >= min_rotation``: the estimate is the mask's
-      centroid and ``status == "no_actions"``.
-    * ``selection="rotation"`` is the paper's ablation (Fig. 7): actions are
-      taken in ascending ``|theta|`` with no score pruning.
+    ``status``: ``"inconsistent"`` when no region pixel explains an action with ``|theta|
+    >= min_rotation`` (the estimate is then what the others give); else ``"ok"`` when the
+    region's equivalent-circle radius is at most ``target_radius``, ``"wide"`` when larger;
+    ``"no_actions"`` (the centroid) when no action turns the object ``min_rotation``. The
+    region is feasible, not credible: the CoM is in it when every applied sense is right.
 
     Parameters
     ----------
@@ -184,58 +162,36 @@ def estimate_progressive(
     area_ratio : float, optional
         ``s_t``: stop when the region is at most this fraction of the object.
     band : float, optional
-        ``d_t`` in pixels.
+        ``d_t`` in pixels: pixels this close to a line count on neither side.
     min_rotation : float, optional
-        ``t_theta`` in radians: actions turning the object less are dropped.
+        ``t_theta`` in radians: actions turning the object less are not applied.
     min_score : float, optional
         ``t_h``: actions scoring below it are dropped after each cut.
     selection : {"equality", "rotation"}, optional
+        ``"rotation"``: the paper's ablation, ascending ``|theta|``, no pruning.
     mu : None, float or (lo, hi), optional
         Contact friction for the Voting Theorem (default unknown).
     pusher_radius : float, optional
-        Radius (metres) of a round pusher: each push's contact is where its
-        disc first touches the object (:func:`comcore.geometry.disc_contacts`), so a
-        grazing push whose leading line misses the mask is still scored. The
-        default 0 is the paper's point pusher on the leading line. Pushes
-        that start inside the object or never touch it are left out and
-        reported in ``skipped``; a ValueError if more than half are.
+        Radius (metres) of a round pusher (default 0: a point). Pushes that start inside the
+        object or miss it are listed in ``skipped``; a ValueError if more than half are.
     target_radius : float, optional
-        Radius (metres) the final region must reach for ``"ok"`` (above); a
-        wider one is ``"wide"``. Default 6 mm, the sessions'
-        ``StopRule.target_radius``.
+        Radius (metres) the region must reach for ``"ok"`` (default 6 mm).
 
     Returns
     -------
     Estimate
-        ``used`` lists the applied actions in order; ``progressive``
-        (:class:`comcore.paper.ProgressiveDetails`) holds ``region_sizes``
-        (pixels after each cut, starting with the object) and ``contradicted``
-        (the contradicting actions). ``status`` is
-        ``"ok"``, ``"wide"``, ``"inconsistent"`` or ``"no_actions"`` (never
-        ``"ok"`` without a usable push).
+        ``used``: the applied actions in order; ``progressive``: ``region_sizes``
+        (pixels after each cut, the object first) and ``contradicted``.
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from comcore import Mask
-    >>> m = Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> import numpy as np, comcore
+    >>> m = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     >>> acts = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
-    >>> mots = [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)]
-    >>> e = estimate_progressive(m, acts, mots)
+    >>> e = estimate_progressive(m, acts, [(0.2, 3, 0), (-0.2, 0, 3), (-0.3, 3, 0), (0.3, 0, 3)])
     >>> e.used, e.status, int(e.region.sum())
     ((0, 1, 2, 3), 'wide', 36)
-
-    Consistent, but the 36 px left (radius 3.4 px of 2.5 mm, 8.5 mm) are wider
-    than the default 6 mm target; against 1 cm the same answer is ``"ok"``:
-
-    >>> estimate_progressive(m, acts, mots, target_radius=0.01).status
-    'ok'
-
-    Two pushes that no CoM explains together: the CoM below row 18 (push 1,
-    clockwise) and above row 8 (push 0, counter-clockwise). Push 1 is applied,
-    push 0 then has every region pixel on one side and is dropped, and is
-    reported; the estimate is push 1's half:
-
+    >>> # two pushes no CoM explains together: push 0 is reported, the estimate is push 1's half
     >>> e = estimate_progressive(m, [(0, 8, 30, 8), (0, 18, 30, 18)], [(0.2, 3, 0), (-0.2, 3, 0)])
     >>> e.status, e.used, e.progressive.contradicted, e.com
     ('inconsistent', (1,), (0,), (13.5, 20.5))
@@ -269,45 +225,16 @@ def estimate_progressive(
             progressive=ProgressiveDetails(region_sizes=(mask.area_px,)),
             skipped=skipped,
         )
-
-    current = mask.data.copy()  # the feasible region, as an image
-    rotation_order = [int(i) for i in np.argsort(np.abs(theta), kind="stable") if keep[i]]
-    target = area_ratio * mask.area_px
-    used: list[int] = []
-    contradicted: list[int] = []
-    sizes = [mask.area_px]
     direction = acts[:, 2:] - acts[:, :2]
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     cone = tuple(float(np.arctan(v)) for v in check_mu(mu))  # cone half-angle range
-    a_lo, a_hi = cone
-    sense = rotation_sense(theta, tol=0.0)
-
-    while sizes[-1] > target and keep.any():
-        if selection == "equality":
-            scores = np.full(n_actions, -1.0)
-            kept = np.flatnonzero(keep)
-            scores[kept] = equality_score(*side_counts(current, acts[kept], band))
-            chosen = int(np.argmax(scores))
-            if scores[chosen] <= 0.0:
-                break  # no kept action splits the region: nothing more to learn
-            keep &= scores >= min_score
-        else:
-            chosen = next(i for i in rotation_order if keep[i])
-        keep[chosen] = False
-        r = con.point[chosen] - pixel_centres(current)
-        allowed = _consistent(
-            r, con.normal[chosen], unit[chosen], int(sense[chosen]), a_lo, a_hi, band
-        )
-        if not allowed.any():
-            contradicted.append(chosen)
-            continue
-        current[current] = allowed  # row-major, like pixel_centres
-        used.append(chosen)
-        sizes.append(int(allowed.sum()))
-
-    region = _final_region(
-        current, used, contradicted, small, acts, con, unit, sense, cone, band, np.abs(theta)
-    )
+    cuts = _Cuts(acts, con.point, con.normal, unit, rotation_sense(theta, tol=0.0), cone, band)
+    options = {"selection": selection, "area_ratio": area_ratio, "min_score": min_score}
+    current, used, contradicted, sizes = _cut(mask, cuts, keep, np.abs(theta), **options)
+    done = set(used) | set(contradicted)
+    left_out = np.array([i for i in np.flatnonzero(~small) if i not in done], dtype=int)
+    region, more = _final_region(current, cuts, left_out, acts[small], np.abs(theta))
+    contradicted += more
     if contradicted:
         status = Status.INCONSISTENT
     elif region_reached(np.sqrt(region.sum() / np.pi), target_radius, mask.resolution):
@@ -324,46 +251,104 @@ def estimate_progressive(
     )
 
 
-def _final_region(current, used, contradicted, small, acts, con, unit, sense, cone, band, turn):
-    """The part of the cut region ``current`` the data point to; ``contradicted`` grows.
+class _Cuts(NamedTuple):
+    """What the Voting Theorem reads of each push to cut the region with it."""
 
-    Left-out informative pushes that no pixel of the returned region explains
-    are appended to ``contradicted``, then those that no region pixel explains
-    together with the left-out pushes turning the object more (``turn``, the
-    ``|theta|`` of each push; ties in index order); the parts of a disconnected
-    region are ranked as :func:`estimate_progressive` says.
-    """
-    a_lo, a_hi = cone
-    # Which of the left-out informative pushes a CoM at each region pixel explains (the
-    # applied ones explain every region pixel by construction, the skipped ones none).
-    done = set(used) | set(contradicted)
-    left_out = np.array([i for i in np.flatnonzero(~small) if i not in done], dtype=int)
+    actions: np.ndarray
+    """(n, 4) the pushes, pixels."""
+    point: np.ndarray
+    """(n, 2) each push's contact point, pixels."""
+    normal: np.ndarray
+    """(n, 2) the object's unit inward normal at each contact."""
+    unit: np.ndarray
+    """(n, 2) each push's unit direction."""
+    sense: np.ndarray
+    """(n,) each push's observed rotation sense: +1, -1 or 0."""
+    cone: tuple[float, float]
+    """The friction cone's half-angle range, radians: ``atan`` of the ``mu`` range."""
+    band: float
+    """Pixels within this distance of a deciding line are kept, pixels."""
 
-    def explained(idx, points):  # (len(idx), len(points)) bool, in memory-bounded chunks
+    def allowed(self, i: int, points: np.ndarray) -> np.ndarray:
+        """Which ``points`` (m, 2) push ``i``'s sense allows as the CoM, (m,) bool."""
+        r = self.point[i] - points
+        sense = int(self.sense[i])
+        return _consistent(r, self.normal[i], self.unit[i], sense, *self.cone, band=self.band)
+
+    def explained(self, idx: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """Which ``points`` explain each push of ``idx``, (len(idx), len(points)) bool."""
         out = np.zeros((len(idx), len(points)), dtype=bool)
-        step = max(1, CHUNK_ELEMENTS // max(len(points), 1))
+        step = max(1, CHUNK_ELEMENTS // max(len(points), 1))  # memory-bounded chunks
         for j in range(0, len(idx), step):
             k = idx[j : j + step]
-            r = con.point[k, None, :] - points
+            r = self.point[k, None, :] - points
             out[j : j + step] = _consistent_many(
-                r, con.normal[k], unit[k], sense[k], a_lo, a_hi, band
+                r, self.normal[k], self.unit[k], self.sense[k], *self.cone, band=self.band
             )
         return out
 
+
+def _cut(mask: Mask, cuts: _Cuts, keep, turn, *, selection, area_ratio, min_score):
+    """Alg. 2's loop: ``(region image, used, contradicted, region sizes)``.
+
+    ``keep`` (n,) the actions that may be applied (updated); ``turn`` each
+    action's ``|theta|`` (the order of ``selection="rotation"``).
+    """
+    current = mask.data.copy()  # the feasible region, as an image
+    rotation_order = [int(i) for i in np.argsort(turn, kind="stable") if keep[i]]
+    target = area_ratio * mask.area_px
+    used: list[int] = []
+    contradicted: list[int] = []
+    sizes = [mask.area_px]
+    while sizes[-1] > target and keep.any():
+        if selection == "equality":
+            scores = np.full(len(keep), -1.0)
+            kept = np.flatnonzero(keep)
+            scores[kept] = equality_score(*side_counts(current, cuts.actions[kept], cuts.band))
+            chosen = int(np.argmax(scores))
+            if scores[chosen] <= 0.0:
+                break  # no kept action splits the region: nothing more to learn
+            keep &= scores >= min_score
+        else:
+            chosen = next(i for i in rotation_order if keep[i])
+        keep[chosen] = False
+        allowed = cuts.allowed(chosen, pixel_centres(current))
+        if not allowed.any():
+            contradicted.append(chosen)
+            continue
+        current[current] = allowed  # row-major, like pixel_centres
+        used.append(chosen)
+        sizes.append(int(allowed.sum()))
+    return current, used, contradicted, sizes
+
+
+def _final_region(current, cuts: _Cuts, left_out, hardly_turning, turn):
+    """The part of the cut region ``current`` the data point to, and the left-out contradicted.
+
+    ``left_out``: the informative pushes neither applied nor contradicted yet.
+    Those that no pixel of the returned region explains are contradicted, then
+    those that no region pixel explains together with the left-out pushes
+    turning the object more (``turn``, the ``|theta|`` of each push; ties in
+    index order); the parts of a disconnected region are ranked by the left-out
+    pushes and the lines of ``hardly_turning`` (:func:`_evidence`).
+    """
+    # Which of the left-out informative pushes a CoM at each region pixel explains (the
+    # applied ones explain every region pixel by construction, the skipped ones none).
+    contradicted: list[int] = []
     pts = pixel_centres(current)
     labels, n_parts = label_components(current)
     if n_parts > 1:
-        explains = explained(left_out, pts)
+        explains = cuts.explained(left_out, pts)
         part = labels[current] - 1  # component of each region pixel (row-major, like pts)
-        region = best_component(labels, _evidence(part, n_parts, explains, pts, acts[small]))
+        region = best_component(labels, _evidence(part, n_parts, explains, pts, hardly_turning))
         in_region = region[current]
         contradicted += [int(i) for i, row in zip(left_out, explains) if not row[in_region].any()]
     else:
         region = current
         # A few region pixels settle most pushes; only the others are checked on every pixel.
         probes = pts[:: -(-len(pts) // PROBE_PIXELS)]
-        unsettled = left_out[~explained(left_out, probes).any(axis=1)]
-        explains = explained(unsettled, pts)
+        unsettled = left_out[~cuts.explained(left_out, probes).any(axis=1)]
+        explains = cuts.explained(unsettled, pts)
         contradicted += [int(i) for i, row in zip(unsettled, explains) if not row.any()]
     # Each left-out push explained on its own may still contradict the others: the applied
     # cuts intersect their regions, so do the left-out ones, the surest (largest |theta|)
@@ -371,12 +356,12 @@ def _final_region(current, used, contradicted, small, acts, con, unit, sense, co
     alive = pixel_centres(region)
     rest = [int(i) for i in left_out if int(i) not in contradicted]
     for i in sorted(rest, key=lambda i: -turn[i]):  # stable: ties in index order
-        ok = explained(np.array([i]), alive)[0]
+        ok = cuts.explained(np.array([i]), alive)[0]
         if ok.any():
             alive = alive[ok]
         else:
             contradicted.append(i)
-    return region
+    return region, contradicted
 
 
 def _evidence(part, n_parts, explains, pts, hardly_turning) -> np.ndarray:

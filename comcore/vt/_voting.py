@@ -149,7 +149,9 @@ def _single_mu(mu) -> float:
     return lo
 
 
-def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 0.5) -> np.ndarray:
+def consistent(
+    points, contact, normal, push_dir, sense, mu=None, *, band: float = 0.5
+) -> np.ndarray:
     """Which CoM candidates can produce ``sense`` (or a tie) for some ``mu`` in range.
 
     The (strict) vote changes with the cone half-angle ``alpha = atan(mu)``
@@ -181,10 +183,11 @@ def consistent(points, contact, normal, push_dir, sense, mu=None, band: float = 
         raise ValueError(f"sense must be -1, 0 or +1, got {sense!r}")
     lo, hi = check_mu(mu)
     band = check_positive(band, "band", allow_zero=True)
-    return _consistent(c - pts, n, v, sense, float(np.arctan(lo)), float(np.arctan(hi)), band)
+    a_lo, a_hi = float(np.arctan(lo)), float(np.arctan(hi))
+    return _consistent(c - pts, n, v, sense, a_lo, a_hi, band=band)
 
 
-def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
+def _consistent(r, normal, push_dir, sense, a_lo, a_hi, *, band) -> np.ndarray:
     """Unvalidated core of :func:`consistent`; ``r = contact - candidates``, (m, 2).
 
     Over cone half-angles ``alpha`` in [0, pi/2] exactly one cone edge's line
@@ -202,11 +205,11 @@ def _consistent(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
     than everything else here together. At ``alpha*`` the deciding edge's
     moment is then exactly 0, as it is mathematically.
     """
-    return _consistent_many(r[None], normal[None], push_dir[None], np.array([sense]),
-                            a_lo, a_hi, band)[0]  # fmt: skip
+    senses = np.array([sense])
+    return _consistent_many(r[None], normal[None], push_dir[None], senses, a_lo, a_hi, band=band)[0]
 
 
-def _consistent_many(r, normal, push_dir, sense, a_lo, a_hi, band) -> np.ndarray:
+def _consistent_many(r, normal, push_dir, sense, a_lo, a_hi, *, band) -> np.ndarray:
     """:func:`_consistent` for k pushes at once, bit for bit; (k, m) bool.
 
     ``r`` is (k, m, 2), ``normal`` and ``push_dir`` (k, 2), ``sense`` (k,) ints.
@@ -264,9 +267,15 @@ def _thetas(theta, single: bool) -> np.ndarray:
 
 
 def region(
-    mask: Mask, action, theta, mu=None, band: float = 0.5, theta_tol: float = ANGLE_EPS,
+    mask: Mask,
+    action,
+    theta,
+    mu=None,
+    band: float = 0.5,
+    theta_tol: float = ANGLE_EPS,
+    *,
     pusher_radius: float = 0.0,
-):  # fmt: skip
+):
     """The CoM positions on the mask consistent with an observed rotation.
 
     Parameters
@@ -344,6 +353,6 @@ def region(
     unit = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
     for i in range(acts.shape[0]):
         r = con.point[i] - mask.pixels
-        ok = _consistent(r, con.normal[i], unit[i], int(senses[i]), a_lo, a_hi, band)
+        ok = _consistent(r, con.normal[i], unit[i], int(senses[i]), a_lo, a_hi, band=band)
         out[i, rows[ok], cols[ok]] = True
     return out[0] if single else out

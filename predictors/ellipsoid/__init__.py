@@ -177,10 +177,11 @@ class EllipsoidPredictor:
         if len(acts) == 0 or len(pts) == 0:
             return np.zeros((len(pts), len(acts), 3))
         c2 = characteristic_length_sq(mask, pts, self.pressure, self.limit_surface)
+        mus = np.full(len(pts), mu)
+        radius = self._radius_px(mask)
         out = simulate(
-            mask, outline_field(mask), acts, pts, c2, np.full(len(pts), mu),
-            self._radius_px(mask), self.n_steps,
-        )  # fmt: skip
+            mask, outline_field(mask), acts, pts, c2, mus, radius=radius, n_steps=self.n_steps
+        )
         return check_plausible_motions(out, acts, "EllipsoidPredictor")
 
     def fit(self, mask, priors) -> EllipsoidFit:
@@ -218,10 +219,15 @@ class EllipsoidPredictor:
         if len(acts) == 0:
             raise ValueError("priors must hold at least one (Action, Motion) pair to fit to")
         return fit_priors(
-            mask, acts, mots, com=self.com, mu=self.mu_contact,
+            mask,
+            acts,
+            mots,
+            com=self.com,
+            mu=self.mu_contact,
             support=(self.pressure, self.limit_surface),
-            radius=self._radius_px(mask), n_steps=self.n_steps,
-        )  # fmt: skip
+            radius=self._radius_px(mask),
+            n_steps=self.n_steps,
+        )
 
     def predict(self, mask, actions, priors=()) -> np.ndarray:
         """Predict motions ``(theta, tx, ty)``, shape (n, 3) (:class:`comcore.Predictor`).

@@ -151,10 +151,8 @@ def _evaluate(mask, field, actions, coms, mus, *, support, radius, n_steps):
     """Predictions for every (com, mu) pair: shape (n_coms, n_mus, n_actions, 3)."""
     c2 = characteristic_length_sq(mask, coms, *support)
     all_coms = np.repeat(coms, len(mus), axis=0)
-    out = simulate(
-        mask, field, actions, all_coms, np.repeat(c2, len(mus), axis=0), np.tile(mus, len(coms)),
-        radius, n_steps,
-    )  # fmt: skip
+    all_c2, all_mus = np.repeat(c2, len(mus), axis=0), np.tile(mus, len(coms))
+    out = simulate(mask, field, actions, all_coms, all_c2, all_mus, radius=radius, n_steps=n_steps)
     return out.reshape(len(coms), len(mus), len(actions), 3)
 
 
@@ -175,8 +173,13 @@ def _posterior(log_post, coms):
     return w, mean, (w[:, None] * rel).T @ rel
 
 
-def _polish(mask, field, actions, motions, com, mu, scales, *, fixed, **kw):
-    """Sub-pixel CoM and finer mu around a grid optimum: two shrinking local grids."""
+def _polish(mask, field, actions, motions, com, mu, *, scales, fixed, **kw):
+    """Sub-pixel CoM and finer mu around a grid optimum: two shrinking local grids.
+
+    ``scales`` the residual scales the fit is scored with; ``fixed`` whether the CoM
+    and mu are given (then kept); ``kw`` :func:`_evaluate`'s ``support``, ``radius``
+    and ``n_steps``.
+    """
     fix_com, fix_mu = fixed
     for spacing, spread, n_mu in POLISH_PASSES:
         offsets = spacing * np.arange(-2, 3)
@@ -236,10 +239,11 @@ def fit_priors(mask, actions, motions, *, com=None, mu=None, support, radius, n_
     if not coarse_ok:  # the belief is wider than the refined cells: use the coarse grid's
         cov = cov_coarse
     cov = cov + np.eye(2) * (stride**2 if not coarse_ok else 1.0) / 12.0
+    fixed = (com is not None, mu is not None)
+    start = (fine_coms[best_com], float(mus[best_mu]))
     best, mu_best, nll_best = _polish(
-        mask, field, actions, motions, fine_coms[best_com], float(mus[best_mu]), scales,
-        fixed=(com is not None, mu is not None), n_steps=n_steps, **kw,
-    )  # fmt: skip
+        mask, field, actions, motions, *start, scales=scales, fixed=fixed, n_steps=n_steps, **kw
+    )
     return EllipsoidFit(
         com=(float(best[0]), float(best[1])),
         com_cov=cov if com is None else np.zeros((2, 2)),

@@ -31,6 +31,8 @@ points from the corner to the disc's centre, as for a real round pusher.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from comcore.conventions import rotate_components
@@ -38,11 +40,32 @@ from comcore.conventions import rotate_components
 __all__ = ["body_twist", "simulate"]
 
 
-def _twist(rx, ry, nx, ny, ux, uy, c2, mu, cos_a, sin_a):
+class _Cone(NamedTuple):
+    """The contact's friction cone, per hypothesis (arrays that broadcast)."""
+
+    mu: np.ndarray
+    """The contact friction (``inf``: the contact always sticks)."""
+    cos: np.ndarray
+    """Cosine of the cone's half-angle ``atan(mu)``."""
+    sin: np.ndarray
+    """Its sine."""
+
+    @classmethod
+    def of(cls, mu) -> _Cone:
+        """The cone of friction ``mu`` (array_like)."""
+        mu = np.asarray(mu, dtype=float)
+        return cls(mu, np.cos(np.arctan(mu)), np.sin(np.arctan(mu)))
+
+
+def _twist(r, normal, u, c2, cone: _Cone):
     """Component form of :func:`body_twist` (the hot loop of :func:`simulate`).
 
-    ``cos_a, sin_a`` are the cosine and sine of the friction cone's half-angle ``atan(mu)``.
+    ``r``, ``normal`` and ``u`` are ``(x, y)`` pairs of component arrays (the
+    contact minus the CoM, the inward normal, the contact's displacement),
+    ``c2`` the squared characteristic length, ``cone`` the friction cone.
     """
+    (rx, ry), (nx, ny), (ux, uy) = r, normal, u
+    mu, cos_a, sin_a = cone
     # w = (r_y, -r_x): the contact's velocity per unit CCW-on-screen rotation about the CoM.
     wx, wy = ry, -rx
     wu = wx * ux + wy * uy
@@ -81,16 +104,14 @@ def body_twist(r, normal, u, c2, mu):
     sticking : numpy.ndarray of bool, shape (...)
     """
     r, normal, u = (np.asarray(a, dtype=float) for a in (r, normal, u))
-    mu = np.asarray(mu, dtype=float)
-    alpha = np.arctan(mu)
+    cone = _Cone.of(mu)
     vx, vy, omega, sticking = _twist(
-        r[..., 0], r[..., 1], normal[..., 0], normal[..., 1], u[..., 0], u[..., 1], c2, mu,
-        np.cos(alpha), np.sin(alpha),
-    )  # fmt: skip
+        (r[..., 0], r[..., 1]), (normal[..., 0], normal[..., 1]), (u[..., 0], u[..., 1]), c2, cone
+    )
     return np.stack([vx, vy], axis=-1), omega, sticking
 
 
-def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.ndarray:
+def simulate(mask, field, actions, coms, c2, mu, *, radius=0.0, n_steps=24) -> np.ndarray:
     """Integrate each push for each CoM hypothesis.
 
     Parameters
@@ -139,8 +160,7 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
         sxx, sxy, syy = (c2[:, i : i + 1] for i in range(3))
     else:
         c2 = c2[:, None]
-    mu = np.asarray(mu, dtype=float)[:, None]
-    cos_a, sin_a = np.cos(np.arctan(mu)), np.sin(np.arctan(mu))
+    cone = _Cone.of(np.asarray(mu, dtype=float)[:, None])
     theta = np.zeros((len(coms), len(first)))
     px, py = comx + theta, comy + theta  # CoM position (world)
     for k in range(1, n_steps + 1):
@@ -159,18 +179,8 @@ def simulate(mask, field, actions, coms, c2, mu, radius=0.0, n_steps=24) -> np.n
                 mx * mx + my * my, 1e-300
             )
             c2 = np.maximum(c2, 1.0 / 12.0)
-        vx, vy, omega, _ = _twist(
-            qx - dist * gx - comx,
-            qy - dist * gy - comy,
-            nx,
-            ny,
-            mx - along * nx,
-            my - along * ny,
-            c2,
-            mu,
-            cos_a,
-            sin_a,
-        )
+        contact = (qx - dist * gx - comx, qy - dist * gy - comy)  # from the CoM, body frame
+        vx, vy, omega, _ = _twist(contact, (nx, ny), (mx - along * nx, my - along * ny), c2, cone)
         pushing = (gap < 0) & hit
         wx, wy = rotate_components(vx, vy, cos_t, sin_t)
         px = px + np.where(pushing, wx, 0.0)

@@ -133,8 +133,11 @@ def characteristic_length_sq(
     ix = np.rint(coms)
     on_grid = (
         (ix == coms).all(axis=1)
-        & (ix[:, 0] >= 0) & (ix[:, 0] < shape[1]) & (ix[:, 1] >= 0) & (ix[:, 1] < shape[0])
-    )  # fmt: skip
+        & (ix[:, 0] >= 0)
+        & (ix[:, 0] < shape[1])
+        & (ix[:, 1] >= 0)
+        & (ix[:, 1] < shape[0])
+    )
     cols, rows = ix[on_grid].astype(np.intp).T
     out = np.empty((len(coms), *table.shape[2:]))
     out[on_grid] = table[rows, cols]

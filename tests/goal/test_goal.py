@@ -443,15 +443,16 @@ def test_max_turn_past_the_bound_allows_no_push_that_turns_further(displacement,
 
 def test_max_turn_bounds_the_follow_ups_too():
     mask, oracle = _big_plate_oracle()
-    from comcore.goal._costs import follow_ups
+    from comcore.goal._costs import PlanningContext, follow_ups
     from comcore.goal._translation import planning_model
 
     goal = comcore.Goal(displacement=(0.0, 0.1))
     poses = (np.zeros(1), np.zeros(1), np.zeros(1))
     directions = np.linspace(0, 2 * np.pi, 8, endpoint=False)
-    args = (mask, poses, goal, goal.target_px(mask), oracle, planning_model(0.004), 20.0, 0.004)
-    free = follow_ups(*args, directions, None)
-    bounded = follow_ups(*args, directions, None, turn=(0.0, 0.0, math.radians(0.01)))
+    args = (mask, goal, goal.target_px(mask), planning_model(0.004), 20.0, 0.004)
+    free = follow_ups(PlanningContext(*args), poses, oracle, directions, None)
+    turn = (0.0, 0.0, math.radians(0.01))
+    bounded = follow_ups(PlanningContext(*args, turn=turn), poses, oracle, directions, None)
     assert np.isfinite(free).all() and (bounded >= free).all() and (bounded > free).any()
 
 

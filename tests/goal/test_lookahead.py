@@ -61,9 +61,13 @@ def test_the_planner_counts_the_sessions_model_error_scales():
     assert (_goal_costs.model_variance(goal, first, actions, com, motions, wide) > base).all()
     # and the session hands its likelihood to the planner
     hyps = comcore.goal.CoMHypotheses(com, np.array([0.5]), np.array([1.0]))
-    where = (first, Motion.identity(), goal, goal.target_px(first), hyps, planning_model(0.004))
+    where = (first, goal, goal.target_px(first), planning_model(0.004), 20.0, 0.004)
     plans = [
-        _goal_planner.plan_push(*where, 20.0, 0.004, 20.0, scales=scales)
+        _goal_planner.plan_push(
+            _goal_planner.PlanningContext(*where, reach_px=20.0, scales=scales),
+            Motion.identity(),
+            hyps,
+        )
         for scales in (comcore.Likelihood(), wide)
     ]
     assert plans[1].expected_cost > plans[0].expected_cost
@@ -81,9 +85,8 @@ def test_follow_ups_are_the_least_expected_cost_of_one_more_push():
     model = planning_model(0.004)
     directions = np.array([0.0, 2.0, 4.0])
     poses = (np.array([0.0, 0.4, -0.7]), np.array([0.0, 10.0, -5.0]), np.array([0.0, 3.0, 8.0]))
-    got = _goal_costs.follow_ups(
-        first, poses, goal, target, hyps, model, 20.0, 0.004, directions, None
-    )
+    context = _goal_costs.PlanningContext(first, goal, target, model, 20.0, 0.004)
+    got = _goal_costs.follow_ups(context, poses, hyps, directions, None)
     # the same, one pose at a time, through the planner's own camera-frame cost
     offsets = np.stack(
         [_goal_costs._cross_offsets(first, a, hyps, 5, halves=False) for a in directions]
@@ -103,9 +106,7 @@ def test_follow_ups_are_the_least_expected_cost_of_one_more_push():
         assert got[k] == pytest.approx(own.min())
     # the follow-up from the goal itself costs no more than the model's error of a push
     at_goal = (np.array([0.3]), np.array([target[0]]), np.array([target[1]]))
-    best = _goal_costs.follow_ups(
-        first, at_goal, goal, target, hyps, model, 20.0, 0.004, directions, None
-    )
+    best = _goal_costs.follow_ups(context, at_goal, hyps, directions, None)
     assert 0 < best[0] < 5
 
 
