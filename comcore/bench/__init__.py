@@ -15,6 +15,7 @@ Examples
 """
 
 from ._conditions import friction_table, run_conditions
+from ._options import option_groups
 from ._realism import CONDITIONS, OPTIONAL_CONDITIONS, Condition, parse_condition
 from ._registry import (
     ESTIMATORS,
@@ -57,6 +58,7 @@ __all__ = [
     "TrialSpec",
     "check_available",
     "friction_table",
+    "option_groups",
     "parse_condition",
     "parse_estimator",
     "register_estimator",

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
+import comcore.bench
 from comcore.active._choice import binary_entropy, sense_information
 from comcore.active._grid import GridPosterior
 from comcore.vt._force_lines import force_line_distances as line_distances
@@ -394,7 +395,7 @@ def test_bad_arguments_are_named(kwargs, error, match):
     mask = _plate()
     own = {k: v for k, v in kwargs.items() if k in ("model", "candidates", "prior", "credible")}
     with pytest.raises(error, match=match):
-        grouped = comcore.active.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        grouped = comcore.bench.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **own, **grouped)
 
 
