@@ -15,7 +15,6 @@ Examples
 """
 
 from ._conditions import friction_table, run_conditions
-from ._options import option_groups
 from ._realism import CONDITIONS, OPTIONAL_CONDITIONS, Condition, parse_condition
 from ._registry import (
     ESTIMATORS,
@@ -23,6 +22,7 @@ from ._registry import (
     EstimatorSpec,
     PredictorSpec,
     TrialContext,
+    option_groups,
     parse_estimator,
     register_estimator,
     split_estimators,

@@ -8,12 +8,12 @@ import numpy as np
 
 import comcore
 
-from ._options import option_groups
 from ._registry import (
     PREDICTORS,
     PredictorSpec,
     TrialContext,
     missing,
+    option_groups,
     register_estimator,
     requirements,
 )

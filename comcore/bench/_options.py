@@ -4,58 +4,19 @@
 A registered ``run(ctx, k=2)`` is checked against its own parameters; one that
 takes ``**options`` and hands them on (the built-ins do) is checked against the
 parameters of the function they reach (the active estimators': the fields of the
-option groups, which :func:`option_groups` builds from flat names). Where the chain
+option groups, which :func:`comcore.bench.option_groups` builds from flat names). Where the chain
 ends in a ``**options`` nobody can resolve, the options are accepted as they are.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import difflib
 import inspect
 from collections.abc import Callable, Sequence
-from typing import Any
 
-import comcore
+from ._registry import GROUPS, EstimatorSpec, parse_estimator
 
-from ._registry import EstimatorSpec, parse_estimator
-
-__all__ = ["GROUPS", "accepted_options", "check_estimator_options", "option_groups"]
-
-#: The active estimators' option groups and the keyword each is passed as.
-GROUPS = {"likelihood": comcore.Likelihood, "stop": comcore.StopRule, "choice": comcore.PushChoice}
-
-
-def option_groups(**flat) -> dict[str, Any]:
-    """The option groups (``likelihood``, ``stop``, ``choice``) from flat option names.
-
-    For labels, configuration files and command lines: ``option_groups(max_pushes=3,
-    pusher_error=0.002)`` gives ``{"likelihood": Likelihood(pusher_error=0.002),
-    "stop": StopRule(max_pushes=3)}``, to pass as ``**`` to
-    :func:`comcore.estimate_active` or :class:`comcore.ActiveSession`. Only the
-    groups named are returned.
-
-    Raises
-    ------
-    TypeError
-        On a name that belongs to no group (the valid names are listed).
-
-    Examples
-    --------
-    >>> sorted(option_groups(max_pushes=3, cone=0.2))
-    ['choice', 'stop']
-    """
-    group_of = {f.name: key for key, cls in GROUPS.items() for f in dataclasses.fields(cls)}
-    unknown = sorted(set(flat) - set(group_of))
-    if unknown:
-        raise TypeError(f"unknown option(s) {unknown}; the options are {sorted(group_of)}")
-    out: dict[str, Any] = {}
-    for keyword, cls in GROUPS.items():
-        mine = {k: v for k, v in flat.items() if group_of[k] == keyword}
-        if mine:
-            out[keyword] = cls(**mine)
-    return out
-
+__all__ = ["accepted_options", "check_estimator_options"]
 
 def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
     """The functions a built-in estimator hands its ``**options`` to, in order.
@@ -63,6 +24,8 @@ def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
     A tuple of callables stands for one step whose options are any of theirs (the
     option groups: ``option_groups(**options)`` builds one group of each).
     """
+    import comcore
+
     from . import _builtins
 
     if getattr(spec.run, "__module__", None) != _builtins.__name__:

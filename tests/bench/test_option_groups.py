@@ -1,4 +1,4 @@
-"""Tests of the option groups from flat names (comcore/bench/_options.py: option_groups)."""
+"""Tests of the option groups from flat names (comcore/bench/_registry.py: option_groups)."""
 
 from __future__ import annotations
 
