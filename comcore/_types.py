@@ -340,8 +340,28 @@ def _path_points(path) -> tuple:
     return points
 
 
-def _readonly(array: np.ndarray) -> np.ndarray:
-    out = np.array(array, copy=True)
+def readonly(values, dtype=None) -> np.ndarray:
+    """A read-only copy of ``values``, for the arrays a frozen record holds.
+
+    The caller's array is never changed (the copy is made first), and the
+    record's own cannot be changed after it is built.
+
+    Parameters
+    ----------
+    values : array_like
+    dtype : numpy dtype, optional
+        Of the copy (default: as ``numpy.array`` infers it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from comcore.checks import readonly
+    >>> given = np.zeros(3)
+    >>> held = readonly(given, float)
+    >>> held.flags.writeable, given.flags.writeable
+    (False, True)
+    """
+    out = np.array(values, dtype=dtype, copy=True)
     out.setflags(write=False)
     return out
 
@@ -386,8 +406,8 @@ class HeatmapDetails:
     segmented: np.ndarray
 
     def __post_init__(self):
-        object.__setattr__(self, "image", _readonly(np.asarray(self.image, float)))
-        object.__setattr__(self, "segmented", _readonly(np.asarray(self.segmented, bool)))
+        object.__setattr__(self, "image", readonly(np.asarray(self.image, float)))
+        object.__setattr__(self, "segmented", readonly(np.asarray(self.segmented, bool)))
 
 
 @dataclass(frozen=True)
@@ -478,7 +498,7 @@ class PosteriorDetails:
         set_ = object.__setattr__
         for name in ("image", "region_image", "mu_grid", "mu_posterior", "model_posterior",
                      "scale_posterior", "model_weight_posterior"):  # fmt: skip
-            set_(self, name, _readonly(np.asarray(getattr(self, name), float)))
+            set_(self, name, readonly(np.asarray(getattr(self, name), float)))
         for name in ("credible_radius_px", "log_evidence", "excess_nats"):
             set_(self, name, float(getattr(self, name)))
         set_(self, "history", tuple(self.history))
@@ -562,14 +582,14 @@ class Estimate:
             raise ValueError(f"Estimate.com must be two finite numbers, got {self.com}")
         object.__setattr__(self, "com", com)
         object.__setattr__(self, "com_m", com_m)
-        object.__setattr__(self, "region", _readonly(_check_region(self.region)))
+        object.__setattr__(self, "region", readonly(_check_region(self.region)))
         object.__setattr__(self, "used", tuple(int(i) for i in self.used))
         object.__setattr__(self, "status", Status.check(self.status, "Estimate.status"))
         if self.covariance is not None:
-            object.__setattr__(self, "covariance", _readonly(np.asarray(self.covariance, float)))
+            object.__setattr__(self, "covariance", readonly(np.asarray(self.covariance, float)))
         extras = {}
         for key, value in dict(self.extras).items():
-            extras[key] = _readonly(value) if isinstance(value, np.ndarray) else value
+            extras[key] = readonly(value) if isinstance(value, np.ndarray) else value
         object.__setattr__(self, "extras", MappingProxyType(extras))
         pushes = tuple(self.pushes)
         if not all(isinstance(p, PushRecord) for p in pushes):

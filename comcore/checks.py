@@ -4,7 +4,8 @@ For authors of predictors, simulators and robot adapters who take the same input
 as comcore and want the same errors: each returns the cleaned value (a float, a
 read-only array, a :class:`~comcore.Mask`) or raises a :class:`ValueError` or
 :class:`TypeError` that names the argument, says what was expected and what
-arrived, and guesses the likely mistake where it can. Imports only the base
+arrived, and guesses the likely mistake where it can; :func:`readonly` makes
+the read-only copy a frozen record holds. Imports only the base
 modules of :mod:`comcore` (no subpackage).
 
 Examples
@@ -19,6 +20,7 @@ Examples
 from __future__ import annotations
 
 from ._checks import check_point, check_points
+from ._types import readonly
 from ._units import check_plausible
 from ._validation import (
     check_actions,
@@ -45,4 +47,5 @@ __all__ = [
     "check_priors",
     "check_probability",
     "check_rng",
+    "readonly",
 ]

@@ -24,6 +24,9 @@ Conventions
   :data:`PLAUSIBLE` holds the range in which each such value is believable,
   and :func:`check_plausible` refuses one outside it with a guess at the unit
   it was typed in (millimetres for metres, degrees for radians).
+* **Robot defaults.** What a user sets from their robot has one default, here:
+  the round pusher's radius :data:`DEFAULT_PUSHER_RADIUS` and how far a push
+  travels past first contact :data:`DEFAULT_TRAVEL_M` (metres).
 * **Moments.** :func:`ccw_cross` is the 2-D cross product with the sign that
   makes ``+1`` counter-clockwise on screen; the raw ``a_x b_y - a_y b_x`` in
   pixel coordinates is positive for *clockwise* on screen.
@@ -38,7 +41,9 @@ from ._units import DEFAULT_RESOLUTION, MAX_IMAGE_PIXELS, PLAUSIBLE, Plausible, 
 
 __all__ = [
     "ANGLE_EPS",
+    "DEFAULT_PUSHER_RADIUS",
     "DEFAULT_RESOLUTION",
+    "DEFAULT_TRAVEL_M",
     "LENGTH_EPS",
     "MAX_IMAGE_PIXELS",
     "PLAUSIBLE",
@@ -60,6 +65,12 @@ __all__ = [
 LENGTH_EPS = 1e-9
 #: Angles (radians) whose magnitude is at most this count as "no rotation".
 ANGLE_EPS = 1e-12
+#: Radius (metres) of the round pusher where none is given: an 8 mm dowel, a typical
+#: fingertip, and the simulators' pusher.
+DEFAULT_PUSHER_RADIUS = 0.004
+#: How far (metres) a push travels past first contact where none is given: the paper's
+#: 3 cm pushes.
+DEFAULT_TRAVEL_M = 0.03
 
 
 def _finite_array(value, name: str) -> np.ndarray:

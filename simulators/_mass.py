@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from comcore.checks import readonly
+
 from ._deps import require_shapely
 from ._shapes import ObjectShape
 
@@ -21,12 +23,6 @@ __all__ = ["DEFAULT_SUPPORT_POINTS", "MassDistribution", "tilt_to_com"]
 
 #: Default number of grid support points over the footprint (see docs/explanation/simulators.md).
 DEFAULT_SUPPORT_POINTS = 96
-
-
-def _readonly(a) -> np.ndarray:
-    out = np.array(a, dtype=float, copy=True)
-    out.setflags(write=False)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,7 +44,7 @@ class MassDistribution:
     cell_size_m: float
 
     def __post_init__(self):
-        pts, m = _readonly(self.points_m), _readonly(self.masses)
+        pts, m = readonly(self.points_m, float), readonly(self.masses, float)
         if pts.ndim != 2 or pts.shape[1] != 2 or m.shape != (pts.shape[0],):
             raise ValueError(f"points_m (n, 2) and masses (n,) disagree: {pts.shape}, {m.shape}")
         if not (np.isfinite(pts).all() and np.isfinite(m).all() and (m > 0).all()):

@@ -16,7 +16,7 @@ import numpy as np
 
 import comcore
 from comcore import Mask, Motion
-from comcore.conventions import rotate_components, rotation_matrix
+from comcore.conventions import DEFAULT_PUSHER_RADIUS, rotate_components, rotation_matrix
 
 from ._deps import require_shapely
 from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
@@ -26,8 +26,6 @@ from .engines._quasistatic import QuasiStaticEngine
 
 __all__ = ["DEFAULT_PUSHER_RADIUS", "PushResult", "PushSimulator"]
 
-#: Radius of the round pusher, metres (an 8 mm dowel, a typical fingertip).
-DEFAULT_PUSHER_RADIUS = 0.004
 #: Floor friction coefficient (the quasi-static motion does not depend on it).
 DEFAULT_MU_FLOOR = 0.5
 #: Empty border around the footprint in the mask, metres.

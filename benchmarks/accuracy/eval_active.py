@@ -25,6 +25,7 @@ from collections import Counter
 import numpy as np
 
 import comcore
+import comcore.bench
 
 
 def _model(name: str, limit_surfaces):
@@ -90,7 +91,7 @@ def run_trial(name, friction, seed, args, model):
         push,
         model=model,
         rng=np.random.default_rng([seed, 2]),
-        **comcore.active.option_groups(**kwargs, cone=args.cone),
+        **comcore.bench.option_groups(**kwargs, cone=args.cone),
     )
     cm = 100 * sim.mask.resolution
     return {

@@ -799,7 +799,7 @@ def _goal_session():
     mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 40))
     goal = comcore.Goal(displacement=(0.03, 0.0))
     session = comcore.GoalSession(
-        mask, goal=goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0
+        mask, goal=goal, travel=0.02, model=None, rng=0
     )
     session.next_push()
     return session
@@ -843,12 +843,6 @@ def _est_kwargs():
 
 
 STOP = (comcore.StopRule, lambda: comcore.PushChoice(), lambda: comcore.StopRule(max_pushes=3))
-# estimate_posterior chooses no pushes: it reads StopRule.target_radius only
-POSTERIOR_STOP = (
-    comcore.StopRule,
-    lambda: comcore.PushChoice(),
-    lambda: comcore.StopRule(target_radius=0.01),
-)
 LIKELIHOOD = (
     comcore.Likelihood,
     lambda: comcore.StopRule(),
@@ -946,7 +940,7 @@ def api_targets() -> list[Target]:
                 Arg("pusher_radius", "nonneg_length"),
                 Arg("prior", "prior"),
                 Arg("likelihood", group_odd(*LIKELIHOOD), aliases=("Likelihood",)),
-                Arg("stop", group_odd(*POSTERIOR_STOP), aliases=("StopRule",)),
+                Arg("target_radius", "length"),
                 Arg("model", "model"),
             ),
             verify=_verify_estimate,
@@ -1150,7 +1144,7 @@ def api_targets() -> list[Target]:
             lambda: dict(
                 mask=comcore.Mask(np.pad(np.ones((20, 20), bool), 40)),
                 goal=comcore.Goal(displacement=(0.03, 0.0)),
-                choice=comcore.PushChoice(travel=0.02),
+                travel=0.02,
                 model=None,
                 rng=0,
             ),
@@ -1158,6 +1152,8 @@ def api_targets() -> list[Target]:
                 Arg("mask", "object_mask", aliases=("view",), verdicts={"wide_frame": A}),
                 Arg("goal", "goal"),
                 Arg("pusher_radius", "nonneg_length"),
+                Arg("max_pushes", "count"),
+                Arg("travel", "length_strict"),
                 Arg("learn", "bool"),
                 Arg("n_particles", "count"),
                 Arg("rng", "rng", compare=False),

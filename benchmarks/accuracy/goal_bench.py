@@ -133,8 +133,8 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         rng=robot_seed,
     )
     first = robot.camera_mask()
-    options = {"choice": comcore.PushChoice(travel=MAX_TRAVEL), "rng": 0}
-    options["stop"] = comcore.StopRule(max_pushes=args.max_pushes)
+    options = {"travel": MAX_TRAVEL, "rng": 0}
+    options["max_pushes"] = args.max_pushes
     options["pusher_radius"] = sim.pusher_radius
     est_pushes, status_est = 0, None
     if strategy == "centroid":

@@ -13,6 +13,7 @@ credible level (``comcore.credible_level``) are comcore's.
 from __future__ import annotations
 
 import comcore
+import comcore.bench
 
 #: The benchmark's pusher (simulators' default), for the default model.
 PUSHER_RADIUS = 0.004
@@ -55,7 +56,7 @@ def posterior_options(options: dict) -> dict:
     # the systematic error (0), not estimate_posterior's own for recordings (2 mm)
     options.setdefault("systematic_error", comcore.active.SESSION_SYSTEMATIC_ERROR)
     out = {"model": None if vt else comcore.LimitSurfaceModel(pusher_radius=radius)}
-    out.update(comcore.active.option_groups(**options))
+    out.update(comcore.bench.option_groups(**options))
     if set(out) - {"model", "likelihood"}:
         raise ValueError(f"a variant may set only the likelihood's options, got {options}")
     out["bootstrap"] = 0  # and the session's region: the posterior's own, not the bagged one

@@ -59,7 +59,7 @@ def active(ctx, model="default", candidates="own", **options):
         ctx.candidates if candidates == "trial" else None,
         model=found,
         rng=ctx.rng,
-        **comcore.active.option_groups(**options),
+        **comcore.bench.option_groups(**options),
     )
 
 

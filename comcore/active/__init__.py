@@ -4,12 +4,12 @@
 over the CoM (``_grid``) scored by a push's likelihood (``_likelihood``, the motion
 model's term in ``_motion_term``); the push choice (``_choice``), the stop rule
 (``_stop``), the frames of a push (``_path`` reads them, ``_path_term`` scores them),
-what a user sets (:class:`Likelihood`, :class:`StopRule`,
-:class:`PushChoice` in ``_options``), what it records (``_records``: :class:`SessionState`, and the
-:class:`PosteriorDetails` an estimate carries) and how it reads one push (``_reading``)
-each have a module. :func:`estimate_active` is its
-blocking form; :func:`estimate_posterior` the same posterior over recorded pushes,
-with its region from the bagged posterior (``_bagging``);
+what a user sets (:class:`Likelihood`, :class:`StopRule` in ``_stop``,
+:class:`PushChoice` in ``_choice``, the shared defaults in ``_options``), what it
+records (``_records``: :class:`SessionState`, and the :class:`PosteriorDetails` an
+estimate carries) and how it reads one push (``_reading``) each have a module.
+:func:`estimate_active` is its blocking form; :func:`estimate_posterior` the same
+posterior over recorded pushes, with its region from the bagged posterior (``_bagging``);
 :func:`calibrate_model_weight` learns the model's power from recordings. May import
 everything below it: the base modules, :mod:`comcore.geometry`, :mod:`comcore.vt`,
 :mod:`comcore.motion` and :mod:`comcore.camera`.
@@ -19,18 +19,13 @@ from .._types import PathPoint, PosteriorDetails
 from ._bagging import RECORDED_BOOTSTRAP
 from ._blocking import estimate_active
 from ._calibrate import PowerCalibration, calibrate_model_weight
+from ._choice import PushChoice
 from ._likelihood import Likelihood
-from ._option_groups import option_groups
-from ._options import (
-    RECORDED_SYSTEMATIC_ERROR,
-    SESSION_SYSTEMATIC_ERROR,
-    PushChoice,
-    StopRule,
-)
+from ._options import RECORDED_SYSTEMATIC_ERROR, SESSION_SYSTEMATIC_ERROR
 from ._posterior import estimate_posterior
 from ._records import SessionState, credible_level
 from ._session import ActiveSession
-from ._stop import SenseCheck
+from ._stop import SenseCheck, StopRule
 
 __all__ = [
     "RECORDED_BOOTSTRAP",
@@ -49,5 +44,4 @@ __all__ = [
     "credible_level",
     "estimate_active",
     "estimate_posterior",
-    "option_groups",
 ]

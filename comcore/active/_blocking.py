@@ -16,42 +16,19 @@ from .._mask import Mask
 from .._status import Status
 from .._types import Estimate, Motion
 from .._validation import check_mask, check_motions
-from ._option_groups import check_groups, names_the_group
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
 from ._session import ActiveSession
 
 __all__ = ["estimate_active"]
 
 
-@names_the_group
-def estimate_active(
-    mask: Mask,
-    push,
-    candidates=None,
-    *,
-    model=DEFAULT_MODEL,
-    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
-    prior=None,
-    credible: float = DEFAULT_CREDIBLE,
-    rng=None,
-    likelihood=None,
-    stop=None,
-    choice=None,
-) -> Estimate:
+def estimate_active(mask: Mask, push, candidates=None, **options) -> Estimate:
     """Find the CoM by pushing the real object, choosing each push from what was seen.
 
-    A posterior over (CoM pixel, contact friction, motion model) starts from
-    ``prior`` (uniform over the object): friction is one unknown shared by all
-    pushes, marginalised, never assumed. Each push's observed motion multiplies
-    in a likelihood (:class:`comcore.Likelihood`: the Voting Theorem's sense of
-    rotation, soft and sometimes wrong; the motion model's whole motion,
-    tempered by a power learned per session). The next push is the candidate
-    expected to teach the most about the CoM (:class:`comcore.PushChoice`); the
-    loop stops by :class:`comcore.StopRule`: ``"ok"`` when the ``credible``
-    region is small enough after enough pushes, ``"budget"``,
-    ``"exhausted"``, ``"uninformative"``, or ``"inconsistent"`` when no
-    hypothesis explains the motions (a robot, model or tracker that does not
-    behave as the likelihood says). docs/explanation/likelihood.md measures every choice.
+    The blocking form of :class:`comcore.ActiveSession`: a posterior over (CoM
+    pixel, contact friction, motion model) that each push's observed motion
+    multiplies by its likelihood (:class:`comcore.Likelihood`); the next push is
+    the candidate expected to teach the most about the CoM
+    (:class:`comcore.PushChoice`), until :class:`comcore.StopRule` stops it.
 
     Parameters
     ----------
@@ -60,49 +37,22 @@ def estimate_active(
         frame: ``push`` must execute it on the object in this pose (reset the
         object, or map the action through the motions observed so far).
     push : callable
-        ``push(action: Action) -> Motion`` (or three numbers ``(theta, tx, ty)``):
-        the robot or simulator. A robot that sees where its pusher really went
-        returns ``(motion, executed)``, ``executed`` the path as executed (an
-        :class:`Action` or four numbers, pixels of ``mask``): the push is then
-        scored as executed (:meth:`comcore.ActiveSession.observe`).
+        ``push(action: Action) -> Motion`` (or ``(theta, tx, ty)``): the robot or
+        simulator; or ``-> (motion, executed)``, ``executed`` the pusher's path
+        as it really went (pixels of ``mask``), scored as executed.
     candidates : array_like, shape (n, 4), optional
-        Pushes to choose from; each must start outside the object and hit it.
-        Default: :func:`comcore.sample_pushes` with ``choice``'s settings.
-    model : HypothesisPredictor, sequence of them, or None, optional
-        Motion model of the likelihood. Default:
-        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``. ``None``:
-        the Voting Theorem alone. Several models are weighed against each
-        other like the friction.
-    pusher_radius : float, optional
-        Radius (metres) of the round pusher, for the default model (default
-        4 mm, comcore's simulators' pusher): set it from your robot.
-    prior : array_like, shape (H, W), optional
-        Non-negative prior weights of the CoM over the image (default uniform
-        over the object; pass e.g. the convex hull if the CoM may lie off it).
-    credible : float, optional
-        Mass of the credible region, in (0, 1).
-    rng : None, int or numpy.random.Generator, optional
-        Seeds the default candidates (the only random choice).
-    likelihood : Likelihood, optional
-        How pushes are scored (noise scales in metres and radians, friction,
-        the model's power); default ``comcore.Likelihood()``.
-    stop : StopRule, optional
-        When to stop; default ``comcore.StopRule()`` (5 pushes, 6 mm).
-    choice : PushChoice, optional
-        How pushes are chosen; default ``comcore.PushChoice()``.
+        Pushes to choose from (default: drawn with ``choice``'s settings).
+    **options
+        :class:`comcore.ActiveSession`'s keywords (``model``, ``pusher_radius``,
+        ``prior``, ``credible``, ``rng``, ``likelihood``, ``stop``, ``choice``).
 
     Returns
     -------
     Estimate
-        ``com`` is the posterior mean, ``covariance`` the posterior covariance
-        (px^2), ``region`` the credible region, ``used`` the indices into
-        ``candidates`` in execution order, ``pushes`` one
-        :class:`comcore.PushRecord` per push (pass them to
-        :func:`comcore.estimate_posterior` to replay the posterior).
-        ``posterior`` (:class:`comcore.active.PosteriorDetails`): the
-        posterior image (H, W), the credible radius, the friction, model,
-        scale and model-weight posteriors, the evidence and the ``history``,
-        one :class:`comcore.active.SessionState` per posterior (the prior first).
+        ``com`` the posterior mean, ``region`` the credible region, ``used`` the
+        indices into ``candidates`` in execution order, ``pushes`` one
+        :class:`comcore.PushRecord` per push (:func:`comcore.estimate_posterior`
+        replays them), ``posterior`` (:class:`comcore.active.PosteriorDetails`).
 
     Raises
     ------
@@ -136,11 +86,7 @@ def estimate_active(
         raise TypeError(
             f"push must be callable as push(action) -> Motion, got {type(push).__name__}"
         )
-    groups = check_groups(likelihood=likelihood, stop=stop, choice=choice)
-    session = ActiveSession(
-        mask, candidates=candidates, model=model, pusher_radius=pusher_radius, prior=prior,
-        credible=credible, rng=rng, **groups,
-    )  # fmt: skip
+    session = ActiveSession(mask, candidates=candidates, **options)
     while not session.done:
         action = session.next_push()
         try:

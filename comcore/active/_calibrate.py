@@ -22,13 +22,13 @@ import numpy as np
 
 from .._types import Estimate
 from .._validation import check_mask, check_point, check_powers
-from ._likelihood import check_models
-from ._option_groups import check_groups, names_the_group
+from ._likelihood import Likelihood, check_models
 from ._options import (
     DEFAULT_CREDIBLE,
     DEFAULT_MODEL,
     DEFAULT_PUSHER_RADIUS,
     SESSION_SYSTEMATIC_ERROR,
+    group_or_default,
 )
 from ._posterior import estimate_posterior
 
@@ -76,7 +76,6 @@ class PowerCalibration:
     recommended: float
 
 
-@names_the_group
 def calibrate_model_weight(
     records,
     *,
@@ -146,7 +145,7 @@ def calibrate_model_weight(
     (2, [1.0, 1.0], 1.0)
     """
     models = check_models(model, pusher_radius)
-    likelihood = check_groups(likelihood=likelihood)["likelihood"]
+    likelihood = group_or_default(likelihood, Likelihood, "likelihood")
     if likelihood.systematic_error is None:  # scored as the sessions score them
         likelihood = dataclasses.replace(likelihood, systematic_error=SESSION_SYSTEMATIC_ERROR)
     if isinstance(powers, str) or np.ndim(powers) != 1:

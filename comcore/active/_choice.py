@@ -1,6 +1,7 @@
 """Choosing the next push: the candidates, and what each is expected to teach.
 
-Open this file to change how pushes are chosen. Candidates are drawn (or given)
+Open this file to change how pushes are chosen. What a user sets is
+:class:`PushChoice` (``comcore.PushChoice``). Candidates are drawn (or given)
 once, on the first mask: in the object's frame, with their force lines there,
 so the posterior (which lives on the object) is scored with them whatever the
 pose. What moves with the object is where the robot must push:
@@ -14,22 +15,31 @@ best; whether it is worth making is the stop rule's call (:mod:`comcore.active._
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.special import logsumexp
 
 from .._mask import Mask
 from .._types import Motion
-from .._validation import check_actions
+from .._validation import check_actions, check_physical, check_positive
 from ..camera._pose_tracking import camera_from_object
+from ..conventions import DEFAULT_TRAVEL_M
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._sampling import sample_pushes
 from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, push_force_lines
 from ._grid import GridPosterior
 from ._motion_term import STUDENT_DOF, com_shift, model_predictions, student_t, theta_scale
-from ._options import PushChoice
+from ._options import _bounded_count
 
-__all__ = ["Candidates", "model_gains", "sense_information"]
+__all__ = [
+    "MAX_CANDIDATES",
+    "SELECTIONS",
+    "Candidates",
+    "PushChoice",
+    "model_gains",
+    "sense_information",
+]
 
 #: Hypotheses (pixel, friction) drawn from the posterior to score candidates with the model.
 MODEL_PARTICLES = 64
@@ -37,6 +47,61 @@ MODEL_PARTICLES = 64
 MAX_SCORING_POINTS = 2500
 #: Posterior mass below which pixels are skipped when scoring candidates.
 PRUNE_MASS = 1e-7
+#: Ways to choose the next push.
+SELECTIONS = ("sense", "model")
+#: Most default candidates drawn (:func:`comcore.sample_pushes`): a session's cost grows with
+#: them (benchmarks/timing/bench_active.py times it).
+MAX_CANDIDATES = 20_000
+
+
+@dataclass(frozen=True)
+class PushChoice:
+    """How the next push is chosen among the candidates (:class:`Candidates`).
+
+    Attributes
+    ----------
+    selection : {"sense", "model"}
+        ``"sense"``: the candidate whose observed sense of rotation is expected
+        to tell the most about the CoM (exact over the whole posterior).
+        ``"model"``: the candidate whose whole motion, as the motion model
+        predicts it, is expected to tell the most (slower; it steers towards
+        pushes where the model is least right, docs/explanation/method.md).
+    n_candidates : int
+        Number of default candidates (:func:`comcore.sample_pushes`), at most
+        :data:`MAX_CANDIDATES`.
+    cone : float
+        Half-angle (radians, in [0, pi/2)) of the default candidates'
+        directions about the inward normal; 0 pushes along the normal, where
+        the contact sticks for any friction.
+    travel : float
+        How far (metres) the default candidates push past first contact: set
+        it from your workspace. Longer pushes tell more per push, and the
+        model errs more on them. At most 0.5 m (``comcore.conventions.PLAUSIBLE``).
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.PushChoice(selection="rotation")
+    Traceback (most recent call last):
+    ...
+    ValueError: selection must be one of ('sense', 'model'), got 'rotation'
+    """
+
+    selection: str = "sense"
+    n_candidates: int = 200
+    cone: float = 0.0
+    travel: float = DEFAULT_TRAVEL_M
+
+    def __post_init__(self):
+        if self.selection not in SELECTIONS:
+            raise ValueError(f"selection must be one of {SELECTIONS}, got {self.selection!r}")
+        n_candidates = _bounded_count(self.n_candidates, "n_candidates", MAX_CANDIDATES, "pushes")
+        cone = check_positive(self.cone, "cone", allow_zero=True)
+        if cone >= math.pi / 2:
+            raise ValueError(f"cone must be a half-angle in [0, pi/2) radians, got {cone}")
+        travel = check_physical(self.travel, "travel", "push_length")
+        for name, value in (("n_candidates", n_candidates), ("cone", cone), ("travel", travel)):
+            object.__setattr__(self, name, value)
 
 
 class Candidates:

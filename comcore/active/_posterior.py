@@ -2,9 +2,33 @@
 
 The same parts as :class:`comcore.ActiveSession` (:mod:`comcore.active._grid`,
 :mod:`comcore.active._likelihood`), over pushes already made: no push is chosen and
-nothing stops. Its region is read from the bagged posterior
-(:mod:`comcore.active._bagging`), because a recording's many pushes make the posterior
-sure of what a model's shared error says.
+nothing stops.
+
+**The region.** With every push of a recording the posterior narrows to a few pixels,
+while a motion model's error on a real object, shared by pushes made alike, does not
+average away. So the credible region, its radius and the covariance are read from the
+posterior averaged over ``bootstrap`` Bayesian-bootstrap resamplings of the pushes
+(:mod:`comcore.active._bagging`), which widens where the pushes disagree; ``com`` is
+the posterior's mean either way, and ``posterior.history`` holds the posterior's own
+states. The status compares that region's equivalent-circle radius with
+``target_radius``: ``"ok"`` means the same here as where a session stops.
+
+**The senses.** Besides the likelihood's check that some hypothesis explains the
+pushes, the observed senses of rotation are checked on their own
+(:func:`comcore.active._stop.sense_check`): a recording whose senses no CoM explains,
+or whose estimate most of them contradict, is ``"inconsistent"`` whatever the model.
+
+**The units of theta.** ``theta_units="auto"`` reads radians and, with a motion model,
+refuses a recording that every theta multiplied by pi/180 explains more than
+:data:`comcore.active._theta_units.DEGREES_NATS` nats better (:func:`scaled_gain`):
+turns under 3 degrees are under pi everywhere, so the bound on theta cannot see
+them. This costs a second posterior, without bagging. ``"rad"`` skips the check,
+``"deg"`` converts. Records (``pushes``) are in radians and not checked.
+
+**Frames.** Each push's frames (its pusher in ``mask``'s pixels, its view a motion
+since the push began or a mask in ``mask``'s frame) are read into its record's path
+and scored with its end pose (:mod:`comcore.active._path`); the record says which
+frames were dropped and why. Records carry their paths already.
 """
 
 from __future__ import annotations
@@ -16,18 +40,19 @@ import numpy as np
 
 from .._checks import check_count
 from .._mask import Mask
-from .._status import Status, region_reached
+from .._status import DEFAULT_TARGET_RADIUS, Status, region_reached
 from .._types import Estimate, Motion, PushRecord
 from .._validation import (
     check_actions,
     check_motions,
     check_one_object,
     check_per_push,
+    check_physical,
     check_rng,
     check_turns,
 )
 from ..camera._pose_tracking import is_miss
-from ..conventions import rotation_sense
+from ..conventions import DEFAULT_PUSHER_RADIUS, rotation_sense
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..vt._force_lines import force_line_distances, push_force_lines
 from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
@@ -39,12 +64,7 @@ from ._likelihood import (
     sense_flip_prob,
     tracking_noise,
 )
-from ._option_groups import check_groups, check_reads_only, names_the_group
-from ._options import (
-    DEFAULT_CREDIBLE,
-    DEFAULT_MODEL,
-    DEFAULT_PUSHER_RADIUS,
-)
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
@@ -64,7 +84,6 @@ __all__ = ["estimate_posterior", "scaled_gain", "theta_degrees_nats"]
 MAX_BOOTSTRAP = 10_000
 
 
-@names_the_group
 def estimate_posterior(
     mask: Mask,
     actions=None,
@@ -79,132 +98,60 @@ def estimate_posterior(
     rotation_observed=None,
     residual_px=None,
     bootstrap: int = RECORDED_BOOTSTRAP,
-    stop=None,
+    target_radius: float = DEFAULT_TARGET_RADIUS,
     rng=0,
     theta_units: str = "auto",
     frames=None,
 ) -> Estimate:
     """The active estimator's posterior over recorded pushes, without choosing any.
 
-    The offline counterpart of :func:`comcore.estimate_active` and
-    :class:`comcore.ActiveSession`: the same prior, likelihood and result,
-    over pushes in ``mask``'s frame: pushes made from the pose of ``mask``
-    (the object reset before each), or a session's records
-    (``pushes=estimate.pushes``, in the first mask's frame however the
-    object moved: with the session's model and options that replays its
-    posterior; its region too with ``systematic_error=0`` and
-    ``bootstrap=0``). A push whose
-    motion is below the noise (it turned by less than 0.01 rad and moved by
-    less than 1 mm: it missed) carries no evidence.
+    The offline counterpart of :class:`comcore.ActiveSession` (the same prior,
+    likelihood and result) over pushes made from the pose of ``mask``, the
+    object reset before each, or over a session's records (``pushes=``). A push
+    below the noise missed and carries no evidence. How the region, the senses,
+    the units of theta and the frames are read: :mod:`comcore.active._posterior`.
 
     Parameters
     ----------
     mask : Mask
         The object before the pushes.
-    actions : array_like, shape (n, 4)
-        The pushes in ``mask``'s pixels; each must start outside the object
-        and hit it.
-    motions : array_like, shape (n, 3)
-        Their observed motions ``(theta, tx, ty)`` (radians, pixels), about
-        ``mask``'s centroid.
+    actions, motions : array_like, shapes (n, 4) and (n, 3)
+        The pushes in ``mask``'s pixels (each starts outside the object and
+        hits it) and their observed motions ``(theta, tx, ty)`` about
+        ``mask``'s centroid (radians, pixels).
     pushes : sequence of PushRecord, optional
-        Instead of ``actions`` and ``motions``: an :class:`Estimate`'s
-        ``pushes`` (failed ones are skipped; each record's
-        ``rotation_observed`` and ``residual_px`` are scored as recorded).
-    model : HypothesisPredictor, sequence of them, or None, optional
-        Motion model of the likelihood. Default: the session's,
-        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``, which
-        tells a recording with the wrong sign of theta from a right one;
-        ``None``: the Voting Theorem alone (much faster, and its
-        senses checked only as below).
-    pusher_radius : float, optional
-        Radius (metres) of the round pusher, for the default model (default
-        4 mm): set it from your robot.
-    prior, credible, likelihood
-        As for :func:`comcore.estimate_active`, except that a likelihood whose
-        ``systematic_error`` is None (the default) gets
-        ``comcore.active.RECORDED_SYSTEMATIC_ERROR``, not the sessions' 0.
-    rotation_observed : sequence of bool, shape (n,), optional
-        With ``actions``: False for a push whose rotation is unknown (neither
-        its sense nor its size is scored). Default: every rotation observed.
-    residual_px : sequence of float, shape (n,), optional
-        With ``actions``: per push, the RMS outline residual (pixels) of the
-        registration that measured its motion, NaN or None where none did.
+        Instead of ``actions`` and ``motions``: an :class:`Estimate`'s records.
+    model, pusher_radius, prior, credible, likelihood
+        As for :class:`comcore.ActiveSession`; a ``systematic_error`` left None is
+        :data:`comcore.active.RECORDED_SYSTEMATIC_ERROR`.
+    rotation_observed, residual_px : sequence, shape (n,), optional
+        With ``actions``, per push: False where the rotation is unknown; the
+        registration's RMS outline residual (pixels; NaN or None: none).
     bootstrap : int, optional
-        Bayesian-bootstrap resamplings of the pushes whose posteriors are
-        averaged for the credible region, its radius and the covariance
-        (default 200; 0: the posterior's own). With every push of a recording
-        the posterior narrows to a few pixels while a motion model's error on
-        a real object, shared by pushes made alike, does not average away;
-        the bagged posterior widens where the pushes disagree
-        (:mod:`comcore.active._bagging`, docs/explanation/calibration.md). The estimate ``com`` is
-        the posterior's mean either way, and ``posterior.history`` holds the
-        posterior's own states (push by push, not bagged).
-    stop : StopRule, optional
-        Only its ``target_radius`` is read (the other fields choose pushes, and
-        this chooses none; a changed one is a ValueError): the radius (metres)
-        the credible region must reach for ``"ok"``, its equivalent-circle
-        radius ``posterior.credible_radius_px`` (the bagged region's) at most
-        this; wider is ``"wide"``. Default 6 mm, as a session's: ``"ok"`` means
-        the same here as where a session stops (:class:`comcore.Status`).
+        Bayesian-bootstrap resamplings averaged for the region (0: none).
+    target_radius : float, optional
+        The credible region's radius (metres) for ``"ok"``, as a
+        :class:`comcore.StopRule`'s (default 6 mm); a wider region is ``"wide"``.
     rng : None, int or numpy.random.Generator, optional
-        Seed of the resamplings (default 0: the same region every call).
+        Seed of the resamplings (default 0).
     theta_units : {"auto", "rad", "deg"}, optional
-        The unit of ``motions``' theta. ``"auto"`` (default): radians, and
-        with a motion model checked against degrees: a recording that every
-        theta multiplied by pi/180 explains more than
-        ``comcore.active._theta_units.DEGREES_NATS`` nats better than as
-        given is refused (a recording in degrees whose turns are all under
-        3 degrees is under pi everywhere, so the check that theta is at most
-        pi cannot see it); this costs a second posterior, without bagging.
-        ``"rad"``: radians, not checked. ``"deg"``: degrees, converted.
-        With ``model=None`` nothing is checked (the Voting Theorem reads
-        only the senses, which the unit does not change); ``pushes`` (a
-        session's records, in radians) are not checked either.
+        The unit of ``motions``' theta; ``"auto"``: radians, checked against degrees.
     frames : sequence, shape (n,), of sequences of PushFrame, optional
-        With ``actions``: per push, what the camera saw during it (None or an
-        empty sequence for a push without), as :meth:`comcore.ActiveSession.observe`
-        takes them, in ``mask``'s frame (the object before the push): each
-        frame's pusher in ``mask``'s pixels, its view a motion since the push
-        began (radians and pixels about ``mask``'s centroid, in
-        ``theta_units``) or a mask in ``mask``'s frame. Each push's path is
-        scored with its end pose (:mod:`comcore.active._path`); its record
-        says which frames were dropped and why. Records (``pushes``) carry
-        their paths already.
+        With ``actions``, per push: its frames in ``mask``'s frame (as ``observe``'s).
 
     Returns
     -------
     Estimate
-        As :func:`comcore.estimate_active`'s; ``used`` the pushes that carried
-        evidence; ``posterior.bootstrap`` the resamplings averaged (0 with
-        fewer than two pushes of evidence: the posterior's own);
-        ``posterior.senses`` the check of the observed senses
-        (:class:`comcore.active._stop.SenseCheck`: how many pushes the best CoM leaves
-        unexplained, against what ``flip_prob`` allows). ``status`` is
-        ``"ok"`` (consistent, the credible region within ``target_radius``),
-        ``"wide"`` (consistent, the region wider: usable, less sure),
-        ``"inconsistent"`` when no hypothesis explains the pushes
-        well or the senses fail their check (most contradict the estimate, or
-        no CoM leaves as few unexplained as ``flip_prob`` allows), or
-        ``"no_evidence"`` when no push carried any
-        (:func:`comcore.active._stop.offline_status`).
+        As :func:`comcore.estimate_active`'s; ``used`` the pushes with evidence;
+        ``status`` ``"ok"``, ``"wide"``, ``"inconsistent"`` or ``"no_evidence"``.
 
     Raises
     ------
     TypeError, ValueError
-        On invalid arguments (each named); a ValueError saying *theta looks
-        like degrees: multiply the column by pi/180* for a recording in
-        degrees (``theta_units="auto"``).
+        On invalid arguments (each named); for theta that looks like degrees.
 
     Examples
     --------
-    Four pushes across a plate and the senses they turned it in, scored by
-    the Voting Theorem alone (the motions are made up, not physical): the
-    CoM is between rows 8 and 13 and columns 8 and 13 (each sense may be
-    wrong with probability ``flip_prob``, so the 90 % region still reaches
-    outside). Consistent, but the region's radius, 9 px of 2.5 mm, is wider
-    than the default 6 mm target: ``"wide"``; against a 25 mm target ``"ok"``:
-
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
     >>> actions = [(0, 13, 30, 13), (13, 0, 13, 30), (0, 8, 30, 8), (8, 0, 8, 30)]
@@ -212,21 +159,8 @@ def estimate_posterior(
     >>> est = comcore.estimate_posterior(mask, actions, motions, model=None)
     >>> est.status, np.round(est.com, 1).tolist(), round(est.posterior.credible_radius_px, 1)
     ('wide', [11.1, 11.1], 9.0)
-    >>> comcore.estimate_posterior(mask, actions, motions, model=None,
-    ...                           stop=comcore.StopRule(target_radius=0.025)).status
+    >>> comcore.estimate_posterior(mask, actions, motions, model=None, target_radius=0.025).status
     'ok'
-    >>> comcore.estimate_posterior(mask, pushes=est.pushes, model=None).com == est.com
-    True
-
-    Ten pushes that no CoM explains: five say it is above row 8, five below
-    row 18. Every CoM leaves at least five unexplained, where ``flip_prob``
-    allows 0.7 on average:
-
-    >>> est = comcore.estimate_posterior(
-    ...     mask, [(0, 8, 30, 8), (0, 18, 30, 18)] * 5, [(0.2, 3, 0), (-0.2, 3, 0)] * 5,
-    ...     model=None)
-    >>> est.status, est.posterior.senses.fewest_unexplained
-    ('inconsistent', 5)
     """
     mask = check_one_object(mask)
     theta_units = check_theta_units(theta_units)
@@ -234,27 +168,22 @@ def estimate_posterior(
         if pushes is not None:
             raise ValueError("theta_units='deg' converts motions; pushes (records) are in radians")
         motions = None if motions is None else theta_in_radians(motions, "deg")
-    bootstrap = check_count(bootstrap, "bootstrap")
-    if bootstrap > MAX_BOOTSTRAP:
-        raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
+    bootstrap = _check_bootstrap(bootstrap)
+    target_radius = check_physical(target_radius, "target_radius", "target_radius")
     rng = check_rng(rng)
-    groups = check_groups(likelihood=likelihood, stop=stop)
-    check_reads_only("estimate_posterior", groups)
-    target_radius = groups["stop"].target_radius
+    options = dict(model=model, pusher_radius=pusher_radius, prior=prior, credible=credible,
+                   likelihood=likelihood)  # fmt: skip
     scoring, credible = session_setup(
-        mask, model, pusher_radius, credible,
-        groups["likelihood"],
-        RECORDED_FLOOR,
-    )  # fmt: skip
+        mask, model, pusher_radius, credible, likelihood, systematic_floor=RECORDED_FLOOR
+    )
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
-    records = [record for _, record in given]
-    acts = check_actions([r.action for r in records], "actions", allow_empty=False)
+    acts = check_actions([record.action for _, record in given], "actions", allow_empty=False)
     pixels, prior_weights = prior_grid(mask, prior)
     con = pusher_contacts(mask, acts, scoring.pusher_radius)
     usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
     if frames is not None:
         given = _with_frames(mask, given, frames, theta_units, pushes, scoring, travel=con.travel)
-        records = [record for _, record in given]
+    records = [record for _, record in given]
     lines = push_force_lines(con, acts, scoring.mus)
     post = scoring.posterior(pixels, prior_weights)
     log = PushLog(post, credible, scoring.systematic_px)
@@ -268,12 +197,7 @@ def estimate_posterior(
             log.add(record, post)
             continue
         tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
-        path = None
-        if record.path:
-            path = PushPath.of(
-                acts[i], record.path, float(con.travel[i]),
-                path_tracking(record.path, scoring.tracking, mask),
-            )  # fmt: skip
+        path = _scored_path(record, acts[i], float(con.travel[i]), scoring, mask)
         loglik, excess = push_evidence(
             post, scoring, mask, acts[i], lines[i], record.motion,
             rotation_observed=record.rotation_observed, tracking=tracking, path=path,
@@ -288,24 +212,42 @@ def estimate_posterior(
     bagged = None  # one push is its own bag: the posterior's region
     if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
-    n_bags = 0 if bagged is None else bootstrap
     est = log.estimate(  # its status set below, once its region's radius is known
         mask, post, used, Status.OK, marginal=bagged, skipped=skipped, senses=check,
-        bootstrap=n_bags,
+        bootstrap=0 if bagged is None else bootstrap,
     )  # fmt: skip
     radius_px = est.posterior.credible_radius_px  # the region reported: the bagged one
     reached = region_reached(radius_px, target_radius, mask.resolution)
     est = dataclasses.replace(est, status=offline_status(log.state, check, reached=reached))
     if theta_units == "auto" and scoring.models and pushes is None:
-        options = dict(model=model, pusher_radius=pusher_radius, prior=prior, credible=credible,
-                       likelihood=likelihood)  # fmt: skip
-        gain = scaled_gain(mask, est, options)
-        if gain > DEGREES_NATS:
-            raise ValueError(
-                f"motions[:, 0]: {degrees_message(gain)}; "
-                "theta_units='deg' converts them, 'rad' skips this check"
-            )
+        _refuse_degrees(mask, est, options)
     return est
+
+
+def _check_bootstrap(bootstrap) -> int:
+    """``bootstrap`` as a count of at most :data:`MAX_BOOTSTRAP` resamplings."""
+    bootstrap = check_count(bootstrap, "bootstrap")
+    if bootstrap > MAX_BOOTSTRAP:
+        raise ValueError(f"bootstrap must be at most {MAX_BOOTSTRAP} resamplings, got {bootstrap}")
+    return bootstrap
+
+
+def _scored_path(record, action, contact_travel: float, scoring, mask):
+    """The :class:`PushPath` of a record that carries one (None for its end pose alone)."""
+    if not record.path:
+        return None
+    tracking = path_tracking(record.path, scoring.tracking, mask)
+    return PushPath.of(action, record.path, contact_travel, tracking)
+
+
+def _refuse_degrees(mask, est, options: dict) -> None:
+    """A ValueError when every theta times pi/180 explains the pushes much better."""
+    gain = scaled_gain(mask, est, options)
+    if gain > DEGREES_NATS:
+        raise ValueError(
+            f"motions[:, 0]: {degrees_message(gain)}; "
+            "theta_units='deg' converts them, 'rad' skips this check"
+        )
 
 
 def theta_degrees_nats(

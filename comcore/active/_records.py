@@ -17,9 +17,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._errors import SessionError
 from .._mask import Mask
 from .._status import Status
-from .._types import Estimate, Motion, PosteriorDetails, PushRecord
+from .._types import Action, Estimate, Motion, PosteriorDetails, PushRecord
 from ._grid import GridPosterior
 from ._likelihood import consistency_threshold
 
@@ -205,12 +206,12 @@ def credible_level(estimate: Estimate, point) -> float:
 
 
 class PushLoop:
-    """What a session says of its push loop: ``done``, ``status``, ``pose``, ``pushes``.
+    """The steps a session's push loop shares: ``next_push``, ``done``, ``status``, ``pose``.
 
     Shared by :class:`comcore.ActiveSession` and :class:`comcore.GoalSession`, which set
     ``_final`` (the stop's :class:`comcore.Status`, ``None`` while running),
     ``_handed_out`` (a push handed out and not yet observed), ``_pose`` and ``_log``
-    (a :class:`PushLog`).
+    (a :class:`PushLog`), and say which push they planned (``_planned_push``).
     """
 
     _final: Status | None
@@ -239,3 +240,28 @@ class PushLoop:
     def pushes(self) -> tuple[PushRecord, ...]:
         """Every push reported so far (misses and failed pushes included), in order."""
         return tuple(self._log.records)
+
+    def next_push(self) -> Action:
+        """The next push, camera pixels, on the object where it is now.
+
+        Calling it again before ``observe`` returns the same push.
+
+        Raises
+        ------
+        SessionError
+            If the session is done.
+        """
+        if self.done:
+            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
+        self._handed_out = True
+        return self._planned_push()
+
+    def _planned_push(self) -> Action:
+        """The push the session planned, in the camera frame now."""
+        raise NotImplementedError
+
+    def _check_waiting(self) -> None:
+        """Refuse an observation when no push handed out waits for one."""
+        if self.done or not self._handed_out:
+            what = f"the session is done (status {self._final!r})" if self.done else "no push"
+            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")

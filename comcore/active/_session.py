@@ -23,17 +23,16 @@ from .._validation import (
     check_rng,
 )
 from ..camera._pose_tracking import moved_mask
-from ..conventions import apply_motion
+from ..conventions import DEFAULT_PUSHER_RADIUS, apply_motion
 from ..motion._limit_surface import check_push_lengths
-from ._choice import Candidates
+from ._choice import Candidates, PushChoice
 from ._grid import prior_grid
-from ._likelihood import Scoring, check_models, gyration_px
-from ._option_groups import check_groups, names_the_group
-from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS
+from ._likelihood import Likelihood, Scoring, check_models, gyration_px
+from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, group_or_default
 from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
 from ._reading import PushContext, read_push
 from ._records import PushLog, PushLoop, SessionState
-from ._stop import choice_status, stop_reason
+from ._stop import StopRule, choice_status, stop_reason
 
 __all__ = ["ActiveSession", "session_setup"]
 
@@ -43,12 +42,14 @@ def session_setup(
 ) -> tuple:
     """``(Scoring, credible)`` of an active estimator's arguments, each checked and named.
 
-    ``systematic_floor`` is the estimator's ``systematic_error`` where the likelihood leaves it
-    None.
+    ``likelihood`` is what the caller passed (a :class:`comcore.Likelihood` or None for its
+    defaults); ``systematic_floor`` is the estimator's ``systematic_error`` where the
+    likelihood leaves it None.
     """
     pusher_radius = check_physical(pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True)
     models = check_models(model, pusher_radius)
     credible = check_probability(credible, "credible", open_low=True, open_high=True)
+    likelihood = group_or_default(likelihood, Likelihood, "likelihood")
     scoring = Scoring.build(likelihood, mask, models, pusher_radius, systematic_floor)
     return scoring, credible
 
@@ -96,10 +97,32 @@ class ActiveSession(PushLoop):
     mask : Mask
         The object as the camera sees it before the first push.
     candidates : array_like, shape (n, 4), optional
-        Pushes in the first mask's frame; default ``comcore.sample_pushes``
-        with ``choice``'s ``n_candidates``, ``cone`` and ``travel``.
-    model, pusher_radius, prior, credible, rng, likelihood, stop, choice
-        As for :func:`comcore.estimate_active`.
+        Pushes in the first mask's frame; each must start outside the object
+        and hit it. Default: ``comcore.sample_pushes`` with ``choice``'s
+        ``n_candidates``, ``cone`` and ``travel``.
+    model : HypothesisPredictor, sequence of them, or None, optional
+        Motion model of the likelihood. Default:
+        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``. ``None``:
+        the Voting Theorem alone. Several models are weighed against each
+        other like the friction.
+    pusher_radius : float, optional
+        Radius (metres) of the round pusher, for the default model (default
+        :data:`comcore.conventions.DEFAULT_PUSHER_RADIUS`, 4 mm): set it from
+        your robot.
+    prior : array_like, shape (H, W), optional
+        Non-negative prior weights of the CoM over the image (default uniform
+        over the object; pass e.g. the convex hull if the CoM may lie off it).
+    credible : float, optional
+        Mass of the credible region, in (0, 1).
+    rng : None, int or numpy.random.Generator, optional
+        Seeds the default candidates (the only random choice).
+    likelihood : Likelihood, optional
+        How pushes are scored (noise scales in metres and radians, friction,
+        the model's power); default ``comcore.Likelihood()``.
+    stop : StopRule, optional
+        When to stop; default ``comcore.StopRule()`` (5 pushes, 6 mm).
+    choice : PushChoice, optional
+        How pushes are chosen; default ``comcore.PushChoice()``.
 
     Attributes
     ----------
@@ -137,7 +160,6 @@ class ActiveSession(PushLoop):
     ('budget', 3)
     """
 
-    @names_the_group
     def __init__(
         self,
         mask: Mask,
@@ -153,10 +175,10 @@ class ActiveSession(PushLoop):
         choice=None,
     ):
         self._first = check_one_object(mask)
-        groups = check_groups(likelihood=likelihood, stop=stop, choice=choice)
-        self._stop_rule, self._choice = groups["stop"], groups["choice"]
+        self._stop_rule = group_or_default(stop, StopRule, "stop")
+        self._choice = group_or_default(choice, PushChoice, "choice")
         self._scoring, credible = session_setup(
-            self._first, model, pusher_radius, credible, groups["likelihood"]
+            self._first, model, pusher_radius, credible, likelihood
         )
         if self._choice.selection == "model" and not self._scoring.models:
             raise ValueError("selection='model' needs a model")
@@ -241,19 +263,7 @@ class ActiveSession(PushLoop):
 
     # -- ask / tell ---------------------------------------------------------------------
 
-    def next_push(self) -> Action:
-        """The next push, in the current camera frame, on the object as it is now.
-
-        Calling it again before :meth:`observe` returns the same push.
-
-        Raises
-        ------
-        SessionError
-            If the session is done.
-        """
-        if self.done:
-            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
-        self._handed_out = True
+    def _planned_push(self) -> Action:
         return Action(*self._candidates.in_pose(self._pose, [self._pending])[0])
 
     def observe(
@@ -313,9 +323,7 @@ class ActiveSession(PushLoop):
             mask's after the best rigid motion: a single pixel, another
             object; :func:`comcore.camera._pose_tracking.read_pose`).
         """
-        if self.done or not self._handed_out:
-            what = f"the session is done (status {self._final!r})" if self.done else "no push"
-            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
+        self._check_waiting()
         for name, value in (("failed", failed), ("reset", reset)):
             if not isinstance(value, (bool, np.bool_)):
                 raise TypeError(f"{name} must be a bool, got {type(value).__name__}")

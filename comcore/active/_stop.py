@@ -1,9 +1,10 @@
 """The stop rule: when an active session stops, and what its status says.
 
-Open this file to change when the active estimator stops. The rule is a pure
-function of the record so far (:class:`comcore.active._records.SessionState`: the
-credible region's radius, the pushes made and those with evidence, whether any
-hypothesis explains them) and of :class:`comcore.StopRule`. The session applies
+Open this file to change when the active estimator stops. What a user sets is
+:class:`StopRule` (``comcore.StopRule``); the rule is a pure function of the record
+so far (:class:`comcore.active._records.SessionState`: the credible region's radius,
+the pushes made and those with evidence, whether any hypothesis explains them) and
+of that rule. The session applies
 it after every observation (:class:`comcore.ActiveSession`), the offline
 posterior reads its status from it (:func:`comcore.estimate_posterior`), and the
 benchmark scripts that evaluate other rules on recorded runs call
@@ -38,16 +39,19 @@ of them contradict, is not ``"ok"`` whatever the model.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
-from .._status import Status, region_reached
+from .._status import DEFAULT_TARGET_RADIUS, Status, region_reached
+from .._validation import check_count, check_physical, check_positive
 
 __all__ = [
     "SENSE_ALPHA",
     "STATUSES",
     "SenseCheck",
+    "StopRule",
     "choice_status",
     "offline_status",
     "sense_check",
@@ -81,6 +85,82 @@ class SenseCheck(NamedTuple):
     def consistent(self) -> bool:
         """``p_value`` at least :data:`SENSE_ALPHA` and the estimate explains most senses."""
         return self.p_value >= SENSE_ALPHA and 2 * self.unexplained_at_estimate <= self.n_pushes
+
+
+@dataclass(frozen=True)
+class StopRule:
+    """When a session stops (its status then says why).
+
+    It stops ``"ok"`` when the equivalent-circle radius ``sqrt(area / pi)`` of
+    the credible region is at most ``target_radius`` after at least
+    ``min_pushes`` pushes with evidence; ``"budget"`` when ``max_pushes``
+    pushes are spent; ``"exhausted"`` when no candidate is left;
+    ``"uninformative"`` when none is expected to teach more than
+    ``min_information`` bits; and ``"inconsistent"`` instead of any of these
+    when no hypothesis explains the pushes (:func:`stop_reason`).
+
+    Attributes
+    ----------
+    max_pushes : int
+        Budget of real pushes (>= 0).
+    min_pushes : int
+        Pushes with evidence before a small region may stop the session
+        ``"ok"`` (0 lets a tight prior stop it before any push): one push
+        cannot check the model, its motion is explained at some CoM however
+        wrong the model is.
+    target_radius : float
+        The credible region's radius (metres) at which the session stops
+        ``"ok"`` (default 6 mm, as :func:`comcore.estimate_posterior`'s
+        ``target_radius``;
+        :class:`comcore.Status` maps the statuses). A region can be no
+        smaller than part of a pixel (its last pixel counts in part: a
+        posterior on one pixel has radius ``sqrt(credible / pi)`` pixels,
+        0.535 at 90 %); at most 0.5 m.
+    min_information : float
+        Stop when no push is expected to teach more bits than this.
+
+    Examples
+    --------
+    >>> import comcore
+    >>> comcore.StopRule(max_pushes=8).max_pushes
+    8
+    >>> comcore.StopRule(max_pushes=2.5)
+    Traceback (most recent call last):
+    ...
+    TypeError: max_pushes must be an int, got float
+    """
+
+    max_pushes: int = 5
+    min_pushes: int = 2
+    target_radius: float = DEFAULT_TARGET_RADIUS
+    min_information: float = 1e-3
+
+    def reason(self, state, resolution: float) -> str | None:
+        """Why a session in ``state`` (a ``SessionState``) stops now, or None.
+
+        The rule itself is :func:`stop_reason`.
+        """
+        return stop_reason(self, state, resolution)
+
+    def stop_index(self, history, resolution: float) -> int:
+        """Where a run through ``history`` (its states, the prior first) would have stopped.
+
+        For evaluating stop rules on recorded runs that did not stop early:
+        see :func:`stop_index`.
+        """
+        return stop_index(self, history, resolution)
+
+    def __post_init__(self):
+        checked = {
+            "max_pushes": check_count(self.max_pushes, "max_pushes", 0),
+            "min_pushes": check_count(self.min_pushes, "min_pushes", 0),
+            "target_radius": check_physical(self.target_radius, "target_radius", "target_radius"),
+            "min_information": check_positive(
+                self.min_information, "min_information", allow_zero=True
+            ),
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
 
 
 def stop_reason(rule, state, resolution: float) -> Status | None:

@@ -13,6 +13,7 @@ from ._registry import (
     PredictorSpec,
     TrialContext,
     missing,
+    option_groups,
     register_estimator,
     requirements,
 )
@@ -92,7 +93,7 @@ def _active(ctx: TrialContext, model="default", candidates="own", **options):
         ctx.candidates if candidates == "trial" else None,
         **_model_options(ctx, model),
         rng=ctx.rng,
-        **comcore.active.option_groups(**options),
+        **option_groups(**options),
     )
 
 
@@ -168,7 +169,7 @@ def _active_robot(
     noise_rng = np.random.default_rng(ctx.rng.integers(2**63))
     seen = first = robot.camera_mask()
     session = comcore.ActiveSession(  # type: ignore[attr-defined]
-        first, **_model_options(ctx, model), rng=ctx.rng, **comcore.active.option_groups(**options)
+        first, **_model_options(ctx, model), rng=ctx.rng, **option_groups(**options)
     )
     failures = 0
     while not session.done:

@@ -4,7 +4,7 @@
 A registered ``run(ctx, k=2)`` is checked against its own parameters; one that
 takes ``**options`` and hands them on (the built-ins do) is checked against the
 parameters of the function they reach (the active estimators': the fields of the
-option groups, which :func:`comcore.active.option_groups` builds). Where the chain
+option groups, which :func:`comcore.bench.option_groups` builds from flat names). Where the chain
 ends in a ``**options`` nobody can resolve, the options are accepted as they are.
 """
 
@@ -14,10 +14,9 @@ import difflib
 import inspect
 from collections.abc import Callable, Sequence
 
-from ._registry import EstimatorSpec, parse_estimator
+from ._registry import GROUPS, EstimatorSpec, parse_estimator
 
 __all__ = ["accepted_options", "check_estimator_options"]
-
 
 def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
     """The functions a built-in estimator hands its ``**options`` to, in order.
@@ -26,7 +25,6 @@ def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
     option groups: ``option_groups(**options)`` builds one group of each).
     """
     import comcore
-    from comcore.active._option_groups import GROUPS
 
     from . import _builtins
 

@@ -11,6 +11,7 @@ the simulator, which the trial runner draws and counts.
 from __future__ import annotations
 
 import ast
+import dataclasses
 import importlib
 import re
 from collections.abc import Callable, Mapping
@@ -23,14 +24,51 @@ import comcore
 
 __all__ = [
     "ESTIMATORS",
+    "GROUPS",
     "PREDICTORS",
     "EstimatorSpec",
     "PredictorSpec",
     "TrialContext",
+    "option_groups",
     "parse_estimator",
     "register_estimator",
     "split_estimators",
 ]
+
+
+#: The active estimators' option groups and the keyword each is passed as.
+GROUPS = {"likelihood": comcore.Likelihood, "stop": comcore.StopRule, "choice": comcore.PushChoice}
+
+
+def option_groups(**flat) -> dict[str, Any]:
+    """The option groups (``likelihood``, ``stop``, ``choice``) from flat option names.
+
+    For labels, configuration files and command lines: ``option_groups(max_pushes=3,
+    pusher_error=0.002)`` gives ``{"likelihood": Likelihood(pusher_error=0.002),
+    "stop": StopRule(max_pushes=3)}``, to pass as ``**`` to
+    :func:`comcore.estimate_active` or :class:`comcore.ActiveSession`. Only the
+    groups named are returned.
+
+    Raises
+    ------
+    TypeError
+        On a name that belongs to no group (the valid names are listed).
+
+    Examples
+    --------
+    >>> sorted(option_groups(max_pushes=3, cone=0.2))
+    ['choice', 'stop']
+    """
+    group_of = {f.name: key for key, cls in GROUPS.items() for f in dataclasses.fields(cls)}
+    unknown = sorted(set(flat) - set(group_of))
+    if unknown:
+        raise TypeError(f"unknown option(s) {unknown}; the options are {sorted(group_of)}")
+    out: dict[str, Any] = {}
+    for keyword, cls in GROUPS.items():
+        mine = {k: v for k, v in flat.items() if group_of[k] == keyword}
+        if mine:
+            out[keyword] = cls(**mine)
+    return out
 
 
 @dataclass(frozen=True)

@@ -412,7 +412,7 @@ def estimate(
         return comcore.estimate_posterior(
             mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
-            bootstrap=bootstrap, stop=comcore.StopRule(target_radius=target_radius),
+            bootstrap=bootstrap, target_radius=target_radius,
             theta_units="rad",  # the command checks theta's unit itself
             frames=frames,
         )  # fmt: skip

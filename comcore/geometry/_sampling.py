@@ -7,15 +7,13 @@ import numpy as np
 from .._mask import Mask
 from .._neighbourhood import true_pixels
 from .._validation import check_mask, check_physical, check_positive, check_rng
-from ..conventions import rotate_vectors
+from ..conventions import DEFAULT_TRAVEL_M, rotate_vectors
 from ._contacts import MARCH_STEP_PX, contacts
 
 __all__ = ["sample_pushes"]
 
-#: Default pusher travel after contact, metres (the paper's 3 cm pushes).
-DEFAULT_TRAVEL_M = 0.03
 #: Default distance from the start of a push to the object, metres.
-DEFAULT_STANDOFF_M = 0.012
+DEFAULT_SAMPLED_STANDOFF_M = 0.012
 #: Default free space around a push's start, metres: a 4 mm disc pusher trailing
 #: its leading point sweeps points up to 8 mm from the start; plus 1 mm slack.
 DEFAULT_CLEARANCE_M = 0.009
@@ -38,7 +36,7 @@ def sample_pushes(
     *,
     cone: float = 0.0,
     travel: float = DEFAULT_TRAVEL_M,
-    standoff: float = DEFAULT_STANDOFF_M,
+    standoff: float = DEFAULT_SAMPLED_STANDOFF_M,
     clearance: float = DEFAULT_CLEARANCE_M,
     rng=None,
 ) -> np.ndarray:

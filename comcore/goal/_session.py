@@ -14,21 +14,13 @@ import dataclasses
 
 import numpy as np
 
-from .._errors import SessionError
 from .._mask import Mask
 from .._status import Status
 from .._types import Action, Estimate, Motion, PushRecord
 from .._validation import check_count, check_mask, check_one_object, check_physical, check_rng
-from ..active._choice import Candidates
-from ..active._likelihood import PushMemo, gyration_px
-from ..active._option_groups import check_groups, check_reads_only, names_the_group
-from ..active._options import (
-    DEFAULT_CREDIBLE,
-    DEFAULT_MODEL,
-    DEFAULT_PUSHER_RADIUS,
-    PushChoice,
-    StopRule,
-)
+from ..active._choice import Candidates, PushChoice
+from ..active._likelihood import Likelihood, PushMemo, gyration_px
+from ..active._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, group_or_default
 from ..active._path import check_frames
 from ..active._reading import (
     PushContext,
@@ -40,6 +32,7 @@ from ..active._reading import (
 )
 from ..active._records import PushLog, PushLoop
 from ..active._session import ActiveSession, session_setup
+from ..active._stop import StopRule
 from ..camera._pose_tracking import (
     executed_in_object,
     is_miss,
@@ -48,7 +41,8 @@ from ..camera._pose_tracking import (
     relative,
     symmetric_branches,
 )
-from ..geometry._sampling import DEFAULT_STANDOFF_M, sample_pushes
+from ..conventions import DEFAULT_PUSHER_RADIUS
+from ..geometry._sampling import DEFAULT_SAMPLED_STANDOFF_M, sample_pushes
 from ._costs import pose_cost, turn_outside
 from ._planner import (
     COARSE_PARTICLES,
@@ -70,16 +64,24 @@ from ._types import (
     hypotheses_from,
 )
 
-__all__ = ["DEFAULT_LEARNING_PUSHES", "GOAL_STATUSES", "GoalSession"]
+__all__ = [
+    "DEFAULT_GOAL_MAX_PUSHES",
+    "DEFAULT_GOAL_TRAVEL_M",
+    "DEFAULT_LEARNING_PUSHES",
+    "GOAL_STATUSES",
+    "GoalSession",
+]
 
 #: The session says ``"reached"`` when the pose it reads is within the goal's tolerances less
 #: this share of the camera's reading error (:attr:`comcore.Likelihood.motion_noise`: 0.5
 #: degrees and 0.5 mm by default), so that the true pose is within them.
 READING_MARGIN = 0.5
-#: The goal session's options where its ``stop`` and ``choice`` are left None: 30 pushes of
-#: up to 5 cm each after contact (an :class:`comcore.ActiveSession`'s are 5 pushes of 3 cm).
-DEFAULT_STOP = StopRule(max_pushes=30)
-DEFAULT_CHOICE = PushChoice(travel=0.05)
+#: ``GoalSession(max_pushes=...)``'s default: the push budget (an
+#: :class:`comcore.ActiveSession`'s :class:`comcore.StopRule` allows 5).
+DEFAULT_GOAL_MAX_PUSHES = 30
+#: ``GoalSession(travel=...)``'s default: how far (metres) the pusher may travel after
+#: contact in one push (an ActiveSession's candidates travel 3 cm).
+DEFAULT_GOAL_TRAVEL_M = 0.05
 #: ``GoalSession(learning_pushes=...)``'s default: the learning pushes in a row a session may
 #: make where no push passes the planner's rules, before it says ``"stuck"``.
 DEFAULT_LEARNING_PUSHES = 3
@@ -143,16 +145,26 @@ def unit_hints(goal: Goal, first: Mask) -> str:
     return f": did you mean {first_hint}? Or {second_hint}?"
 
 
-def _goal_options(groups, resolution: float) -> tuple[float, int]:
-    """The push length (pixels) and budget a goal session reads from its ``choice`` and ``stop``."""
-    stop, choice = groups["stop"], groups["choice"]
-    check_reads_only("GoalSession", groups)
-    if stop.max_pushes < 1:
-        raise ValueError("stop.max_pushes must be at least 1 for a GoalSession, got 0")
-    travel_px = choice.travel / resolution
+def _goal_budget(max_pushes, travel, resolution: float) -> tuple[float, int]:
+    """The push length (pixels) and the budget of a goal session, each checked and named."""
+    max_pushes = check_count(max_pushes, "max_pushes", 1)
+    travel = check_physical(travel, "travel", "push_length")
+    travel_px = travel / resolution
     if travel_px < 2:
-        raise ValueError(f"choice.travel {choice.travel} m is under two pixels of the mask")
-    return travel_px, stop.max_pushes
+        raise ValueError(f"travel {travel} m is under two pixels of the mask")
+    return travel_px, max_pushes
+
+
+def _push_directions(push_directions) -> np.ndarray | None:
+    """The camera directions (radians) the robot may push along, or None for any."""
+    if push_directions is None:
+        return None
+    allowed = np.atleast_1d(np.asarray(push_directions, dtype=float))
+    if allowed.ndim != 1 or len(allowed) == 0 or not np.isfinite(allowed).all():
+        raise ValueError(
+            f"push_directions must be finite angles (radians), got {push_directions!r}"
+        )
+    return allowed
 
 
 class GoalSession(PushLoop):
@@ -161,8 +173,7 @@ class GoalSession(PushLoop):
     ::
 
         session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.2, 0)),
-                                      pusher_radius=0.004, rng=0,
-                                      choice=comcore.PushChoice(travel=0.05))
+                                      pusher_radius=0.004, rng=0, travel=0.05)
         while not session.done:
             robot.execute(session.next_push())   # camera pixels
             session.observe(camera_mask())       # or observe(motion=...)
@@ -171,7 +182,7 @@ class GoalSession(PushLoop):
     Each push is planned by predicting its outcome with the motion model
     over particles of the CoM posterior (:mod:`comcore.goal._planner`: the
     push of least expected remaining pose error, in tolerances, up to
-    ``choice.travel`` after contact). With ``learn=True`` (default) every push
+    ``travel`` after contact). With ``learn=True`` (default) every push
     is also evidence: the posterior is updated as :class:`comcore.ActiveSession`
     updates it, and the next push is planned on it.
 
@@ -180,7 +191,7 @@ class GoalSession(PushLoop):
     :class:`ActiveSession`'s; ``"reached"``: the pose is within the goal's
     tolerances (the pose as read, within them less half the reading error
     the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
-    default); ``"budget"``: ``stop.max_pushes`` pushes made; ``"stuck"``: no
+    default); ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
     candidate push is expected to bring the object closer nor given a fair
     chance to (the planner's probe), and learning is no way out: the session
     has made ``learning_pushes`` learning pushes in a row and still no push
@@ -197,7 +208,7 @@ class GoalSession(PushLoop):
     a learning session does not stop: it makes the push an
     :class:`ActiveSession` would choose to learn the CoM (the most
     informative of its candidates, :meth:`comcore.active._choice.Candidates.choose`:
-    200 pushes drawn once on the first mask with ``rng``, ``choice.travel``
+    200 pushes drawn once on the first mask with ``rng``, ``travel``
     long, and each cut to :data:`LEARNING_LENGTHS` of that), among those
     safe for the goal (:func:`comcore.goal._planner.learning_safe`:
     predicted to keep the object in view, to move it, within ``max_turn``,
@@ -243,17 +254,11 @@ class GoalSession(PushLoop):
         (its particles are a systematic draw).
     likelihood : Likelihood, optional
         As for :class:`ActiveSession`.
-    stop : StopRule, optional
-        Its ``max_pushes`` is the budget (at least 1; default
-        ``StopRule(max_pushes=30)``, :data:`DEFAULT_STOP`). The session stops
-        at the goal: a rule with another ``target_radius``, ``min_pushes`` or
-        ``min_information`` than the defaults is refused.
-    choice : PushChoice, optional
-        Its ``travel`` is how far (metres) the pusher may travel after contact
-        in one push (default ``PushChoice(travel=0.05)``,
-        :data:`DEFAULT_CHOICE`). The planner chooses the pushes: a choice with
-        another ``selection``, ``n_candidates`` or ``cone`` than the defaults
-        is refused.
+    max_pushes : int, optional
+        The push budget (at least 1; default 30, :data:`DEFAULT_GOAL_MAX_PUSHES`).
+    travel : float, optional
+        How far (metres) the pusher may travel after contact in one push
+        (default 5 cm, :data:`DEFAULT_GOAL_TRAVEL_M`).
     learn : bool, optional
         Update the posterior with every push (default True); False plans on
         the prior, fixed.
@@ -271,7 +276,7 @@ class GoalSession(PushLoop):
     learning_pushes : int, optional
         The most learning pushes in a row where no push passes the planner's
         rules (default 3, :data:`DEFAULT_LEARNING_PUSHES`; 0: say
-        ``"stuck"`` at once, as before). Only a learning session
+        ``"stuck"`` at once). Only a learning session
         (``learn=True``) makes them.
 
     Raises
@@ -284,7 +289,7 @@ class GoalSession(PushLoop):
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 40))
     >>> session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.03, 0.0)),
-    ...                               choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    ...                               travel=0.02, model=None, rng=0)
     >>> session.status, session.next_push().ex > session.next_push().sx
     ('waiting_push', True)
     >>> session.observe(motion=(0.0, 12.0, 0.0))  # 3 cm to the right
@@ -292,7 +297,6 @@ class GoalSession(PushLoop):
     ('reached', True)
     """
 
-    @names_the_group
     def __init__(
         self,
         mask: Mask,
@@ -303,8 +307,8 @@ class GoalSession(PushLoop):
         prior=None,
         rng=None,
         likelihood=None,
-        stop=None,
-        choice=None,
+        max_pushes: int = DEFAULT_GOAL_MAX_PUSHES,
+        travel: float = DEFAULT_GOAL_TRAVEL_M,
         learn: bool = True,
         planner_model=None,
         n_particles: int = PLANNING_PARTICLES,
@@ -317,32 +321,21 @@ class GoalSession(PushLoop):
         if not isinstance(learn, (bool, np.bool_)):
             raise TypeError(f"learn must be a bool, got {type(learn).__name__}")
         self._goal, self._learn = goal, bool(learn)
-        groups = check_groups(
-            likelihood=likelihood,
-            stop=DEFAULT_STOP if stop is None else stop,
-            choice=DEFAULT_CHOICE if choice is None else choice,
-        )
-        self._max_travel_px, self._max_pushes = _goal_options(groups, self._first.resolution)
+        budget = _goal_budget(max_pushes, travel, self._first.resolution)
+        self._max_travel_px, self._max_pushes = budget
         self._n_particles = check_count(n_particles, "n_particles", 1)
         if self._n_particles > MAX_PLANNING_PARTICLES:
             raise ValueError(
                 f"n_particles must be at most {MAX_PLANNING_PARTICLES}, got {n_particles} (the "
                 f"default is {PLANNING_PARTICLES})"
             )
-        self._allowed = None
-        if push_directions is not None:
-            allowed = np.atleast_1d(np.asarray(push_directions, dtype=float))
-            if allowed.ndim != 1 or len(allowed) == 0 or not np.isfinite(allowed).all():
-                raise ValueError(
-                    f"push_directions must be finite angles (radians), got {push_directions!r}"
-                )
-            self._allowed = allowed
+        self._allowed = _push_directions(push_directions)
         self._rng = check_rng(LEARNING_SEED if rng is None else rng)
         self._max_learning = check_count(learning_pushes, "learning_pushes", 0)
         self._radius = check_physical(
             pusher_radius, "pusher_radius", "pusher_radius", allow_zero=True
         )
-        likelihood = groups["likelihood"]
+        likelihood = group_or_default(likelihood, Likelihood, "likelihood")
         # the pose is read by the camera: "reached" keeps a margin of its reading error
         self._margin = tuple(READING_MARGIN * v for v in likelihood.motion_noise)
         self._likelihood = likelihood  # its model-error scales: the planner's caution too
@@ -423,7 +416,7 @@ class GoalSession(PushLoop):
             self._final = Status.STUCK
 
     def _learning_candidates(self) -> Candidates:
-        """An ActiveSession's candidates (``choice.travel`` long), and each cut shorter."""
+        """An ActiveSession's candidates (``travel`` long), and each cut shorter."""
         res = self._first.resolution
         choice = PushChoice(travel=self._max_travel_px * res)
         full = sample_pushes(
@@ -432,7 +425,7 @@ class GoalSession(PushLoop):
         )  # fmt: skip
         start, vector = full[:, :2], full[:, 2:] - full[:, :2]
         unit = vector / np.hypot(*vector.T)[:, None]
-        standoff = DEFAULT_STANDOFF_M / res  # sample_pushes' start before the contact
+        standoff = DEFAULT_SAMPLED_STANDOFF_M / res  # sample_pushes' start before the contact
         cut = [
             np.hstack([start, start + unit * (standoff + f * self._max_travel_px)])
             for f in LEARNING_LENGTHS
@@ -535,17 +528,7 @@ class GoalSession(PushLoop):
 
     # -- ask / tell ---------------------------------------------------------------------
 
-    def next_push(self) -> Action:
-        """The next push, camera pixels, on the object where it is now (the same until observed).
-
-        Raises
-        ------
-        SessionError
-            If the session is done.
-        """
-        if self.done:
-            raise SessionError(f"the session is done (status {self._final!r}): no push to offer")
-        self._handed_out = True
+    def _planned_push(self) -> Action:
         return self._plan.camera_action
 
     def observe(
@@ -575,9 +558,7 @@ class GoalSession(PushLoop):
         TypeError, ValueError
             On invalid arguments (named); the session is then unchanged.
         """
-        if self.done or not self._handed_out:
-            what = f"the session is done (status {self._final!r})" if self.done else "no push"
-            raise SessionError(f"observe() called but {what} is waiting: call next_push() first")
+        self._check_waiting()
         if not isinstance(out_of_view, (bool, np.bool_)):
             raise TypeError(f"out_of_view must be a bool, got {type(out_of_view).__name__}")
         given = [k for k, v in (("mask", mask), ("motion", motion)) if v is not None]

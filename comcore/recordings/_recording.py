@@ -22,7 +22,7 @@ import numpy as np
 from .._mask import Mask
 from .._types import Action, Motion, PushFrame, SkippedPush
 from .._validation import _as_float_rows, check_point, check_positive
-from ..conventions import DEFAULT_RESOLUTION, rotate_components
+from ..conventions import DEFAULT_RESOLUTION, DEFAULT_TRAVEL_M, rotate_components
 from ..geometry._contacts import contacts
 from ..geometry._disc_contacts import disc_contacts
 from ..geometry._outline import (
@@ -35,8 +35,6 @@ from ._pose_streams import pose_at, push_window, stream, to_frame
 
 __all__ = ["RecordedPush", "Recording", "SkippedPush", "recording_from_poses"]
 
-#: Default pusher travel (metres) after first contact over which the motion is taken.
-DEFAULT_TRAVEL_M = 0.03
 #: Default distance (metres) the Action starts before the leading point's first-contact position.
 DEFAULT_STANDOFF_M = 0.01
 #: Default gap (metres) between the pusher's disc and the outline that counts as contact.

@@ -9,6 +9,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from comcore import Estimate, Mask
+from comcore.checks import readonly
 from comcore.geometry import outline_field
 
 from ._model import simulate
@@ -39,12 +40,6 @@ STUDENT_NU = 4.0
 #: the model's own error against the simulator when told the true CoM and mu.
 MIN_THETA_SCALE = math.radians(3.0)
 MIN_TRANSLATION_SCALE_M = 0.00375
-
-
-def _readonly(a) -> np.ndarray:
-    out = np.array(a, dtype=float, copy=True)
-    out.setflags(write=False)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,7 +83,7 @@ class EllipsoidFit:
 
     def __post_init__(self):
         for name in ("com_cov", "candidates", "weights"):
-            object.__setattr__(self, name, _readonly(getattr(self, name)))
+            object.__setattr__(self, name, readonly(getattr(self, name), float))
 
     @property
     def com_m(self) -> tuple[float, float]:

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
+import comcore.bench
 from comcore.active._choice import binary_entropy, sense_information
 from comcore.active._grid import GridPosterior
 from comcore.vt._force_lines import force_line_distances as line_distances
@@ -373,7 +374,6 @@ def test_a_prior_off_the_object_is_allowed():
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
         ({"prior": np.ones((3, 3))}, ValueError, "prior must have the mask's shape"),
         ({"theta_noise": (0.0, 0.1)}, ValueError, "theta_noise must be a pair with absolute > 0"),
-        ({"translation_noise": "ab"}, TypeError, r"translation_noise \(pixels\) was removed"),
         ({"cone": 1.6}, ValueError, r"cone must be a half-angle in \[0, pi/2\)"),
         ({"selection": "best"}, ValueError, "selection must be one of"),
         ({"pusher_error": -0.001}, ValueError, "pusher_error"),
@@ -394,7 +394,7 @@ def test_bad_arguments_are_named(kwargs, error, match):
     mask = _plate()
     own = {k: v for k, v in kwargs.items() if k in ("model", "candidates", "prior", "credible")}
     with pytest.raises(error, match=match):
-        grouped = comcore.active.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        grouped = comcore.bench.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), **own, **grouped)
 
 
@@ -578,19 +578,17 @@ def test_default_candidates_push_travel_metres_past_first_contact():
         contact = comcore.geometry.contacts(mask, actions).point[0]
         past = np.hypot(*(actions[0, 2:] - contact)) * mask.resolution
         assert past == pytest.approx(travel, abs=mask.resolution)
-    with pytest.raises(TypeError, match="chooses no pushes"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'travel'"):
         comcore.estimate_posterior(mask, actions, [(0.1, 1.0, 1.0)], travel=0.05)
 
 
-def test_a_flat_option_is_a_type_error_that_says_which_group_to_pass():
+def test_a_group_s_field_passed_to_a_session_is_a_type_error():
     mask = _plate()
     push = _robot(mask, (20.0, 15.0), 0.3)
-    with pytest.raises(TypeError, match=r"pass stop=comcore\.StopRule\(max_pushes=2\) instead"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'max_pushes'"):
         comcore.estimate_active(mask, push, rng=0, model=ToyModel(), max_pushes=2)
-    with pytest.raises(TypeError, match=r"likelihood=comcore\.Likelihood\(pusher_error=0\.002\)"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'pusher_error'"):
         comcore.ActiveSession(mask, stop=comcore.StopRule(max_pushes=2), pusher_error=0.002)
-    with pytest.raises(TypeError, match=r"stop=comcore\.StopRule\(max_pushes=3\)"):
-        comcore.GoalSession(mask, comcore.Goal(displacement=(0.01, 0.0)), max_pushes=3)
 
 
 def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
@@ -598,9 +596,9 @@ def test_a_group_of_the_wrong_type_or_an_unknown_option_is_named():
     push = _robot(mask, (20.0, 15.0), 0.3)
     with pytest.raises(TypeError, match=r"stop must be a comcore\.StopRule or None, got dict"):
         comcore.estimate_active(mask, push, stop={"max_pushes": 2})
-    with pytest.raises(TypeError, match=r"\['max_push'\]; max_push: did you mean stop=comcore"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'max_push'"):
         comcore.estimate_active(mask, push, max_push=2)
-    with pytest.raises(ValueError, match=r"reads only StopRule\.target_radius \(it chooses no pushes\)"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'stop'"):
         comcore.estimate_posterior(mask, [(0, 13, 60, 13)], [(0.1, 1, 0)],
                                    stop=comcore.StopRule(max_pushes=3))  # fmt: skip
 
@@ -776,7 +774,7 @@ def test_calibration_recommends_the_largest_power_that_covers_the_measured_coms(
         (None, {}, TypeError, "records must be an iterable"),
         ("ok", {"powers": 0.5}, TypeError, "powers must be a sequence"),
         ("ok", {"powers": (0.5, 1.5)}, ValueError, r"powers must be in \(0, 1\]"),
-        ("ok", {"target_radius": 0.01}, TypeError, "chooses no pushes"),
+        ("ok", {"target_radius": 0.01}, TypeError, "unexpected keyword argument 'target_radius'"),
     ],
 )
 def test_calibration_names_bad_input(records, kwargs, error, match):

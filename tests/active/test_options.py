@@ -1,4 +1,4 @@
-"""Tests of the active estimator's option groups (comcore/active/_options.py, _option_groups.py)."""
+"""Tests of the active estimator's options (comcore/active/_options.py, _stop.py, _choice.py)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 import comcore
+from comcore import conventions
 from comcore.active import _options
-from comcore.active._option_groups import READS_ONLY
+from comcore.bench import option_groups
 
 ROOT = Path(__file__).resolve().parents[2]
 GROUPS = (comcore.Likelihood, comcore.StopRule, comcore.PushChoice)
@@ -32,31 +33,43 @@ ACTIVE_MODULES = (
 )
 
 
+#: The group fields an entry point takes as keywords of its own: those it reads, and only them.
+OWN_FIELDS = {
+    "estimate_active": set(),
+    "ActiveSession": set(),
+    "estimate_posterior": {"target_radius"},
+    "calibrate_model_weight": set(),
+    "GoalSession": {"max_pushes", "travel"},
+}
+
+
 @pytest.mark.parametrize("entry", ENTRY_POINTS, ids=lambda f: f.__name__)
-def test_no_entry_point_spells_out_a_grouped_option(entry):
+def test_an_entry_point_takes_a_field_as_its_own_keyword_only_where_it_reads_it_alone(entry):
     params = inspect.signature(entry).parameters
-    assert not FIELDS & set(params), "a grouped option is a keyword of its own again"
-    assert not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())
+    assert FIELDS & set(params) == OWN_FIELDS[entry.__name__]
+    takes_groups = {"stop", "choice"} & set(params)
+    assert not (takes_groups and OWN_FIELDS[entry.__name__]), "a field and its group both"
 
 
-@pytest.mark.parametrize("entry", ENTRY_POINTS, ids=lambda f: f.__name__)
-def test_a_flat_option_passed_to_an_entry_point_names_its_group(entry):
-    """A paper-style flat call (``max_pushes=3``) is refused before anything runs."""
-    takes = inspect.signature(entry).parameters
-    call, match = ({"max_pushes": 3}, r"stop=comcore\.StopRule\(max_pushes=3\)")
-    reads = READS_ONLY.get(entry.__name__, ({}, ""))[0].get("stop", "max_pushes")
-    if "stop" not in takes or reads != "max_pushes":  # no stop, or not its max_pushes
-        match = r"chooses no pushes: option\(s\) \['max_pushes'\] do not apply"
-    with pytest.raises(TypeError, match=match):
-        entry(None, **call)
-    with pytest.raises(TypeError, match=r"likelihood=comcore\.Likelihood\(flip_prob=0\.1\)"):
-        entry(None, flip_prob=0.1)
+def test_estimate_posterior_s_target_radius_is_the_stop_rule_s():
+    params = inspect.signature(comcore.estimate_posterior).parameters
+    assert params["target_radius"].default is comcore.StopRule().target_radius
+    with pytest.raises(ValueError, match="target_radius"):
+        comcore.estimate_posterior(comcore.Mask(np.ones((4, 4), bool)), pushes=(), target_radius=-1)
+
+
+def test_estimate_active_takes_the_session_s_keywords():
+    """Written once: estimate_active hands its options to ActiveSession."""
+    params = inspect.signature(comcore.estimate_active).parameters
+    assert [p.kind for p in params.values()][-1] is inspect.Parameter.VAR_KEYWORD
+    with pytest.raises(TypeError, match="max_pushes"):
+        comcore.estimate_active(comcore.Mask(np.ones((4, 4), bool)), print, max_pushes=3)
 
 
 @pytest.mark.parametrize(
     ("name", "default"),
     [
-        ("pusher_radius", _options.DEFAULT_PUSHER_RADIUS),
+        ("pusher_radius", conventions.DEFAULT_PUSHER_RADIUS),
         ("credible", _options.DEFAULT_CREDIBLE),
     ],
 )
@@ -82,6 +95,8 @@ def test_no_function_of_the_active_estimator_defaults_a_grouped_option():
                 a for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None
             ]
             named = {a.arg for a in with_defaults} & FIELDS
+            if node.name == "estimate_posterior" and named == {"target_radius"}:
+                continue  # its own keyword, the stop rule's default (tested above)
             assert not named, f"{module}.{node.name} defaults {sorted(named)}"
 
 
@@ -114,18 +129,18 @@ def test_the_distinctive_defaults_are_written_once_in_comcore():
 def test_option_groups_takes_every_field_and_refuses_another_listing_them():
     for keyword, cls in zip(("likelihood", "stop", "choice"), GROUPS):
         for f in dataclasses.fields(cls):
-            assert comcore.active.option_groups(**{f.name: f.default}) == {keyword: cls()}
+            assert option_groups(**{f.name: f.default}) == {keyword: cls()}
     with pytest.raises(TypeError, match=r"unknown option\(s\) \['max_push'\]; the options are"):
-        comcore.active.option_groups(max_push=3)
+        option_groups(max_push=3)
 
 
 def test_option_groups_builds_only_the_groups_named():
-    groups = comcore.active.option_groups(max_pushes=3, pusher_error=0.002)
+    groups = option_groups(max_pushes=3, pusher_error=0.002)
     assert groups == {
         "likelihood": comcore.Likelihood(pusher_error=0.002),
         "stop": comcore.StopRule(max_pushes=3),
     }
-    assert comcore.active.option_groups() == {}
+    assert option_groups() == {}
 
 
 def test_groups_are_frozen_and_normalised():

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import comcore
+import comcore.bench
 import comcore.camera._pose_tracking as pose_module
 from comcore.camera._pose_tracking import compose, moved_mask
 from tests.records import actions_of, motions_of, outcomes_of
@@ -221,7 +222,7 @@ def test_same_seed_same_pushes():
 def test_bad_arguments_are_named(kwargs, error, match):
     own = {k: v for k, v in kwargs.items() if k == "rng"}
     with pytest.raises(error, match=match):
-        grouped = comcore.active.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
+        grouped = comcore.bench.option_groups(**{k: v for k, v in kwargs.items() if k not in own})
         comcore.ActiveSession(_mask(10), **own, **grouped)
 
 

@@ -89,7 +89,7 @@ def direct(first, pushes, frames=True):
         first, [p.commanded for p in pushes], [p.motion for p in pushes], credible=CREDIBLE,
         pusher_radius=DEFAULT_PUSHER_RADIUS,
         likelihood=comcore.Likelihood(systematic_error=SYSTEMATIC_ERROR), bootstrap=BOOTSTRAP,
-        stop=comcore.StopRule(target_radius=DEFAULT_TARGET_RADIUS), theta_units="rad",
+        target_radius=DEFAULT_TARGET_RADIUS, theta_units="rad",
         frames=given,
     )  # fmt: skip
 

@@ -133,8 +133,8 @@ def test_session_reaches_a_translation_goal(name):
     goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
     # 10 cm at 5 cm a push is 2 pushes at best; learning from no estimate takes 11 (Obj8) and
     # 14 (Obj1, with the pusher disc's contacts in the evidence) here
-    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.05),
-                                  stop=comcore.StopRule(max_pushes=16), rng=0)  # fmt: skip
+    session = comcore.GoalSession(first, goal, travel=0.05,
+                                  max_pushes=16, rng=0)  # fmt: skip
     _run(robot, session)
     assert session.status == "reached", session.status
     assert _within(robot, goal, first)
@@ -149,7 +149,7 @@ def test_session_reaches_a_pose_goal_with_a_known_com():
     mu = robot.simulator.mu_contact
     oracle = comcore.goal.CoMHypotheses(np.array([robot.true_com_px()]), np.array([mu]), np.ones(1))
     session = comcore.GoalSession(
-        first, goal, choice=comcore.PushChoice(travel=0.05), stop=comcore.StopRule(max_pushes=20),
+        first, goal, travel=0.05, max_pushes=20,
         prior=oracle, learn=False, rng=0,
     )  # fmt: skip
     _run(robot, session)
@@ -171,7 +171,7 @@ def test_session_learns_while_pushing():
     robot = _robot("Obj13")
     first = robot.camera_mask()
     goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
-    session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=3), rng=0)
+    session = comcore.GoalSession(first, goal, max_pushes=3, rng=0)
     before = session.estimate().posterior.credible_radius_px
     _run(robot, session)
     after = session.estimate()
@@ -184,8 +184,8 @@ def test_session_reads_the_frames_of_its_pushes():
     robot = _robot("Obj13")
     first = robot.camera_mask()
     goal = comcore.Goal(displacement=(0.1, 0.0), orientation=0.0)
-    plain = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=2), rng=0)
-    framed = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=2), rng=0)
+    plain = comcore.GoalSession(first, goal, max_pushes=2, rng=0)
+    framed = comcore.GoalSession(first, goal, max_pushes=2, rng=0)
     action = framed.next_push()
     assert plain.next_push() == action
     push = robot.execute(action, frame_rate=10.0)
@@ -203,7 +203,7 @@ def test_session_reads_the_frames_of_its_pushes():
 def test_session_order_errors_leave_it_unchanged():
     first = _plate()
     goal = comcore.Goal(displacement=(0.03, 0.0))
-    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    session = comcore.GoalSession(first, goal, travel=0.02, model=None, rng=0)
     with pytest.raises(comcore.SessionError, match="call next_push"):
         session.observe(motion=(0.0, 4.0, 0.0))
     push = session.next_push()
@@ -231,7 +231,7 @@ def test_session_refuses_bad_goals_and_arguments():
         comcore.GoalSession(first, comcore.Goal(displacement=(60, 0), units="px"), model=None)
     with pytest.raises(ValueError, match="travel"):
         comcore.GoalSession(
-            first, comcore.Goal(orientation=0.5), choice=comcore.PushChoice(travel=5), model=None
+            first, comcore.Goal(orientation=0.5), travel=5, model=None
         )
     with pytest.raises(ValueError, match="push_directions"):
         comcore.GoalSession(first, comcore.Goal(orientation=0.5), push_directions=[np.nan])
@@ -302,26 +302,27 @@ def test_sessions_are_reproducible():
         robot = _robot("Obj3")
         first = robot.camera_mask()
         goal = comcore.Goal(displacement=(0.05, 0.03), orientation=0.2)
-        session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=3), rng=0)
+        session = comcore.GoalSession(first, goal, max_pushes=3, rng=0)
         _run(robot, session)
         pushes.append([p.camera_action for p in session.pushes])
     assert pushes[0] == pushes[1]
 
 
-def test_the_earlier_keywords_say_which_group_to_pass():
+def test_the_budget_and_the_push_length_are_keywords_of_their_own():
     first = _plate()
     goal = comcore.Goal(displacement=(0.03, 0.0))
-    with pytest.raises(TypeError, match=r"stop=comcore\.StopRule\(max_pushes=12\).*max_travel: "
-                       r"did you mean choice=comcore\.PushChoice\(travel=\.\.\.\)"):  # fmt: skip
-        comcore.GoalSession(first, goal, max_travel=0.05, max_pushes=12)
-    with pytest.raises(ValueError, match=r"reads only StopRule.max_pushes .*\['target_radius'\]"):
-        comcore.GoalSession(first, goal, stop=comcore.StopRule(target_radius=0.01), model=None)
-    with pytest.raises(ValueError, match=r"reads only PushChoice.travel .*\['cone'\]"):
-        comcore.GoalSession(first, goal, choice=comcore.PushChoice(cone=0.2), model=None)
-    # a flat option of a field the goal does not read is refused as such, not sent to its group
-    with pytest.raises(TypeError, match=r"GoalSession plans its own pushes and stops at the goal: "
-                       r"option\(s\) \['target_radius'\] do not apply"):  # fmt: skip
-        comcore.GoalSession(first, goal, target_radius=0.01)
+    session = comcore.GoalSession(first, goal, max_pushes=1, travel=0.02, model=None, rng=0)
+    push = session.next_push()
+    assert np.hypot(push.ex - push.sx, push.ey - push.sy) * first.resolution < 0.02 + 0.02
+    session.observe(motion=(0.0, 1.0, 0.0))  # 2.5 mm of the 3 cm asked: the budget is spent
+    assert session.status == "budget"
+    with pytest.raises(ValueError, match="max_pushes must be >= 1, got 0"):
+        comcore.GoalSession(first, goal, max_pushes=0, model=None)
+    with pytest.raises(ValueError, match="travel 0.001 m is under two pixels of the mask"):
+        comcore.GoalSession(first, goal, travel=0.001, model=None)
+    for group in ({"stop": comcore.StopRule()}, {"choice": comcore.PushChoice()}):
+        with pytest.raises(TypeError, match="unexpected keyword argument"):
+            comcore.GoalSession(first, goal, model=None, **group)
 
 
 # -- the frame, the units, the metric pose --------------------------------------------------
@@ -380,7 +381,7 @@ def test_a_goal_in_pixels_out_of_view_gets_no_unit_hint():
 def test_pose_m_is_the_pose_with_its_translation_in_metres():
     first = _plate()  # 2.5 mm a pixel
     goal = comcore.Goal(displacement=(0.05, 0.0))
-    session = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    session = comcore.GoalSession(first, goal, travel=0.02, model=None, rng=0)
     assert session.pose_m == (0.0, 0.0, 0.0)
     session.next_push()
     session.observe(motion=(0.1, 8.0, -2.0))
@@ -512,7 +513,7 @@ def test_learning_pushes_keep_to_their_budget(monkeypatch):
         assert session.push_kinds == ("learn",) * budget
         assert len(set(pushed)) == budget  # none made twice, as an ActiveSession's
     # the session's budget comes first
-    session = comcore.GoalSession(first, goal, stop=comcore.StopRule(max_pushes=1), **options)
+    session = comcore.GoalSession(first, goal, max_pushes=1, **options)
     session.next_push()
     session.observe(motion=(0.05, 2.0, 0.0))
     assert session.status == "budget" and session.push_kinds == ("learn",)

@@ -136,8 +136,8 @@ def _oracle_trial(name, friction, seed=1):
         np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
     )
     session = comcore.GoalSession(
-        first, goal, prior=oracle, learn=False, choice=comcore.PushChoice(travel=0.05),
-        stop=comcore.StopRule(max_pushes=30), rng=0, pusher_radius=sim.pusher_radius,
+        first, goal, prior=oracle, learn=False, travel=0.05,
+        max_pushes=30, rng=0, pusher_radius=sim.pusher_radius,
     )  # fmt: skip
     while not session.done:
         robot.execute(session.next_push())
@@ -158,11 +158,11 @@ def test_reached_keeps_a_margin_of_the_cameras_reading_error():
     first = _plate()
     goal = comcore.Goal(displacement=(0.03, 0.0), orientation=0.0)  # 1 cm and 3 degrees
     # the pose read 2.9 degrees off: within the tolerance, not within it less 0.25 degrees
-    near = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    near = comcore.GoalSession(first, goal, travel=0.02, model=None, rng=0)
     near.next_push()
     near.observe(motion=(math.radians(2.9), 12.0, 0.0))
     assert near.status == "waiting_push"
-    well = comcore.GoalSession(first, goal, choice=comcore.PushChoice(travel=0.02), model=None, rng=0)
+    well = comcore.GoalSession(first, goal, travel=0.02, model=None, rng=0)
     well.next_push()
     well.observe(motion=(math.radians(2.5), 12.0, 0.0))
     assert well.status == "reached"

@@ -1,4 +1,4 @@
-"""Tests of the option groups from flat names (comcore/active/_option_groups.py: option_groups)."""
+"""Tests of the option groups from flat names (comcore/bench/_registry.py: option_groups)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
-from comcore.active import option_groups
+from comcore.bench import option_groups
 
 GROUPS = {"likelihood": comcore.Likelihood, "stop": comcore.StopRule, "choice": comcore.PushChoice}
 
@@ -80,9 +80,6 @@ def test_building_the_groups_warns_of_nothing():
     [
         ({"max_push": 3}, TypeError, r"unknown option\(s\) \['max_push'\]; the options are \[.*'max_pushes'"),
         ({"likelihood": comcore.Likelihood()}, TypeError, r"unknown option\(s\) \['likelihood'\]"),
-        ({"translation_noise": 0.5}, TypeError, r"translation_noise \(pixels\) was removed: pass "
-                                                r"likelihood=comcore.Likelihood\(translation_error="),
-        ({"bootstrap": 10}, TypeError, "bootstrap is estimate_posterior's alone"),
         ({"flip_prob": 0.7}, ValueError, r"flip_prob must be in \(0, 0.5\), got 0.7"),
         ({"max_pushes": 2.5}, TypeError, "max_pushes must be an int, got float"),
         ({"selection": "rotation"}, ValueError, "selection must be one of"),
