@@ -451,10 +451,12 @@ class SimulatedRobot:
         """
         return noisy_mask(self._exact_mask(), self.mask_noise, self._rng)
 
+    @property
     def true_com_px(self) -> tuple[float, float]:
         """The true CoM in the FIRST mask's frame (pixels): what an estimate is scored on."""
         return self.simulator.com_px
 
+    @property
     def com_in_camera(self) -> tuple[float, float]:
         """Where the true CoM is in the camera image now (pixels)."""
         c = self.simulator.to_pixels(self._world[:2])[0]

@@ -207,17 +207,20 @@ class MujocoRobot:
         d = np.asarray(p, float) - (x, y)
         return np.array(rotate_components(d[0], d[1], math.cos(a), math.sin(a)))
 
+    @property
     def outline_m(self) -> np.ndarray:
         """The object's outline now, table metres, (k, 2)."""
         pose = self._body_pose()
         v = self.simulator.shape.vertices_m
         return v @ rotation_matrix(pose[2]) + pose[:2]  # body to world (y up)
 
+    @property
     def true_com_px(self) -> tuple[float, float]:
         """MuJoCo's CoM in the FIRST frame's grid pixels: what an estimate is scored on."""
         c = self.simulator.to_pixels(self._initial[:2])[0]
         return (float(c[0]), float(c[1]))
 
+    @property
     def com_in_camera(self) -> tuple[float, float]:
         """Where the CoM is on the grid now (pixels)."""
         c = self.simulator.to_pixels(self.world_pose[:2])[0]
@@ -403,7 +406,7 @@ class MujocoRobot:
         back 1 mm at a time while the disc would overlap ``outline`` (the object's now).
         """
         shapely = require_shapely()
-        outline = shapely.Polygon(self.outline_m())
+        outline = shapely.Polygon(self.outline_m)
         start, end = self.simulator.to_world(action.reshape(2, 2))
         if shapely.contains_xy(outline, *start):
             raise ValueError(
