@@ -119,6 +119,31 @@ def test_a_push_starting_inside_is_refused_and_changes_nothing(plate):
     assert robot.world_pose == pose and robot.pushes == pushes
 
 
+@pytest.mark.parametrize("half", [1e12, 1e300])
+def test_a_push_past_the_simulators_length_bound_is_refused_before_stepping(plate, half):
+    _sim, robot = plate
+    robot.place(None)
+    pose, pushes, time = robot.world_pose, robot.pushes, robot.data.time
+    y = robot.simulator.com_px[1]
+    with pytest.raises(ValueError, match="action must be at most .* m long"):
+        robot.execute((-half, y, half, y))
+    assert robot.world_pose == pose and robot.pushes == pushes and robot.data.time == time
+
+
+def test_an_unstable_simulation_raises_and_leaves_no_log_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # where MuJoCo writes MUJOCO_LOG.TXT unless told otherwise
+    sim = simulators.PushSimulator.from_polygon(PLATE)
+    robot = simulators.MujocoRobot(
+        sim, settings=simulators.MujocoSettings(pusher_gain=1e30), camera=SMALL
+    )
+    pose = robot.world_pose
+    c = robot.simulator.com_px
+    with pytest.raises(RuntimeError, match="unstable during push 1.*pusher_gain"):
+        robot.execute((c[0] - 30, c[1], c[0] + 10, c[1]))
+    assert robot.pushes == 0 and np.allclose(robot.world_pose, pose, atol=1e-12)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
 def test_bad_arguments_are_named():
     with pytest.raises(TypeError, match="simulator must be a simulators.PushSimulator"):
         simulators.MujocoRobot("Obj1")
