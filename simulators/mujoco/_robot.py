@@ -27,9 +27,9 @@ from .._deps import require_shapely
 from .._robot import DEFAULT_CAMERA_MARGIN, MAX_FRAMES_PER_PUSH, _frame_times, camera_frame_margin
 from .._simulator import PushSimulator
 from ._camera import CameraSettings, CameraSetup, homography_table_to_image, warp_to_grid
-from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco
+from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco, scene_assets
 
-__all__ = ["MujocoPush", "MujocoRobot"]
+__all__ = ["CellFrame", "MujocoPush", "MujocoRobot"]
 
 #: A start whose disc would overlap the object is moved back along the push by this (m).
 RETREAT_STEP_M = 0.001
@@ -67,6 +67,36 @@ class MujocoPush(NamedTuple):
     path_poses: tuple[Motion, ...] = ()
     """The object's pose at each frame of ``path`` relative to the first frame (the
     convention of :attr:`MujocoRobot.pose`)."""
+
+
+class CellFrame(NamedTuple):
+    """A rendered frame of the cell and the ground truth a camera calibration is tested on.
+
+    Table frame: metres, ``x`` and ``y`` on the table (``y`` up in the grid's sense:
+    away from a tilted camera), ``z`` up, the table's surface at ``z = 0``.
+    """
+
+    image: np.ndarray
+    """The rendered RGB frame, uint8 ``(height, width, 3)``."""
+    table_to_image: np.ndarray
+    """3x3 homography from table-plane metres ``(x, y)`` at ``z = 0`` (where a printed
+    board or a touched point lies) to image pixels ``(column, row)``, from the camera
+    model: ``[u w, v w, w] = H @ [x, y, 1]``."""
+    top_to_image: np.ndarray
+    """3x3 homography for the plane of the object's top face (the outline the camera
+    sees), ``settings.thickness`` and the feet above the table."""
+    outline_m: np.ndarray
+    """The object's outline now, table metres, ``(k, 2)``."""
+    com_m: tuple
+    """The object's CoM now, table metres ``(x, y)``."""
+    intrinsics: tuple
+    """``(fx, fy, cx, cy)``, pixels: OpenCV's pinhole model, no distortion."""
+    camera_position: np.ndarray
+    """The camera's centre in the table frame, metres, ``(3,)``."""
+    camera_rotation: np.ndarray
+    """``(3, 3)``: its columns are the camera's x (image right), y (image down) and z
+    (optical axis, forward) axes in the table frame (OpenCV's convention), so a table
+    point ``P`` is at ``camera_rotation.T @ (P - camera_position)`` in the camera."""
 
 
 class _UnstableStep(Exception):
@@ -150,8 +180,12 @@ class MujocoRobot:
         bounds = (*corners.min(axis=0), *corners.max(axis=0))
         top = 2 * self.settings.foot_radius + self.settings.thickness
         self.camera_setup = CameraSetup.above(self.camera, bounds, top)
-        self.model = mujoco.MjModel.from_xml_string(
-            build_scene_xml(grid, self.settings, self.camera_setup)
+        xml = build_scene_xml(grid, self.settings, self.camera_setup)
+        assets = scene_assets(self.camera_setup)
+        self.model = (
+            mujoco.MjModel.from_xml_string(xml, assets)
+            if assets
+            else mujoco.MjModel.from_xml_string(xml)
         )
         self.data = mujoco.MjData(self.model)
         self._body = self.model.body("object").id
@@ -275,6 +309,40 @@ class MujocoRobot:
                 ) from e
         self._renderer.update_scene(self.data, camera="top")
         return self._renderer.render().copy()
+
+    def cell_frame(self) -> CellFrame:
+        """A rendered frame now with the camera model and the object's pose on the table.
+
+        What a calibration is tested on: the homography from the table plane to the
+        image (a calibration from four or more table points should find it), the
+        object's outline in table metres (rasterised on the table plane, the mask a
+        rectified frame should give), and the camera's intrinsics and pose. Set the
+        camera's tilt, the table's texture and the arm with :class:`CameraSettings`.
+
+        Examples
+        --------
+        >>> import simulators
+        >>> sim = simulators.PushSimulator.from_polygon([(0, 0), (0.08, 0), (0, 0.05)])
+        >>> camera = simulators.CameraSettings((160, 120), tilt=0.5, table="wood", arm=True)
+        >>> robot = simulators.MujocoRobot(sim, camera=camera)
+        >>> cell = robot.cell_frame()
+        >>> cell.image.shape, cell.table_to_image.shape, cell.outline_m.shape[1]
+        ((120, 160, 3), (3, 3), 2)
+        """
+        image = self.camera_frame()
+        cam = self.model.camera("top").id
+        position = self.data.cam_xpos[cam].copy()
+        rotation = self.data.cam_xmat[cam].reshape(3, 3).copy()
+        setup = self.camera_setup
+        hom = [
+            homography_table_to_image(position, rotation, setup.focal_px, setup.image_size, z)
+            for z in (0.0, setup.plane_z)
+        ]
+        opencv = rotation * np.array([1.0, -1.0, -1.0])  # MuJoCo's camera: y up, z back
+        x, y, _ = self.world_pose
+        return CellFrame(
+            image, hom[0], hom[1], self.outline_m, (x, y), setup.intrinsics, position, opencv
+        )
 
     def grid_image(self, frame=None) -> np.ndarray:
         """``frame`` (default a new one) warped onto the grid, float RGB (rows, cols, 3)."""
