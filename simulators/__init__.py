@@ -29,7 +29,7 @@ from ._settings import ENGINES, EngineSettings
 from ._shapes import ObjectShape, check_polygon, load_shape
 from ._simulator import DEFAULT_PUSHER_RADIUS, PushResult, PushSimulator
 from .mujoco._camera import CameraSettings, homography_table_to_image, warp_to_grid
-from .mujoco._robot import MujocoPush, MujocoRobot
+from .mujoco._robot import CellFrame, MujocoPush, MujocoRobot
 from .mujoco._scene import MujocoSettings
 
 # isort: split
@@ -48,6 +48,7 @@ __all__ = [
     "FRICTION_CLASSES",
     "MASS_STYLES",
     "CameraSettings",
+    "CellFrame",
     "EngineSettings",
     "MassDistribution",
     "MujocoPush",

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comcore.checks import readonly
+from comcore.checks import check_positive, readonly
 
 from ._deps import require_shapely
-from ._shapes import ObjectShape
+from ._shapes import ObjectShape, _finite_pair
 
 __all__ = ["DEFAULT_SUPPORT_POINTS", "MassDistribution", "tilt_to_com"]
 
@@ -49,6 +49,7 @@ class MassDistribution:
             raise ValueError(f"points_m (n, 2) and masses (n,) disagree: {pts.shape}, {m.shape}")
         if not (np.isfinite(pts).all() and np.isfinite(m).all() and (m > 0).all()):
             raise ValueError("masses must be finite and > 0 at every support point")
+        check_positive(self.cell_size_m, "cell_size_m")
         object.__setattr__(self, "points_m", pts)
         object.__setattr__(self, "masses", m)
 
@@ -179,6 +180,29 @@ def tilt_to_com(points, weights, target, tol: float = 1e-10) -> np.ndarray:
     convex hull of the points and is found by Newton's method on the convex
     log-partition function. The total weight is preserved.
 
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        Support points, finite.
+    weights : array_like, shape (n,)
+        Their weights, finite and > 0.
+    target : array_like, shape (2,)
+        The required weighted mean.
+    tol : float, optional
+        Largest accepted distance of the mean from ``target`` (the points' unit).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, a value is not finite, a weight is not > 0, or
+        ``target`` is not strictly inside the points' convex hull.
+    TypeError
+        If ``target`` is not two numbers (``None``, a string).
+
     Examples
     --------
     >>> import numpy as np
@@ -187,9 +211,8 @@ def tilt_to_com(points, weights, target, tol: float = 1e-10) -> np.ndarray:
     >>> (w @ p / w.sum()).round(9).tolist(), round(float(w.sum()), 9)
     ([0.25, 0.5], 4.0)
     """
-    p = np.asarray(points, dtype=float)
-    w = np.asarray(weights, dtype=float)
-    t = np.asarray(target, dtype=float)
+    p, w = _points_and_weights(points, weights)
+    t = _finite_pair(target, "target", "metres")
     scale = float(np.ptp(p, axis=0).max()) or 1.0
     x = (p - t) / scale
     lam = np.zeros(2)
@@ -226,18 +249,20 @@ def tilt_to_com(points, weights, target, tol: float = 1e-10) -> np.ndarray:
     return q * w.sum()
 
 
-def _finite_pair(value, name: str, unit: str) -> np.ndarray:
-    """``value`` as a float array of shape (2,), or an error naming ``name``."""
-    want = f"{name} must be two finite numbers ({unit})"
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{want}, got {type(value).__name__}")
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{want}, got {value!r}") from e
-    if arr.shape != (2,) or not np.isfinite(arr).all():
-        raise ValueError(f"{want}, got {arr.tolist()}")
-    return arr
+def _points_and_weights(points, weights) -> tuple[np.ndarray, np.ndarray]:
+    """``points`` (n, 2) and ``weights`` (n,) as float arrays, finite, weights > 0."""
+    p = np.asarray(points, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 2 or len(p) == 0 or not np.isfinite(p).all():
+        raise ValueError(f"points must be finite, of shape (n, 2) with n >= 1, got shape {p.shape}")
+    if w.shape != (len(p),):
+        raise ValueError(f"weights must have shape ({len(p)},), one per point, got {w.shape}")
+    if not (np.isfinite(w).all() and (w > 0).all()):
+        bad = np.flatnonzero(~(np.isfinite(w) & (w > 0)))[:5].tolist()
+        raise ValueError(
+            f"weights must be finite and > 0 (masses); weight(s) {bad} are {w[bad].tolist()}"
+        )
+    return p, w
 
 
 def _point_masses(value) -> np.ndarray | None:

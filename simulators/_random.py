@@ -51,10 +51,18 @@ def random_com(shape: ObjectShape, rng=None, depth_fraction: float = COM_DEPTH_F
     -------
     tuple of float
         ``(x, y)`` in metres.
+
+    Raises
+    ------
+    ValueError
+        If ``depth_fraction`` is not in [0, 1) (at 1 only the deepest point is left).
     """
     shapely = require_shapely()
     from shapely.ops import polylabel
 
+    depth_fraction = comcore.checks.check_probability(
+        depth_fraction, "depth_fraction", open_high=True
+    )
     rng = comcore.checks.check_rng(rng)
     poly = shape.polygon()
     inradius = poly.exterior.distance(polylabel(poly, tolerance=1e-5))
@@ -68,7 +76,10 @@ def random_com(shape: ObjectShape, rng=None, depth_fraction: float = COM_DEPTH_F
         if deep.any():
             p = cand[np.flatnonzero(deep)[0]]
             return (float(p[0]), float(p[1]))
-    raise ValueError("could not draw a CoM well inside the footprint")  # pragma: no cover
+    raise ValueError(  # pragma: no cover
+        f"could not draw a CoM at depth_fraction {depth_fraction:g} of the inradius inside "
+        "the footprint; choose a smaller depth_fraction"
+    )
 
 
 def random_simulator(

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +22,20 @@ _MESH_SUFFIXES = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
 def _signed_area(v: np.ndarray) -> float:
     x, y = v[:, 0], v[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def _finite_pair(value, name: str, unit: str) -> np.ndarray:
+    """``value`` as a float array of shape (2,), or an error naming ``name``."""
+    want = f"{name} must be two finite numbers ({unit})"
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{want}, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{want}, got {value!r}") from e
+    if arr.shape != (2,) or not np.isfinite(arr).all():
+        raise ValueError(f"{want}, got {arr.tolist()}")
+    return arr
 
 
 def check_polygon(vertices, name: str = "vertices") -> np.ndarray:
@@ -116,10 +129,8 @@ class ObjectShape:
     def __post_init__(self):
         object.__setattr__(self, "vertices_m", check_polygon(self.vertices_m, "vertices_m"))
         if self.uniform_com_m is not None:
-            com = tuple(float(c) for c in self.uniform_com_m)
-            if len(com) != 2 or not all(map(math.isfinite, com)):
-                raise ValueError(f"uniform_com_m must be two finite numbers, got {com}")
-            object.__setattr__(self, "uniform_com_m", com)
+            com = _finite_pair(self.uniform_com_m, "uniform_com_m", "x, y metres")
+            object.__setattr__(self, "uniform_com_m", (float(com[0]), float(com[1])))
 
     @classmethod
     def from_vertices(cls, vertices, name: str = "") -> ObjectShape:

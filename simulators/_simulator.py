@@ -21,7 +21,7 @@ from comcore.conventions import DEFAULT_PUSHER_RADIUS, rotate_components, rotati
 from ._deps import require_shapely
 from ._mass import DEFAULT_SUPPORT_POINTS, MassDistribution
 from ._settings import EngineSettings
-from ._shapes import ObjectShape, load_shape
+from ._shapes import ObjectShape, _finite_pair, load_shape
 from .engines._quasistatic import QuasiStaticEngine
 
 __all__ = ["DEFAULT_PUSHER_RADIUS", "PushResult", "PushSimulator"]
@@ -261,8 +261,14 @@ class PushSimulator:
         return _image_shape(self.shape.bounds_m, self.margin, self.resolution)
 
     def outline_at(self, pose=None) -> np.ndarray:
-        """The outline in world metres at ``pose`` (default: the initial pose), (k, 2)."""
-        x, y, a = self.initial_pose if pose is None else pose
+        """The outline in world metres at ``pose`` (default: the initial pose), (k, 2).
+
+        Raises
+        ------
+        ValueError, TypeError
+            If ``pose`` is not three finite numbers ``(x, y, angle)``.
+        """
+        x, y, a = self.initial_pose if pose is None else check_pose(pose)
         return self._outline_body @ rotation_matrix(a) + (x, y)  # body to world (y up)
 
     def contains(self, points_px, pose=None) -> np.ndarray:
@@ -433,9 +439,7 @@ class PushSimulator:
         return self._push_checked(comcore.checks.check_actions(actions), pose, record, "actions")
 
     def _push_checked(self, acts, pose, record, name) -> list[PushResult]:
-        start_pose = self.initial_pose if pose is None else tuple(float(v) for v in pose)
-        if len(start_pose) != 3 or not all(map(math.isfinite, start_pose)):
-            raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
+        start_pose = self.initial_pose if pose is None else check_pose(pose)
         if acts.shape[0] == 0:
             return []
         self._check_lengths(acts, name)
@@ -505,8 +509,19 @@ class PushSimulator:
         return out
 
     def with_com(self, com_m=None, mu_contact=None) -> PushSimulator:
-        """The same object with its mass tilted to ``com_m`` and/or another ``mu_contact``."""
-        mass = self.mass if com_m is None else self.mass.tilted(com_m)
+        """The same object with its mass tilted to ``com_m`` and/or another ``mu_contact``.
+
+        Raises
+        ------
+        ValueError, TypeError
+            If ``com_m`` is not two finite numbers ``(x, y)`` (metres) strictly inside
+            the support points.
+        """
+        mass = (
+            self.mass
+            if com_m is None
+            else self.mass.tilted(_finite_pair(com_m, "com_m", "x, y metres"))
+        )
         return PushSimulator(
             self.shape,
             mass,
@@ -523,6 +538,32 @@ class PushSimulator:
             f"PushSimulator(shape={self.shape!r}, com_px=({self.com_px[0]:.1f}, "
             f"{self.com_px[1]:.1f}), mu_contact={self.mu_contact:.3f})"
         )
+
+
+def check_pose(pose, name: str = "pose") -> tuple[float, float, float]:
+    """``pose`` as three floats ``(x, y, angle)``, finite, or an error naming ``name``.
+
+    Examples
+    --------
+    >>> check_pose([0.1, 0.2, 0.0])
+    (0.1, 0.2, 0.0)
+    >>> check_pose((0.1, 0.2))
+    Traceback (most recent call last):
+    ...
+    ValueError: pose must be three finite numbers (x, y, angle), metres and radians; got shape (2,)
+    """
+    want = f"{name} must be three finite numbers (x, y, angle), metres and radians"
+    if isinstance(pose, (str, bytes, dict)):
+        raise TypeError(f"{want}; got {type(pose).__name__}")
+    try:
+        arr = np.asarray(pose, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{want}; got {pose!r}") from e
+    if arr.shape != (3,):
+        raise ValueError(f"{want}; got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{want}; got {arr.tolist()}")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
 
 
 def _pixel_window(points_px: np.ndarray, h: int, w: int):

@@ -141,7 +141,7 @@ def _frame_shadow(rng, shape, depth) -> np.ndarray:
     return profile[None, :] if side < 2 else profile[:, None]
 
 
-def _add_clutter(rng, table, share, centre, radius, blur, object_level) -> None:
+def _add_clutter(rng, table, share, centre, radius, *, blur, object_level) -> None:
     """Draw another thing of the object's side and size on ``table`` (in place), away from it."""
     h, w = table.shape
     while True:
@@ -157,6 +157,75 @@ def _add_clutter(rng, table, share, centre, radius, blur, object_level) -> None:
     )
     cover = ndimage.gaussian_filter(_coverage(other, cbox), blur)
     table[cbox] = cover * object_level + (1 - cover) * table[cbox]
+
+
+def _grey_levels(rng, dark, contrast) -> tuple[float, float]:
+    """The table's and the object's grey levels (``dark``: ``None`` draws it, even odds)."""
+    if dark is None:
+        dark = bool(rng.random() < 0.5)
+    table_level = rng.uniform(140, 180) if dark else rng.uniform(60, 100)
+    object_level = rng.uniform(20, 60) if dark else rng.uniform(190, 230)
+    if contrast is not None:
+        object_level = table_level - contrast if dark else table_level + contrast
+    return table_level, object_level
+
+
+def _place_object(rng, shape, share) -> tuple[np.ndarray, np.ndarray, float]:
+    """A star polygon of ``share`` of the frame placed with a margin: vertices, centre, radius."""
+    h, w = shape
+    while True:  # a polygon that fits in the frame with a margin
+        poly = star_polygon(rng, share * h * w)
+        radius = np.hypot(poly[:, 0], poly[:, 1]).max()
+        margin = radius + 0.05 * min(h, w) + 3
+        if 2 * margin < min(h, w):
+            break
+    centre = rng.uniform([margin, margin], [w - margin, h - margin])
+    return poly + centre, centre, radius
+
+
+def _grid_lines(rng, shape, grid) -> np.ndarray:
+    """``grid`` grey levels on 2 px lines 64 px apart at a drawn offset, else 0."""
+    h, w = shape
+    ys, xs = np.ogrid[0:h, 0:w]
+    ox, oy = rng.uniform(0, 64, 2)
+    lines = ((xs - ox) % 64 < 2) | ((ys - oy) % 64 < 2)
+    return grid * lines
+
+
+def _cast_shade(rng, shape, poly, radius, corners, depth) -> np.ndarray:
+    """The object's soft shadow, offset a quarter radius a drawn way: a factor per pixel.
+
+    ``corners`` are ``(x0, y0, x1, y1)`` of the object's padded box (pixels).
+    """
+    h, w = shape
+    x0, y0, x1, y1 = corners
+    shade = np.ones(shape)
+    offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
+    grow = int(np.ceil(radius * 0.6))
+    sbox = (
+        slice(max(y0 - grow, 0), min(y1 + grow, h)),
+        slice(max(x0 - grow, 0), min(x1 + grow, w)),
+    )
+    silhouette = _coverage(poly + offset, sbox, samples=1)
+    shade[sbox] = 1 - depth * ndimage.gaussian_filter(silhouette, 0.12 * radius)
+    return shade
+
+
+def _work_area(rng, shape, centre, radius, truth) -> tuple[int, int, int, int]:
+    """The box a user draws around the work area: about the object, jittered, holding it."""
+    h, w = shape
+    half = max(2.5 * radius, 80.0)
+    jitter = rng.uniform(-0.3, 0.3, 2) * half
+    cx, cy = centre + jitter
+    roi = (
+        int(max(cx - half, 0)), int(max(cy - half, 0)),
+        int(min(cx + half, w)), int(min(cy + half, h)),
+    )  # fmt: skip
+    if truth is not None:  # the box holds the whole object (a user draws it around the work area)
+        rows, cols = np.nonzero(truth)
+        roi = (min(roi[0], cols.min() - 4), min(roi[1], rows.min() - 4),
+               max(roi[2], cols.max() + 5), max(roi[3], rows.max() + 5))  # fmt: skip
+    return roi
 
 
 def make_frame(
@@ -189,33 +258,18 @@ def make_frame(
     """
     rng = np.random.default_rng(rng)
     h, w = shape
-    if dark is None:
-        dark = bool(rng.random() < 0.5)
-    table_level = rng.uniform(140, 180) if dark else rng.uniform(60, 100)
-    object_level = rng.uniform(20, 60) if dark else rng.uniform(190, 230)
-    if contrast is not None:
-        object_level = table_level - contrast if dark else table_level + contrast
+    table_level, object_level = _grey_levels(rng, dark, contrast)
     table = np.full(shape, table_level)
     if texture:
         table += texture * (
             0.7 * _smooth_field(rng, shape, 1.5) + 0.3 * _smooth_field(rng, shape, 12)
         )
     light = _illumination(rng, shape, gradient, table_level, vignetting)
-    while True:  # a polygon that fits in the frame with a margin
-        poly = star_polygon(rng, share * h * w)
-        radius = np.hypot(poly[:, 0], poly[:, 1]).max()
-        margin = radius + 0.05 * min(h, w) + 3
-        if 2 * margin < min(h, w):
-            break
-    centre = rng.uniform([margin, margin], [w - margin, h - margin])
-    poly = poly + centre
+    poly, centre, radius = _place_object(rng, shape, share)
     if grid:
-        ys, xs = np.ogrid[0:h, 0:w]
-        ox, oy = rng.uniform(0, 64, 2)
-        lines = ((xs - ox) % 64 < 2) | ((ys - oy) % 64 < 2)
-        table = table - grid * lines
+        table = table - _grid_lines(rng, shape, grid)
     if clutter:  # as big as the object, elsewhere, and part of the scene
-        _add_clutter(rng, table, share, centre, radius, blur, object_level)
+        _add_clutter(rng, table, share, centre, radius, blur=blur, object_level=object_level)
     pad = int(np.ceil(3 * blur)) + 2
     x0, y0 = np.floor(poly.min(axis=0)).astype(int) - pad
     x1, y1 = np.ceil(poly.max(axis=0)).astype(int) + pad + 1
@@ -227,14 +281,7 @@ def make_frame(
         truth = comcore.geometry.rasterise_polygon(poly, shape)
     shade = np.ones(shape)
     if cast_shadow and not empty:
-        offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
-        grow = int(np.ceil(radius * 0.6))
-        sbox = (
-            slice(max(y0 - grow, 0), min(y1 + grow, h)),
-            slice(max(x0 - grow, 0), min(x1 + grow, w)),
-        )
-        silhouette = _coverage(poly + offset, sbox, samples=1)
-        shade[sbox] = 1 - cast_shadow * ndimage.gaussian_filter(silhouette, 0.12 * radius)
+        shade = _cast_shade(rng, shape, poly, radius, (x0, y0, x1, y1), cast_shadow)
     side_shade = _frame_shadow(rng, shape, frame_shadow) if frame_shadow else 1.0
 
     def shot(with_object: bool, gain: float) -> np.ndarray:
@@ -248,18 +295,7 @@ def make_frame(
 
     image = shot(True, 1.0)
     background = shot(False, rng.uniform(0.98, 1.02))
-    half = max(2.5 * radius, 80.0)
-    jitter = rng.uniform(-0.3, 0.3, 2) * half
-    cx, cy = centre + jitter
-    roi = (
-        int(max(cx - half, 0)), int(max(cy - half, 0)),
-        int(min(cx + half, w)), int(min(cy + half, h)),
-    )  # fmt: skip
-    if truth is not None:  # the box holds the whole object (a user draws it around the work area)
-        rows, cols = np.nonzero(truth)
-        roi = (min(roi[0], cols.min() - 4), min(roi[1], rows.min() - 4),
-               max(roi[2], cols.max() + 5), max(roi[3], rows.max() + 5))  # fmt: skip
-    return Frame(image, truth, background, roi)
+    return Frame(image, truth, background, _work_area(rng, shape, centre, radius, truth))
 
 
 def iou(found: np.ndarray, truth: np.ndarray) -> float:

@@ -141,7 +141,7 @@ def run_strategy(strategy, sim, goal, args, robot_seed):
         prior = [first.centroid]
     elif strategy == "oracle":
         prior = comcore.goal.CoMHypotheses(
-            np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
+            np.array([robot.true_com_px]), np.array([sim.mu_contact]), np.ones(1)
         )
     elif strategy == "estimate-first":
         active = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0)

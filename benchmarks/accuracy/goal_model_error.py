@@ -40,7 +40,7 @@ def measure(name, friction, j, args):
     engine = "quasistatic" if args.engine == "exact" else args.engine
     robot = simulators.SimulatedRobot(sim, camera_margin=0.40, engine=engine, rng=0)
     first = robot.camera_mask()
-    com = np.array(robot.true_com_px())
+    com = np.array(robot.true_com_px)
     hyps = comcore.goal.CoMHypotheses(com[None], np.array([sim.mu_contact]), np.ones(1))
     directions = np.linspace(0, 2 * np.pi, args.directions, endpoint=False)
     offsets = np.stack([_cross_offsets(first, a, hyps, 7) for a in directions])

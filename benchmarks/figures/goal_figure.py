@@ -74,7 +74,7 @@ def draw(args) -> str:
         ax.text(*push.start, str(k), color="tab:red", fontsize=7)
     com = session.estimate().com
     now = comcore.apply_motion([com], truth.theta, (truth.tx, truth.ty), first.centroid)[0]
-    ax.plot(*robot.com_in_camera(), "k+", ms=10, label="true CoM (now)")
+    ax.plot(*robot.com_in_camera, "k+", ms=10, label="true CoM (now)")
     ax.plot(*now, "rx", ms=8, label="estimated CoM (now)")
     ax.plot([], [], color="tab:green", ls="--", label="goal")
     ax.plot([], [], color=shades[-1], label="object after each push")

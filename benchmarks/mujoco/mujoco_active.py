@@ -90,7 +90,7 @@ def run(sim, engine, session_rng, robot_rng):
         if failures >= MAX_FAILURES:
             break
     est = session.estimate()
-    truth = robot.true_com_px()
+    truth = robot.true_com_px
     error_cm = est.error_px(truth) * robot.resolution * 100
     if hasattr(robot, "close"):
         robot.close()

@@ -101,7 +101,7 @@ class TrialContext:
         robot that never resets it, under the trial's condition (pusher error,
         camera noise, engine); ``options`` override the condition's. Every push the
         robot executes is counted as a real push, and an estimate of a run that made
-        a robot is scored in the robot's camera frame (``robot.true_com_px()``).
+        a robot is scored in the robot's camera frame (``robot.true_com_px``).
     condition : object or None
         The realism condition of the trial (:class:`comcore.bench.Condition`);
         ``None`` for the plain benchmark.

@@ -169,7 +169,7 @@ def _row(spec: TrialSpec, ctx: TrialContext, label: str, predictor: str, **value
     robot = values.pop("robot", None)
     truth, resolution = sim.com_px, mask.resolution
     if robot is not None:  # scored in the frame of the camera the estimator saw
-        truth, resolution = robot.true_com_px(), robot.resolution
+        truth, resolution = robot.true_com_px, robot.resolution
     error_px = est.error_px(truth)
     radius = None if est.posterior is None else est.posterior.credible_radius_px
     condition = spec.condition.name if spec.condition is not None else "exact"

@@ -56,8 +56,8 @@ def run_session():
         "estimate": session.estimate(),
         "status": session.status,
         "com_now": np.asarray(session.com_in_camera(), float),
-        "true_now": np.asarray(robot.com_in_camera(), float),
-        "true_first": np.asarray(robot.true_com_px(), float),
+        "true_now": np.asarray(robot.com_in_camera, float),
+        "true_first": np.asarray(robot.true_com_px, float),
         "resolution": robot.resolution,
     }
 

@@ -176,17 +176,54 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+def _require_simulators() -> None:
+    """Import the simulator, or say which extras training on it needs."""
+    try:
+        import simulators  # noqa: F401
+    except ImportError as e:
+        raise ImportError(
+            "training on simulated episodes (--source sim) needs the simulator: "
+            "pip install comcore[anp,sim]"
+        ) from e
+
+
+def _resume(ckpt: Path, run: str, model, optimizer, schedule) -> tuple:
+    """Load ``ckpt`` into the model, optimizer and schedule: ``(history, first, best, seconds)``.
+
+    Raises
+    ------
+    ValueError
+        If the checkpoint was written by a run with other arguments than ``run``.
+    """
+    state = torch.load(ckpt, map_location="cpu", weights_only=True)
+    if state["run"] != run:
+        raise ValueError(
+            f"--resume: checkpoint {str(ckpt)!r} was written by a run with other "
+            f"arguments ({state['run']}); this run has {run}"
+        )
+    model.load_state_dict(state["model"])
+    optimizer.load_state_dict(state["optimizer"])
+    schedule.load_state_dict(state["schedule"])
+    best = {k: v.clone() for k, v in state["best"].items()}
+    return json.loads(state["history"]), state["epoch"] + 1, best, state["time"]
+
+
+def _run_record(args, t_data: float, t_train: float) -> dict:
+    """The run's arguments, sizes, times and memory for the training record."""
+    return {
+        "source": args.source, "seed": args.seed, "train_episodes": args.episodes,
+        "val_episodes": args.val_episodes, "pushes_per_episode": args.pushes,
+        "train_pushes": args.episodes * args.pushes, "data_seconds": round(t_data, 1),
+        "train_seconds": round(t_train, 1), "peak_rss_mib": peak_rss_mib(),
+        "epochs": args.epochs,
+    }  # fmt: skip
+
+
 def main(argv=None) -> dict:
     """Command-line entry point; returns the record written next to the weights."""
     args = _parser().parse_args(argv)
     if args.source == "sim":
-        try:
-            import simulators  # noqa: F401
-        except ImportError as e:
-            raise ImportError(
-                "training on simulated episodes (--source sim) needs the simulator: "
-                "pip install comcore[anp,sim]"
-            ) from e
+        _require_simulators()
     torch.set_num_threads(args.threads)
     t0 = time.time()
     common = dict(n_pushes=args.pushes, source=args.source, cache=args.cache,
@@ -209,17 +246,7 @@ def main(argv=None) -> dict:
     history, first, best, t_train = [], 0, None, 0.0
     run = json.dumps({k: v for k, v in vars(args).items() if k in _RUN_KEYS}, sort_keys=True)
     if args.resume and ckpt.exists():
-        state = torch.load(ckpt, map_location="cpu", weights_only=True)
-        if state["run"] != run:
-            raise ValueError(
-                f"--resume: checkpoint {str(ckpt)!r} was written by a run with other "
-                f"arguments ({state['run']}); this run has {run}"
-            )
-        model.load_state_dict(state["model"])
-        optimizer.load_state_dict(state["optimizer"])
-        schedule.load_state_dict(state["schedule"])
-        history, first, t_train = json.loads(state["history"]), state["epoch"] + 1, state["time"]
-        best = {k: v.clone() for k, v in state["best"].items()}
+        history, first, best, t_train = _resume(ckpt, run, model, optimizer, schedule)
     bar = progress_bar(iterable=range(first, args.epochs), initial=first, total=args.epochs,
                        desc="training")  # fmt: skip
     for epoch in bar:
@@ -238,17 +265,12 @@ def main(argv=None) -> dict:
                     "schedule": schedule.state_dict(), "epoch": epoch, "time": t_train,
                     "history": json.dumps(history), "best": best, "run": run}, ckpt)  # fmt: skip
     model.load_state_dict(best)
-    final = evaluate(model, val)
     record = {
         "command": "python -m predictors.anp.train "
         + shlex.join(sys.argv[1:] if argv is None else argv),
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "source": args.source, "seed": args.seed, "train_episodes": args.episodes,
-        "val_episodes": args.val_episodes, "pushes_per_episode": args.pushes,
-        "train_pushes": args.episodes * args.pushes, "data_seconds": round(t_data, 1),
-        "train_seconds": round(t_train, 1), "peak_rss_mib": peak_rss_mib(),
-        "epochs": args.epochs,
-        "config": config.to_dict(), "validation": final, "history": history,
+        **_run_record(args, t_data, t_train),
+        "config": config.to_dict(), "validation": evaluate(model, val), "history": history,
         "torch": torch.__version__,
     }  # fmt: skip
     save_weights(model, args.out, meta={k: record[k] for k in ("command", "date", "source")})

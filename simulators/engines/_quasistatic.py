@@ -134,7 +134,7 @@ class QuasiStaticEngine:
         idx = np.flatnonzero(hit)
         xs, angs, traj = self._follow(
             x[idx], ang[idx], centre0[idx] + t_hit[idx, None] * d[idx], d[idx],
-            total[idx] - t_hit[idx], first_vertex, record,
+            total[idx] - t_hit[idx], first_vertex, record=record,
         )  # fmt: skip
         out = poses.copy()
         out[idx, :2] = xs * L
@@ -151,7 +151,7 @@ class QuasiStaticEngine:
                 travel[i] = (t_hit[i] - lowered[i] + progress) * L
         return BatchOutcome(out, hit, contact, normal, blocked, trajectories, travel)
 
-    def _follow(self, xs, angs, c0, d0, remaining, first_vertex, record):
+    def _follow(self, xs, angs, c0, d0, remaining, first_vertex, *, record):
         """Step the pushers from their first contacts ``c0`` along ``d0`` by ``remaining``.
 
         ``xs`` (n, 2) and ``angs`` (n,) are the objects' poses (normalised

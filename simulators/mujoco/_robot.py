@@ -12,7 +12,9 @@ only for its grid (pixels <-> table metres) and its polygon masks.
 
 from __future__ import annotations
 
+import contextlib
 import math
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -25,9 +27,9 @@ from .._deps import require_shapely
 from .._robot import DEFAULT_CAMERA_MARGIN, MAX_FRAMES_PER_PUSH, _frame_times, camera_frame_margin
 from .._simulator import PushSimulator
 from ._camera import CameraSettings, CameraSetup, homography_table_to_image, warp_to_grid
-from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco
+from ._scene import PARK_XY, MujocoSettings, build_scene_xml, require_mujoco, scene_assets
 
-__all__ = ["MujocoPush", "MujocoRobot"]
+__all__ = ["CellFrame", "MujocoPush", "MujocoRobot"]
 
 #: A start whose disc would overlap the object is moved back along the push by this (m).
 RETREAT_STEP_M = 0.001
@@ -65,6 +67,40 @@ class MujocoPush(NamedTuple):
     path_poses: tuple[Motion, ...] = ()
     """The object's pose at each frame of ``path`` relative to the first frame (the
     convention of :attr:`MujocoRobot.pose`)."""
+
+
+class CellFrame(NamedTuple):
+    """A rendered frame of the cell and the ground truth a camera calibration is tested on.
+
+    Table frame: metres, ``x`` and ``y`` on the table (``y`` up in the grid's sense:
+    away from a tilted camera), ``z`` up, the table's surface at ``z = 0``.
+    """
+
+    image: np.ndarray
+    """The rendered RGB frame, uint8 ``(height, width, 3)``."""
+    table_to_image: np.ndarray
+    """3x3 homography from table-plane metres ``(x, y)`` at ``z = 0`` (where a printed
+    board or a touched point lies) to image pixels ``(column, row)``, from the camera
+    model: ``[u w, v w, w] = H @ [x, y, 1]``."""
+    top_to_image: np.ndarray
+    """3x3 homography for the plane of the object's top face (the outline the camera
+    sees), ``settings.thickness`` and the feet above the table."""
+    outline_m: np.ndarray
+    """The object's outline now, table metres, ``(k, 2)``."""
+    com_m: tuple
+    """The object's CoM now, table metres ``(x, y)``."""
+    intrinsics: tuple
+    """``(fx, fy, cx, cy)``, pixels: OpenCV's pinhole model, no distortion."""
+    camera_position: np.ndarray
+    """The camera's centre in the table frame, metres, ``(3,)``."""
+    camera_rotation: np.ndarray
+    """``(3, 3)``: its columns are the camera's x (image right), y (image down) and z
+    (optical axis, forward) axes in the table frame (OpenCV's convention), so a table
+    point ``P`` is at ``camera_rotation.T @ (P - camera_position)`` in the camera."""
+
+
+class _UnstableStep(Exception):
+    """MuJoCo flagged the simulation unstable (caught in :meth:`MujocoRobot._stable`)."""
 
 
 def _yaw(quat) -> float:
@@ -144,13 +180,20 @@ class MujocoRobot:
         bounds = (*corners.min(axis=0), *corners.max(axis=0))
         top = 2 * self.settings.foot_radius + self.settings.thickness
         self.camera_setup = CameraSetup.above(self.camera, bounds, top)
-        self.model = mujoco.MjModel.from_xml_string(
-            build_scene_xml(grid, self.settings, self.camera_setup)
+        xml = build_scene_xml(grid, self.settings, self.camera_setup)
+        assets = scene_assets(self.camera_setup)
+        self.model = (
+            mujoco.MjModel.from_xml_string(xml, assets)
+            if assets
+            else mujoco.MjModel.from_xml_string(xml)
         )
         self.data = mujoco.MjData(self.model)
         self._body = self.model.body("object").id
         self._pusher_geom = self.model.geom("pusher").id
         self._renderer = None
+        bad = ("BADQPOS", "BADQVEL", "BADQACC", "BADCTRL")
+        self._unstable_ids = [int(getattr(mujoco.mjtWarning, f"mjWARN_{b}")) for b in bad]
+        self._unstable_seen = 0
         mujoco.mj_forward(self.model, self.data)
         self._settle()
         self._start_qpos = self.data.qpos[:7].copy()
@@ -198,17 +241,20 @@ class MujocoRobot:
         d = np.asarray(p, float) - (x, y)
         return np.array(rotate_components(d[0], d[1], math.cos(a), math.sin(a)))
 
+    @property
     def outline_m(self) -> np.ndarray:
         """The object's outline now, table metres, (k, 2)."""
         pose = self._body_pose()
         v = self.simulator.shape.vertices_m
         return v @ rotation_matrix(pose[2]) + pose[:2]  # body to world (y up)
 
+    @property
     def true_com_px(self) -> tuple[float, float]:
         """MuJoCo's CoM in the FIRST frame's grid pixels: what an estimate is scored on."""
         c = self.simulator.to_pixels(self._initial[:2])[0]
         return (float(c[0]), float(c[1]))
 
+    @property
     def com_in_camera(self) -> tuple[float, float]:
         """Where the CoM is on the grid now (pixels)."""
         c = self.simulator.to_pixels(self.world_pose[:2])[0]
@@ -263,6 +309,40 @@ class MujocoRobot:
                 ) from e
         self._renderer.update_scene(self.data, camera="top")
         return self._renderer.render().copy()
+
+    def cell_frame(self) -> CellFrame:
+        """A rendered frame now with the camera model and the object's pose on the table.
+
+        What a calibration is tested on: the homography from the table plane to the
+        image (a calibration from four or more table points should find it), the
+        object's outline in table metres (rasterised on the table plane, the mask a
+        rectified frame should give), and the camera's intrinsics and pose. Set the
+        camera's tilt, the table's texture and the arm with :class:`CameraSettings`.
+
+        Examples
+        --------
+        >>> import simulators
+        >>> sim = simulators.PushSimulator.from_polygon([(0, 0), (0.08, 0), (0, 0.05)])
+        >>> camera = simulators.CameraSettings((160, 120), tilt=0.5, table="wood", arm=True)
+        >>> robot = simulators.MujocoRobot(sim, camera=camera)
+        >>> cell = robot.cell_frame()
+        >>> cell.image.shape, cell.table_to_image.shape, cell.outline_m.shape[1]
+        ((120, 160, 3), (3, 3), 2)
+        """
+        image = self.camera_frame()
+        cam = self.model.camera("top").id
+        position = self.data.cam_xpos[cam].copy()
+        rotation = self.data.cam_xmat[cam].reshape(3, 3).copy()
+        setup = self.camera_setup
+        hom = [
+            homography_table_to_image(position, rotation, setup.focal_px, setup.image_size, z)
+            for z in (0.0, setup.plane_z)
+        ]
+        opencv = rotation * np.array([1.0, -1.0, -1.0])  # MuJoCo's camera: y up, z back
+        x, y, _ = self.world_pose
+        return CellFrame(
+            image, hom[0], hom[1], self.outline_m, (x, y), setup.intrinsics, position, opencv
+        )
 
     def grid_image(self, frame=None) -> np.ndarray:
         """``frame`` (default a new one) warped onto the grid, float RGB (rows, cols, 3)."""
@@ -327,14 +407,21 @@ class MujocoRobot:
         Raises
         ------
         ValueError
-            If ``action`` is not one finite, non-zero-length action, or it starts inside
-            the object as it is now, ``frames`` is not 0, or ``frame_rate`` is not a
-            finite number > 0, above ``1 / settings.timestep`` or would take more than
-            ``MAX_FRAMES_PER_PUSH`` frames (the robot is unchanged then).
+            If ``action`` is not one finite, non-zero-length action, is longer than
+            the bound :meth:`PushSimulator.push` sets (``MAX_STEPS_PER_PUSH`` steps of
+            its ``step_m``), or starts inside the object as it is now, ``frames`` is
+            not 0, or ``frame_rate`` is not a finite number > 0, above ``1 /
+            settings.timestep`` or would take more than ``MAX_FRAMES_PER_PUSH``
+            frames (the robot is unchanged then).
         comcore.ImageError
             If a frame rendered during the push does not show the whole object
             (:func:`comcore.mask_from_image`'s refusal); the scene is put back as it
             was before the push.
+        RuntimeError
+            If MuJoCo's simulation goes unstable during the push (NaN, infinite or
+            huge positions, velocities, accelerations or controls: settings such as
+            ``pusher_gain`` or ``timestep`` out of MuJoCo's range); the scene is put
+            back as it was before the push.
         TypeError
             If ``frame_rate`` is not a number.
         """
@@ -344,24 +431,54 @@ class MujocoRobot:
                 "frames during the push give frame_rate= (Hz, simulated time), or take "
                 "camera_mask() after it"
             )
-        dt = self.model.opt.timestep
-        rate = None
-        if frame_rate is not None:
-            rate = comcore.checks.check_positive(frame_rate, "frame_rate")
-            if rate * dt > 1.0 + 1e-9:
-                raise ValueError(
-                    f"frame_rate must be at most one frame per time step ({1 / dt:g} Hz, "
-                    f"settings.timestep {dt:g} s), got {rate:g} Hz"
-                )
+        rate = None if frame_rate is None else self._check_frame_rate(frame_rate)
         acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
+        self.simulator._check_lengths(acts, "action")
+        c0, d, length, outline = self._pusher_line(acts[0])
+        before = self._body_pose()
+        centroid = self._to_body(np.asarray(outline.centroid.coords[0]), before)
+        shots = {} if rate is None else self._frame_ticks(length, rate)
+        state = self._state()
+        with self._stable(state, f"push {self.pushes + 1}"):
+            self._set_pusher(c0)
+            hit, lag, seen = self._drive(d, length, shots, retract)
+            if retract:
+                self._set_pusher(PARK_XY)
+            self._settle()
+        path = self._path_frames(seen, state)
+        after = self._body_pose()
+        record = MujocoPush(
+            Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
+            self.world_pose, lag, *path,
+        )  # fmt: skip
+        self.history.append(record)
+        return record
+
+    def _check_frame_rate(self, frame_rate) -> float:
+        """``frame_rate`` (Hz) as a float: finite, > 0, at most one frame per time step."""
+        dt = self.model.opt.timestep
+        rate = comcore.checks.check_positive(frame_rate, "frame_rate")
+        if rate * dt > 1.0 + 1e-9:
+            raise ValueError(
+                f"frame_rate must be at most one frame per time step ({1 / dt:g} Hz, "
+                f"settings.timestep {dt:g} s), got {rate:g} Hz"
+            )
+        return rate
+
+    def _pusher_line(self, action: np.ndarray) -> tuple:
+        """``(c0, d, length, outline)``: the pusher centre's start, unit direction and travel.
+
+        Table metres; the start is ``pusher_radius`` behind the action's start, moved
+        back 1 mm at a time while the disc would overlap ``outline`` (the object's now).
+        """
         shapely = require_shapely()
-        outline = shapely.Polygon(self.outline_m())
-        start, end = self.simulator.to_world(acts[0].reshape(2, 2))
+        outline = shapely.Polygon(self.outline_m)
+        start, end = self.simulator.to_world(action.reshape(2, 2))
         if shapely.contains_xy(outline, *start):
             raise ValueError(
-                f"action must start outside the object as it is now; {acts[0].tolist()} starts "
+                f"action must start outside the object as it is now; {action.tolist()} starts "
                 "inside its outline"
             )
         r = self.simulator.pusher_radius
@@ -371,33 +488,40 @@ class MujocoRobot:
             if shapely.distance(outline, shapely.Point(*c0)) > r:
                 break
             c0 = c0 - RETREAT_STEP_M * d
-        before = self._body_pose()
-        centroid = self._to_body(np.asarray(outline.centroid.coords[0]), before)
+        return c0, d, float(np.dot(c1 - c0, d)), outline
+
+    def _frame_ticks(self, length: float, rate: float) -> dict[int, int]:
+        """Time step -> frame index of the frames at ``rate`` during a travel of ``length`` (m)."""
+        dt = self.model.opt.timestep
+        n_forward = max(1, math.ceil(length / (self.settings.speed * dt)))
+        ticks = np.round(_frame_times(n_forward * dt, rate) / dt).astype(int)
+        ticks = ticks[(ticks >= 1) & (ticks < n_forward)]
+        if len(ticks) > MAX_FRAMES_PER_PUSH:
+            raise ValueError(
+                f"frame_rate {rate:g} Hz takes {len(ticks)} frames during this push "
+                f"({length:.3g} m at speed {self.settings.speed:g} m/s), more than "
+                f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
+            )
+        return {int(k): i for i, k in enumerate(ticks)}
+
+    def _drive(self, d: np.ndarray, length: float, shots: dict, retract: bool) -> tuple:
+        """Servo the pusher ``length`` along ``d`` (and back ``BACK_OFF_M`` with ``retract``).
+
+        Returns ``(hit, lag, seen)``: whether it touched the object, its largest lag
+        (m), and per frame of ``shots`` its time, the RGB frame, the leading point
+        (table metres) and the pose.
+        """
         mj, model, data = self._mj, self.model, self.data
-        length = float(np.dot(c1 - c0, d))
-        step = self.settings.speed * dt
-        shots: dict[int, int] = {}  # time step -> frame index
-        if rate is not None:
-            n_forward = max(1, math.ceil(length / step))
-            ticks = np.round(_frame_times(n_forward * dt, rate) / dt).astype(int)
-            ticks = ticks[(ticks >= 1) & (ticks < n_forward)]
-            if len(ticks) > MAX_FRAMES_PER_PUSH:
-                raise ValueError(
-                    f"frame_rate {rate:g} Hz takes {len(ticks)} frames during this push "
-                    f"({length:.3g} m at speed {self.settings.speed:g} m/s), more than "
-                    f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
-                )
-            shots = {int(k): i for i, k in enumerate(ticks)}
-        state = self._state()
-        self._set_pusher(c0)
+        step = self.settings.speed * model.opt.timestep
         lag, hit = 0.0, False
-        seen = []  # per frame: time, RGB frame, leading point (table metres), pose
+        seen = []
         for travel in (length, -BACK_OFF_M) if retract else (length,):
             origin = data.qpos[7:9].copy()
             n = max(1, math.ceil(abs(travel) / step))
             for k in range(1, n + 1):
                 data.ctrl[:] = origin + (travel * k / n) * d
                 mj.mj_step(model, data)
+                self._raise_if_unstable()
                 if not hit and data.ncon:
                     hit = bool(np.any(data.contact.geom[: data.ncon] == self._pusher_geom))
                 lag = max(lag, float(np.hypot(*(data.qpos[7:9] - data.ctrl))))
@@ -405,20 +529,49 @@ class MujocoRobot:
                     # mj_step leaves the bodies' frames one step behind qpos: bring them up
                     mj.mj_kinematics(model, data)
                     lead = data.qpos[7:9] + PARK_XY + self.simulator.pusher_radius * d
-                    seen.append((k * dt, self.camera_frame(), lead, self.pose))
+                    seen.append((k * model.opt.timestep, self.camera_frame(), lead, self.pose))
             if travel > 0:  # hold the end point until the servo has caught up
-                mj.mj_step(model, data, nstep=max(1, round(HOLD_S / dt)))
-        if retract:
-            self._set_pusher(PARK_XY)
-        self._settle()
-        path = self._path_frames(seen, state)
-        after = self._body_pose()
-        record = MujocoPush(
-            Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
-            self.world_pose, lag, *path,
-        )  # fmt: skip
-        self.history.append(record)
-        return record
+                mj.mj_step(model, data, nstep=max(1, round(HOLD_S / model.opt.timestep)))
+        return hit, lag, seen
+
+    def _unstable_count(self) -> int:
+        """How many times MuJoCo has flagged a bad position, velocity, acceleration or control."""
+        return sum(int(self.data.warning[i].number) for i in self._unstable_ids)
+
+    def _raise_if_unstable(self) -> None:
+        if self._unstable_count() > self._unstable_seen:
+            raise _UnstableStep
+
+    @contextlib.contextmanager
+    def _stable(self, state: np.ndarray, what: str):
+        """Step MuJoCo inside: its warnings caught (no MUJOCO_LOG.TXT), instability raised.
+
+        MuJoCo resets a simulation that goes unstable and carries on; here the scene
+        is put back to ``state`` and a RuntimeError names ``what`` went wrong. Other
+        MuJoCo warnings come out as Python ``RuntimeWarning``.
+        """
+        mj, messages = self._mj, []
+        previous = mj.get_mju_user_warning()
+        self._unstable_seen = self._unstable_count()
+        mj.set_mju_user_warning(messages.append)
+        try:
+            yield
+            self._raise_if_unstable()
+            if not np.all(np.isfinite(self.data.qpos)):  # pragma: no cover - MuJoCo resets first
+                raise _UnstableStep
+        except _UnstableStep:
+            self._restore(state)
+            raise RuntimeError(
+                f"MuJoCo's simulation went unstable during {what} "
+                f"({'; '.join(messages) or 'non-finite state'}); the scene is put back as it "
+                "was before it. MujocoSettings out of MuJoCo's range (pusher_gain, timestep, "
+                "speed)?"
+            ) from None
+        finally:
+            mj.set_mju_user_warning(previous)
+            for message in messages:
+                if "unstable" not in message.lower():
+                    warnings.warn(f"MuJoCo: {message}", RuntimeWarning, stacklevel=3)
 
     def _state(self) -> np.ndarray:
         """The scene's full integration state (MuJoCo's ``mjSTATE_INTEGRATION``)."""

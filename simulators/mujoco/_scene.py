@@ -21,6 +21,8 @@ from __future__ import annotations
 import importlib
 import math
 import os
+import struct
+import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,10 +32,22 @@ from comcore.checks import check_positive
 from .._deps import require_shapely
 from .._mass import clipped_grid
 
-__all__ = ["MujocoSettings", "build_scene_xml", "require_mujoco"]
+__all__ = [
+    "MujocoSettings",
+    "build_scene_xml",
+    "png_bytes",
+    "require_mujoco",
+    "scene_assets",
+    "table_texture",
+]
 
 #: Where the pusher waits between pushes (world metres): far outside any camera's view.
 PARK_XY = (5.0, 5.0)
+#: Side (metres) of the table one copy of a table texture covers.
+TABLE_TEXTURE_M = 0.25
+#: The drawn arm: its radius and how far it rises above the pusher before reaching out (m).
+ARM_RADIUS_M = 0.008
+ARM_RISE_M = 0.06
 SOLVERS = ("Newton", "CG", "PGS")
 CONES = ("elliptic", "pyramidal")
 INTEGRATORS = ("implicitfast", "implicit", "Euler", "RK4")
@@ -209,21 +223,8 @@ def _f(values) -> str:
     return " ".join(f"{float(v):.9g}" for v in np.ravel(values))
 
 
-def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
-    """The MJCF of the scene.
-
-    Parameters
-    ----------
-    simulator : PushSimulator
-        The object (shape, mass, ``mu_contact``, ``mu_floor``, ``pusher_radius``).
-    settings : MujocoSettings
-    camera : simulators.mujoco._camera.CameraSetup
-        Where the camera and the light are.
-
-    Returns
-    -------
-    str
-    """
+def _object_xml(simulator, settings: MujocoSettings) -> tuple[list[str], list[str]]:
+    """The object's mesh assets and its geoms: convex pieces, lumps and feet."""
     shapely = require_shapely()
     s = settings
     poly = simulator.shape.polygon()
@@ -253,6 +254,64 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
             f'conaffinity="1" friction="{simulator.mu_floor:.9g} 0 0" group="3" rgba="0 0 0 0" '
             f'solref="{s.support_timeconst:.9g} 1"/>'
         )
+    return assets, geoms
+
+
+def _table_material(camera) -> str:
+    """The table's ``<material>`` (and its texture) for ``camera.table``."""
+    table = getattr(camera, "table", "plain")
+    if table == "plain":
+        return '<material name="table" rgba="0.45 0.47 0.5 1"/>'
+    repeat = 1.0 / TABLE_TEXTURE_M
+    return (
+        f'<texture name="table" type="2d" file="{table}.png"/>\n    '
+        f'<material name="table" texture="table" texrepeat="{repeat:.9g} {repeat:.9g}" '
+        'texuniform="true" rgba="1 1 1 1" specular="0.1"/>'
+    )
+
+
+def _arm_xml(camera, pusher_top: float) -> str:
+    """The arm's geoms on the pusher body (massless, no collisions), or nothing."""
+    if not getattr(camera, "arm", False):
+        return ""
+    rise = pusher_top + ARM_RISE_M
+    reach = (camera.bounds_m[3] - camera.bounds_m[1]) + 0.2 if camera.bounds_m else 0.4
+    look = 'density="0" contype="0" conaffinity="0" rgba="0.3 0.32 0.36 1"'
+    return (
+        f'\n      <geom name="arm_wrist" type="capsule" size="{ARM_RADIUS_M:.9g}" '
+        f'fromto="0 0 {pusher_top:.9g} 0 0 {rise:.9g}" {look}/>\n      '
+        f'<geom name="arm_link" type="capsule" size="{ARM_RADIUS_M:.9g}" '
+        f'fromto="0 0 {rise:.9g} 0 {reach:.9g} {rise + 0.5 * ARM_RISE_M:.9g}" {look}/>'
+    )
+
+
+def scene_assets(camera) -> dict[str, bytes]:
+    """The files the scene's XML names (the table's texture PNG), for ``MjModel``'s ``assets``."""
+    table = getattr(camera, "table", "plain")
+    if table == "plain":
+        return {}
+    return {f"{table}.png": png_bytes(table_texture(table))}
+
+
+def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
+    """The MJCF of the scene.
+
+    Parameters
+    ----------
+    simulator : PushSimulator
+        The object (shape, mass, ``mu_contact``, ``mu_floor``, ``pusher_radius``).
+    settings : MujocoSettings
+    camera : simulators.mujoco._camera.CameraSetup
+        Where the camera and the light are, the table's look and whether the arm is
+        drawn (a textured table needs :func:`scene_assets` beside the XML).
+
+    Returns
+    -------
+    str
+    """
+    s = settings
+    assets, geoms = _object_xml(simulator, s)
+    z0, z1 = 2 * s.foot_radius, 2 * s.foot_radius + s.thickness
     r = simulator.pusher_radius
     kv = 2.0 * math.sqrt(s.pusher_gain * s.pusher_mass)
     w, h = camera.image_size
@@ -268,7 +327,7 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
   </visual>
   <default><geom solref="{s.contact_timeconst:.9g} 1" condim="3"/></default>
   <asset>
-    <material name="table" rgba="0.45 0.47 0.5 1"/>
+    {_table_material(camera)}
     <material name="object" rgba="0.95 0.75 0.3 1"/>
     {chr(10).join(assets)}
   </asset>
@@ -290,7 +349,7 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
       <joint name="pusher_y" type="slide" axis="0 1 0"/>
       <geom name="pusher" type="cylinder" size="{r:.9g} {s.thickness:.9g}" mass="{s.pusher_mass}"
             contype="2" conaffinity="0" friction="{simulator.mu_contact:.9g} 0 0"
-            rgba="0.2 0.2 0.2 1"/>
+            rgba="0.2 0.2 0.2 1"/>{_arm_xml(camera, s.thickness)}
     </body>
   </worldbody>
   <actuator>
@@ -299,3 +358,55 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
   </actuator>
 </mujoco>
 """
+
+
+def table_texture(kind: str, size: int = 512, seed: int = 0) -> np.ndarray:
+    """A procedural table texture, uint8 RGB ``(size, size, 3)``, spanning TABLE_TEXTURE_M.
+
+    ``"wood"``: light wood with wavy growth rings and a fine grain along the image's
+    rows, from a seeded generator (the same texture every time); ``"stripes"``:
+    light and dark bands, eight across.
+
+    Examples
+    --------
+    >>> tex = table_texture("stripes", size=64)
+    >>> tex.shape, tex.dtype.name, int(tex.min()) < int(tex.max())
+    ((64, 64, 3), 'uint8', True)
+    """
+    from scipy import ndimage
+
+    yy, xx = np.mgrid[0:size, 0:size] / size
+    if kind == "stripes":
+        level = 0.5 + 0.5 * np.tanh(4.0 * np.sin(2 * np.pi * 8 * xx))
+        rgb = np.array([0.55, 0.56, 0.58]) + np.array([0.3, 0.3, 0.3]) * level[..., None]
+    elif kind == "wood":
+        rng = np.random.default_rng(seed)
+        warp = ndimage.gaussian_filter(rng.normal(size=(size, size)), size / 16, mode="wrap")
+        warp /= warp.std()
+        rings = 0.5 + 0.5 * np.sin(2 * np.pi * (6 * yy + 0.35 * warp))
+        grain = ndimage.gaussian_filter(
+            rng.normal(size=(size, size)), (0.6, size / 24), mode="wrap"
+        )
+        grain /= grain.std()
+        level = 0.75 * rings + 0.1 * grain
+        rgb = np.array([0.80, 0.66, 0.50]) - np.array([0.22, 0.2, 0.17]) * level[..., None]
+    else:
+        raise ValueError(f"kind must be 'wood' or 'stripes', got {kind!r}")
+    return np.clip(np.rint(255 * rgb), 0, 255).astype(np.uint8)
+
+
+def png_bytes(rgb: np.ndarray) -> bytes:
+    """An 8-bit RGB image ``(H, W, 3)`` as the bytes of a PNG file."""
+    rgb = np.ascontiguousarray(rgb, dtype=np.uint8)
+    h, w, _ = rgb.shape
+    raw = b"".join(b"\x00" + rgb[row].tobytes() for row in range(h))
+
+    def chunk(tag: bytes, data: bytes) -> bytes:
+        crc = zlib.crc32(tag + data) & 0xFFFFFFFF
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", crc)
+
+    header = struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)
+    return (
+        b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw))
+        + chunk(b"IEND", b"")
+    )  # fmt: skip

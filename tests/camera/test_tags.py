@@ -336,4 +336,4 @@ def test_a_session_takes_the_tag_motions_instead_of_masks():
     assert len(session.actions) == 6
     assert angle_error(session.pose.theta, robot.pose.theta) < math.radians(0.5)
     assert math.hypot(session.pose.tx - robot.pose.tx, session.pose.ty - robot.pose.ty) < 1.0
-    assert session.estimate().error_px(robot.true_com_px()) < 8.0
+    assert session.estimate().error_px(robot.true_com_px) < 8.0

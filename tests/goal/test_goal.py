@@ -147,7 +147,7 @@ def test_session_reaches_a_pose_goal_with_a_known_com():
     first = robot.camera_mask()
     goal = comcore.Goal(displacement=(-0.05, 0.06), orientation=math.radians(40))
     mu = robot.simulator.mu_contact
-    oracle = comcore.goal.CoMHypotheses(np.array([robot.true_com_px()]), np.array([mu]), np.ones(1))
+    oracle = comcore.goal.CoMHypotheses(np.array([robot.true_com_px]), np.array([mu]), np.ones(1))
     session = comcore.GoalSession(
         first, goal, travel=0.05, max_pushes=20,
         prior=oracle, learn=False, rng=0,

@@ -133,7 +133,7 @@ def _oracle_trial(name, friction, seed=1):
     robot = simulators.SimulatedRobot(sim, camera_margin=0.40, rng=key)
     first = robot.camera_mask()
     oracle = comcore.goal.CoMHypotheses(
-        np.array([robot.true_com_px()]), np.array([sim.mu_contact]), np.ones(1)
+        np.array([robot.true_com_px]), np.array([sim.mu_contact]), np.ones(1)
     )
     session = comcore.GoalSession(
         first, goal, prior=oracle, learn=False, travel=0.05,

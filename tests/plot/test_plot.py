@@ -166,7 +166,7 @@ def camera_session():
     while not session.done:
         robot.execute(session.next_push())
         session.observe(robot.camera_mask())
-    return first, session.estimate(), robot.true_com_px()
+    return first, session.estimate(), robot.true_com_px
 
 
 def test_a_camera_frame_session_is_framed_on_the_object(camera_session):

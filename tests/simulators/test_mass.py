@@ -81,3 +81,36 @@ def test_bad_arguments():
         MassDistribution.on_shape(L_SHAPE, mass=-1.0)
     with pytest.raises(ValueError, match="masses must be finite and > 0"):
         MassDistribution(np.zeros((2, 2)), np.array([1.0, 0.0]), 0.01)
+
+
+SQUARE = np.array([[0.0, 0.0], [0.08, 0.0], [0.08, 0.06], [0.0, 0.06]])
+
+
+@pytest.mark.parametrize(
+    ("weights", "target", "error", "match"),
+    [
+        (np.zeros(4), (0.04, 0.03), ValueError, r"weights must be finite and > 0.*\[0, 1, 2, 3\]"),
+        (np.array([1.0, 1.0, 1.0, -1.0]), (0.04, 0.03), ValueError, r"weight\(s\) \[3\]"),
+        (np.array([1.0, np.nan, 1.0, 1.0]), (0.04, 0.03), ValueError, r"weight\(s\) \[1\]"),
+        (np.ones(3), (0.04, 0.03), ValueError, r"weights must have shape \(4,\)"),
+        (np.ones(4), None, TypeError, "target must be two finite numbers"),
+        (np.ones(4), (0.04, 0.03, 0.0), ValueError, "target must be two finite numbers"),
+        (np.ones(4), (0.04, np.inf), ValueError, "target must be two finite numbers"),
+    ],
+)
+def test_tilt_to_com_refuses_what_has_no_tilt_by_name(weights, target, error, match):
+    before = weights.copy()
+    with pytest.raises(error, match=match):
+        tilt_to_com(SQUARE, weights, target)
+    np.testing.assert_array_equal(weights, before)
+
+
+def test_tilt_to_com_refuses_points_of_the_wrong_shape():
+    with pytest.raises(ValueError, match=r"points must be finite, of shape \(n, 2\)"):
+        tilt_to_com(SQUARE[:, :1], np.ones(4), (0.04, 0.03))
+
+
+@pytest.mark.parametrize("cell", [float("nan"), float("inf"), -0.01, 0.0])
+def test_a_mass_distribution_needs_a_finite_positive_cell_size(cell):
+    with pytest.raises(ValueError, match="cell_size_m"):
+        MassDistribution(SQUARE, np.ones(4), cell)

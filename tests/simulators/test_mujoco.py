@@ -119,6 +119,31 @@ def test_a_push_starting_inside_is_refused_and_changes_nothing(plate):
     assert robot.world_pose == pose and robot.pushes == pushes
 
 
+@pytest.mark.parametrize("half", [1e12, 1e300])
+def test_a_push_past_the_simulators_length_bound_is_refused_before_stepping(plate, half):
+    _sim, robot = plate
+    robot.place(None)
+    pose, pushes, time = robot.world_pose, robot.pushes, robot.data.time
+    y = robot.simulator.com_px[1]
+    with pytest.raises(ValueError, match="action must be at most .* m long"):
+        robot.execute((-half, y, half, y))
+    assert robot.world_pose == pose and robot.pushes == pushes and robot.data.time == time
+
+
+def test_an_unstable_simulation_raises_and_leaves_no_log_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # where MuJoCo writes MUJOCO_LOG.TXT unless told otherwise
+    sim = simulators.PushSimulator.from_polygon(PLATE)
+    robot = simulators.MujocoRobot(
+        sim, settings=simulators.MujocoSettings(pusher_gain=1e30), camera=SMALL
+    )
+    pose = robot.world_pose
+    c = robot.simulator.com_px
+    with pytest.raises(RuntimeError, match="unstable during push 1.*pusher_gain"):
+        robot.execute((c[0] - 30, c[1], c[0] + 10, c[1]))
+    assert robot.pushes == 0 and np.allclose(robot.world_pose, pose, atol=1e-12)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
 def test_bad_arguments_are_named():
     with pytest.raises(TypeError, match="simulator must be a simulators.PushSimulator"):
         simulators.MujocoRobot("Obj1")
@@ -267,3 +292,78 @@ def test_a_smaller_shadow_map_is_the_scenes_and_the_mask_keeps_its_object(plate)
         assert np.hypot(*np.subtract(sharp.centroid, soft.centroid)) < 0.5
     finally:
         coarse.close()
+
+
+def test_a_tilted_cells_frame_comes_with_its_camera_model_and_the_objects_outline():
+    camera = simulators.CameraSettings((160, 120), tilt=0.5, table="wood", arm=True)
+    sim = simulators.PushSimulator.from_polygon(PLATE, com=(0.06, 0.025))
+    robot = simulators.MujocoRobot(sim, camera=camera)
+    cell = robot.cell_frame()
+    assert cell.image.dtype == np.uint8 and cell.image.shape == (120, 160, 3)
+    # The homography is the camera model's: K [r1 r2 t] for the plane z = 0.
+    fx, fy, cx, cy = cell.intrinsics
+    k = np.array([[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]])
+    r, c = cell.camera_rotation, cell.camera_position
+    model = k @ np.column_stack([r.T[:, 0], r.T[:, 1], -r.T @ c])
+    np.testing.assert_allclose(model / model[2, 2], cell.table_to_image / cell.table_to_image[2, 2])
+    # Looking down at about the tilt asked for, and the scale changes across the frame.
+    assert math.degrees(math.acos(-r[2, 2])) == pytest.approx(math.degrees(0.5), abs=1e-6)
+    near, far = (
+        _metres_per_pixel(cell.table_to_image, 110.0),
+        _metres_per_pixel(cell.table_to_image, 10.0),
+    )
+    assert far > 1.2 * near
+    # The rendered object is where the top face's homography puts its outline (the frame
+    # rectified on the top face's plane: the object's colour inside the outline only).
+    outline_px = _project(cell.top_to_image, cell.outline_m)
+    inside = comcore.geometry.rasterise_polygon(outline_px, cell.image.shape[:2])
+    rgb = cell.image.astype(float)
+    yellow = (rgb[..., 0] > 180) & (rgb[..., 2] < 0.55 * rgb[..., 0])
+    assert (yellow & inside).sum() >= 0.9 * inside.sum()
+    assert (yellow & ~inside).sum() <= 0.1 * inside.sum()
+    robot.close()
+
+
+def _project(h, points_m):
+    p = np.column_stack([points_m, np.ones(len(points_m))]) @ np.asarray(h).T
+    return p[:, :2] / p[:, 2:]
+
+
+def _metres_per_pixel(h, row):
+    """Table metres one image pixel spans along x at the middle column of ``row``."""
+    inv = np.linalg.inv(h)
+    a, b = _project(inv, np.array([[79.5, row], [80.5, row]]))
+    return float(np.hypot(*(b - a)))
+
+
+def test_the_cells_table_texture_and_arm_are_drawn_and_the_defaults_are_the_plain_scene():
+    sim = simulators.PushSimulator.from_polygon(PLATE, com=(0.06, 0.025))
+    frames = {}
+    for table, arm in (("plain", False), ("stripes", False), ("stripes", True)):
+        camera = simulators.CameraSettings((160, 120), table=table, arm=arm)
+        robot = simulators.MujocoRobot(sim, camera=camera)
+        c = robot.simulator.com_px
+        robot.execute((c[0] - 40, c[1], c[0] - 25, c[1]), retract=False)  # pusher in view
+        frames[table, arm] = robot.camera_frame().astype(float)
+        robot.close()
+    strip = (slice(0, 20), slice(0, 160))  # a band of table away from the object
+    assert frames["stripes", False][strip].std() > 5 * frames["plain", False][strip].std()
+    arm = np.abs(frames["stripes", True] - frames["stripes", False]).max(axis=2) > 30
+    assert arm.sum() > 100  # the arm's link, reaching out of the frame
+    assert arm[:10].any()  # to the image's far (top) edge
+    default = simulators.CameraSettings()
+    assert (default.tilt, default.table, default.arm) == (0.0, "plain", False)
+
+
+@pytest.mark.parametrize(
+    ("options", "error", "match"),
+    [
+        ({"tilt": 30}, ValueError, r"tilt must be in \[0, 1\] radians .*degrees given"),
+        ({"tilt": -0.1}, ValueError, "tilt"),
+        ({"table": "oak"}, ValueError, r"table must be one of \('plain', 'wood', 'stripes'\)"),
+        ({"arm": "yes"}, TypeError, "arm must be True or False"),
+    ],
+)
+def test_bad_cell_settings_are_named(options, error, match):
+    with pytest.raises(error, match=match):
+        simulators.CameraSettings(**options)

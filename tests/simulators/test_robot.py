@@ -44,8 +44,8 @@ def test_pose_maps_the_first_mask_onto_the_current_one(sim):
     pose = robot.pose
     moved = comcore.apply_motion(first.pixels, pose.theta, (pose.tx, pose.ty), first.centroid)
     assert np.allclose(moved.mean(axis=0), robot.camera_mask().centroid, atol=0.3)
-    com = comcore.apply_motion(robot.true_com_px(), pose.theta, (pose.tx, pose.ty), first.centroid)
-    assert np.allclose(com, robot.com_in_camera())
+    com = comcore.apply_motion(robot.true_com_px, pose.theta, (pose.tx, pose.ty), first.centroid)
+    assert np.allclose(com, robot.com_in_camera)
 
 
 def test_push_motion_is_about_the_centroid_before_it(sim):
@@ -65,7 +65,7 @@ def test_camera_sees_the_margin_around_the_turning_object():
     reach_px = (radius + 0.05) / robot.resolution
     h, w = robot.image_shape
     assert min(centre[0], centre[1], w - 1 - centre[0], h - 1 - centre[1]) >= reach_px - 1.5
-    assert robot.true_com_px() == robot.simulator.com_px
+    assert robot.true_com_px == robot.simulator.com_px
 
 
 def test_seeded_determinism(sim):
@@ -284,7 +284,7 @@ def test_a_session_without_resets_replays_for_calibration(sim, observe):
     )
     np.testing.assert_allclose(again.com, est.com, rtol=0, atol=1e-6)
     assert again.posterior.credible_radius_px == pytest.approx(est.posterior.credible_radius_px)
-    truth = robot.true_com_px()
+    truth = robot.true_com_px
     cal = comcore.calibrate_model_weight([(first, est, truth)], model=model, powers=(0.6,))
     assert cal.coverage.tolist() == [float(est.region_holds(truth))]
     assert cal.error_m[0] == pytest.approx(est.error_px(truth) * first.resolution)

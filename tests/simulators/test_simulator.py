@@ -287,3 +287,36 @@ def test_action_from_world_rejects_bad_input(args, match):
     sim = PushSimulator.from_polygon([(0, 0), (0.04, 0), (0.04, 0.02), (0, 0.02)])
     with pytest.raises(ValueError, match=match):
         simulators.action_from_world(sim, *args)
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "match"),
+    [
+        (lambda s: s.with_com((0.04, 0.03, 0.0)), ValueError, "com_m must be two finite numbers"),
+        (lambda s: s.with_com([]), ValueError, "com_m must be two finite numbers"),
+        (lambda s: s.with_com("centre"), TypeError, "com_m must be two finite numbers"),
+        (lambda s: s.mask_at((0.04, 0.03)), ValueError, r"pose must be three .* shape \(2,\)"),
+        (lambda s: s.outline_at((0.04, 0.03, np.nan)), ValueError, "pose must be three finite"),
+        (
+            lambda s: s.push((0, 19.5, 19.5, 19.5), pose=[[0.04, 0.03, 0.0]]),
+            ValueError,
+            r"pose must be three finite numbers .* shape \(1, 3\)",
+        ),
+        (lambda s: s.push((0, 19.5, 19.5, 19.5), pose="origin"), TypeError, "pose must be"),
+        (
+            lambda s: simulators.ObjectShape(np.array(RECT, float), uniform_com_m=[[0.04, 0.03]]),
+            ValueError,
+            "uniform_com_m must be two finite numbers",
+        ),
+    ],
+)
+def test_poses_and_coms_of_the_wrong_shape_are_refused_by_name(call, error, match):
+    sim = PushSimulator.from_polygon(RECT)
+    with pytest.raises(error, match=match):
+        call(sim)
+
+
+@pytest.mark.parametrize("fraction", [7239, 1.0, -0.1, float("nan")])
+def test_random_com_names_a_bad_depth_fraction(fraction):
+    with pytest.raises(ValueError, match="depth_fraction must be in"):
+        simulators.random_com(simulators.load_object("Obj1"), rng=0, depth_fraction=fraction)
