@@ -22,7 +22,8 @@ in the subpackage that holds it:
 * :mod:`comcore.plot`, :mod:`comcore.cli`, :mod:`comcore.bench`: pictures, the
   command line and the benchmark (each loads its extras when imported).
 
-``import comcore`` loads numpy and scipy only.
+``import comcore`` loads numpy and scipy only, and the core's modules: the goal session,
+recordings, ROS messages and the validators' namespace load on first use.
 
 Examples
 --------
@@ -34,40 +35,63 @@ Examples
 (10.5, 10.5)
 """
 
-# The subpackages, in the order of the layers (each imports only those above it).
+from typing import TYPE_CHECKING
+
 from . import active as active
 from . import camera as camera
-from . import checks as checks
 from . import conventions as conventions
 from . import geometry as geometry
-from . import goal as goal
 from . import motion as motion
 from . import paper as paper
-from . import recordings as recordings
-from . import ros as ros
 from . import vt as vt
 from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
+from ._lazy import lazy_exports
 from ._mask import Mask
 from ._status import Status
 from ._types import Action, Estimate, Motion, PushFrame, PushRecord
 from .active import (
     ActiveSession,
     Likelihood,
-    PowerCalibration,
     PushChoice,
     StopRule,
-    calibrate_model_weight,
     credible_level,
-    estimate_active,
     estimate_posterior,
 )
-from .camera import MotionMeasurement, mask_from_image, measure_motion
+from .camera import MotionMeasurement, measure_motion
 from .conventions import apply_motion
 from .geometry import mask_from_outline, sample_pushes
-from .goal import Goal, GoalSession
 from .motion import HypothesisPredictor, LimitSurfaceModel, Predictor
 from .paper import estimate_heatmap, estimate_progressive
-from .recordings import RecordedPush, Recording, SkippedPush, recording_from_poses
+
+# The application layers load on first use: ``import comcore`` loads the core alone.
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "checks": "checks",
+        "goal": "goal",
+        "recordings": "recordings",
+        "ros": "ros",
+        "Goal": "goal",
+        "GoalSession": "goal",
+        "RecordedPush": "recordings",
+        "Recording": "recordings",
+        "SkippedPush": "recordings",
+        "recording_from_poses": "recordings",
+        "estimate_active": "active",
+        "PowerCalibration": "active",
+        "calibrate_model_weight": "active",
+        "mask_from_image": "camera",
+    },
+)
+if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
+    from . import checks as checks
+    from . import goal as goal
+    from . import recordings as recordings
+    from . import ros as ros
+    from .active import PowerCalibration, calibrate_model_weight, estimate_active
+    from .camera import mask_from_image
+    from .goal import Goal, GoalSession
+    from .recordings import RecordedPush, Recording, SkippedPush, recording_from_poses
 
 __version__ = "0.1.0"
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 from ._checks import check_point, check_points
 from ._types import readonly
-from ._units import check_plausible
 from ._validation import (
     check_actions,
     check_mask,
@@ -33,6 +32,7 @@ from ._validation import (
     check_probability,
     check_rng,
 )
+from .conventions import check_plausible
 
 __all__ = [
     "check_actions",

@@ -15,10 +15,11 @@ everything below it: the base modules, :mod:`comcore.geometry`, :mod:`comcore.vt
 :mod:`comcore.motion` and :mod:`comcore.camera`.
 """
 
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
 from .._types import PathPoint, PosteriorDetails
 from ._bagging import RECORDED_BOOTSTRAP
-from ._blocking import estimate_active
-from ._calibrate import PowerCalibration, calibrate_model_weight
 from ._choice import PushChoice
 from ._likelihood import Likelihood
 from ._options import RECORDED_SYSTEMATIC_ERROR, SESSION_SYSTEMATIC_ERROR
@@ -26,6 +27,19 @@ from ._posterior import estimate_posterior
 from ._records import SessionState, credible_level
 from ._session import ActiveSession
 from ._stop import SenseCheck, StopRule
+
+# The blocking loop and the power's calibration load on first use.
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "estimate_active": "_blocking",
+        "PowerCalibration": "_calibrate",
+        "calibrate_model_weight": "_calibrate",
+    },
+)
+if TYPE_CHECKING:
+    from ._blocking import estimate_active
+    from ._calibrate import PowerCalibration, calibrate_model_weight
 
 __all__ = [
     "RECORDED_BOOTSTRAP",

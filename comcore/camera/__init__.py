@@ -10,16 +10,33 @@ May import the base modules, :mod:`comcore.geometry` and
 :mod:`comcore.vt`.
 """
 
-from ._image import mask_from_image
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
 from ._registration import MotionMeasurement, measure_motion
-from ._tags import (
-    TAG_DICTIONARIES,
-    TagPose,
-    TagTrack,
-    centroid_in_tag,
-    motion_from_tags,
-    track_tag,
+
+# Segmentation and tags load on first use: a session registers masks, it needs neither.
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "mask_from_image": "_image",
+        **dict.fromkeys(
+            ("TAG_DICTIONARIES", "TagPose", "TagTrack", "centroid_in_tag", "motion_from_tags",
+             "track_tag"),
+            "_tags",
+        ),
+    },
 )
+if TYPE_CHECKING:
+    from ._image import mask_from_image
+    from ._tags import (
+        TAG_DICTIONARIES,
+        TagPose,
+        TagTrack,
+        centroid_in_tag,
+        motion_from_tags,
+        track_tag,
+    )
 
 __all__ = [
     "TAG_DICTIONARIES",
