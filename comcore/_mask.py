@@ -322,8 +322,13 @@ class Mask:
         ``NORMAL_SMOOTHING_PX`` pixels, interpolated at the (sub-pixel) points:
         robust to the staircase of a pixel outline. Where the gradient vanishes
         (deep inside or far outside the object) the normal is ``(0, 0)``.
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not of shape (n, 2) or (2,), or holds NaN or inf.
         """
-        p = np.atleast_2d(np.asarray(points, dtype=float))
+        p = check_points(points)
         nx, ny = self._inward_field.interpolate(
             p[:, 1] + _NORMAL_PAD, p[:, 0] + _NORMAL_PAD, "constant"
         )
