@@ -26,3 +26,21 @@ def test_inward_normals_checks_its_points_as_its_siblings_do(rect, points, match
 
 def test_inward_normals_of_no_points_is_empty(rect):
     assert rect.inward_normals([]).shape == (0, 2)
+
+
+@pytest.mark.parametrize(
+    ("option", "match"),
+    [
+        ({"standoff": 12}, r"standoff 12 m is implausible .*did you mean millimetres, 0.012\?"),
+        ({"clearance": 9}, r"clearance 9 m is implausible \(expected at most 0.5 m\)"),
+        ({"standoff": -1}, "standoff"),
+    ],
+)
+def test_sample_pushes_names_an_implausible_standoff_or_clearance(rect, option, match):
+    with pytest.raises(ValueError, match=match):
+        comcore.sample_pushes(rect, 5, rng=0, **option)
+
+
+def test_sample_pushes_names_the_clearance_when_no_start_fits(rect):
+    with pytest.raises(ValueError, match=r"no valid push with clearance=0.3 m and standoff=0.012 m"):
+        comcore.sample_pushes(rect, 5, clearance=0.3, rng=0)
