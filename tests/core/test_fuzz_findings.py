@@ -44,3 +44,11 @@ def test_sample_pushes_names_an_implausible_standoff_or_clearance(rect, option, 
 def test_sample_pushes_names_the_clearance_when_no_start_fits(rect):
     with pytest.raises(ValueError, match=r"no valid push with clearance=0.3 m and standoff=0.012 m"):
         comcore.sample_pushes(rect, 5, clearance=0.3, rng=0)
+
+
+@pytest.mark.parametrize("prior", [[[True]], np.zeros((0, 0)), [(70.0, 70.0, 1.0)]])
+def test_goal_session_names_a_bad_prior_as_prior(prior):
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 60))
+    goal = comcore.Goal(displacement=(0.05, 0.0))
+    with pytest.raises(ValueError, match=r"^prior's CoMs must be finite, shape \(k, 2\) pixels"):
+        comcore.GoalSession(mask, goal, prior=prior, rng=0)
