@@ -52,3 +52,34 @@ def test_goal_session_names_a_bad_prior_as_prior(prior):
     goal = comcore.Goal(displacement=(0.05, 0.0))
     with pytest.raises(ValueError, match=r"^prior's CoMs must be finite, shape \(k, 2\) pixels"):
         comcore.GoalSession(mask, goal, prior=prior, rng=0)
+
+
+@pytest.mark.parametrize(
+    ("covariance", "match"),
+    [
+        (np.ones(4), r"must have shape \(2, 2\), got \(4,\)"),
+        (np.eye(3), r"must have shape \(2, 2\), got \(3, 3\)"),
+        (np.full((2, 2), np.nan), "must be finite"),
+        ([[1.0, 2.0], [0.0, 1.0]], "must be symmetric"),
+        ([[-1.0, 0.0], [0.0, 1.0]], "must be symmetric with variances >= 0"),
+        ("ab", "must be a 2 x 2 array of numbers"),
+    ],
+)
+def test_estimate_checks_its_covariance(covariance, match):
+    with pytest.raises(ValueError, match="Estimate.covariance " + match):
+        comcore.Estimate(com=(4.0, 3.0), com_m=(0.01, 0.0075), region=np.ones((6, 8), bool),
+                         covariance=covariance)  # fmt: skip
+
+
+@pytest.mark.parametrize(("field", "value"), [("com", 5), ("com", None), ("com", [[1, 2]]),
+                                              ("com_m", "ab"), ("com_m", (1.0, np.inf))])  # fmt: skip
+def test_estimate_names_a_bad_com(field, value):
+    kwargs = {"com": (4.0, 3.0), "com_m": (0.01, 0.0075), field: value}
+    with pytest.raises(ValueError, match=rf"Estimate.{field} must be two finite numbers \(x, y\)"):
+        comcore.Estimate(region=np.ones((6, 8), bool), **kwargs)
+
+
+def test_estimate_keeps_a_symmetric_covariance_read_only():
+    est = comcore.Estimate(com=(4.0, 3.0), com_m=(0.01, 0.0075), region=np.ones((6, 8), bool),
+                           covariance=[[4.0, 1.0], [1.0, 9.0]])  # fmt: skip
+    assert est.covariance.tolist() == [[4.0, 1.0], [1.0, 9.0]] and not est.covariance.flags.writeable
