@@ -83,3 +83,22 @@ def test_estimate_keeps_a_symmetric_covariance_read_only():
     est = comcore.Estimate(com=(4.0, 3.0), com_m=(0.01, 0.0075), region=np.ones((6, 8), bool),
                            covariance=[[4.0, 1.0], [1.0, 9.0]])  # fmt: skip
     assert est.covariance.tolist() == [[4.0, 1.0], [1.0, 9.0]] and not est.covariance.flags.writeable
+
+
+@pytest.mark.parametrize("radius", [0.0, 1.6])
+def test_a_push_path_far_longer_than_the_image_is_marched_only_over_the_image(radius):
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    field = comcore.geometry.outline_field(mask)
+    far = field.pusher_paths([(-1e12, 30.0, 1e12, 30.0)], radius)  # a full march: 58 TiB
+    near = field.pusher_paths([(-10.0, 30.0, 60.0, 30.0)], radius)
+    assert far[3].tolist() == near[3].tolist() == [True]
+    assert np.allclose(far[0], near[0], atol=0.01)  # the disc's centre at first contact
+    assert far[2][0] == pytest.approx(1e12 - far[0][0, 0] - radius, abs=1.0)  # travel on
+
+
+def test_a_long_executed_path_gives_an_answer_not_an_allocation():
+    mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
+    actions = [(-1e12, 30, 1e12, 30), (0, 13, 45, 13), (13, 0, 13, 45), (30, 0, 30, 45)]
+    motions = [(0.1, 3, 0), (0.2, 3, 0), (-0.2, 0, 3), (0.2, 0, 3)]
+    est = comcore.estimate_posterior(mask, actions, motions)
+    assert mask.contains([est.com])[0]
