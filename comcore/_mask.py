@@ -9,7 +9,7 @@ from functools import cached_property, partial
 import numpy as np
 from scipy import ndimage
 
-from ._checks import check_points
+from ._checks import check_points, is_ragged
 from ._neighbourhood import (
     LocalArrays,
     Window,
@@ -34,7 +34,12 @@ def _as_bool_image(data) -> np.ndarray:
         return data.data
     try:
         arr = np.asarray(data)
-    except Exception as e:  # pragma: no cover - exotic objects
+    except Exception as e:
+        if is_ragged(e):
+            raise TypeError(
+                "mask data must be a 2-D (H, W) array, got ragged rows (nested lists of "
+                "different lengths)"
+            ) from e
         raise TypeError(f"mask data must be array_like, got {type(data).__name__}") from e
     if arr.ndim != 2:
         raise ValueError(

@@ -102,3 +102,19 @@ def test_a_long_executed_path_gives_an_answer_not_an_allocation():
     motions = [(0.1, 3, 0), (0.2, 3, 0), (-0.2, 0, 3), (0.2, 0, 3)]
     est = comcore.estimate_posterior(mask, actions, motions)
     assert mask.contains([est.com])[0]
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda m: m.contains([[1, 0], [1]]), "points"),
+        (lambda m: comcore.vt.region(m, [[0, 20, 40, 20], [1]], [0.1, 0.1]), "action"),
+        (lambda m: comcore.geometry.contacts(m, [[0, 20, 40, 20], [1]]), "actions"),
+        (lambda m: comcore.geometry.mask_from_outline([[0, 0], [1], [0, 1]]), "outline"),
+        (lambda m: comcore.Mask([[1, 0], [1]]), "mask data"),
+    ],
+)
+def test_ragged_nested_lists_are_named_not_left_to_numpy(rect, call, name):
+    with pytest.raises(TypeError, match=rf"^{name} must be .*got ragged rows") as info:
+        call(rect)
+    assert "inhomogeneous" not in str(info.value)
