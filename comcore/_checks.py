@@ -48,6 +48,11 @@ def refuse_complex(value, name: str) -> None:
         )
 
 
+def is_ragged(error: Exception) -> bool:
+    """Whether numpy refused to build an array because nested lists differ in length."""
+    return isinstance(error, ValueError) and "inhomogeneous" in str(error)
+
+
 def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
     refuse_complex(value, name)
     if isinstance(value, row_type):
@@ -60,6 +65,11 @@ def _as_float_rows(value, width: int, name: str, row_type) -> np.ndarray:
         try:
             arr = np.asarray(value, dtype=float)
         except (TypeError, ValueError) as e:
+            if is_ragged(e):
+                raise TypeError(
+                    f"{name} must be array_like of real numbers with shape (n, {width}), got "
+                    "ragged rows (nested lists of different lengths)"
+                ) from e
             raise TypeError(
                 f"{name} must be array_like of real numbers with shape (n, {width}); {e}"
             ) from e

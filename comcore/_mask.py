@@ -9,7 +9,7 @@ from functools import cached_property, partial
 import numpy as np
 from scipy import ndimage
 
-from ._checks import check_points
+from ._checks import check_points, is_ragged
 from ._neighbourhood import (
     LocalArrays,
     Window,
@@ -34,7 +34,12 @@ def _as_bool_image(data) -> np.ndarray:
         return data.data
     try:
         arr = np.asarray(data)
-    except Exception as e:  # pragma: no cover - exotic objects
+    except Exception as e:
+        if is_ragged(e):
+            raise TypeError(
+                "mask data must be a 2-D (H, W) array, got ragged rows (nested lists of "
+                "different lengths)"
+            ) from e
         raise TypeError(f"mask data must be array_like, got {type(data).__name__}") from e
     if arr.ndim != 2:
         raise ValueError(
@@ -322,8 +327,13 @@ class Mask:
         ``NORMAL_SMOOTHING_PX`` pixels, interpolated at the (sub-pixel) points:
         robust to the staircase of a pixel outline. Where the gradient vanishes
         (deep inside or far outside the object) the normal is ``(0, 0)``.
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not of shape (n, 2) or (2,), or holds NaN or inf.
         """
-        p = np.atleast_2d(np.asarray(points, dtype=float))
+        p = check_points(points)
         nx, ny = self._inward_field.interpolate(
             p[:, 1] + _NORMAL_PAD, p[:, 0] + _NORMAL_PAD, "constant"
         )
@@ -334,5 +344,101 @@ class Mask:
         v[~good] = 0.0
         return v
 
+    # -- a printable, rebuildable form ----------------------------------------------
+    def to_rle(self) -> str:
+        """The image as run lengths: alternating runs of False and True pixels, row-major.
+
+        The first run counts the leading False pixels (0 if the image starts with the
+        object); the trailing False run is left out. :meth:`from_rle` rebuilds the image.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> Mask(np.array([[0, 1, 1], [0, 0, 1]])).to_rle()
+        '1 2 2 1'
+        """
+        flat = np.concatenate([[False], self.data.ravel(), [False]])
+        edges = np.flatnonzero(flat[1:] != flat[:-1])  # starts of True runs, then their ends
+        runs = np.diff(np.concatenate([[0], edges]))
+        return " ".join(str(int(r)) for r in runs)
+
+    @classmethod
+    def from_rle(
+        cls, shape, rle: str, resolution: float = DEFAULT_RESOLUTION, *,
+        area_px: int | None = None, centroid=None,
+    ) -> Mask:  # fmt: skip
+        """A mask rebuilt from :meth:`to_rle`'s run lengths (the form its repr prints).
+
+        Parameters
+        ----------
+        shape : tuple of int, (H, W)
+            The image's size.
+        rle : str
+            Run lengths separated by spaces: alternating False and True runs, row-major,
+            starting with a False run (which may be 0); the last False run may be left out.
+        resolution : float, optional
+            Metres per pixel, as :class:`Mask` takes it.
+        area_px : int, optional
+            If given, the rebuilt mask must have this many object pixels.
+        centroid : (float, float), optional
+            If given, the rebuilt centroid ``(x, y)`` must match it to 0.01 pixel.
+
+        Returns
+        -------
+        Mask
+
+        Raises
+        ------
+        ValueError
+            If the runs do not fit ``shape``, or ``area_px``/``centroid`` disagree with them
+            (the printed form was edited or cut).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> m = Mask(np.pad(np.ones((2, 3), bool), 1), resolution=0.01)
+        >>> m
+        Mask.from_rle((4, 5), '6 3 2 3', resolution=0.01, area_px=6, centroid=(2.0, 1.5))
+        >>> np.array_equal(eval(repr(m)).data, m.data)
+        True
+        """
+        try:
+            h, w = (int(v) for v in shape)
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"shape must be two integers (H, W), got {shape!r}") from e
+        if h <= 0 or w <= 0:
+            raise ValueError(f"shape must be two positive integers (H, W), got {shape!r}")
+        check_image_size((h, w), "shape")
+        if not isinstance(rle, str):
+            raise TypeError(f"rle must be a string of run lengths, got {type(rle).__name__}")
+        try:
+            runs = np.array([int(v) for v in rle.split()], dtype=np.int64)
+        except ValueError as e:
+            raise ValueError(
+                f"rle must hold non-negative integers separated by spaces, got {rle[:40]!r}"
+            ) from e
+        if (runs < 0).any() or runs.sum() > h * w:
+            raise ValueError(
+                f"rle must hold non-negative run lengths adding up to at most {h} * {w} = "
+                f"{h * w} pixels, got runs adding up to {int(runs.sum())}"
+            )
+        flat = np.repeat(np.arange(len(runs)) % 2 == 1, runs)
+        mask = cls(np.pad(flat, (0, h * w - flat.size)).reshape(h, w), resolution)
+        if area_px is not None and mask.area_px != area_px:
+            raise ValueError(f"area_px {area_px} disagrees with the runs' {mask.area_px} pixels")
+        if centroid is not None and not np.allclose(mask.centroid, centroid, rtol=0, atol=0.01):
+            raise ValueError(
+                f"centroid {tuple(centroid)} disagrees with the runs' centroid {mask.centroid}"
+            )
+        return mask
+
+    def _repr_pretty_(self, printer, cycle) -> None:
+        """Print as :meth:`__repr__` in IPython and hypothesis (not field by field)."""
+        printer.text(repr(self))
+
     def __repr__(self) -> str:
-        return f"Mask(shape={self.shape}, area_px={self.area_px}, resolution={self.resolution})"
+        cx, cy = self.centroid
+        return (
+            f"Mask.from_rle({self.shape}, {self.to_rle()!r}, resolution={self.resolution!r}, "
+            f"area_px={self.area_px}, centroid=({round(cx, 2)!r}, {round(cy, 2)!r}))"
+        )

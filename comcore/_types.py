@@ -366,6 +366,35 @@ def readonly(values, dtype=None) -> np.ndarray:
     return out
 
 
+def _check_pair(value, name: str) -> tuple[float, float]:
+    """``value`` as two finite floats ``(x, y)``, or a named error."""
+    try:
+        pair = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        pair = ()
+    if len(pair) != 2 or not all(map(math.isfinite, pair)):
+        raise ValueError(f"{name} must be two finite numbers (x, y), got {value!r}")
+    return pair  # type: ignore[return-value]
+
+
+def _check_covariance(value) -> np.ndarray:
+    """``value`` as a finite symmetric 2 x 2 array, variances >= 0, or a named error."""
+    try:
+        cov = np.array(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"Estimate.covariance must be a 2 x 2 array of numbers; {e}") from e
+    if cov.shape != (2, 2):
+        raise ValueError(f"Estimate.covariance must have shape (2, 2), got {cov.shape}")
+    if not np.isfinite(cov).all():
+        raise ValueError(f"Estimate.covariance must be finite, got {cov.tolist()}")
+    if not np.isclose(cov[0, 1], cov[1, 0], rtol=1e-9, atol=1e-12) or (np.diag(cov) < 0).any():
+        raise ValueError(
+            "Estimate.covariance must be symmetric with variances >= 0 on its diagonal, got "
+            f"{cov.tolist()}"
+        )
+    return cov
+
+
 def _check_region(region) -> np.ndarray:
     """``region`` as a 2-D boolean array, or a named error."""
     try:
@@ -576,17 +605,13 @@ class Estimate:
     posterior: PosteriorDetails | None = None
 
     def __post_init__(self):
-        com = tuple(float(v) for v in self.com)
-        com_m = tuple(float(v) for v in self.com_m)
-        if len(com) != 2 or len(com_m) != 2 or not all(map(math.isfinite, com + com_m)):
-            raise ValueError(f"Estimate.com must be two finite numbers, got {self.com}")
-        object.__setattr__(self, "com", com)
-        object.__setattr__(self, "com_m", com_m)
+        object.__setattr__(self, "com", _check_pair(self.com, "Estimate.com"))
+        object.__setattr__(self, "com_m", _check_pair(self.com_m, "Estimate.com_m"))
         object.__setattr__(self, "region", readonly(_check_region(self.region)))
         object.__setattr__(self, "used", tuple(int(i) for i in self.used))
         object.__setattr__(self, "status", Status.check(self.status, "Estimate.status"))
         if self.covariance is not None:
-            object.__setattr__(self, "covariance", readonly(np.asarray(self.covariance, float)))
+            object.__setattr__(self, "covariance", readonly(_check_covariance(self.covariance)))
         extras = {}
         for key, value in dict(self.extras).items():
             extras[key] = readonly(value) if isinstance(value, np.ndarray) else value

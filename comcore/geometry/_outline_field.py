@@ -19,6 +19,7 @@ from scipy import ndimage
 from .._mask import Mask
 from .._neighbourhood import LocalArrays, filter_halo, margin_px, padded_crop
 from .._validation import check_actions, check_count, check_mask, check_positive
+from ._contacts import clip_to_box
 
 __all__ = ["OutlineField", "outline_field"]
 
@@ -50,6 +51,7 @@ class OutlineField:
     def __init__(self, mask: Mask, pad: int = FIELD_PAD_PX):
         mask = check_mask(mask)
         self.pad = pad = check_count(pad, "pad")
+        self.shape = mask.shape  # the image's (H, W): the march stops this side of its padding
         # On the object's neighbourhood, grown when asked elsewhere: the whole image's numbers.
         window = mask._box.grown_by(margin_px(mask.resolution) + FIELD_HALO_PX, pad)
         self._local = LocalArrays(
@@ -146,16 +148,31 @@ def outline_field(mask: Mask) -> OutlineField:
 
 
 def _first_contact(field, start, unit, length, radius):
-    """Travel to first contact of a disc of ``radius`` along each path, and a hit flag."""
-    n = int(np.ceil(length.max(initial=0.0) / CONTACT_MARCH_PX)) + 1
-    t = np.minimum(np.arange(n)[None, :] * CONTACT_MARCH_PX, length[:, None])
+    """Travel to first contact of a disc of ``radius`` along each path, and a hit flag.
+
+    Each path is marched at ``t = k * CONTACT_MARCH_PX`` only where it passes over the image
+    grown by the field's padding and the largest radius (steps ``k0..k1`` of the full march,
+    so the samples and the contact are the full march's): farther out the distance exceeds
+    every radius. The cost is set by the image, never by the path's length.
+    """
+    grow = float(radius.max(initial=0.0)) + field.pad + 2.0
+    h, w = field.shape
+    t_in, t_out = clip_to_box(start + grow, unit, length, (h + 2 * grow, w + 2 * grow))
+    crosses = t_in <= t_out
+    k_last = np.ceil(length / CONTACT_MARCH_PX)  # the full march's last step reaches the end
+    k0 = np.where(crosses, np.floor(t_in / CONTACT_MARCH_PX), 0.0)
+    k1 = np.where(crosses, np.minimum(np.ceil(t_out / CONTACT_MARCH_PX), k_last), 0.0)
+    n = int((k1 - k0).max(initial=0.0)) + 1
+    k = k0[:, None] + np.arange(n)[None, :]  # indices into the full march
+    t = np.minimum(k * CONTACT_MARCH_PX, length[:, None])
     px, py = start[:, :1] + t * unit[:, :1], start[:, 1:] + t * unit[:, 1:]
     touching = field.sample(px, py)[0] <= radius[:, None]
-    hit = touching.any(axis=1) & ~touching[:, 0]
+    hit = touching.any(axis=1) & ~(touching[:, 0] & (k0 == 0))
     first = np.argmax(touching, axis=1)
     rows = np.arange(len(start))
-    lo = np.where(hit, t[rows, np.maximum(first - 1, 0)], 0.0)
-    hi = np.where(hit, t[rows, first], 0.0)
+    k_first = k[rows, first]
+    lo = np.where(hit, np.minimum(np.maximum(k_first - 1, 0) * CONTACT_MARCH_PX, length), 0.0)
+    hi = np.where(hit, np.minimum(k_first * CONTACT_MARCH_PX, length), 0.0)
     for _ in range(CONTACT_BISECTIONS):
         mid = 0.5 * (lo + hi)
         inside = field.sample(start[:, 0] + mid * unit[:, 0], start[:, 1] + mid * unit[:, 1])[0]

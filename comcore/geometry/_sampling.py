@@ -79,8 +79,9 @@ def sample_pushes(
     ------
     ValueError
         If ``n`` is negative or over ``MAX_SAMPLED_PUSHES``, ``travel`` shorter
-        than a quarter pixel of the mask or longer than half a metre (millimetres typed
-        for metres), or the outline admits no valid push.
+        than a quarter pixel of the mask, ``travel``, ``standoff`` or ``clearance``
+        longer than half a metre (millimetres typed for metres), or the outline
+        admits no valid push.
 
     Examples
     --------
@@ -116,8 +117,10 @@ def sample_pushes(
             f"{MIN_TRAVEL_PX * mask.resolution:g} m at this mask's resolution, got "
             f"{float(travel):g} m (travel is in metres)"
         )
-    standoff_px = check_positive(standoff, "standoff") / mask.resolution
-    clearance_px = check_positive(clearance, "clearance", allow_zero=True) / mask.resolution
+    standoff_px = check_physical(standoff, "standoff", "push_length") / mask.resolution
+    clearance_px = (
+        check_physical(clearance, "clearance", "push_length", allow_zero=True) / mask.resolution
+    )
     rng = check_rng(rng)
     outline = true_pixels(mask.boundary, mask._box)  # the object's box: not the whole frame
     out = np.empty((0, 4))
@@ -141,5 +144,9 @@ def sample_pushes(
         candidate[:, 2:] = end
         out = np.vstack([out, candidate])
     if len(out) < n:
-        raise ValueError("could not sample pushes: the mask's outline admits no valid push")
+        raise ValueError(
+            "could not sample pushes: the mask's outline admits no valid push with "
+            f"clearance={float(clearance):g} m and standoff={float(standoff):g} m (each start "
+            "must lie at least clearance from the object): lower clearance (0 disables it)"
+        )
     return out[:n]

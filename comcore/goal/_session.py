@@ -167,6 +167,20 @@ def _push_directions(push_directions) -> np.ndarray | None:
     return allowed
 
 
+def _named_prior_particles(first, prior, n: int, mus):
+    """:func:`prior_particles`, its refusals naming ``prior`` (the argument the user passed).
+
+    The hypotheses' validators name the argument of :func:`hypotheses_from`, ``posterior``.
+    """
+    try:
+        return prior_particles(first, prior, n, mus)
+    except ValueError as e:
+        message = str(e)
+        if not message.startswith("posterior"):
+            raise
+        raise ValueError("prior" + message[len("posterior") :]) from None
+
+
 class GoalSession(PushLoop):
     """Push an object to a goal pose, one push at a time, driven by the caller's loop.
 
@@ -350,7 +364,7 @@ class GoalSession(PushLoop):
             start = prior.pose
             if prior.estimate().region.shape != self._first.shape:
                 raise ValueError("prior's ActiveSession runs on a mask of another shape")
-        pixels, weights, mu_weights, fixed = prior_particles(
+        pixels, weights, mu_weights, fixed = _named_prior_particles(
             self._first, prior, self._n_particles, self._scoring.mus
         )
         self._posterior = self._scoring.posterior(pixels, weights, mu_weights)

@@ -133,7 +133,7 @@ def test_a_package_importing_its_modules_is_no_cycle(tmp_path):
 LAYERS = (
     ("comcore",),
     ("comcore.geometry",),
-    ("comcore.vt",),
+    ("comcore.vt", "comcore.testing"),
     ("comcore.motion", "comcore.camera", "comcore.recordings", "comcore.paper"),
     ("comcore.active", "comcore.ros"),
     ("comcore.goal",),
