@@ -54,6 +54,7 @@ from ._grid import GridPosterior
 from ._lattice import lattice_stride
 from ._motion_term import (
     NEAR_LINE_M,
+    KnownPushes,
     ModelNoise,
     com_shift,
     excess_surprise,
@@ -545,6 +546,8 @@ class PushMemo:
     """The model's motion for the live hypotheses (None until asked)."""
     end_terms: dict = field(default_factory=dict)
     """The end terms of each reading (:class:`ReadingKey` -> :class:`EndTerms`)."""
+    known: KnownPushes | None = None
+    """The predictions of every push known up front (read instead of asking the model)."""
 
 
 class Predicted(NamedTuple):
@@ -727,7 +730,7 @@ def _predicted(push: PushToScore, asked, memo: PushMemo) -> Predicted:
     kept = memo.offset_marginal
     if kept is None or not np.array_equal(kept.asked, asked):  # another posterior's
         motion, spread = offset_marginal(
-            push.scoring, push.mask, push.action, push.pixels, offset, asked
+            push.scoring, push.mask, push.action, push.pixels, offset, asked, known=memo.known
         )
         kept = memo.offset_marginal = OffsetMarginal(asked, motion, spread)
         memo.end_terms.clear()  # they were read against the other predictions

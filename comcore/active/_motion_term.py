@@ -13,6 +13,7 @@ the Voting Theorem's.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -23,9 +24,11 @@ from ..conventions import rotate_vectors
 __all__ = [
     "NEAR_LINE_M",
     "STUDENT_DOF",
+    "KnownPushes",
     "ModelNoise",
     "com_shift",
     "excess_surprise",
+    "friction_predictions",
     "log_likelihood",
     "model_error_log_density",
     "model_predictions",
@@ -189,17 +192,23 @@ def excess_surprise(terms) -> np.ndarray:
 def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     """Motions of ``actions`` per (pixel, mu, model) where ``alive``, shape (p, m, k, a, 3).
 
-    Hypotheses that are not alive are left NaN (the models are not asked).
+    Hypotheses that are not alive are left NaN (the models are not asked). A
+    model with ``predict_frictions(mask, actions, coms, mus)`` is asked once
+    about every friction value (:func:`friction_predictions`); any other once
+    per friction value, about the hypotheses alive at it.
     """
     out = np.full((*alive.shape, len(actions), 3), np.nan)
     for model in models:  # optional: a model that batches friction values is told them
         expect = getattr(model, "expect_frictions", None)
         if callable(expect):
             expect(mask, mus)
+    for k, model in enumerate(models):
+        if callable(getattr(model, "predict_frictions", None)):
+            friction_predictions(model, mask, actions, pixels, mus, alive[:, :, k], out[:, :, k])
     for j, mu_j in enumerate(mus):
         for k, model in enumerate(models):
             idx = np.flatnonzero(alive[:, j, k])
-            if len(idx) == 0:
+            if len(idx) == 0 or callable(getattr(model, "predict_frictions", None)):
                 continue
             pred = np.asarray(model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j)))
             shape = (len(idx), len(actions), 3)
@@ -212,7 +221,106 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     return out
 
 
-def offset_marginal(scoring, mask, action, pixels, offset, alive):
+def friction_predictions(model, mask, actions, pixels, mus, alive, out) -> None:
+    """One ``model.predict_frictions`` call for every friction value, written into ``out``.
+
+    ``alive`` (p, m) says which (pixel, mu) hypotheses to keep; the model is
+    asked about every pixel alive at some friction value and returns
+    ``(n_mu, n_coms, n_actions, 3)``. ``out`` (p, m, a, 3) is filled where
+    ``alive``.
+    """
+    idx = np.flatnonzero(alive.any(axis=1))
+    if len(idx) == 0:
+        return
+    mus = np.asarray(mus, dtype=float)
+    pred = np.asarray(model.predict_frictions(mask, actions, pixels[idx], mus.copy()))
+    shape = (len(mus), len(idx), len(actions), 3)
+    if pred.shape != shape or not np.isfinite(pred).all():
+        raise ValueError(
+            f"model.predict_frictions must return finite motions of shape {shape} "
+            f"(friction values, CoMs, actions, 3), got shape {pred.shape}"
+        )
+    keep = alive[idx][..., None, None]
+    out[idx] = np.where(keep, np.moveaxis(pred, 0, 1), np.nan)
+
+
+#: Most numbers one batched call of :meth:`KnownPushes._fill` may hold (pushes x CoMs x
+#: friction values x models x 3): 32 MiB of predictions.
+MAX_BATCH_VALUES = 2**22
+
+
+@dataclass(eq=False)
+class KnownPushes:
+    """The model's predictions for pushes known up front, asked for all of them at once.
+
+    Internal and mutable: :func:`comcore.estimate_posterior` makes one and passes it to
+    every push it scores, its theta-units check included. The first push scored fills
+    it: every push's CoMs at the pusher's offset nodes (:func:`pusher_nodes`) for
+    the hypotheses then alive (the prior's: every later posterior's are among them),
+    asked in one :func:`model_predictions` call over all the pushes. Later pushes,
+    and the check's second posterior, read it instead of asking the model again.
+    """
+
+    actions: np.ndarray
+    """The pushes, shape (n, 4)."""
+    pixels: np.ndarray | None = None
+    """The hypotheses' CoMs the predictions are for, shape (p, 2) (None until filled)."""
+    asked: np.ndarray | None = None
+    """Which (pixel, friction, model) hypotheses were asked, shape (p, m, k)."""
+    motions: np.ndarray | None = None
+    """Each push's predictions at its nodes' CoMs, shape (n, nodes * p, m, k, 3)."""
+
+    def predictions(self, scoring, mask, action, pixels, alive):
+        """:func:`offset_marginal`'s model predictions for ``action``, or None if not kept.
+
+        Shape (nodes * p, m, k, 3) as :func:`model_predictions` gives them
+        (first axis node-major); None when ``action`` is not one of the
+        pushes, the hypotheses are other CoMs, or one alive was not asked.
+        """
+        if self.motions is None:
+            self._fill(scoring, mask, pixels, alive)
+        hit = np.flatnonzero(np.all(self.actions == np.asarray(action, dtype=float), axis=1))
+        if len(hit) == 0 or not np.array_equal(self.pixels, pixels):
+            return None
+        if np.any(alive & ~self.asked):
+            return None
+        return self.motions[hit[0]]
+
+    def _fill(self, scoring, mask, pixels, alive) -> None:
+        """Ask each model about the pushes in few calls, for the hypotheses ``alive``.
+
+        The pushes go in chunks whose every push against every CoM asked for the
+        chunk holds at most :data:`MAX_BATCH_VALUES` numbers; a model that keeps
+        its own memo of each push (``expect_frictions``: comcore's lattice
+        models, whose last digits depend on the pushes asked together) one at a time.
+        """
+        p, n = len(pixels), len(self.actions)
+        coms = [_node_coms(pixels, pusher_nodes(a, scoring)[0]) for a in self.actions]
+        rows = len(coms[0])  # nodes x p, node-major
+        many = np.concatenate([alive] * (rows // p))
+        self.motions = np.empty((n, *many.shape, 3))
+        for k, model in enumerate(scoring.models):
+            chunk = max(1, min(n, math.isqrt(MAX_BATCH_VALUES // (rows * many[0, :, 0].size * 3))))
+            if callable(getattr(model, "expect_frictions", None)):
+                chunk = 1
+            for start in range(0, n, chunk):
+                part = range(start, min(n, start + chunk))
+                union = np.concatenate([coms[i] for i in part])
+                asked = np.concatenate([many[:, :, k : k + 1]] * len(part))
+                acts = self.actions[start : part.stop]
+                pred = model_predictions((model,), mask, acts, union, scoring.mus, asked)
+                for c, i in enumerate(part):  # push i's rows against its own action
+                    self.motions[i, :, :, k] = pred[c * rows : (c + 1) * rows, :, 0, c]
+        self.pixels, self.asked = np.array(pixels, dtype=float), alive.copy()
+
+
+def _node_coms(pixels, shifts) -> np.ndarray:
+    """The CoMs asked for a push: ``pixels`` moved by minus each node's shift, node-major."""
+    n, p = len(shifts), len(pixels)
+    return (pixels[None] - shifts[:, None]).reshape(n * p, 2)
+
+
+def offset_marginal(scoring, mask, action, pixels, offset, alive, *, known=None):
     """The model's motion (p, m, k, 3) marginalised over the pusher's offset, and its spread.
 
     The executed push lies ``s ~ N(0, pusher_error)`` across the planned one.
@@ -225,14 +333,18 @@ def offset_marginal(scoring, mask, action, pixels, offset, alive):
     hypothesis' CoM. Returned: the nodes' mean motion and the standard
     deviations ``(rad, px)`` of the rotation and of each component of the
     CoM's displacement over the nodes (zeros without a pusher error).
-    ``scoring`` is the :class:`comcore.active._likelihood.Scoring` of the session.
+    ``scoring`` is the :class:`comcore.active._likelihood.Scoring` of the session;
+    ``known`` (:class:`KnownPushes`), where the pushes are known up front, keeps the
+    model's predictions for every push (the model is asked only where it cannot).
     """
     shifts, log_w = pusher_nodes(action, scoring)
     n, p = len(shifts), len(pixels)
-    coms = (pixels[None] - shifts[:, None]).reshape(n * p, 2)
-    act = np.asarray(action, dtype=float)[None]
+    coms = _node_coms(pixels, shifts)
     many = np.concatenate([alive] * n)
-    pred = model_predictions(scoring.models, mask, act, coms, scoring.mus, many)[..., 0, :]
+    pred = None if known is None else known.predictions(scoring, mask, action, pixels, alive)
+    if pred is None:
+        act = np.asarray(action, dtype=float)[None]
+        pred = model_predictions(scoring.models, mask, act, coms, scoring.mus, many)[..., 0, :]
     pred = np.where(many[..., None], pred, 0.0).reshape(n, p, *alive.shape[1:], 3)
     if n == 1:
         return pred[0], (0.0, 0.0)

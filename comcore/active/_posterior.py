@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -58,12 +59,14 @@ from ..vt._force_lines import force_line_distances, push_force_lines
 from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
 from ._grid import prior_grid
 from ._likelihood import (
+    PushMemo,
     SenseTally,
     gyration_px,
     push_evidence,
     sense_flip_prob,
     tracking_noise,
 )
+from ._motion_term import KnownPushes
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
 from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
@@ -178,37 +181,13 @@ def estimate_posterior(
     )
     given = _records(mask, actions, motions, pushes, rotation_observed, residual_px)
     acts = check_actions([record.action for _, record in given], "actions", allow_empty=False)
-    pixels, prior_weights = prior_grid(mask, prior)
     con = pusher_contacts(mask, acts, scoring.pusher_radius)
-    usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
     if frames is not None:
         given = _with_frames(mask, given, frames, theta_units, pushes, scoring, travel=con.travel)
-    records = [record for _, record in given]
-    lines = push_force_lines(con, acts, scoring.mus)
-    post = scoring.posterior(pixels, prior_weights)
-    log = PushLog(post, credible, scoring.systematic_px)
-    kept = PushLikelihoods(post, int(sum(usable))) if bootstrap else None
-    senses = SenseTally(post.log_w.shape[:2])
-    gyration = gyration_px(mask)
-    for i, record in enumerate(records):
-        if not usable[i]:
-            continue
-        if record.outcome == "miss":
-            log.add(record, post)
-            continue
-        tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
-        path = _scored_path(record, acts[i], float(con.travel[i]), scoring, mask)
-        loglik, excess = push_evidence(
-            post, scoring, mask, acts[i], lines[i], record.motion,
-            rotation_observed=record.rotation_observed, tracking=tracking, path=path,
-        )  # fmt: skip
-        log.add(record, post, loglik, excess)
-        if kept is not None:
-            kept.add(loglik.tempered)
-        _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
+    run = _Run(scoring, credible, prior, KnownPushes(acts) if scoring.models else None)
+    log, post, kept, check, usable, skipped = _scored(mask, given, run, con, bag=bootstrap > 0)
     used = [i for (i, r), ok in zip(given, usable) if ok and r.outcome == "evidence"]
     skipped = tuple(s._replace(index=given[s.index][0]) for s in skipped)
-    check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
     bagged = None  # one push is its own bag: the posterior's region
     if kept is not None and len(kept) > 1:
         bagged = kept.bagged_marginal(post.temper_weights, bootstrap, rng)
@@ -220,8 +199,75 @@ def estimate_posterior(
     reached = region_reached(radius_px, target_radius, mask.resolution)
     est = dataclasses.replace(est, status=offline_status(log.state, check, reached=reached))
     if theta_units == "auto" and scoring.models and pushes is None:
-        _refuse_degrees(mask, est, options)
+        _refuse_degrees(mask, est, options, run)
     return est
+
+
+class _Run(NamedTuple):
+    """What :func:`estimate_posterior`'s posteriors share: its first and the units check's."""
+
+    scoring: Any
+    """The :class:`comcore.active._likelihood.Scoring` of its options."""
+    credible: float
+    """The credible mass of the region."""
+    prior: Any
+    """The prior as given (None: uniform over the object)."""
+    known: KnownPushes | None
+    """The model's predictions for every push, asked once (None without a model)."""
+
+
+class _Posterior(NamedTuple):
+    """The posterior over recorded pushes, before its region and status are read."""
+
+    log: PushLog
+    """The records and states."""
+    post: Any
+    """The :class:`comcore.active._grid.GridPosterior` after the pushes."""
+    kept: PushLikelihoods | None
+    """Each push's likelihood for the bagging (None: no bagging)."""
+    senses: Any
+    """The senses' check (:func:`comcore.active._stop.sense_check`)."""
+    usable: np.ndarray
+    """Per push: whether it starts outside the object and hits it."""
+    skipped: tuple
+    """The pushes that do not (their index among the pushes given)."""
+
+
+def _scored(mask, given, run: _Run, con, *, bag: bool) -> _Posterior:
+    """The posterior over the records ``given`` (``(position, record)`` pairs).
+
+    ``con`` are the pushes' contacts; ``bag``: keep each push's likelihood for the
+    bagging.
+    """
+    scoring = run.scoring
+    acts = np.array([record.action for _, record in given], dtype=float)
+    pixels, prior_weights = prior_grid(mask, run.prior)
+    usable, skipped = usable_pushes(con, "actions")  # the rest kept, these reported
+    lines = push_force_lines(con, acts, scoring.mus)
+    post = scoring.posterior(pixels, prior_weights)
+    log = PushLog(post, run.credible, scoring.systematic_px)
+    kept = PushLikelihoods(post, int(sum(usable))) if bag else None
+    senses = SenseTally(post.log_w.shape[:2])
+    gyration = gyration_px(mask)
+    for i, (_, record) in enumerate(given):
+        if not usable[i]:
+            continue
+        if record.outcome == "miss":
+            log.add(record, post)
+            continue
+        tracking = tracking_noise(scoring.tracking, record.residual_px, gyration)
+        path = _scored_path(record, acts[i], float(con.travel[i]), scoring, mask)
+        loglik, excess = push_evidence(
+            post, scoring, mask, acts[i], lines[i], record.motion,
+            rotation_observed=record.rotation_observed, tracking=tracking, path=path,
+            memo=PushMemo(known=run.known),
+        )  # fmt: skip
+        log.add(record, post, loglik, excess)
+        if kept is not None:
+            kept.add(loglik.tempered)
+        _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)
+    check = sense_check(senses, _nearest_pixel(post.pixels, post.mean()))
+    return _Posterior(log, post, kept, check, usable, skipped)
 
 
 def _check_bootstrap(bootstrap) -> int:
@@ -240,9 +286,12 @@ def _scored_path(record, action, contact_travel: float, scoring, mask):
     return PushPath.of(action, record.path, contact_travel, tracking)
 
 
-def _refuse_degrees(mask, est, options: dict) -> None:
-    """A ValueError when every theta times pi/180 explains the pushes much better."""
-    gain = scaled_gain(mask, est, options)
+def _refuse_degrees(mask, est, options: dict, run: _Run) -> None:
+    """A ValueError when every theta times pi/180 explains the pushes much better.
+
+    The second posterior reads the model's predictions the first asked for (``run``).
+    """
+    gain = scaled_gain(mask, est, options, run)
     if gain > DEGREES_NATS:
         raise ValueError(
             f"motions[:, 0]: {degrees_message(gain)}; "
@@ -277,7 +326,7 @@ def theta_degrees_nats(
     return scaled_gain(mask, given, options)
 
 
-def scaled_gain(mask, given, options: dict) -> float:
+def scaled_gain(mask, given, options: dict, run: _Run | None = None) -> float:
     """Log evidence with every theta of ``given``'s pushes times pi/180, minus ``given``'s.
 
     ``given`` is :func:`comcore.estimate_posterior`'s estimate of the pushes as
@@ -285,14 +334,22 @@ def scaled_gain(mask, given, options: dict) -> float:
     same model, prior and likelihood) with theta converted. Each push keeps
     its outcome: one that carried evidence as given still does, so that
     both evidences score the same pushes (a push whose converted turn is below
-    the noise would otherwise drop out and count as explained).
+    the noise would otherwise drop out and count as explained). With ``run``
+    (``given``'s scoring and the model's predictions it asked for) the model is
+    not asked again.
     """
     scaled = [
         dataclasses.replace(r, motion=Motion(r.motion[0] * math.pi / 180, *r.motion[1:]))
         for r in given.pushes
     ]
-    other = estimate_posterior(mask, pushes=scaled, bootstrap=0, theta_units="rad", **options)
-    return float(other.posterior.log_evidence - given.posterior.log_evidence)
+    if run is None:
+        other = estimate_posterior(mask, pushes=scaled, bootstrap=0, theta_units="rad", **options)
+        return float(other.posterior.log_evidence - given.posterior.log_evidence)
+    records = [(i, r) for i, r in enumerate(scaled) if r.outcome != "failed"]
+    acts = check_actions([r.action for _, r in records], "actions", allow_empty=False)
+    con = pusher_contacts(mask, acts, run.scoring.pusher_radius)
+    log = _scored(mask, records, run, con, bag=False).log
+    return float(log.log_evidence - given.posterior.log_evidence)
 
 
 def _count_sense(tally: SenseTally, scoring, pixels, lines, record, tracking) -> None:

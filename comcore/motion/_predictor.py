@@ -140,6 +140,12 @@ class HypothesisPredictor(Protocol):
     the CoM were at each of ``coms`` (pixels, shape (n_coms, 2)) and the
     contact friction were ``mu`` (a float).
 
+    How often it is called: :func:`comcore.estimate_posterior` asks once per friction
+    value, all pushes in one call (in chunks on large masks); a session once per push
+    and friction value. An optional ``predict_frictions(mask, actions, coms, mus)``
+    returning ``(n_mus, n_coms, n_actions, 3)`` is asked once for every friction value
+    instead (docs/how-to/your-predictor.md, "How often your model is called").
+
     Examples
     --------
     >>> import numpy as np

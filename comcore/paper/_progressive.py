@@ -58,7 +58,7 @@ from .._validation import (
     check_positive,
     check_probability,
 )
-from ..conventions import pixel_centres, rotation_sense
+from ..conventions import DEFAULT_PUSHER_RADIUS, pixel_centres, rotation_sense
 from ..geometry._contacts import line_distances, side_counts
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._regions import best_component, estimate_from_region, label_components
@@ -134,7 +134,7 @@ def estimate_progressive(
     min_score: float = 0.6,
     selection: str = "equality",
     mu=None,
-    pusher_radius: float = 0.0,
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
     target_radius: float = DEFAULT_TARGET_RADIUS,
 ) -> Estimate:
     """Estimate the CoM with Alg. 2: cut the feasible region with the best-splitting push.
@@ -172,8 +172,10 @@ def estimate_progressive(
     mu : None, float or (lo, hi), optional
         Contact friction for the Voting Theorem (default unknown).
     pusher_radius : float, optional
-        Radius (metres) of a round pusher (default 0: a point). Pushes that start inside the
-        object or miss it are listed in ``skipped``; a ValueError if more than half are.
+        Radius (metres) of a round pusher (default
+        :data:`comcore.conventions.DEFAULT_PUSHER_RADIUS`, 4 mm; 0: a point). Pushes that
+        start inside the object or miss it are listed in ``skipped``; a ValueError if more
+        than half are.
     target_radius : float, optional
         Radius (metres) the region must reach for ``"ok"`` (default 6 mm).
 

@@ -34,7 +34,7 @@ from .._validation import (
     check_points,
     check_positive,
 )
-from ..conventions import ANGLE_EPS, _ccw_cross, rotation_sense
+from ..conventions import ANGLE_EPS, DEFAULT_PUSHER_RADIUS, _ccw_cross, rotation_sense
 from ..geometry._disc_contacts import pusher_contacts
 
 __all__ = ["consistent", "predicted_sense", "region"]
@@ -274,7 +274,7 @@ def region(
     band: float = 0.5,
     theta_tol: float = ANGLE_EPS,
     *,
-    pusher_radius: float = 0.0,
+    pusher_radius: float = DEFAULT_PUSHER_RADIUS,
 ):
     """The CoM positions on the mask consistent with an observed rotation.
 
@@ -298,8 +298,9 @@ def region(
         >= 0.
     pusher_radius : float, optional
         Radius (metres) of a round pusher: the contact is where its disc first
-        touches the object (:func:`comcore.geometry.disc_contacts`). Default 0: a point
-        on the leading line.
+        touches the object (:func:`comcore.geometry.disc_contacts`); default
+        :data:`comcore.conventions.DEFAULT_PUSHER_RADIUS` (4 mm); 0: a point on the
+        leading line.
 
     Returns
     -------

@@ -39,8 +39,8 @@ def test_equality_score_rejects_bad_counts(n1, n2, match):
 @pytest.mark.parametrize("cone", [0.0, 0.6])
 def test_true_com_stays_in_the_region_and_the_estimate_is_close(square_mask, com, cone):
     acts = random_pushes(square_mask, cone=cone)
-    mots = synthetic_motions(square_mask, acts, com, mu=0.5, gain=0.02)
-    est = comcore.estimate_progressive(square_mask, acts, mots)
+    mots = synthetic_motions(square_mask, acts, com, mu=0.5, gain=0.02)  # a point's contacts
+    est = comcore.estimate_progressive(square_mask, acts, mots, pusher_radius=0.0)
     assert est.status == "wide"  # consistent; the region (area_ratio 0.1 of 30 x 30 px) > 6 mm
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 6.0
@@ -141,13 +141,15 @@ def test_known_mu_is_at_least_as_tight_as_unknown(fixture, com, cone, mu, seed, 
     mask = request.getfixturevalue(fixture)
     acts = random_pushes(mask, n=60, cone=cone, seed=seed)
     mots = synthetic_motions(mask, acts, com, mu=mu, gain=0.02)
-    kwargs = {"selection": "rotation", "area_ratio": 0.0}
+    kwargs = {"selection": "rotation", "area_ratio": 0.0, "pusher_radius": 0.0}  # a point's
     known = comcore.estimate_progressive(mask, acts, mots, mu=mu, **kwargs)
     unknown = comcore.estimate_progressive(mask, acts, mots, **kwargs)
     assert known.status == unknown.status == "wide" and known.used == unknown.used and len(known.used) > 3
     assert known.region[int(com[1]), int(com[0])]
     # The unknown-mu region before its connected-component step: the used cuts' intersection.
-    cuts = comcore.vt.region(mask, acts[list(unknown.used)], mots[list(unknown.used)])
+    cuts = comcore.vt.region(
+        mask, acts[list(unknown.used)], mots[list(unknown.used)], pusher_radius=0.0
+    )
     unknown_cut = mask.data & cuts.all(axis=0)
     assert unknown_cut.sum() == unknown.progressive.region_sizes[-1]
     assert np.all(known.region <= unknown_cut)
@@ -304,13 +306,15 @@ def test_left_out_pushes_are_checked_together_surest_first(square_mask, turns, b
     # that region (115 and 301 of them), not both by one: the one turning less is blamed.
     acts = [(25, 0, 25, 45), (0, 10, 45, 10), (45, 39, 0, 39)]
     mots = [(-0.3, 0, 0), (turns[0], 3, 0), (turns[1], 3, 0)]
-    regions = comcore.vt.region(square_mask, acts, mots)
+    regions = comcore.vt.region(square_mask, acts, mots, pusher_radius=0.0)  # a point pusher
     assert (regions[0] & regions[1]).sum() == 115 and (regions[0] & regions[2]).sum() == 301
     assert not (regions[0] & regions[1] & regions[2]).any()
-    est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0)
+    est = comcore.estimate_progressive(square_mask, acts, mots, area_ratio=0.0, pusher_radius=0.0)
     assert est.used == (0,) and est.status == "inconsistent"
     assert est.progressive.contradicted == (blamed,)
-    alone = comcore.estimate_progressive(square_mask, acts[:1], mots[:1], area_ratio=0.0)
+    alone = comcore.estimate_progressive(
+        square_mask, acts[:1], mots[:1], area_ratio=0.0, pusher_radius=0.0
+    )
     assert est.com == alone.com  # the fallback: the cut push 0 made
 
 
