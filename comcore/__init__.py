@@ -61,7 +61,14 @@ from .active import (
     estimate_active,
     estimate_posterior,
 )
-from .camera import MotionMeasurement, mask_from_image, measure_motion
+from .camera import (
+    MotionMeasurement,
+    TableCalibration,
+    TableView,
+    calibrate_table,
+    mask_from_image,
+    measure_motion,
+)
 from .conventions import apply_motion
 from .geometry import mask_from_outline, sample_pushes
 from .goal import Goal, GoalSession
@@ -97,9 +104,12 @@ __all__ = [
     "SkippedPush",
     "Status",
     "StopRule",
+    "TableCalibration",
+    "TableView",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
+    "calibrate_table",
     "credible_level",
     "estimate_active",
     "estimate_heatmap",

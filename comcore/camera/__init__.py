@@ -4,7 +4,9 @@
 ``_light``, the object in ``_object``, the inputs in ``_input``);
 :func:`measure_motion` registers two masks into a :class:`MotionMeasurement`
 (the fit in ``_registration_fit``); ``_pose_tracking`` keeps a session's pose
-against its first mask; ``_tags`` tracks an AprilTag or ArUco marker stuck on
+against its first mask; ``_table`` calibrates the camera to the table plane
+(:func:`calibrate_table`: camera pixels, table metres and the robot's frame,
+top-down images through a :class:`TableView`); ``_tags`` tracks an AprilTag or ArUco marker stuck on
 the object (:func:`track_tag`, needs opencv) and turns its poses into motions.
 May import the base modules, :mod:`comcore.geometry` and
 :mod:`comcore.vt`.
@@ -12,6 +14,13 @@ May import the base modules, :mod:`comcore.geometry` and
 
 from ._image import mask_from_image
 from ._registration import MotionMeasurement, measure_motion
+from ._table import (
+    RobotFromTable,
+    TableCalibration,
+    TableView,
+    calibrate_table,
+    fit_robot_from_table,
+)
 from ._tags import (
     TAG_DICTIONARIES,
     TagPose,
@@ -24,9 +33,14 @@ from ._tags import (
 __all__ = [
     "TAG_DICTIONARIES",
     "MotionMeasurement",
+    "RobotFromTable",
+    "TableCalibration",
+    "TableView",
     "TagPose",
     "TagTrack",
+    "calibrate_table",
     "centroid_in_tag",
+    "fit_robot_from_table",
     "mask_from_image",
     "measure_motion",
     "motion_from_tags",
