@@ -55,6 +55,12 @@ SMOOTH_ROUNDS = 3
 MIN_LARGEST_SHARE = 0.5
 #: Several objects: the second region's summed difference is at least this share of the first's.
 MAX_SECOND_RATIO = 0.5
+#: Low contrast: the object must differ from the table by this many times its noise per pixel.
+MIN_CONTRAST_SIGMAS = 3.0
+#: Cut up: the mask must hold this share of the candidate pixels past half the object's contrast.
+MIN_HELD = 0.98
+#: Soft-edged (a shadow): the median slope on the outline, as a share of the contrast a pixel.
+MIN_SHARPNESS = 0.1
 
 
 class Found(NamedTuple):
@@ -115,11 +121,14 @@ def _beyond(beyond: np.ndarray, grid: Grid) -> np.ndarray:
     return out
 
 
-def _inner(residual: np.ndarray, limit: float, grid: Grid) -> np.ndarray:
-    """Cells of the candidate regions (either side, each on its own) off the rim."""
+def _inner(residual: np.ndarray, limit: float, grid: Grid, *, rim_too: bool = False) -> np.ndarray:
+    """Cells of the candidate regions (either side, each on its own) off the rim (or all)."""
     out = np.zeros_like(grid.cells)
     for beyond in (residual > limit, residual < -limit):
         candidates = _beyond(beyond, grid)
+        if rim_too:
+            out |= candidates
+            continue
         labels, n = ndimage.label(candidates, structure=EIGHT_CONNECTED)
         hit = np.zeros(n + 1, bool)
         hit[labels[grid.rim & candidates]] = True
@@ -140,8 +149,12 @@ class _Light(NamedTuple):
     """Whether the limit is the least step believed, not the noise."""
 
 
-def _fit_light(grid: Grid, floor: float, frame_side: int) -> _Light:
-    """The table's light on the grid, and what differs from it."""
+def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = False) -> _Light:
+    """The table's light on the grid, and what differs from it.
+
+    ``foreign``: ``values`` is a difference from the empty table, so what
+    differs from it even at the rim (the arm, a thing put down) is not light.
+    """
     means, cells, rim = grid.means, grid.cells, grid.rim
     if np.ptp(means[rim]) > 0:
         floor = QUANTISED_STEPS * floor  # a smooth light rounded to grey levels leaves steps
@@ -155,7 +168,7 @@ def _fit_light(grid: Grid, floor: float, frame_side: int) -> _Light:
     leftover, smoothed = np.zeros_like(residual), residual
     exclude = np.zeros_like(cells)
     for round_ in range(SMOOTH_ROUNDS):
-        inner = _inner(smoothed, DETECT_SIGMAS * noise, grid)
+        inner = _inner(smoothed, DETECT_SIGMAS * noise, grid, rim_too=foreign)
         if round_ and not (inner & ~exclude).any():
             break
         exclude |= inner
@@ -188,7 +201,8 @@ def find_object(
     """
     table = "the table" if reference is None else "the background image (the empty table)"
     grid = Grid(values, valid, min(values.shape) if frame_side is None else frame_side)
-    light = _fit_light(grid, floor, min(values.shape) if frame_side is None else frame_side)
+    side_px = min(values.shape) if frame_side is None else frame_side
+    light = _fit_light(grid, floor, side_px, foreign=reference is not None)
     residual, limit = light.residual, light.limit
     names = ("bright", "dark") if side == "auto" else (side,)
     found = {
@@ -213,7 +227,7 @@ def find_object(
     regions = found[side].objects()
     _check_regions(regions, side, grid.f, table, reference is not None)
     core = regions.labels == regions.ids[0]
-    return _refine(values, valid, grid, core, side, light, table, reference)
+    return _refine(_Window(values, valid, grid, reference), core, side, light, table)
 
 
 def _check_regions(regions: _Regions, side: str, f: int, table: str, background: bool) -> None:
@@ -238,6 +252,37 @@ def _check_regions(regions: _Regions, side: str, f: int, table: str, background:
         )
 
 
+def _check_contrast(diff, around, inside, region, level, table, background) -> None:
+    """ImageError if the object is too faint or soft-edged for a whole outline, or cut up.
+
+    ``diff``: the window's difference from the table towards the object's
+    side; ``around``: table pixels round the object; ``inside``: its
+    candidate cells' pixels; ``region``: the mask found. A whole object
+    holds nearly every candidate pixel past half its contrast, and its edge is
+    sharp (a shadow's is soft: a gentle slope for its contrast).
+    """
+    noise = spread(diff[around], 1e-9) if around.sum() >= 16 else 0.0
+    strong = inside & (diff >= 0.5 * level)
+    held = float(region[strong].mean()) if strong.any() else 1.0
+    edge = region & ~ndimage.binary_erosion(region)
+    slope = ndimage.gaussian_gradient_magnitude(diff, 1.0)
+    sharp = float(np.median(slope[edge])) / level if edge.any() and level > 0 else 1.0
+    if level >= MIN_CONTRAST_SIGMAS * noise and held >= MIN_HELD and sharp >= MIN_SHARPNESS:
+        return
+    fix = "" if background else "give background= (an image of the empty table, arm away); "
+    what = (
+        f"its edge is soft (a slope of {sharp:.2g} of its contrast a pixel, a shadow's?)"
+        if held >= MIN_HELD and level >= MIN_CONTRAST_SIGMAS * noise
+        else f"the outline found holds {100 * held:.0f} % of it"
+    )
+    raise ImageError(
+        f"low contrast: the object differs from {table} by {level:.3g} grey levels, "
+        f"{level / max(noise, 1e-9):.2g} times the table's noise per pixel ({noise:.3g}), and "
+        f"{what}: no whole outline; {fix}light the object better or put it on a table of "
+        "another colour, and keep shadows off it"
+    )
+
+
 def _object_level(differences: np.ndarray) -> float:
     """The object's typical difference from the table: the median of the pixels past half of it.
 
@@ -254,8 +299,22 @@ def _object_level(differences: np.ndarray) -> float:
     return level
 
 
-def _refine(values, valid, grid: Grid, core, side, light: _Light, table, reference) -> Found:
+class _Window(NamedTuple):
+    """What the object is looked for in."""
+
+    values: np.ndarray
+    """The window of the grey image, or of its difference from the empty table."""
+    valid: np.ndarray | None
+    """The pixels to look at (None: all)."""
+    grid: Grid
+    """The window on the coarse grid."""
+    reference: np.ndarray | None
+    """The same window of the image of the empty table, or None."""
+
+
+def _refine(window: _Window, core, side, light: _Light, table: str) -> Found:
     """The object at full resolution in the neighbourhood of its candidate cells."""
+    values, valid, grid, reference = window
     h, w = grid.shape
     f = grid.f
     rows, cols = np.nonzero(core)
@@ -302,6 +361,7 @@ def _refine(values, valid, grid: Grid, core, side, light: _Light, table, referen
         if not cut:
             break
         pad *= 2  # the object reaches further than its candidates: a larger neighbourhood
+    _check_contrast(sign * diff, around, inside & ok, region, level, table, reference is not None)
     full = np.zeros((h, w), bool)
     full[box] = region
     return Found(full, side, level)
