@@ -8,12 +8,22 @@ image of the empty table, and the box of the region of interest.
 from __future__ import annotations
 
 import os
+from typing import NamedTuple
 
 import numpy as np
 
+from .._checks import check_point
 from .._mask import Mask
 
-__all__ = ["LUMA_WEIGHTS", "check_background", "grey_image", "read_image", "roi_window"]
+__all__ = [
+    "LUMA_WEIGHTS",
+    "Look",
+    "check_background",
+    "grey_image",
+    "look_window",
+    "read_image",
+    "roi_window",
+]
 
 #: Luma weights of red, green and blue (ITU-R BT.601), for colour images.
 LUMA_WEIGHTS = (0.299, 0.587, 0.114)
@@ -124,3 +134,44 @@ def check_background(background, shape) -> tuple[np.ndarray, float]:
             f"image's shape {shape}, got {grey.shape}"
         )
     return grey, floor
+
+
+class Look(NamedTuple):
+    """Where :func:`comcore.mask_from_image` looks."""
+
+    box: tuple[slice, slice]
+    """The window: rows and columns of the image."""
+    valid: np.ndarray | None
+    """The window's pixels to look at (None: all)."""
+    robot: np.ndarray | None
+    """The robot's pixels in the window, or None."""
+    point: tuple[float, float] | None
+    """The pixel ``(x, y)`` on the object, in the window, or None."""
+
+
+def look_window(roi, robot_mask, point, shape: tuple[int, int]) -> Look:
+    """The region of interest less the robot's pixels, and the point in it."""
+    box, valid = roi_window(roi, shape)
+    robot = None
+    if robot_mask is not None:
+        arm = np.asarray(robot_mask)
+        if arm.dtype != bool or arm.shape != shape:
+            raise ValueError(
+                f"robot_mask must be a boolean image of the image's shape {shape} (True on the "
+                f"robot), got dtype {arm.dtype}, shape {arm.shape}"
+            )
+        robot = arm[box]
+        valid = ~robot if valid is None else valid & ~robot
+        if not valid.any():
+            raise ValueError("robot_mask covers every pixel where to look: nothing left to see")
+    if point is not None:
+        x, y = check_point(point, "point")
+        rows, cols = box
+        if not (cols.start <= x < cols.stop and rows.start <= y < rows.stop):
+            raise ValueError(
+                f"point ({x:g}, {y:g}) must be a pixel (x, y) = (column, row) inside the image "
+                f"and roi (columns {cols.start}..{cols.stop - 1}, "
+                f"rows {rows.start}..{rows.stop - 1})"
+            )
+        point = (x - cols.start, y - rows.start)
+    return Look(box, valid, robot, point)

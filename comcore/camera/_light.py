@@ -173,9 +173,7 @@ def smooth_leftover(residual: np.ndarray, table: np.ndarray, sigma: float) -> np
             slice(max(rows.min() - 2, 0), rows.max() + 3),
             slice(max(cols.min() - 2, 0), cols.max() + 3),
         )
-        _, (near_rows, near_cols) = ndimage.distance_transform_edt(
-            ~table[box], return_indices=True
-        )
+        _, (near_rows, near_cols) = ndimage.distance_transform_edt(~table[box], return_indices=True)
         filled = residual.copy()
         filled[box] = residual[box][near_rows, near_cols]
     return ndimage.gaussian_filter(filled, max(sigma, 1.0), mode="nearest")

@@ -187,6 +187,7 @@ def find_object(
     floor: float,
     frame_side: int | None = None,
     reference: np.ndarray | None = None,
+    point: tuple[float, float] | None = None,
 ) -> Found:
     """The object in ``values`` (a window of the grey image, or of its difference).
 
@@ -221,13 +222,33 @@ def find_object(
         raise ImageError(
             f"no object: the image matches {table} (no {words}{region} differs from it by more "
             f"than {limit:.3g} grey levels, {why}; the largest difference is {largest:.3g}): "
-            "check that the object is in view, or give threshold= a grey level"
-        )
-    side = max(found, key=lambda name: found[name].rank())
-    regions = found[side].objects()
-    _check_regions(regions, side, grid.f, table, reference is not None)
-    core = regions.labels == regions.ids[0]
+            + ("" if reference is not None else "on a patterned or textured table give "
+               "background= (an image of the empty table, arm away); ")
+            + "check that the object is in view, or give threshold= a grey level"
+        )  # fmt: skip
+    if point is not None:
+        side, core = _at_point(found, point, grid.f)
+    else:
+        side = max(found, key=lambda name: found[name].rank())
+        regions = found[side].objects()
+        _check_regions(regions, side, grid.f, table, reference is not None)
+        core = regions.labels == regions.ids[0]
     return _refine(_Window(values, valid, grid, reference), core, side, light, table)
+
+
+def _at_point(found: dict, point, f: int) -> tuple[str, np.ndarray]:
+    """The side and cells of the candidate region nearest ``point`` (window pixels)."""
+    cell = np.array([point[1], point[0]]) // f
+    best = (np.inf, "", None)
+    for name, regions in found.items():
+        for label in regions.ids[:50]:
+            cells = np.argwhere(regions.labels == label)
+            gap = float(np.min(np.hypot(*(cells - cell).T)))
+            if gap < best[0]:
+                best = (gap, name, regions.labels == label)
+    if best[2] is None:
+        raise ImageError("no object near point: nothing differs from the table there")
+    return best[1], best[2]
 
 
 def _check_regions(regions: _Regions, side: str, f: int, table: str, background: bool) -> None:
@@ -245,14 +266,26 @@ def _check_regions(regions: _Regions, side: str, f: int, table: str, background:
             f"patterned table? give {fix}"
         )
     if len(sizes) > 1 and masses[1] >= MAX_SECOND_RATIO * masses[0]:
+        also = "" if background else ", and background= (an image of the empty table)"
         raise ImageError(
             f"several objects of similar size on the {side} side: the largest regions have "
-            f"{about}{sizes[0]} and {sizes[1]} pixels; show one object at a time, or give roi= "
-            "(where to look)"
+            f"{about}{sizes[0]} and {sizes[1]} pixels; choose one: point=(x, y) a pixel on it, "
+            f"or roi=(x0, y0, x1, y1) a box around it{also}; or show one object at a time"
         )
 
 
-def _check_contrast(diff, around, inside, region, level, table, background) -> None:
+def _cut(region: np.ndarray, box: tuple[slice, slice], shape: tuple[int, int]) -> bool:
+    """Whether the region reaches its box's edge where the box is not the window's."""
+    rows, cols = box
+    return bool(
+        (region[0].any() and rows.start > 0)
+        or (region[-1].any() and rows.stop < shape[0])
+        or (region[:, 0].any() and cols.start > 0)
+        or (region[:, -1].any() and cols.stop < shape[1])
+    )
+
+
+def _check_contrast(diff, around, inside, region, level, *, table: str, background: bool) -> None:
     """ImageError if the object is too faint or soft-edged for a whole outline, or cut up.
 
     ``diff``: the window's difference from the table towards the object's
@@ -279,7 +312,8 @@ def _check_contrast(diff, around, inside, region, level, table, background) -> N
         f"low contrast: the object differs from {table} by {level:.3g} grey levels, "
         f"{level / max(noise, 1e-9):.2g} times the table's noise per pixel ({noise:.3g}), and "
         f"{what}: no whole outline; {fix}light the object better or put it on a table of "
-        "another colour, and keep shadows off it"
+        "another colour, and keep shadows off it (several objects? choose one: point=(x, y) "
+        "or roi=(x0, y0, x1, y1))"
     )
 
 
@@ -349,19 +383,27 @@ def _refine(window: _Window, core, side, light: _Light, table: str) -> Found:
         if not level > 0 or not overlap[1:].any():
             raise ImageError(
                 f"no object: the image matches {table} at full resolution (what differed from "
-                "it on the coarse grid does not, pixel by pixel): check the lighting, or give "
-                "threshold= a grey level"
+                "it on the coarse grid does not, pixel by pixel): "
+                + (
+                    ""
+                    if reference is not None
+                    else "give background= (an image of the empty table), "
+                )
+                + "check the lighting, or give threshold= a grey level"
             )
         region = labels == int(np.argmax(overlap[1:])) + 1
-        rows_cut = (region[0].any() and box[0].start > 0) or (region[-1].any() and box[0].stop < h)
-        cols_cut = (region[:, 0].any() and box[1].start > 0) or (
-            region[:, -1].any() and box[1].stop < w
-        )
-        cut = rows_cut or cols_cut
-        if not cut:
+        if not _cut(region, box, (h, w)):
             break
         pad *= 2  # the object reaches further than its candidates: a larger neighbourhood
-    _check_contrast(sign * diff, around, inside & ok, region, level, table, reference is not None)
+    _check_contrast(
+        sign * diff,
+        around,
+        inside & ok,
+        region,
+        level,
+        table=table,
+        background=reference is not None,
+    )
     full = np.zeros((h, w), bool)
     full[box] = region
     return Found(full, side, level)

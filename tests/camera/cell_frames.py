@@ -142,10 +142,14 @@ def make_cell_frame(rng, condition="cell", shape=WIDE) -> CellFrame:
     arm_grey = rng.uniform(50, 110) + 20 * np.linspace(-1, 1, w)[None, :] * arm_cover
     seen = seen * (1 - arm_cover) + arm_grey * arm_cover
     if condition == "two objects":
-        turn = rng.uniform(0, 2 * np.pi)
-        shift = rng.uniform(2.0, 3.0) * size * np.array([np.cos(turn), np.sin(turn)])
-        second = outline - centre + np.clip(centre + shift, size, (w - size, h - size))
-        cover2 = _coverage(second, shape)
+        for _ in range(50):  # a place off the arm, the object and its shadow, in the frame
+            turn = rng.uniform(0, 2 * np.pi)
+            shift = rng.uniform(2.0, 3.0) * size * np.array([np.cos(turn), np.sin(turn)])
+            second = outline - centre + np.clip(centre + shift, size, (w - size, h - size))
+            cover2 = _coverage(second, shape)
+            grown = ndimage.binary_dilation(cover2 > 0, iterations=20)
+            if not (grown & ((arm_cover > 0) | (cover > 0) | (shade > 0.05))).any():
+                break
         seen = seen * (1 - cover2) + (table_mean + contrast) * cover2
     noise = rng.uniform(2.0, 4.0)
     image = np.clip(np.rint(seen * light * shade_factor + rng.normal(0, noise, shape)), 0, 255)
