@@ -59,6 +59,9 @@ MAX_SECOND_RATIO = 0.5
 MIN_CONTRAST_SIGMAS = 3.0
 #: Cut up: the mask must hold this share of the candidate pixels past half the object's contrast.
 MIN_HELD = 0.98
+#: Hidden: at most this share of the ring just outside the outline may be table that the object
+#: hardly differs from (less than a quarter of its contrast: the object could go on unseen).
+MAX_HIDDEN = 0.1
 #: Soft-edged (a shadow): the median slope on the outline, as a share of the contrast a pixel.
 MIN_SHARPNESS = 0.1
 
@@ -147,6 +150,8 @@ class _Light(NamedTuple):
     """Candidates differ by more than this."""
     floored: bool
     """Whether the limit is the least step believed, not the noise."""
+    seen: np.ndarray
+    """The cells left out of the table in any round: what differed from it at some point."""
 
 
 def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = False) -> _Light:
@@ -176,7 +181,8 @@ def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = Fal
         leftover = smooth_leftover(residual, table, SMOOTH_SHARE * frame_side / grid.f)
         smoothed = residual - leftover
         noise = spread(smoothed[table], noise_floor)
-    return _Light(model, leftover, smoothed, noise, DETECT_SIGMAS * noise, noise <= noise_floor)
+    limit = DETECT_SIGMAS * noise
+    return _Light(model, leftover, smoothed, noise, limit, noise <= noise_floor, exclude)
 
 
 def find_object(
@@ -223,7 +229,8 @@ def find_object(
             f"no object: the image matches {table} (no {words}{region} differs from it by more "
             f"than {limit:.3g} grey levels, {why}; the largest difference is {largest:.3g}): "
             + ("" if reference is not None else "on a patterned or textured table give "
-               "background= (an image of the empty table, arm away); ")
+               "background= (an image of the empty table, arm away), and if several objects "
+               "are in view choose one: point=(x, y) or roi=(x0, y0, x1, y1); ")
             + "check that the object is in view, or give threshold= a grey level"
         )  # fmt: skip
     if point is not None:
@@ -233,6 +240,7 @@ def find_object(
         regions = found[side].objects()
         _check_regions(regions, side, grid.f, table, reference is not None)
         core = regions.labels == regions.ids[0]
+        _check_seen(light.seen, core, grid, table, reference is not None)
     return _refine(_Window(values, valid, grid, reference), core, side, light, table)
 
 
@@ -274,6 +282,31 @@ def _check_regions(regions: _Regions, side: str, f: int, table: str, background:
         )
 
 
+def _check_seen(seen: np.ndarray, core: np.ndarray, grid: Grid, table: str, background: bool):
+    """ImageError if another object, off the rim, differed from the table in an earlier round.
+
+    Such an object (one beside a shadow or the arm, whose light took it in)
+    is no candidate in the end, yet it is as much an object as the one found.
+    """
+    labels, n = ndimage.label(seen | core, structure=EIGHT_CONNECTED)
+    if n < 2:
+        return
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    ours = np.unique(labels[core])
+    first = int(sizes[ours].max())
+    sizes[ours] = 0
+    sizes[np.unique(labels[grid.rim])] = 0  # what reaches the rim is the table's (arm, shadow)
+    sizes[0] = 0
+    if sizes.max() >= MAX_SECOND_RATIO * first:
+        f2 = grid.f * grid.f
+        also = "" if background else ", and background= (an image of the empty table)"
+        raise ImageError(
+            f"several objects of similar size differ from {table}: about {first * f2} and "
+            f"{int(sizes.max()) * f2} pixels; choose one: point=(x, y) a pixel on it, "
+            f"or roi=(x0, y0, x1, y1) a box around it{also}; or show one object at a time"
+        )
+
+
 def _cut(region: np.ndarray, box: tuple[slice, slice], shape: tuple[int, int]) -> bool:
     """Whether the region reaches its box's edge where the box is not the window's."""
     rows, cols = box
@@ -285,14 +318,20 @@ def _cut(region: np.ndarray, box: tuple[slice, slice], shape: tuple[int, int]) -
     )
 
 
-def _check_contrast(diff, around, inside, region, level, *, table: str, background: bool) -> None:
+def _check_contrast(
+    diff, around, inside, region, level, *, seen, table: str, background: bool
+) -> None:
     """ImageError if the object is too faint or soft-edged for a whole outline, or cut up.
 
     ``diff``: the window's difference from the table towards the object's
     side; ``around``: table pixels round the object; ``inside``: its
-    candidate cells' pixels; ``region``: the mask found. A whole object
-    holds nearly every candidate pixel past half its contrast, and its edge is
-    sharp (a shadow's is soft: a gentle slope for its contrast).
+    candidate cells' pixels that are at least half object (not a shadow
+    beside it); ``region``: the mask found. A whole object holds nearly
+    every one of those past half its contrast, and its edge is
+    sharp (a shadow's is soft: a gentle slope for its contrast); ``seen``:
+    where the object would differ from the table under it by a quarter of its
+    contrast or more. With ``background``, its outline must not run along
+    table the object matches (a pattern's stripes): it could go on unseen.
     """
     noise = spread(diff[around], 1e-9) if around.sum() >= 16 else 0.0
     strong = inside & (diff >= 0.5 * level)
@@ -300,13 +339,24 @@ def _check_contrast(diff, around, inside, region, level, *, table: str, backgrou
     edge = region & ~ndimage.binary_erosion(region)
     slope = ndimage.gaussian_gradient_magnitude(diff, 1.0)
     sharp = float(np.median(slope[edge])) / level if edge.any() and level > 0 else 1.0
-    if level >= MIN_CONTRAST_SIGMAS * noise and held >= MIN_HELD and sharp >= MIN_SHARPNESS:
+    ring = ndimage.binary_dilation(region, iterations=2) & ~region
+    hidden = 0.0  # only the empty table's image tells what the object matches pixel by pixel
+    if background and ring.any():
+        hidden = float(np.mean(~np.broadcast_to(seen, region.shape)[ring]))
+    if (
+        level >= MIN_CONTRAST_SIGMAS * noise
+        and held >= MIN_HELD
+        and sharp >= MIN_SHARPNESS
+        and hidden <= MAX_HIDDEN
+    ):
         return
     fix = "" if background else "give background= (an image of the empty table, arm away); "
     what = (
         f"its edge is soft (a slope of {sharp:.2g} of its contrast a pixel, a shadow's?)"
-        if held >= MIN_HELD and level >= MIN_CONTRAST_SIGMAS * noise
+        if held >= MIN_HELD and level >= MIN_CONTRAST_SIGMAS * noise and sharp < MIN_SHARPNESS
         else f"the outline found holds {100 * held:.0f} % of it"
+        if held < MIN_HELD or level < MIN_CONTRAST_SIGMAS * noise
+        else f"{100 * hidden:.0f} % of its outline runs along table it hardly differs from"
     )
     raise ImageError(
         f"low contrast: the object differs from {table} by {level:.3g} grey levels, "
@@ -398,9 +448,10 @@ def _refine(window: _Window, core, side, light: _Light, table: str) -> Found:
     _check_contrast(
         sign * diff,
         around,
-        inside & ok,
+        inside & foreground,  # a shadow beside it, past half the contrast, is no part of it
         region,
         level,
+        seen=seen,
         table=table,
         background=reference is not None,
     )

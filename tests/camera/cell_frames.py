@@ -1,11 +1,13 @@
 """Frames of a robot cell's table, for ``mask_from_image``'s tests and benchmark.
 
 A tilted pinhole camera (20 to 35 degrees from straight down) looks at a
-wood-grain table (sinusoids bent by a slow sinusoid, plus fine noise) under a
-lamp's gradient; on it one object (a random star-shaped polygon), a soft
-shadow (a blurred darker polygon beside it), the arm (a bar entering from the
-frame's edge, stopping short of the object), optionally a second object, and
-Gaussian noise. Everything is drawn on the table in metres and projected
+wood-grain table (sinusoids bent by a slow sinusoid, plus fine noise; any
+direction, period 6 to 25 mm, amplitude 15 to 35 grey levels) under a lamp's
+gradient; on it one object (a random star-shaped polygon, a rectangle, a long
+bar or a near-disc, 2.5 to 6 cm across its half), a soft shadow (a blurred
+polygon 15 to 30 % darker beside it, on any side), the arm (a bar entering
+from the frame's edge at up to 35 degrees from the object's direction,
+stopping short of it), optionally a second object, and Gaussian noise. Everything is drawn on the table in metres and projected
 through the camera, so the object's scale changes across the frame. The
 empty-table frame has the same table and light, fresh noise, and neither the
 objects, the arm nor the shadow.
@@ -71,6 +73,20 @@ def _star(rng, radius):
     return np.column_stack([radii * np.cos(angles), radii * np.sin(angles)])
 
 
+def _shape(rng, radius):
+    """An outline about ``radius`` in size: a star, a rectangle, a bar or a near-disc."""
+    kind = int(rng.integers(4))
+    if kind == 0:
+        return _star(rng, radius)
+    if kind == 3:
+        t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+        return radius * np.column_stack([np.cos(t), rng.uniform(0.8, 1.0) * np.sin(t)])
+    long, short = radius, radius * (rng.uniform(0.5, 0.9) if kind == 1 else rng.uniform(0.2, 0.35))
+    turn = rng.uniform(0, np.pi)
+    rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    return np.array([[-long, -short], [long, -short], [long, short], [-long, short]]) @ rot.T
+
+
 def _coverage(vertices, shape, samples=3):
     """Share of each pixel inside the polygon (pixel vertices), over its bounding box only."""
     lo = np.maximum(np.floor(vertices.min(axis=0)).astype(int) - 2, 0)
@@ -94,10 +110,10 @@ def _table(rng, hom, shape):
     x, y = p[..., 0] / p[..., 2], p[..., 1] / p[..., 2]
     turn = rng.uniform(0, np.pi)
     u, v = np.cos(turn) * x + np.sin(turn) * y, -np.sin(turn) * x + np.cos(turn) * y
-    period = rng.uniform(0.008, 0.02)
+    period = rng.uniform(0.006, 0.025)
     bend = 0.3 * np.sin(2 * np.pi * u / rng.uniform(0.1, 0.3) + rng.uniform(0, 6.3))
     grain = np.sin(2 * np.pi * (v / period + bend)) + 0.4 * np.sin(2 * np.pi * (v / period * 2.7))
-    albedo = rng.uniform(130, 170) + 25 * grain / 1.4 + 4 * ndimage.gaussian_filter(
+    albedo = rng.uniform(130, 170) + rng.uniform(15, 35) * grain / 1.4 + 4 * ndimage.gaussian_filter(
         rng.normal(size=shape), 1.5
     )
     angle = rng.uniform(0, 2 * np.pi)
@@ -114,7 +130,7 @@ def make_cell_frame(rng, condition="cell", shape=WIDE) -> CellFrame:
     inv = np.linalg.inv(hom)
     corners = _project(inv, np.array([[0.3 * w, 0.3 * h], [0.7 * w, 0.7 * h]]))
     where = corners[0] + rng.uniform(0, 1, 2) * (corners[1] - corners[0])
-    outline = _project(hom, where + _star(rng, rng.uniform(0.035, 0.05)))
+    outline = _project(hom, where + _shape(rng, rng.uniform(0.025, 0.06)))
     table_mean = float(np.mean(albedo))
     if condition == "low contrast":
         contrast = float(rng.choice([-1, 1]) * rng.uniform(12, 18))
@@ -134,8 +150,12 @@ def make_cell_frame(rng, condition="cell", shape=WIDE) -> CellFrame:
     along = (1, 0) if side in (0, 2) else (0, 1)  # slide along the edge, never off it
     edge = np.array(edge) + rng.uniform(-0.15, 0.15) * np.array(along) * (w, h)
     towards = centre - edge
+    swing = rng.uniform(-0.6, 0.6)  # the arm comes in at an angle, its tip still near the object
+    towards = np.array([[np.cos(swing), -np.sin(swing)], [np.sin(swing), np.cos(swing)]]) @ towards
     length = np.hypot(*towards)
-    tip = edge + towards * (1 - (0.5 * size + rng.uniform(40, 80)) / length)
+    edge = centre - towards * (2 * max(w, h) / length)  # from well outside the frame
+    reach = np.hypot(*(outline - centre).T).max()
+    tip = centre - towards * ((reach + rng.uniform(40, 80)) / length)
     normal = np.array([-towards[1], towards[0]]) / length * rng.uniform(30, 50)
     arm = np.array([edge + normal, tip + normal * 0.7, tip - normal * 0.7, edge - normal])
     arm_cover = _coverage(arm, shape)

@@ -465,11 +465,7 @@ def test_a_low_contrast_object_is_whole_or_refused_with_its_contrast(seed):
             assert iou(mask.data, frame.truth) >= 0.95
 
 
-@pytest.mark.parametrize(
-    "seed",
-    [0, 2, pytest.param(1, marks=pytest.mark.xfail(strict=True, reason="a known miss: one of "
-                                                   "the two objects is returned, not refused"))],
-)  # fmt: skip
+@pytest.mark.parametrize("seed", range(3))
 def test_two_objects_are_refused_saying_how_to_choose_and_a_point_chooses(seed):
     from tests.camera.cell_frames import iou, make_cell_frame
 
