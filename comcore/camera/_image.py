@@ -199,6 +199,13 @@ def _check_edges(region, valid, box, shape, seen_as: str, one_level: bool) -> No
         )
 
 
+def _difference_spread(empty, box) -> np.ndarray | None:
+    """Each pixel's noise in the image less the mean of the empty table's frames (or None)."""
+    if empty is None or empty.spread is None:
+        return None
+    return empty.spread[box] * math.sqrt(1 + 1 / empty.count)
+
+
 def mask_from_image(
     image,
     *,
@@ -225,10 +232,13 @@ def mask_from_image(
         (with ``background``, the least difference from it).
     object : {"auto", "bright", "dark"}, optional
         Whether the object is brighter or darker than the table.
-    background : array_like or str or os.PathLike, optional
+    background : array_like or str or os.PathLike, or a sequence of them, optional
         The empty table from the same camera, arm away (same shape): the object
         is where the image differs from it (the remedy for a textured table);
-        what differs at the frame's edge (the arm) is never the object.
+        what differs at the frame's edge (the arm) is never the object. Several
+        frames (a sequence, or a stack ``(N, H, W)`` / ``(N, H, W, 3)``): their
+        per-pixel mean, and their spread sets each place's threshold (a
+        flickering or glossy patch needs a larger difference).
     roi : tuple of 4 ints or array_like of bool, optional
         Where to look: a box ``(x0, y0, x1, y1)`` (columns x0..x1-1, rows
         y0..y1-1) or a boolean image. The object must lie inside, off its edge.
@@ -282,10 +292,10 @@ def mask_from_image(
     if object not in OBJECTS:
         raise ValueError(f"object must be one of {', '.join(map(repr, OBJECTS))}, got {object!r}")
     mode = _threshold_mode(threshold)
-    reference = None
+    reference = empty = None
     if background is not None:
-        reference, bg_floor = check_background(background, grey.shape)
-        floor = max(floor, bg_floor)
+        empty = check_background(background, grey.shape)
+        reference, floor = empty.mean, max(floor, empty.floor)
     look = look_window(roi, robot_mask, point, grey.shape)
     box, valid = look.box, look.valid
     values = grey[box] if reference is None else grey[box] - reference[box]
@@ -306,6 +316,7 @@ def mask_from_image(
         found = find_object(
             values, valid, object, floor=floor, frame_side=min(grey.shape),
             reference=None if reference is None else reference[box], point=look.point,
+            spread=_difference_spread(empty, box),
         )  # fmt: skip
         region, object = found.region, found.side
         seen_as = (

@@ -62,6 +62,7 @@ class Grid:
     def __init__(self, values: np.ndarray, valid: np.ndarray | None, frame_side: int):
         h, w = values.shape
         self.shape = (h, w)
+        self.frame_side = frame_side
         self.f = f = min(-(-frame_side // COARSE_SIDE), max(min(h, w) // 8, 1))
         if f == 1:
             self.means = np.where(valid, values, 0.0) if valid is not None else values

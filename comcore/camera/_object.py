@@ -63,7 +63,7 @@ MIN_HELD = 0.98
 #: hardly differs from (less than a quarter of its contrast: the object could go on unseen).
 MAX_HIDDEN = 0.1
 #: Soft-edged (a shadow): the median slope on the outline, as a share of the contrast a pixel.
-MIN_SHARPNESS = 0.1
+MIN_SHARPNESS = 0.2
 
 
 class Found(NamedTuple):
@@ -146,19 +146,22 @@ class _Light(NamedTuple):
     residual: np.ndarray
     """The coarse means less the light."""
     noise: float
-    limit: float
-    """Candidates differ by more than this."""
+    limit: float | np.ndarray
+    """Candidates differ by more than this (per cell where the cells' noise is known)."""
     floored: bool
     """Whether the limit is the least step believed, not the noise."""
     seen: np.ndarray
     """The cells left out of the table in any round: what differed from it at some point."""
 
 
-def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = False) -> _Light:
+def _fit_light(
+    grid: Grid, floor: float, frame_side: int, *, foreign: bool = False, cell_limit=0.0
+) -> _Light:
     """The table's light on the grid, and what differs from it.
 
     ``foreign``: ``values`` is a difference from the empty table, so what
     differs from it even at the rim (the arm, a thing put down) is not light.
+    ``cell_limit``: the least difference of each cell (its own noise), if larger.
     """
     means, cells, rim = grid.means, grid.cells, grid.rim
     if np.ptp(means[rim]) > 0:
@@ -173,7 +176,8 @@ def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = Fal
     leftover, smoothed = np.zeros_like(residual), residual
     exclude = np.zeros_like(cells)
     for round_ in range(SMOOTH_ROUNDS):
-        inner = _inner(smoothed, DETECT_SIGMAS * noise, grid, rim_too=foreign)
+        limit = np.maximum(DETECT_SIGMAS * noise, cell_limit)
+        inner = _inner(smoothed, limit, grid, rim_too=foreign)
         if round_ and not (inner & ~exclude).any():
             break
         exclude |= inner
@@ -181,7 +185,7 @@ def _fit_light(grid: Grid, floor: float, frame_side: int, *, foreign: bool = Fal
         leftover = smooth_leftover(residual, table, SMOOTH_SHARE * frame_side / grid.f)
         smoothed = residual - leftover
         noise = spread(smoothed[table], noise_floor)
-    limit = DETECT_SIGMAS * noise
+    limit = np.maximum(DETECT_SIGMAS * noise, cell_limit)
     return _Light(model, leftover, smoothed, noise, limit, noise <= noise_floor, exclude)
 
 
@@ -194,6 +198,7 @@ def find_object(
     frame_side: int | None = None,
     reference: np.ndarray | None = None,
     point: tuple[float, float] | None = None,
+    spread: np.ndarray | None = None,
 ) -> Found:
     """The object in ``values`` (a window of the grey image, or of its difference).
 
@@ -204,12 +209,15 @@ def find_object(
     ``frame_side``: the short side of the whole frame (default: of the
     window), which sets the grid and the smoothing; ``reference``: the same
     window of the image of the empty table, when ``values`` is the difference
-    from it.
+    from it; ``spread``: each pixel's noise in that difference, from several
+    frames of the empty table (a cell's candidates must then differ by
+    :data:`DETECT_SIGMAS` times its own noise too).
     """
     table = "the table" if reference is None else "the background image (the empty table)"
     grid = Grid(values, valid, min(values.shape) if frame_side is None else frame_side)
     side_px = min(values.shape) if frame_side is None else frame_side
-    light = _fit_light(grid, floor, side_px, foreign=reference is not None)
+    own = _cell_limit(grid, spread, valid)
+    light = _fit_light(grid, floor, side_px, foreign=reference is not None, cell_limit=own)
     residual, limit = light.residual, light.limit
     names = ("bright", "dark") if side == "auto" else (side,)
     found = {
@@ -227,7 +235,8 @@ def find_object(
         why = "the least step believed" if light.floored else f"{DETECT_SIGMAS:g} times its noise"
         raise ImageError(
             f"no object: the image matches {table} (no {words}{region} differs from it by more "
-            f"than {limit:.3g} grey levels, {why}; the largest difference is {largest:.3g}): "
+            f"than {np.median(limit):.3g} grey levels, {why}; the largest difference is "
+            f"{largest:.3g}): "
             + ("" if reference is not None else "on a patterned or textured table give "
                "background= (an image of the empty table, arm away), and if several objects "
                "are in view choose one: point=(x, y) or roi=(x0, y0, x1, y1); ")
@@ -242,6 +251,13 @@ def find_object(
         core = regions.labels == regions.ids[0]
         _check_seen(light.seen, core, grid, table, reference is not None)
     return _refine(_Window(values, valid, grid, reference), core, side, light, table)
+
+
+def _cell_limit(grid: Grid, spread: np.ndarray | None, valid) -> np.ndarray | float:
+    """:data:`DETECT_SIGMAS` times each cell's own noise (its pixels' ``spread``), or 0."""
+    if spread is None:
+        return 0.0
+    return DETECT_SIGMAS * np.sqrt(Grid(spread**2, valid, grid.frame_side).means) / grid.f
 
 
 def _at_point(found: dict, point, f: int) -> tuple[str, np.ndarray]:
@@ -334,7 +350,7 @@ def _check_contrast(
     table the object matches (a pattern's stripes): it could go on unseen.
     """
     noise = spread(diff[around], 1e-9) if around.sum() >= 16 else 0.0
-    strong = inside & (diff >= 0.5 * level)
+    strong = ndimage.binary_opening(inside) & (diff >= 0.5 * level)  # not single noisy pixels
     held = float(region[strong].mean()) if strong.any() else 1.0
     edge = region & ~ndimage.binary_erosion(region)
     slope = ndimage.gaussian_gradient_magnitude(diff, 1.0)

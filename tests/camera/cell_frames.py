@@ -42,6 +42,8 @@ class CellFrame:
     """A pixel ``(x, y)`` on the object."""
     contrast: float
     """The object's albedo less the table's mean, grey levels."""
+    shadow: np.ndarray
+    """The shadow's pixels off the object (at least 3 % darker), bool (H, W)."""
 
 
 def _camera(rng, shape):
@@ -181,8 +183,9 @@ def make_cell_frame(rng, condition="cell", shape=WIDE) -> CellFrame:
            int(min(cols.max() + pad + 1, w)), int(min(rows.max() + pad + 1, h)))  # fmt: skip
     inner = ndimage.distance_transform_edt(truth)
     r, c = np.unravel_index(int(np.argmax(inner)), shape)
+    shadow = (shade_factor < 0.97) & ~truth
     return CellFrame(image.astype(np.uint8), truth, background.astype(np.uint8), box,
-                     (float(c), float(r)), contrast)  # fmt: skip
+                     (float(c), float(r)), contrast, shadow)  # fmt: skip
 
 
 def iou(found: np.ndarray, truth: np.ndarray) -> float:

@@ -440,6 +440,9 @@ def test_a_cell_frame_with_the_empty_table_and_a_box(seed):
     frame = make_cell_frame(np.random.default_rng([11, seed]))
     mask = comcore.mask_from_image(frame.image, background=frame.background, roi=frame.box)
     assert iou(mask.data, frame.truth) >= 0.95
+    # the soft shadow beside the object is no part of it (one pixel of its blurred edge may be)
+    assert frame.shadow.sum() > 1000
+    assert not (mask.data & frame.shadow & ~ndimage.binary_dilation(frame.truth)).any()
     # without the empty table: the object, or a refusal that names the empty-table frame
     for kwargs in ({}, {"roi": frame.box}):
         try:
@@ -474,6 +477,51 @@ def test_two_objects_are_refused_saying_how_to_choose_and_a_point_chooses(seed):
         comcore.mask_from_image(frame.image, background=frame.background)
     mask = comcore.mask_from_image(frame.image, background=frame.background, roi=frame.box)
     assert iou(mask.data, frame.truth) >= 0.95
+
+
+def _glossy_table(rng, shots):
+    """A striped table with a glossy patch whose glints change from frame to frame."""
+    rows, cols = np.mgrid[0:240, 0:320]
+    table = 150 + 20 * np.sin(cols / 5.0)
+    glossy = (np.abs(cols - 230) < 60) & (np.abs(rows - 120) < 60)
+    glints = [ndimage.gaussian_filter(rng.normal(0, 300, table.shape), 4) for _ in range(shots)]
+    frames = [table + rng.normal(0, 3, table.shape) + glossy * g for g in glints]
+    return [np.clip(f, 0, 255).astype(np.uint8) for f in frames], table
+
+
+def test_several_empty_table_frames_set_each_place_s_threshold():
+    frames, table = _glossy_table(np.random.default_rng(5), 9)
+    truth = np.zeros(table.shape, bool)
+    truth[100:140, 65:115] = True
+    image = frames[0].copy()
+    image[truth] = (table[truth] - 45).astype(np.uint8)
+    empty = frames[1:]
+    # one frame: the glints differ from it as much as the object
+    with pytest.raises(comcore.ImageError, match="speckled result"):
+        comcore.mask_from_image(image, background=empty[0])
+    kept = [f.copy() for f in empty]
+    for background in (empty, np.stack(empty), tuple(empty)):
+        mask = comcore.mask_from_image(image, background=background)
+        assert np.array_equal(mask.data, truth)
+    assert all(np.array_equal(a, b) for a, b in zip(empty, kept))
+    # one frame in a stack is that frame
+    img = np.full((40, 60), 200, np.uint8)
+    img[10:30, 15:45] = 30
+    bg = np.full((40, 60), 200, np.uint8)
+    assert comcore.mask_from_image(img, background=bg[None]).area_px == 600
+
+
+@pytest.mark.parametrize(
+    "background, match",
+    [
+        ([], "background holds no frame"),
+        ([np.zeros((10, 10))] * 65, "at most 64 frames"),
+        ([np.zeros((40, 60)), np.zeros((40, 61))], r"background frame 1 must be an image.*\(40, 61\)"),
+    ],
+)  # fmt: skip
+def test_bad_background_frames_are_named(background, match):
+    with pytest.raises(ValueError, match=match):
+        comcore.mask_from_image(np.zeros((40, 60), np.uint8), background=background)
 
 
 def test_a_point_chooses_among_objects_and_the_robot_mask_is_left_out():
