@@ -155,8 +155,9 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
         ax = fig.add_subplot(len(frictions), 1, k + 1)
         for j, name in enumerate(estimators):
             cells = [stats.get((name, o, friction)) for o in objects]
-            mean = [c["error"]["mean"] if c else np.nan for c in cells]
-            std = [c["error"]["std"] if c else 0.0 for c in cells]
+            ran = [c if c and c["error"]["mean"] is not None else None for c in cells]
+            mean = [c["error"]["mean"] if c else np.nan for c in ran]
+            std = [c["error"]["std"] if c else 0.0 for c in ran]
             offset = x + (j - (len(estimators) - 1) / 2) * width
             ax.bar(offset, mean, width, yerr=std, label=name, capsize=1.5, error_kw={"lw": 0.6})
             table, column = {"alg1": (1, "{}_mean_cm"), "alg2": (2, "{}_err_mean_cm")}.get(

@@ -149,3 +149,18 @@ def test_the_friction_table_counts_every_status_by_name():
     header, _, low, both = friction_table(rows).splitlines()
     assert header.rstrip(" |").endswith("| statuses")
     assert low.endswith("| wide 2, ok 1, inconsistent 1 |") and both.endswith("| wide 2, ok 1, inconsistent 1 |")
+
+
+def test_trials_that_raised_give_no_error_figures():
+    from comcore.bench._report import summary_table
+
+    rows = [row("alg1", status="error", error=9.0, trial=t) for t in range(2)]
+    rows += [row("alg2", status="error", error=9.0, trial=0), row("alg2", error=1.0, trial=1)]
+    stats = group_stats(rows, keys=("estimator",))
+    assert stats[("alg1",)]["error"] == dict.fromkeys(("mean", "std", "min", "max", "median"))
+    assert stats[("alg2",)]["error"]["mean"] == 1.0 and stats[("alg2",)]["errors"] == 1
+    lines = {line.split("|")[1].strip(): line for line in summary_table(rows).splitlines()[2:]}
+    cells = [c.strip() for c in lines["alg1"].split("|")[1:-1]]
+    assert cells[3:7] == ["–"] * 4 and cells[-1] == "2"
+    assert "9.000" not in lines["alg2"] and "| 1.000 |" in lines["alg2"]
+    assert "| – (" in table_one(rows, "alg1")

@@ -108,6 +108,33 @@ def test_an_estimator_option_typo_is_refused_before_the_first_trial(tmp_path, ca
     assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
 
 
+@pytest.mark.parametrize(
+    ("label", "message"),
+    [
+        ("alg1(threshold=2)", "threshold must be in [0, 1], got 2.0"),
+        ("alg2(min_score=5)", "min_score must be in [0, 1], got 5.0"),
+        ("alg2-rotation(mu=-1)", "mu must be >= 0, got -1.0"),
+        ("active(target_radius=-1)", "target_radius must be a finite number > 0"),
+        ("active(model='crystal')", "model must be one of"),
+        ("active-robot(observe='sonar')", "observe must be one of"),
+    ],
+)
+def test_a_bad_option_value_is_refused_before_the_first_trial(
+    tmp_path, capsys, monkeypatch, label, message
+):
+    import comcore.bench._runner as runner
+
+    def no_trial(spec):
+        raise AssertionError("a trial ran")
+
+    monkeypatch.setattr(runner, "run_trial", no_trial)
+    args = ["bench", *TINY, "--out", str(tmp_path), "--estimators", label]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert f"estimators: {label!r}: {message}" in err
+    assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
+
+
 @pytest.mark.parametrize("extra", [[], ["--conditions", "exact"]])
 def test_an_unwritable_out_folder_is_one_line_not_a_traceback(tmp_path, capsys, extra):
     blocker = tmp_path / "file.txt"
