@@ -164,9 +164,15 @@ def _config(args):
         estimators = tuple(split_estimators(args.estimators))
     frictions = ("low", "high") if args.friction == "both" else (args.friction,)
     return BenchConfig(
-        objects=names, trials=trials, frictions=frictions, predictor=args.predictor,
-        estimators=estimators, candidates=args.candidates, cone=args.cone, seed=args.seed,
-    )  # fmt: skip
+        objects=names,
+        trials=trials,
+        frictions=frictions,
+        predictor=args.predictor,
+        estimators=estimators,
+        candidates=args.candidates,
+        cone=args.cone,
+        seed=args.seed,
+    )
 
 
 def run(args) -> int:
@@ -174,7 +180,7 @@ def run(args) -> int:
     try:
         import simulators  # noqa: F401
 
-        from ._runner import BenchInterrupted, check_available, finished_rows, run_benchmark
+        from ._runner import check_available
     except ImportError as e:
         print(
             f"comcore bench needs the simulator: pip install comcore[sim,bench] ({e})",
@@ -202,6 +208,13 @@ def run(args) -> int:
         return run_conditions_command(args, checked, skipped)
     for label, reason in skipped.items():
         print(f"comcore bench: skipping estimator {label!r}: {reason}", file=sys.stderr)
+    return _run_trials(args, config, checked)
+
+
+def _run_trials(args, config, checked) -> int:
+    """Run the checked configuration's trials, streaming their rows; the exit status."""
+    from ._runner import BenchInterrupted, finished_rows, run_benchmark
+
     out = Path(args.out)
     partial = out / "results.partial.jsonl"
     try:
@@ -232,9 +245,13 @@ def run(args) -> int:
         on_rows(kept)
         try:
             result = run_benchmark(
-                config, workers=args.workers, dask=args.dask,
-                progress=not args.no_progress, on_rows=on_rows, done=done,
-            )  # fmt: skip
+                config,
+                workers=args.workers,
+                dask=args.dask,
+                progress=not args.no_progress,
+                on_rows=on_rows,
+                done=done,
+            )
         except BenchInterrupted as e:
             print(
                 f"comcore bench: interrupted after {e.trials_done} of {e.trials_total} trials; "
@@ -309,8 +326,8 @@ def missing_extras(args) -> str:
     if not missing:
         return ""
     extras = ",".join(sorted(set(missing.values())))
-    skip = [flag for flag, m in (("--no-progress", "tqdm"), ("--no-figures", "matplotlib"))
-            if m in missing]  # fmt: skip
+    flags = (("--no-progress", "tqdm"), ("--no-figures", "matplotlib"))
+    skip = [flag for flag, module in flags if module in missing]
     alternative = f" (or pass {' '.join(skip)})" if skip else ""
     return (
         f"this run needs {', '.join(missing)}, not installed: pip install comcore[{extras}]"
