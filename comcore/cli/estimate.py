@@ -11,8 +11,10 @@ push must start from the pose of the mask.
 Pushes that miss the object (a graze past a corner included) or start inside
 it are dropped with one warning naming their CSV line numbers; ``--strict``
 refuses them, and so is a recording where most pushes would be dropped (with
-a hint when swapping the x and y columns makes them hit). ``--example`` runs on
-the small recording shipped in ``comcore/data/examples/``.
+a hint when swapping the x and y columns makes them hit), or where a quarter or more
+are dropped and the pushes fit the mask at another scale (a mask taken at another
+zoom than the pushes: :func:`comcore.cli._mistakes.scale_mistake` says the rule).
+``--example`` runs on the small recording shipped in ``comcore/data/examples/``.
 
 ``--frames`` adds the frames a camera saw during the pushes, a CSV with the
 columns ``push, px, py, theta, tx, ty`` (:mod:`comcore.cli._frames`): ``push``
