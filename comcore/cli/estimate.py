@@ -38,9 +38,13 @@ the tip's radius (``--pusher-radius``) give the mask and the pushes through
 :func:`comcore.recordings.bag.recording_from_bag` (needs ``comcore[ros]``). The
 mask is drawn from the outline, so ``--resolution`` is then the mask's pixel
 size, not a camera's, and has a default (2.5 mm). The pushes are numbered as
-the lines of the pushes CSV the recording would make (the first is line 2). The
-CoM is also given in the object's frame (the outline's, of the object topic's poses):
-the JSON's ``com_object_m``.
+the lines of the pushes CSV the recording would make (the first is line 2). Each
+push's motion is taken over ``--travel`` metres of pusher travel after first contact
+(default 3 cm): set it to the cell's push length or less, since a push that travels
+less is skipped as ``short``. The CoM is also given in the object's frame (the
+outline's, of the object topic's poses): the JSON's ``com_object_m``; the ROS
+messages' stamp is the bag's time at the end of the last push kept (0 for a mask and
+a CSV, which carry no clock).
 
 The default method, ``posterior``, scores the pushes with the motion model of
 :class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
@@ -77,6 +81,7 @@ from comcore._validation import check_physical
 from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, DEFAULT_TARGET_RADIUS
 from comcore.active._posterior import MAX_BOOTSTRAP
 from comcore.active._theta_units import THETA_UNITS
+from comcore.recordings._recording import DEFAULT_TRAVEL_M
 
 from . import _options
 from ._frames import FRAME_COLUMNS, dropped_frames, dropped_note, frame_error, read_frames
@@ -286,6 +291,14 @@ def _add_bag_arguments(parser) -> None:
     )
     for option, text in BAG_OPTIONS.items():
         bag.add_argument(option, metavar="FILE" if option == "--outline" else "NAME", help=text)
+    bag.add_argument(
+        "--travel",
+        type=float,
+        metavar="METRES",
+        help="the pusher's travel after first contact over which each push's motion is taken "
+        f"(default {DEFAULT_TRAVEL_M:g} m): your cell's push length or less; a push that "
+        "travels less is skipped as short",
+    )
 
 
 def _add_status_arguments(parser) -> None:
@@ -501,10 +514,14 @@ def _bag_options(args) -> None:
     if not args.bag:
         if given:
             raise InputError(f"{', '.join(given)} need --bag (they say what to read in the bag)")
+        if getattr(args, "travel", None) is not None:
+            raise InputError(
+                "--travel needs --bag: a pushes CSV gives each push's path and motion itself"
+            )
         return
-    others = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes),
-                             ("--example", args.example), ("--background", args.background),
-                             ("--roi", args.roi)) if v]  # fmt: skip
+    image = {"--mask": args.mask, "--pushes": args.pushes, "--example": args.example}
+    image.update({"--background": args.background, "--roi": args.roi})
+    others = [option for option, value in image.items() if value]
     if others:
         raise InputError(
             f"--bag replaces --mask and --pushes (and the image's options); give one or the "
@@ -521,17 +538,27 @@ def _read(args, resolution: float, pusher_radius: float):
     """The mask, the pushes and the bag's Recording (None for the mask image and the CSV)."""
     if args.bag:
         mask, recorded, rec = read_bag(
-            args.bag, args.object_topic, args.pusher_topic, args.outline, pusher_radius,
-            resolution, object_child_frame=args.object_child_frame,
+            args.bag,
+            args.object_topic,
+            args.pusher_topic,
+            args.outline,
+            pusher_radius,
+            resolution,
+            object_child_frame=args.object_child_frame,
             pusher_child_frame=args.pusher_child_frame,
-        )  # fmt: skip
+            travel=_travel(args),
+        )
         print(f"comcore estimate: --bag: {rec.report()}".replace("\n", "\n  "), file=sys.stderr)
         return mask, recorded, rec
     mask_path, pushes_path = _inputs(args)
     mask = read_mask(
-        mask_path, resolution, args.object, threshold=args.threshold,
-        background=args.background, roi=args.roi,
-    )  # fmt: skip
+        mask_path,
+        resolution,
+        args.object,
+        threshold=args.threshold,
+        background=args.background,
+        roi=args.roi,
+    )
     return mask, read_pushes(pushes_path), None
 
 
@@ -549,8 +576,13 @@ def _inputs(args):
     return Path(args.mask), Path(args.pushes)
 
 
-def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None) -> dict:
-    """The JSON object of a run (without the overlay); ``frame``: a bag's object frame."""
+def _result(args, mask, recorded, pushes, dropped, est, *, mistake=None, frame=None) -> dict:
+    """The JSON object of a run (without the overlay); ``frame``: a bag's Recording.
+
+    The ROS messages are stamped with the bag's time at the end of its last push
+    kept (:attr:`comcore.Recording.stamp`), 0 without a bag.
+    """
+    stamp = None if frame is None else frame.stamp
     status = comcore.Status.INCONSISTENT if mistake else est.status
     return {
         "com_px": list(est.com),
@@ -576,8 +608,11 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None
         "overlay": None,
         "overlay_replaced": False,
         "ros": comcore.ros.ros_messages(
-            dataclasses.replace(est, status=status), frame_id=args.frame_id,
-            resolution=None if frame is not None else mask.resolution, frame=frame,
+            dataclasses.replace(est, status=status),
+            frame_id=args.frame_id,
+            resolution=None if frame is not None else mask.resolution,
+            frame=frame,
+            stamp=0.0 if stamp is None else stamp,
         ),
     }
 
@@ -610,6 +645,17 @@ def _target(value) -> float:
     """``--target-radius`` (metres), checked."""
     try:
         return check_physical(value, "--target-radius", "target_radius")
+    except ValueError as e:
+        raise InputError(str(e)) from None
+
+
+def _travel(args) -> float:
+    """``--travel`` (metres), checked; its default without it."""
+    travel = getattr(args, "travel", None)
+    if travel is None:
+        return DEFAULT_TRAVEL_M
+    try:
+        return check_physical(travel, "--travel", "push_length")
     except ValueError as e:
         raise InputError(str(e)) from None
 
@@ -711,7 +757,7 @@ def run(args) -> int:
             else status_meaning(est.status, args.target_radius)
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
-    result = _result(args, mask, recorded, pushes, dropped, est, mistake, frame=from_bag)
+    result = _result(args, mask, recorded, pushes, dropped, est, mistake=mistake, frame=from_bag)
     if frames is not None:
         result["n_frames"] = frames.n_frames
         result["dropped_frames"] = dropped_frames(est, frames, kept, recorded.lines, dropped)

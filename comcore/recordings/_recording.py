@@ -98,6 +98,10 @@ class Recording:
         The pixel frame: :meth:`pixels_from_object` and :meth:`object_from_pixels`.
     pusher_radius, travel : float
         Metres, as given.
+    time_origin_ns : int or None
+        The streams' time 0 as ROS time, nanoseconds since the epoch, where it
+        is known (a bag's start, :func:`comcore.recordings.bag.recording_from_bag`);
+        ``None`` otherwise.
     """
 
     mask: Mask
@@ -107,6 +111,19 @@ class Recording:
     frame: OutlineFrame
     pusher_radius: float
     travel: float
+    time_origin_ns: int | None = None
+
+    @property
+    def stamp(self) -> tuple[int, int] | None:
+        """ROS time ``(sec, nanosec)`` at which the last kept push's window ends.
+
+        ``None`` where the streams' clock is not known (:attr:`time_origin_ns`) or no
+        push was kept.
+        """
+        if self.time_origin_ns is None or not self.pushes:
+            return None
+        end = int(self.time_origin_ns) + round(max(p.end_time for p in self.pushes) * 1e9)
+        return divmod(end, 1_000_000_000)
 
     @property
     def actions(self) -> np.ndarray:

@@ -45,6 +45,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from typing import NamedTuple
@@ -117,6 +118,9 @@ class BagPoses(NamedTuple):
     """The topic's message type (one of :data:`SUPPORTED_TYPES`)."""
     time_source: str
     """``"header"`` or ``"receive"``: where the times came from."""
+    start_ns: int = 0
+    """The bag's start (its first message's receive time), nanoseconds since the epoch: the
+    time 0 of ``poses``."""
 
 
 def bag_topics(path) -> dict[str, str]:
@@ -335,7 +339,7 @@ def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
     poses = np.column_stack([t, xy, np.unwrap(yaw)])
     poses.setflags(write=False)
     child = rows[0][3] if msgtype in _CHILD_FRAME_TYPES else ""
-    return BagPoses(poses, frames[0], child, msgtype, source)
+    return BagPoses(poses, frames[0], child, msgtype, source, start)
 
 
 def _times(rows, topic: str, start: int, time: str) -> tuple[np.ndarray, np.ndarray, str]:
@@ -542,4 +546,5 @@ def recording_from_bag(
             "outline in the object's?"
         )
     names = [f"push {k + 1} at {round(p[0, 0], 2) + 0.0:.2f} s" for k, (_, p) in enumerate(pieces)]
-    return recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
+    rec = recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
+    return dataclasses.replace(rec, time_origin_ns=obj.start_ns)
