@@ -73,6 +73,7 @@ import json
 import sys
 from importlib import resources
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -172,6 +173,33 @@ def add_arguments(parser) -> None:
     add = parser.add_argument
     _add_input_arguments(parser)
     _add_bag_arguments(parser)
+    _add_image_arguments(parser)
+    _add_unit_arguments(parser)
+    add(
+        "--method",
+        choices=METHODS,
+        default=METHODS[0],
+        help="estimator (default posterior). posterior: the active estimator's posterior over "
+        "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
+        "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
+        "(docs/how-to/benchmark.md measures it). alg2: the paper's Alg. 2; "
+        "alg2-rotation: Alg. 2 taking "
+        "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
+    )
+    add(
+        "--strict",
+        action="store_true",
+        help="refuse pushes that miss the object or start inside it (default: drop them "
+        "with a warning)",
+    )
+    _add_model_arguments(parser)
+    _add_status_arguments(parser)
+    _add_output_arguments(parser)
+
+
+def _add_image_arguments(parser) -> None:
+    """``--object``, ``--threshold``, ``--background`` and ``--roi``: reading the mask image."""
+    add = parser.add_argument
     add(
         "--object",
         choices=("auto", "bright", "dark"),
@@ -200,26 +228,11 @@ def add_arguments(parser) -> None:
         help="look only inside this box of the image, in pixels (columns X0..X1-1, rows "
         "Y0..Y1-1); pixel coordinates do not change",
     )
-    _add_unit_arguments(parser)
-    add(
-        "--method",
-        choices=METHODS,
-        default=METHODS[0],
-        help="estimator (default posterior). posterior: the active estimator's posterior over "
-        "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
-        "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
-        "(docs/how-to/benchmark.md measures it). alg2: the paper's Alg. 2; "
-        "alg2-rotation: Alg. 2 taking "
-        "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
-    )
-    add(
-        "--strict",
-        action="store_true",
-        help="refuse pushes that miss the object or start inside it (default: drop them "
-        "with a warning)",
-    )
-    _add_model_arguments(parser)
-    _add_status_arguments(parser)
+
+
+def _add_output_arguments(parser) -> None:
+    """``--json``, ``--frame-id``, ``--overlay`` and ``--no-overlay``."""
+    add = parser.add_argument
     add("--json", action="store_true", help="print one JSON object instead of text")
     add(
         "--frame-id",
@@ -697,6 +710,89 @@ def _numbers(args) -> tuple[float, float, float]:
     return resolution, pusher_radius, systematic_error
 
 
+class _Inputs(NamedTuple):
+    """What a run read and checked, before estimating."""
+
+    mask: comcore.Mask
+    """The object's mask."""
+    recorded: object
+    """Every push read (``Pushes``), dropped ones included."""
+    pushes: object
+    """The pushes kept (``Pushes``)."""
+    dropped: dict
+    """``{CSV line: why}`` of the pushes dropped."""
+    frames: object
+    """The frames read (``--frames``), or None."""
+    from_bag: comcore.Recording | None
+    """The bag's Recording (``--bag``), or None."""
+    pusher_radius: float
+    """``--pusher-radius``, metres."""
+    systematic_error: float
+    """``--systematic-error``, metres."""
+
+    @property
+    def kept(self) -> list[int]:
+        """The rows of ``recorded`` that were kept."""
+        return [k for k, line in enumerate(self.recorded.lines) if int(line) not in self.dropped]
+
+
+def _prepare(args) -> _Inputs:
+    """Check the options, read the inputs and screen the pushes (InputError on a mistake)."""
+    _frames_options(args)
+    _bag_options(args)
+    if not args.bag:
+        _inputs(args)  # the mask and CSV options, checked before the numbers
+    resolution, pusher_radius, systematic_error = _numbers(args)
+    mask, recorded, from_bag = _read(args, resolution, pusher_radius)
+    frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
+    if args.theta_units == "deg":
+        recorded = recorded.theta_from_degrees()
+        frames = None if frames is None else frames.theta_from_degrees()
+    contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
+    pushes, dropped = screen_pushes(
+        mask, recorded, strict=args.strict, pusher_radius=contact_radius
+    )
+    recording_mistakes(mask, recorded, dropped, degrees=args.theta_units == "deg")
+    return _Inputs(
+        mask, recorded, pushes, dropped, frames, from_bag, pusher_radius, systematic_error
+    )
+
+
+def _warn_dropped(read: _Inputs) -> None:
+    """One warning naming the pushes dropped (and their frames), if any."""
+    if not read.dropped:
+        return
+    lines = read.recorded.lines
+    rows = [k for k, line in enumerate(lines) if int(line) in read.dropped]
+    note = "" if read.frames is None else dropped_note(read.frames, rows)
+    print(
+        f"comcore estimate: warning: dropped {len(read.dropped)} of {len(lines)} pushes "
+        f"that miss the object or start inside it: CSV line(s) {line_list(list(read.dropped))} "
+        "(--strict refuses them)" + note,
+        file=sys.stderr,
+    )
+
+
+def _estimate(args, read: _Inputs) -> tuple[comcore.Estimate, str | None]:
+    """The estimate and the mistake the recording shows (None if none)."""
+    mask, pushes, frames = read.mask, read.pushes, read.frames
+    units = units_mistake(mask, pushes, args.theta_units, read.pusher_radius)
+    est = estimate(
+        mask,
+        pushes.actions,
+        pushes.motions,
+        args.method,
+        model=args.model,
+        systematic_error=read.systematic_error,
+        bootstrap=args.bootstrap,
+        pusher_radius=read.pusher_radius,
+        target_radius=args.target_radius,
+        frames=None if frames is None else frames.of(read.kept),
+    )
+    mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
+    return est, mistake
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; its exit code (:data:`EPILOG`).
 
@@ -704,45 +800,19 @@ def run(args) -> int:
     :data:`EXIT_INCONSISTENT` when the status is ``inconsistent``.
     """
     try:
-        _frames_options(args)
-        _bag_options(args)
-        if not args.bag:
-            _inputs(args)  # the mask and CSV options, checked before the numbers
-        resolution, pusher_radius, systematic_error = _numbers(args)
-        mask, recorded, from_bag = _read(args, resolution, pusher_radius)
-        frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
-        if args.theta_units == "deg":
-            recorded = recorded.theta_from_degrees()
-            frames = None if frames is None else frames.theta_from_degrees()
-        contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
-        pushes, dropped = screen_pushes(
-            mask, recorded, strict=args.strict, pusher_radius=contact_radius
-        )
-        recording_mistakes(mask, recorded, dropped, degrees=args.theta_units == "deg")
+        read = _prepare(args)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
-    kept = [k for k, line in enumerate(recorded.lines) if int(line) not in dropped]
-    if dropped:
-        rows = [k for k, line in enumerate(recorded.lines) if int(line) in dropped]
-        print(
-            f"comcore estimate: warning: dropped {len(dropped)} of {len(recorded.lines)} pushes "
-            f"that miss the object or start inside it: CSV line(s) {line_list(list(dropped))} "
-            "(--strict refuses them)" + ("" if frames is None else dropped_note(frames, rows)),
-            file=sys.stderr,
-        )
+    _warn_dropped(read)
     try:
-        units = units_mistake(mask, pushes, args.theta_units, pusher_radius)
-        est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
-                       systematic_error=systematic_error, bootstrap=args.bootstrap,
-                       pusher_radius=pusher_radius, target_radius=args.target_radius,
-                       frames=None if frames is None else frames.of(kept))  # fmt: skip
-        mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
+        est, mistake = _estimate(args, read)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
     except (TypeError, ValueError) as e:
-        error = None if frames is None else frame_error(str(e), frames, kept, recorded.lines)
+        frames, lines = read.frames, read.recorded.lines
+        error = None if frames is None else frame_error(str(e), frames, read.kept, lines)
         if error is not None:  # a frame that does not fit its push: the frames CSV's mistake
             print(f"comcore estimate: {error}", file=sys.stderr)
             return 2
@@ -757,14 +827,24 @@ def run(args) -> int:
             else status_meaning(est.status, args.target_radius)
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
-    result = _result(args, mask, recorded, pushes, dropped, est, mistake=mistake, frame=from_bag)
+    return _report(args, read, est, mistake)
+
+
+def _report(args, read: _Inputs, est, mistake) -> int:
+    """Print the result (text or JSON) and write the overlay; the exit code."""
+    mask, recorded, frames, from_bag = read.mask, read.recorded, read.frames, read.from_bag
+    result = _result(
+        args, mask, recorded, read.pushes, read.dropped, est, mistake=mistake, frame=from_bag
+    )
     if frames is not None:
         result["n_frames"] = frames.n_frames
-        result["dropped_frames"] = dropped_frames(est, frames, kept, recorded.lines, dropped)
+        result["dropped_frames"] = dropped_frames(
+            est, frames, read.kept, recorded.lines, read.dropped
+        )
     if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
         result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
-    code = _overlay(args, mask, pushes, shown, result)
+    code = _overlay(args, mask, read.pushes, shown, result)
     if code:
         return code
     if args.json:
