@@ -283,9 +283,11 @@ def _save(args, result, out: Path, partial: Path) -> int:
         return 2
     partial.unlink()
     (out / STATE).unlink(missing_ok=True)
-    from ._report import summary_table
+    from ._report import ALG1_NOTE, summary_table
 
     print(summary_table(result.rows))
+    if any(r["estimator"] == "alg1" for r in result.rows):
+        print(ALG1_NOTE)
     print(
         f"wall time {result.wall_s:.1f} s; report: {paths['report']}; results: {paths['results']}"
     )

@@ -8,7 +8,13 @@ import pytest
 
 from comcore.bench import ROW_FIELDS
 from comcore.bench._io import paper_table, read_rows, write_rows
-from comcore.bench._report import group_stats, markdown_report, table_one, table_two
+from comcore.bench._report import (
+    ALG1_NOTE,
+    group_stats,
+    markdown_report,
+    table_one,
+    table_two,
+)
 from tests.extras import require_simulators
 
 
@@ -76,6 +82,9 @@ def test_report_has_the_tables_figures_and_notes():
                    "![Fig. 7](bench_fig7_pushes.png)", "CPU time 6.0 s, 6.000 s per trial", "`active` skipped: not built",
                    "1 trial(s) redrew", "ValueError: boom"):  # fmt: skip
         assert needle in text, needle
+    table_i = text[text.index("## Table I") : text.index("## Table II")]
+    assert ALG1_NOTE in table_i and "docs/results/paper.md" in ALG1_NOTE
+    assert ALG1_NOTE not in markdown_report(rows[1:], meta, {})  # no Alg. 1, no sentence
 
 
 @pytest.mark.parametrize("suffix", [".jsonl", ".parquet"])

@@ -298,7 +298,7 @@ def test_demo_runs_a_whole_session_and_prints_the_estimate_its_region_and_the_tr
 
 
 def test_demo_compare_shows_the_active_estimator_beside_the_papers_and_alg1_is_not_ok(capsys):
-    from comcore.cli.demo import ALG1_NOTE
+    from comcore.bench._report import ALG1_NOTE
 
     assert main(["demo", "--compare", "--pushes", "20", "--seed", "1"]) == 0
     out = capsys.readouterr().out
