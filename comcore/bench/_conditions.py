@@ -94,8 +94,7 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         "(`Estimate.region`) contains the true CoM pixel, for estimators that report a "
         "credible region (n/a for the others). *ok > 1 cm*: share of trials that stopped "
         "with status `ok` and an error over 1 cm. *failed*: trials that ended in an error or "
-        "with a push the robot could not execute. *statuses*: the trials by status. "
-        + STATUS_NOTE,
+        "with a push the robot could not execute. *statuses*: the trials by status. " + STATUS_NOTE,
         "",
     ]
     for name in list(dict.fromkeys([*results, *unfit])):
@@ -126,9 +125,10 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
             lines.append(f"| `{label}` | not run: {reason} | | | | | | | |")
         lines.append("")
         predicted = [
-            e for e in (result.config.estimators if result is not None else ())
+            e
+            for e in (result.config.estimators if result is not None else ())
             if parse_estimator(e)[0].uses_motions
-        ]  # fmt: skip
+        ]
         if predicted and not cond.plain:
             names = ", ".join(f"`{e}`" for e in predicted)
             source = (

@@ -254,7 +254,8 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         "## Summary",
         "Real pushes count the pushes run on the object: a learned predictor's prior pushes "
         "plus the pushes an estimator used (Alg. 1 uses every candidate), or, for an estimator "
-        "that pushes the object itself, the pushes it executed. " + STATUS_NOTE
+        "that pushes the object itself, the pushes it executed. "
+        + STATUS_NOTE
         + " (docs/how-to/benchmark.md, docs/results/active.md).",
         summary_table(rows),
     ]

@@ -140,9 +140,13 @@ def read_mask(
         reference = _read_image(background, "--background")
     try:
         return comcore.mask_from_image(
-            image, object=side, threshold=threshold, background=reference, roi=roi,
+            image,
+            object=side,
+            threshold=threshold,
+            background=reference,
+            roi=roi,
             resolution=resolution,
-        )  # fmt: skip
+        )
     except (TypeError, ValueError) as e:  # comcore.ImageError is a ValueError
         message = str(e)
         for keyword, option in _OPTION_NAMES.items():

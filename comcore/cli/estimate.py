@@ -236,7 +236,7 @@ def _add_output_arguments(parser) -> None:
     add("--json", action="store_true", help="print one JSON object instead of text")
     add(
         "--frame-id",
-        help="the tf frame named in the JSON's ROS messages (\"ros\": InertiaStamped and "
+        help='the tf frame named in the JSON\'s ROS messages ("ros": InertiaStamped and '
         "PoseWithCovarianceStamped fields, comcore.ros.ros_messages). With --mask: the CoM in "
         f"the mask frame's metres (x along the columns, y down the rows), default {MASK_FRAME_ID}. "
         "With --bag: in the object's frame (the outline's, the object topic's), default "
@@ -438,12 +438,18 @@ def estimate(
     if method == "posterior":
         chosen = None if model == "none" else DEFAULT_MODEL
         return comcore.estimate_posterior(
-            mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
+            mask,
+            actions,
+            motions,
+            credible=CREDIBLE,
+            model=chosen,
+            pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
-            bootstrap=bootstrap, stop=comcore.StopRule(target_radius=target_radius),
+            bootstrap=bootstrap,
+            stop=comcore.StopRule(target_radius=target_radius),
             theta_units="rad",  # the command checks theta's unit itself
             frames=frames,
-        )  # fmt: skip
+        )
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -489,12 +495,18 @@ def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
         raise ModuleNotFoundError(str(e), name="matplotlib") from e
     replaced = path.exists()
     x, y = est.com
-    title = (f"comcore estimate --method {method}: CoM ({x:.1f}, {y:.1f}) px, status "
-             f"{est.status}\npushes numbered by their CSV line")  # fmt: skip
+    title = (
+        f"comcore estimate --method {method}: CoM ({x:.1f}, {y:.1f}) px, status "
+        f"{est.status}\npushes numbered by their CSV line"
+    )
     ax = comcore.plot.plot_estimate(
-        mask, est, actions=pushes.actions, title=title, credible=CREDIBLE,
+        mask,
+        est,
+        actions=pushes.actions,
+        title=title,
+        credible=CREDIBLE,
         numbers=overlay_numbers(est, pushes.lines),
-    )  # fmt: skip
+    )
     ax.figure.savefig(path)
     return replaced
 
@@ -505,8 +517,11 @@ def _frames_options(args) -> None:
         return
     if args.bag or args.example:
         other = "--bag" if args.bag else "--example"
-        why = ("its pushes are cut from its poses, not rows of a pushes CSV" if args.bag
-               else "the example has no frames")  # fmt: skip
+        why = (
+            "its pushes are cut from its poses, not rows of a pushes CSV"
+            if args.bag
+            else "the example has no frames"
+        )
         raise InputError(f"--frames goes with --mask and --pushes, not {other} ({why})")
     if not args.pushes:
         raise InputError("--frames needs --pushes: its push column numbers the pushes CSV's rows")
@@ -642,8 +657,10 @@ def _overlay(args, mask, pushes, est, result: dict) -> int:
         if args.overlay:  # asked for by name: an error
             print(f"comcore estimate: cannot write the overlay {overlay}: {why}", file=sys.stderr)
             return 2
-        print(f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
-              file=sys.stderr)  # fmt: skip
+        print(
+            f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
+            file=sys.stderr,
+        )
         return 0
     except (OSError, ValueError) as e:
         print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)

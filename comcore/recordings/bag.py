@@ -205,8 +205,10 @@ def _entries(msg, msgtype: str):
         child, position, orientation = "", msg.pose.position, msg.pose.orientation
     elif msgtype == "geometry_msgs/msg/TransformStamped":
         child, position, orientation = (
-            msg.child_frame_id, msg.transform.translation, msg.transform.rotation,
-        )  # fmt: skip
+            msg.child_frame_id,
+            msg.transform.translation,
+            msg.transform.rotation,
+        )
     else:  # nav_msgs/msg/Odometry
         pose = msg.pose.pose
         child, position, orientation = msg.child_frame_id, pose.position, pose.orientation
@@ -524,9 +526,13 @@ def recording_from_bag(
         )
     tolerance = options.get("contact_tolerance", DEFAULT_CONTACT_TOLERANCE_M)
     pieces = split_pushes(
-        poly, obj.poses, pusher.poses, pusher_radius, separation=separation,
+        poly,
+        obj.poses,
+        pusher.poses,
+        pusher_radius,
+        separation=separation,
         contact_tolerance=tolerance,
-    )  # fmt: skip
+    )
     if not pieces:
         _, gap = pusher_gaps(poly, stream(obj.poses, "object"), pusher.poses, pusher_radius)
         closest = f"{gap.min():.3g} m" if len(gap) else "nothing: no time in common"
