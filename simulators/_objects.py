@@ -32,7 +32,8 @@ BENCHMARK_AREAS_CM2 = dict(
 )  # fmt: skip
 
 
-def _arc(cx, cy, rx, ry, a0, a1, n):
+def _arc(cx, cy, rx, ry, a0, a1, *, n):
+    """``n`` points of the ellipse arc about ``(cx, cy)``, radii ``rx, ry``, ``a0``-``a1`` deg."""
     t = np.linspace(math.radians(a0), math.radians(a1), n)
     return np.column_stack([cx + rx * np.cos(t), cy + ry * np.sin(t)])
 
@@ -40,7 +41,7 @@ def _arc(cx, cy, rx, ry, a0, a1, n):
 def _rounded_rect(w, h, r, n=6):
     pts = []
     for cx, cy, a in ((w - r, h - r, 0), (r, h - r, 90), (r, r, 180), (w - r, r, 270)):
-        pts.append(_arc(cx, cy, r, r, a, a + 90, n))
+        pts.append(_arc(cx, cy, r, r, a, a + 90, n=n))
     return np.vstack(pts)
 
 
@@ -62,11 +63,11 @@ def _recipes() -> dict[str, np.ndarray]:
     return {
         "Obj1": np.array([[0, 0], [2, 0], [2, 1], [0, 1]]),  # 2:1 rectangle
         "Obj2": np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 2.5], [0, 2.5]]),  # L
-        "Obj3": _arc(0, 0, 1, 1, 0, 360, 7)[:-1],  # regular hexagon
+        "Obj3": _arc(0, 0, 1, 1, 0, 360, n=7)[:-1],  # regular hexagon
         "Obj4": np.array([[-2, 2], [2, 2], [2, 1.2], [0.5, 1.2], [0.5, -1.5], [-0.5, -1.5],
                           [-0.5, 1.2], [-2, 1.2]]),  # T
         "Obj5": np.array([[0, 0], [4, 0], [1.2, 2.6]]),  # scalene triangle
-        "Obj6": _arc(0, 0, 3.0, 1, 0, 360, 41)[:-1],  # ellipse
+        "Obj6": _arc(0, 0, 3.0, 1, 0, 360, n=41)[:-1],  # ellipse
         "Obj7": np.array([[-0.5, -1.5], [0.5, -1.5], [0.5, -0.5], [1.5, -0.5], [1.5, 0.5],
                           [0.5, 0.5], [0.5, 1.5], [-0.5, 1.5], [-0.5, 0.5], [-1.5, 0.5],
                           [-1.5, -0.5], [-0.5, -0.5]]),  # plus
@@ -75,12 +76,12 @@ def _recipes() -> dict[str, np.ndarray]:
                           [0, 3]]),  # U
         "Obj10": _star(5, 1.0, 0.5),  # five-pointed star
         "Obj11": np.array([[0, 0], [4.5, 0], [3.7, 1.6], [0.6, 1.6]]),  # trapezoid
-        "Obj12": np.vstack([_arc(0, 0, 2, 2, 20, 160, 15),
-                            _arc(0, -0.5, 1.55, 1.55, 150, 30, 13)]),  # crescent
+        "Obj12": np.vstack([_arc(0, 0, 2, 2, 20, 160, n=15),
+                            _arc(0, -0.5, 1.55, 1.55, 150, 30, n=13)]),  # crescent
         "Obj13": np.array([[0, 0], [2.2, -0.3], [2.8, 1.5], [1.2, 2.6], [-0.4, 1.6]]),  # pentagon
         "Obj14": np.array([[0, -0.35], [3.6, -0.35], [3.6, -0.9], [5.0, 0], [3.6, 0.9], [3.6, 0.35],
                            [0, 0.35]]),  # arrow
-        "Obj15": _arc(0, 0, 1, 1, 0, 180, 19),  # half disc
+        "Obj15": _arc(0, 0, 1, 1, 0, 180, n=19),  # half disc
         "Obj16": _blob(1.6 * bean) * (1.3, 1.0),  # bean / kidney
         "Obj17": _rounded_rect(3, 2, 0.5),  # rounded rectangle
         "Obj18": np.array([[0, 3], [3, 3], [3, 2.3], [1.2, 0.7], [3, 0.7], [3, 0], [0, 0],

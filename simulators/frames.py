@@ -141,7 +141,7 @@ def _frame_shadow(rng, shape, depth) -> np.ndarray:
     return profile[None, :] if side < 2 else profile[:, None]
 
 
-def _add_clutter(rng, table, share, centre, radius, blur, object_level) -> None:
+def _add_clutter(rng, table, share, centre, radius, *, blur, object_level) -> None:
     """Draw another thing of the object's side and size on ``table`` (in place), away from it."""
     h, w = table.shape
     while True:
@@ -157,6 +157,41 @@ def _add_clutter(rng, table, share, centre, radius, blur, object_level) -> None:
     )
     cover = ndimage.gaussian_filter(_coverage(other, cbox), blur)
     table[cbox] = cover * object_level + (1 - cover) * table[cbox]
+
+
+def _place_object(rng, shape, share):
+    """A polygon of ``share`` of the frame's area inside it, a margin kept: poly, centre, radius."""
+    h, w = shape
+    while True:  # a polygon that fits in the frame with a margin
+        poly = star_polygon(rng, share * h * w)
+        radius = np.hypot(poly[:, 0], poly[:, 1]).max()
+        margin = radius + 0.05 * min(h, w) + 3
+        if 2 * margin < min(h, w):
+            break
+    centre = rng.uniform([margin, margin], [w - margin, h - margin])
+    return poly + centre, centre, radius
+
+
+def _grid_lines(rng, shape) -> np.ndarray:
+    """A cutting mat's lines: 2 px wide, 64 px apart, at a random offset (bool, ``shape``)."""
+    h, w = shape
+    ys, xs = np.ogrid[0:h, 0:w]
+    ox, oy = rng.uniform(0, 64, 2)
+    return ((xs - ox) % 64 < 2) | ((ys - oy) % 64 < 2)
+
+
+def _cast_shadow(rng, shade, poly, radius, strength, bounds) -> None:
+    """Darken ``shade`` (in place) by the object's soft shadow, offset a quarter of its radius."""
+    h, w = shade.shape
+    x0, y0, x1, y1 = bounds
+    offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
+    grow = int(np.ceil(radius * 0.6))
+    sbox = (
+        slice(max(y0 - grow, 0), min(y1 + grow, h)),
+        slice(max(x0 - grow, 0), min(x1 + grow, w)),
+    )
+    silhouette = _coverage(poly + offset, sbox, samples=1)
+    shade[sbox] = 1 - strength * ndimage.gaussian_filter(silhouette, 0.12 * radius)
 
 
 def make_frame(
@@ -201,21 +236,11 @@ def make_frame(
             0.7 * _smooth_field(rng, shape, 1.5) + 0.3 * _smooth_field(rng, shape, 12)
         )
     light = _illumination(rng, shape, gradient, table_level, vignetting)
-    while True:  # a polygon that fits in the frame with a margin
-        poly = star_polygon(rng, share * h * w)
-        radius = np.hypot(poly[:, 0], poly[:, 1]).max()
-        margin = radius + 0.05 * min(h, w) + 3
-        if 2 * margin < min(h, w):
-            break
-    centre = rng.uniform([margin, margin], [w - margin, h - margin])
-    poly = poly + centre
+    poly, centre, radius = _place_object(rng, shape, share)
     if grid:
-        ys, xs = np.ogrid[0:h, 0:w]
-        ox, oy = rng.uniform(0, 64, 2)
-        lines = ((xs - ox) % 64 < 2) | ((ys - oy) % 64 < 2)
-        table = table - grid * lines
+        table = table - grid * _grid_lines(rng, shape)
     if clutter:  # as big as the object, elsewhere, and part of the scene
-        _add_clutter(rng, table, share, centre, radius, blur, object_level)
+        _add_clutter(rng, table, share, centre, radius, blur=blur, object_level=object_level)
     pad = int(np.ceil(3 * blur)) + 2
     x0, y0 = np.floor(poly.min(axis=0)).astype(int) - pad
     x1, y1 = np.ceil(poly.max(axis=0)).astype(int) + pad + 1
@@ -227,14 +252,7 @@ def make_frame(
         truth = comcore.geometry.rasterise_polygon(poly, shape)
     shade = np.ones(shape)
     if cast_shadow and not empty:
-        offset = 0.25 * radius * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
-        grow = int(np.ceil(radius * 0.6))
-        sbox = (
-            slice(max(y0 - grow, 0), min(y1 + grow, h)),
-            slice(max(x0 - grow, 0), min(x1 + grow, w)),
-        )
-        silhouette = _coverage(poly + offset, sbox, samples=1)
-        shade[sbox] = 1 - cast_shadow * ndimage.gaussian_filter(silhouette, 0.12 * radius)
+        _cast_shadow(rng, shade, poly, radius, cast_shadow, (x0, y0, x1, y1))
     side_shade = _frame_shadow(rng, shape, frame_shadow) if frame_shadow else 1.0
 
     def shot(with_object: bool, gain: float) -> np.ndarray:

@@ -132,10 +132,9 @@ class QuasiStaticEngine:
             contact[hit] = (x[hit] + to_world(q, ch, sh)) * L
             normal[hit] = to_world(nb, ch, sh)
         idx = np.flatnonzero(hit)
-        xs, angs, traj = self._follow(
-            x[idx], ang[idx], centre0[idx] + t_hit[idx, None] * d[idx], d[idx],
-            total[idx] - t_hit[idx], first_vertex, record,
-        )  # fmt: skip
+        start, remaining = centre0[idx] + t_hit[idx, None] * d[idx], total[idx] - t_hit[idx]
+        follow = {"first_vertex": first_vertex, "record": record}
+        xs, angs, traj = self._follow(x[idx], ang[idx], start, d[idx], remaining, **follow)
         out = poses.copy()
         out[idx, :2] = xs * L
         out[idx, 2] = angs
@@ -151,7 +150,7 @@ class QuasiStaticEngine:
                 travel[i] = (t_hit[i] - lowered[i] + progress) * L
         return BatchOutcome(out, hit, contact, normal, blocked, trajectories, travel)
 
-    def _follow(self, xs, angs, c0, d0, remaining, first_vertex, record):
+    def _follow(self, xs, angs, c0, d0, remaining, *, first_vertex, record):
         """Step the pushers from their first contacts ``c0`` along ``d0`` by ``remaining``.
 
         ``xs`` (n, 2) and ``angs`` (n,) are the objects' poses (normalised
