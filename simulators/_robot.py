@@ -540,17 +540,7 @@ class SimulatedRobot:
         if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 0:
             raise ValueError(f"frames must be an integer >= 0, got {frames!r}")
         sim = self.simulator
-        rate = None
-        if frame_rate is not None:
-            rate = _check_frame_rate(frame_rate, frames)
-            length_m = math.hypot(*(acts[0, 2:] - acts[0, :2])) * sim.resolution
-            n_frames = len(_frame_times(length_m / self.speed, rate))
-            if n_frames > MAX_FRAMES_PER_PUSH:
-                raise ValueError(
-                    f"frame_rate {rate:g} Hz takes {n_frames} frames during this push "
-                    f"({length_m:.3g} m at speed {self.speed:g} m/s), more than "
-                    f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
-                )
+        rate = None if frame_rate is None else self._frame_rate(acts[0], frame_rate, frames)
         shapely = require_shapely()
         start_w = sim.to_world(acts[0, :2])[0]
         if shapely.contains_xy(shapely.Polygon(sim.outline_at(self._world)), *start_w):
@@ -579,15 +569,7 @@ class SimulatedRobot:
         if rate is not None:  # before the pose changes: a frame out of view changes nothing
             path = self._path_frames(executed[0], result, rate)
         self._world = tuple(float(v) for v in result.pose)
-        shots: tuple = ()
-        if frames:
-            traj = np.asarray(result.trajectory, float)
-            picks = np.round(np.linspace(0, len(traj) - 1, int(frames) + 1)[1:]).astype(int)
-            picks[-1] = len(traj) - 1
-            poses = [*traj[picks[:-1]], result.pose]
-            shots = tuple(
-                noisy_mask(sim.mask_at(tuple(p)), self.mask_noise, self._rng) for p in poses
-            )
+        shots = self._shots(result, frames) if frames else ()
         record = RobotPush(
             Action(*acts[0]),
             Action(*executed[0]),
@@ -600,6 +582,28 @@ class SimulatedRobot:
         )
         self.history.append(record)
         return record
+
+    def _frame_rate(self, action: np.ndarray, frame_rate, frames) -> float:
+        """``frame_rate`` checked: a number > 0 in Hz, without ``frames``, not too many frames."""
+        rate = _check_frame_rate(frame_rate, frames)
+        length_m = math.hypot(*(action[2:] - action[:2])) * self.simulator.resolution
+        n_frames = len(_frame_times(length_m / self.speed, rate))
+        if n_frames > MAX_FRAMES_PER_PUSH:
+            raise ValueError(
+                f"frame_rate {rate:g} Hz takes {n_frames} frames during this push "
+                f"({length_m:.3g} m at speed {self.speed:g} m/s), more than "
+                f"MAX_FRAMES_PER_PUSH ({MAX_FRAMES_PER_PUSH}): frame_rate is in Hz"
+            )
+        return rate
+
+    def _shots(self, result: PushResult, frames: int) -> tuple:
+        """``frames`` camera masks evenly spaced along the push's steps, the last at its end."""
+        traj = np.asarray(result.trajectory, float)
+        picks = np.round(np.linspace(0, len(traj) - 1, int(frames) + 1)[1:]).astype(int)
+        picks[-1] = len(traj) - 1
+        poses = [*traj[picks[:-1]], result.pose]
+        sim = self.simulator
+        return tuple(noisy_mask(sim.mask_at(tuple(p)), self.mask_noise, self._rng) for p in poses)
 
     def _path_frames(self, executed: np.ndarray, result: PushResult, rate: float) -> tuple:
         """``(path, path_times, path_poses)`` of :class:`RobotPush` for ``execute``'s frames."""
