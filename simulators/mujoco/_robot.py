@@ -291,6 +291,29 @@ class MujocoRobot:
         self.data.ctrl[:] = q
         self._mj.mj_forward(self.model, self.data)
 
+    def _pusher_line(self, action: np.ndarray):
+        """The object's outline now (shapely, metres) and the pusher centre's line.
+
+        ``(outline, c0, c1, d)``: the line runs from ``c0`` (moved back until the disc
+        clears the object) to ``c1`` along the unit direction ``d``.
+        """
+        shapely = require_shapely()
+        outline = shapely.Polygon(self.outline_m())
+        start, end = self.simulator.to_world(action.reshape(2, 2))
+        if shapely.contains_xy(outline, *start):
+            raise ValueError(
+                f"action must start outside the object as it is now; {action.tolist()} starts "
+                "inside its outline"
+            )
+        r = self.simulator.pusher_radius
+        d = (end - start) / np.linalg.norm(end - start)
+        c0, c1 = start - r * d, end - r * d
+        for _ in range(int(0.5 / RETREAT_STEP_M)):
+            if shapely.distance(outline, shapely.Point(*c0)) > r:
+                break
+            c0 = c0 - RETREAT_STEP_M * d
+        return outline, c0, c1, d
+
     def execute(
         self, action, frames: int = 0, *, retract: bool = True, frame_rate: float | None = None
     ) -> MujocoPush:
@@ -345,32 +368,11 @@ class MujocoRobot:
                 "camera_mask() after it"
             )
         dt = self.model.opt.timestep
-        rate = None
-        if frame_rate is not None:
-            rate = comcore.checks.check_positive(frame_rate, "frame_rate")
-            if rate * dt > 1.0 + 1e-9:
-                raise ValueError(
-                    f"frame_rate must be at most one frame per time step ({1 / dt:g} Hz, "
-                    f"settings.timestep {dt:g} s), got {rate:g} Hz"
-                )
+        rate = None if frame_rate is None else _check_rate(frame_rate, dt)
         acts = comcore.checks.check_actions(action, "action", allow_empty=False)
         if acts.shape[0] != 1:
             raise ValueError(f"action must be a single action (4 numbers), got {acts.shape[0]}")
-        shapely = require_shapely()
-        outline = shapely.Polygon(self.outline_m())
-        start, end = self.simulator.to_world(acts[0].reshape(2, 2))
-        if shapely.contains_xy(outline, *start):
-            raise ValueError(
-                f"action must start outside the object as it is now; {acts[0].tolist()} starts "
-                "inside its outline"
-            )
-        r = self.simulator.pusher_radius
-        d = (end - start) / np.linalg.norm(end - start)
-        c0, c1 = start - r * d, end - r * d
-        for _ in range(int(0.5 / RETREAT_STEP_M)):
-            if shapely.distance(outline, shapely.Point(*c0)) > r:
-                break
-            c0 = c0 - RETREAT_STEP_M * d
+        outline, c0, c1, d = self._pusher_line(acts[0])
         before = self._body_pose()
         centroid = self._to_body(np.asarray(outline.centroid.coords[0]), before)
         mj, model, data = self._mj, self.model, self.data
@@ -413,10 +415,8 @@ class MujocoRobot:
         self._settle()
         path = self._path_frames(seen, state)
         after = self._body_pose()
-        record = MujocoPush(
-            Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
-            self.world_pose, lag, *path,
-        )  # fmt: skip
+        motion = self._motion_between(centroid, before, after)
+        record = MujocoPush(Action(*acts[0]), motion, self.pose, hit, self.world_pose, lag, *path)
         self.history.append(record)
         return record
 
@@ -483,3 +483,14 @@ class MujocoRobot:
 
     def __repr__(self) -> str:
         return f"MujocoRobot({self.simulator.shape!r}, pushes={self.pushes})"
+
+
+def _check_rate(frame_rate, dt: float) -> float:
+    """``frame_rate`` (Hz) checked: a finite number > 0, at most one frame per time step."""
+    rate = comcore.checks.check_positive(frame_rate, "frame_rate")
+    if rate * dt > 1.0 + 1e-9:
+        raise ValueError(
+            f"frame_rate must be at most one frame per time step ({1 / dt:g} Hz, "
+            f"settings.timestep {dt:g} s), got {rate:g} Hz"
+        )
+    return rate
