@@ -209,21 +209,8 @@ def _f(values) -> str:
     return " ".join(f"{float(v):.9g}" for v in np.ravel(values))
 
 
-def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
-    """The MJCF of the scene.
-
-    Parameters
-    ----------
-    simulator : PushSimulator
-        The object (shape, mass, ``mu_contact``, ``mu_floor``, ``pusher_radius``).
-    settings : MujocoSettings
-    camera : simulators.mujoco._camera.CameraSetup
-        Where the camera and the light are.
-
-    Returns
-    -------
-    str
-    """
+def _object_xml(simulator, settings: MujocoSettings) -> tuple[list[str], list[str]]:
+    """The object's meshes (assets) and geoms: its pieces, mass lumps and feet."""
     shapely = require_shapely()
     s = settings
     poly = simulator.shape.polygon()
@@ -253,6 +240,27 @@ def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
             f'conaffinity="1" friction="{simulator.mu_floor:.9g} 0 0" group="3" rgba="0 0 0 0" '
             f'solref="{s.support_timeconst:.9g} 1"/>'
         )
+    return assets, geoms
+
+
+def build_scene_xml(simulator, settings: MujocoSettings, camera) -> str:
+    """The MJCF of the scene.
+
+    Parameters
+    ----------
+    simulator : PushSimulator
+        The object (shape, mass, ``mu_contact``, ``mu_floor``, ``pusher_radius``).
+    settings : MujocoSettings
+    camera : simulators.mujoco._camera.CameraSetup
+        Where the camera and the light are.
+
+    Returns
+    -------
+    str
+    """
+    s = settings
+    z0, z1 = 2 * s.foot_radius, 2 * s.foot_radius + s.thickness
+    assets, geoms = _object_xml(simulator, settings)
     r = simulator.pusher_radius
     kv = 2.0 * math.sqrt(s.pusher_gain * s.pusher_mass)
     w, h = camera.image_size
