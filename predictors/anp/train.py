@@ -176,9 +176,8 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv=None) -> dict:
-    """Command-line entry point; returns the record written next to the weights."""
-    args = _parser().parse_args(argv)
+def _episodes(args):
+    """The training and validation episodes (loaded from the cache, or generated)."""
     if args.source == "sim":
         try:
             import simulators  # noqa: F401
@@ -187,12 +186,61 @@ def main(argv=None) -> dict:
                 "training on simulated episodes (--source sim) needs the simulator: "
                 "pip install comcore[anp,sim]"
             ) from e
-    torch.set_num_threads(args.threads)
-    t0 = time.time()
-    common = dict(n_pushes=args.pushes, source=args.source, cache=args.cache,
-                  workers=args.workers, progress=True)  # fmt: skip
+    common = dict(
+        n_pushes=args.pushes,
+        source=args.source,
+        cache=args.cache,
+        workers=args.workers,
+        progress=True,
+    )
     train_ep = load_or_generate(args.episodes, seed=args.seed, **common)
     val_ep = load_or_generate(args.val_episodes, seed=args.seed + 10_000, **common)
+    return train_ep, val_ep
+
+
+def _resume(ckpt, run: str, model, optimizer, schedule):
+    """Load the checkpoint of an interrupted run: ``(history, first epoch, best, seconds)``."""
+    state = torch.load(ckpt, map_location="cpu", weights_only=True)
+    if state["run"] != run:
+        raise ValueError(
+            f"--resume: checkpoint {str(ckpt)!r} was written by a run with other "
+            f"arguments ({state['run']}); this run has {run}"
+        )
+    model.load_state_dict(state["model"])
+    optimizer.load_state_dict(state["optimizer"])
+    schedule.load_state_dict(state["schedule"])
+    best = {k: v.clone() for k, v in state["best"].items()}
+    return json.loads(state["history"]), state["epoch"] + 1, best, state["time"]
+
+
+def _record(args, argv, config, timing: dict, final: dict, history: list) -> dict:
+    """The record written next to the weights: the command, the data, the times, the scores."""
+    return {
+        "command": "python -m predictors.anp.train "
+        + shlex.join(sys.argv[1:] if argv is None else argv),
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "source": args.source,
+        "seed": args.seed,
+        "train_episodes": args.episodes,
+        "val_episodes": args.val_episodes,
+        "pushes_per_episode": args.pushes,
+        "train_pushes": args.episodes * args.pushes,
+        **timing,
+        "peak_rss_mib": peak_rss_mib(),
+        "epochs": args.epochs,
+        "config": config.to_dict(),
+        "validation": final,
+        "history": history,
+        "torch": torch.__version__,
+    }
+
+
+def main(argv=None) -> dict:
+    """Command-line entry point; returns the record written next to the weights."""
+    args = _parser().parse_args(argv)
+    torch.set_num_threads(args.threads)
+    t0 = time.time()
+    train_ep, val_ep = _episodes(args)
     t_data = time.time() - t0
     config = AnpConfig(width=args.width, channels=tuple(args.channels))
     train, val = featurise(train_ep, config.image_size), featurise(val_ep, config.image_size)
@@ -206,51 +254,40 @@ def main(argv=None) -> dict:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.cache.mkdir(parents=True, exist_ok=True)
     ckpt = args.cache / f"{args.out.stem}.ckpt"
-    history, first, best, t_train = [], 0, None, 0.0
     run = json.dumps({k: v for k, v in vars(args).items() if k in _RUN_KEYS}, sort_keys=True)
+    history, first, best, t_train = [], 0, None, 0.0
     if args.resume and ckpt.exists():
-        state = torch.load(ckpt, map_location="cpu", weights_only=True)
-        if state["run"] != run:
-            raise ValueError(
-                f"--resume: checkpoint {str(ckpt)!r} was written by a run with other "
-                f"arguments ({state['run']}); this run has {run}"
-            )
-        model.load_state_dict(state["model"])
-        optimizer.load_state_dict(state["optimizer"])
-        schedule.load_state_dict(state["schedule"])
-        history, first, t_train = json.loads(state["history"]), state["epoch"] + 1, state["time"]
-        best = {k: v.clone() for k, v in state["best"].items()}
-    bar = progress_bar(iterable=range(first, args.epochs), initial=first, total=args.epochs,
-                       desc="training")  # fmt: skip
+        history, first, best, t_train = _resume(ckpt, run, model, optimizer, schedule)
+    bar = progress_bar(
+        iterable=range(first, args.epochs), initial=first, total=args.epochs, desc="training"
+    )
     for epoch in bar:
         t1 = time.time()
-        loss = train_epoch(model, optimizer, train, epoch=epoch, seed=args.seed,
-                           batch=args.batch, schedule=schedule,
-                           com_weight=not args.no_com_loss)  # fmt: skip
+        loss = train_epoch(
+            model,
+            optimizer,
+            train,
+            epoch=epoch,
+            seed=args.seed,
+            batch=args.batch,
+            schedule=schedule,
+            com_weight=not args.no_com_loss,
+        )
         metrics = evaluate(model, val)
         t_train += time.time() - t1
         history.append({"epoch": epoch, "train_loss": loss, **metrics})
         if best is None or metrics["loss"] <= min(h["loss"] for h in history):
             best = {k: v.detach().clone() for k, v in model.state_dict().items()}
-        bar.set_postfix(loss=f"{loss:.3f}", val=f"{metrics['loss']:.3f}",
-                        sense=f"{metrics['sense_acc']:.3f}")  # fmt: skip
-        torch.save({"model": model.state_dict(), "optimizer": optimizer.state_dict(),
-                    "schedule": schedule.state_dict(), "epoch": epoch, "time": t_train,
-                    "history": json.dumps(history), "best": best, "run": run}, ckpt)  # fmt: skip
+        sense = f"{metrics['sense_acc']:.3f}"
+        bar.set_postfix(loss=f"{loss:.3f}", val=f"{metrics['loss']:.3f}", sense=sense)
+        state = {"model": model.state_dict(), "optimizer": optimizer.state_dict()}
+        state.update(schedule=schedule.state_dict(), epoch=epoch, time=t_train)
+        state.update(history=json.dumps(history), best=best, run=run)
+        torch.save(state, ckpt)
     model.load_state_dict(best)
     final = evaluate(model, val)
-    record = {
-        "command": "python -m predictors.anp.train "
-        + shlex.join(sys.argv[1:] if argv is None else argv),
-        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "source": args.source, "seed": args.seed, "train_episodes": args.episodes,
-        "val_episodes": args.val_episodes, "pushes_per_episode": args.pushes,
-        "train_pushes": args.episodes * args.pushes, "data_seconds": round(t_data, 1),
-        "train_seconds": round(t_train, 1), "peak_rss_mib": peak_rss_mib(),
-        "epochs": args.epochs,
-        "config": config.to_dict(), "validation": final, "history": history,
-        "torch": torch.__version__,
-    }  # fmt: skip
+    timing = {"data_seconds": round(t_data, 1), "train_seconds": round(t_train, 1)}
+    record = _record(args, argv, config, timing, final, history)
     save_weights(model, args.out, meta={k: record[k] for k in ("command", "date", "source")})
     record["sha256"] = file_sha256(args.out)  # load_weights checks the file against it
     args.out.with_suffix(".json").write_text(json.dumps(record, indent=2) + "\n")
