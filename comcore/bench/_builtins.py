@@ -56,6 +56,10 @@ def _centroid(ctx: TrialContext) -> comcore.Estimate:
     )
 
 
+#: The ``model`` option of the active estimators.
+MODELS = ("default", "limit-surface", "ellipsoid", None, "none")
+
+
 def _hypothesis_model(ctx: TrialContext, model):
     if model is None or model == "none":
         return None
@@ -123,6 +127,7 @@ def _tracked_motion(before, frames) -> comcore.Motion:
 
 def _active_robot(
     ctx: TrialContext,
+    *,
     model="default",
     observe=None,
     motion_noise=None,

@@ -94,8 +94,7 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         "(`Estimate.region`) contains the true CoM pixel, for estimators that report a "
         "credible region (n/a for the others). *ok > 1 cm*: share of trials that stopped "
         "with status `ok` and an error over 1 cm. *failed*: trials that ended in an error or "
-        "with a push the robot could not execute. *statuses*: the trials by status. "
-        + STATUS_NOTE,
+        "with a push the robot could not execute. *statuses*: the trials by status. " + STATUS_NOTE,
         "",
     ]
     for name in list(dict.fromkeys([*results, *unfit])):
@@ -109,15 +108,16 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
         ]
         for label in result.config.estimators if result is not None else ():
             rows = [r for r in result.rows if r["estimator"] == label]
-            err = np.array([r["error_cm"] for r in rows], float)
+            err = np.array([r["error_cm"] for r in rows if r["status"] != Status.ERROR], float)
             pushes = np.array([r["total_pushes"] for r in rows], float)
             credible = [r for r in rows if r["credible_radius_cm"] is not None]
             cover = np.mean([bool(r["covered"]) for r in credible]) if credible else None
             bad_ok = np.mean([r["status"] == Status.OK and r["error_cm"] > 1.0 for r in rows])
             failed = sum(r["status"] == Status.ERROR or (r["push_failures"] or 0) > 0 for r in rows)
             lines.append(
-                f"| `{label}` | {len(rows)} | {err.mean():.3f} | {np.median(err):.3f} | "
-                f"{pushes.mean():.2f} | "
+                f"| `{label}` | {len(rows)} | "
+                + (f"{err.mean():.3f} | {np.median(err):.3f} | " if len(err) else "– | – | ")
+                + f"{pushes.mean():.2f} | "
                 + ("n/a" if cover is None else f"{100 * cover:.0f} %")
                 + f" | {100 * bad_ok:.1f} % | {failed} | {_statuses(rows)} |"
             )
@@ -125,9 +125,10 @@ def conditions_table(results, unfit=None, command: str = "") -> str:
             lines.append(f"| `{label}` | not run: {reason} | | | | | | | |")
         lines.append("")
         predicted = [
-            e for e in (result.config.estimators if result is not None else ())
+            e
+            for e in (result.config.estimators if result is not None else ())
             if parse_estimator(e)[0].uses_motions
-        ]  # fmt: skip
+        ]
         if predicted and not cond.plain:
             names = ", ".join(f"`{e}`" for e in predicted)
             source = (

@@ -35,8 +35,14 @@ def _markers(ax, outcome: TrialOutcome, estimate, window) -> None:
     ys, xs = window
     true = outcome.context.simulator.com_px
     ax.plot(true[0] - xs.start, true[1] - ys.start, "g+", ms=14, mew=2.5, label="true CoM")
-    ax.plot(estimate.com[0] - xs.start, estimate.com[1] - ys.start, "rx", ms=11, mew=2.5,
-            label="estimate")  # fmt: skip
+    ax.plot(
+        estimate.com[0] - xs.start,
+        estimate.com[1] - ys.start,
+        "rx",
+        ms=11,
+        mew=2.5,
+        label="estimate",
+    )
 
 
 def _caption(outcome: TrialOutcome, estimate) -> str:
@@ -131,8 +137,9 @@ def figure_pushes(
             ax.plot(x, values, ":", color="k", marker="s", ms=3, label="paper's Alg. 2 mean")
         ax.set_xticks(x, objects, rotation=60, fontsize=7)
         ax.set_ylabel("pushes used")
-        ax.set_title(f"{friction} friction: equality score (dashed) vs rotation order (solid)",
-                     fontsize=9)  # fmt: skip
+        ax.set_title(
+            f"{friction} friction: equality score (dashed) vs rotation order (solid)", fontsize=9
+        )
         ax.grid(alpha=0.3)
     fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=7)
     fig.savefig(path)
@@ -155,8 +162,9 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
         ax = fig.add_subplot(len(frictions), 1, k + 1)
         for j, name in enumerate(estimators):
             cells = [stats.get((name, o, friction)) for o in objects]
-            mean = [c["error"]["mean"] if c else np.nan for c in cells]
-            std = [c["error"]["std"] if c else 0.0 for c in cells]
+            ran = [c if c and c["error"]["mean"] is not None else None for c in cells]
+            mean = [c["error"]["mean"] if c else np.nan for c in ran]
+            std = [c["error"]["std"] if c else 0.0 for c in ran]
             offset = x + (j - (len(estimators) - 1) / 2) * width
             ax.bar(offset, mean, width, yerr=std, label=name, capsize=1.5, error_kw={"lw": 0.6})
             table, column = {"alg1": (1, "{}_mean_cm"), "alg2": (2, "{}_err_mean_cm")}.get(
@@ -164,8 +172,9 @@ def figure_errors(rows: Sequence[Mapping], path) -> Path:
             )
             if table:
                 paper = paper_table(table)
-                values = [paper[o][column.format(friction)] if o in paper else np.nan
-                          for o in objects]  # fmt: skip
+                values = [
+                    paper[o][column.format(friction)] if o in paper else np.nan for o in objects
+                ]
                 marker = "k_" if table == 1 else "k*"
                 label = f"paper's {'Alg. 1' if table == 1 else 'Alg. 2'} mean"
                 ax.plot(offset, values, marker, ms=7, mew=1.5, label=label)

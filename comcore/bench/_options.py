@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 
 from ._registry import GROUPS, EstimatorSpec, parse_estimator
 
-__all__ = ["accepted_options", "check_estimator_options"]
+__all__ = ["accepted_options", "check_estimator_options", "check_estimator_values"]
 
 def _forwarded_to(spec: EstimatorSpec) -> Sequence[Callable | tuple | None]:
     """The functions a built-in estimator hands its ``**options`` to, in order.
@@ -117,3 +117,96 @@ def check_estimator_options(label: str) -> None:
         f"estimators: {label!r}: {spec.name} has no option {', '.join(unknown)}"
         f"{f' ({guess})' if guess else ''}; its options: {listed}"
     )
+
+
+def _probe():
+    """A 10 x 10 px square with two pushes and their motions: enough to build Alg. 1 and 2."""
+    import numpy as np
+
+    import comcore
+
+    mask = comcore.Mask(np.pad(np.ones((10, 10), bool), 4))
+    actions = comcore.sample_pushes(mask, 2, rng=0)
+    return mask, actions, np.array([[0.1, 1.0, 0.0], [-0.1, 1.0, 0.0]])
+
+
+#: ``active-robot``'s own options (the rest go to the option groups).
+_ROBOT_OPTIONS = (
+    "observe",
+    "motion_noise",
+    "pusher_error",
+    "mask_noise",
+    "camera_margin",
+    "frames",
+    "executed",
+    "frame_rate",
+)
+
+
+def _check_active(options: dict, robot: bool = False) -> None:
+    """Raise for a value the active estimators refuse (their own options, then the groups)."""
+    import comcore
+
+    from . import _builtins
+
+    rest = dict(options)
+    if rest.get("model", "default") not in _builtins.MODELS:
+        raise ValueError(f"model must be one of {_builtins.MODELS}, got {rest['model']!r}")
+    rest.pop("model", None)
+    if robot:
+        observe = rest.get("observe")
+        if observe is not None and observe not in _builtins.OBSERVATIONS:
+            raise ValueError(f"observe must be one of {_builtins.OBSERVATIONS}, got {observe!r}")
+        for name in _ROBOT_OPTIONS:
+            rest.pop(name, None)
+    elif rest.pop("candidates", "own") not in ("trial", "own"):
+        raise ValueError(f"candidates must be 'trial' or 'own', got {options['candidates']!r}")
+    comcore.active.option_groups(**rest)
+
+
+def _value_check(spec: EstimatorSpec) -> Callable[[dict], object] | None:
+    """What builds a built-in estimator's options without a trial (``None``: not built-in)."""
+    import comcore
+
+    from . import _builtins
+
+    if getattr(spec.run, "__module__", None) != _builtins.__name__:
+        return None
+
+    def alg(function, extra=None):
+        return lambda options: function(*_probe(), **{**(extra or {}), **options})
+
+    checks: dict[str, Callable[[dict], object]] = {
+        "_alg1": alg(comcore.estimate_heatmap),
+        "_alg2": alg(comcore.estimate_progressive),
+        "_alg2_rotation": alg(comcore.estimate_progressive, {"selection": "rotation"}),
+        "_active": _check_active,
+        "_active_vt": _check_active,
+        "_active_robot": lambda options: _check_active(options, robot=True),
+    }
+    return checks.get(getattr(spec.run, "__name__", ""))
+
+
+def check_estimator_values(label: str) -> None:
+    """Raise ValueError if a built-in estimator refuses one of ``label``'s option values.
+
+    The estimator is built with its options on a small probe object before any
+    trial runs, so a bad value stops the benchmark at once instead of failing
+    every trial. Registered estimators other than the built-ins are not probed.
+
+    Examples
+    --------
+    >>> check_estimator_values("alg1(threshold=0.2)")
+    >>> check_estimator_values("alg1(threshold=2)")
+    Traceback (most recent call last):
+    ...
+    ValueError: estimators: 'alg1(threshold=2)': threshold must be in [0, 1], got 2.0
+    """
+    spec, options = parse_estimator(label)
+    check = _value_check(spec)
+    if check is None:
+        return
+    try:
+        check(options)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"estimators: {label!r}: {e}") from e

@@ -46,9 +46,15 @@ def example_trial(config: BenchConfig, trial: int = 0):
     obj = FIGURE_OBJECT if FIGURE_OBJECT in config.objects else config.objects[0]
     label = next((e for e in config.estimators if parse_estimator(e)[0].name == "alg1"), "alg1")
     spec = TrialSpec(
-        obj, config.frictions[0], trial, config.seed, config.predictor, (label,),
-        config.candidates, config.cone,
-    )  # fmt: skip
+        obj,
+        config.frictions[0],
+        trial,
+        config.seed,
+        config.predictor,
+        (label,),
+        config.candidates,
+        config.cone,
+    )
     return run_trial(spec, keep=True), label
 
 

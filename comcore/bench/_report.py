@@ -11,11 +11,22 @@ from .._status import Status
 from ._io import paper_table
 
 __all__ = [
-    "STATUS_NOTE", "group_stats", "markdown_report", "status_cell", "summary_table", "table_one",
+    "ALG1_NOTE",
+    "STATUS_NOTE",
+    "group_stats",
+    "markdown_report",
+    "status_cell",
+    "summary_table",
+    "table_one",
     "table_two",
-]  # fmt: skip
+]
 
 FRICTIONS = ("low", "high")
+#: Said wherever Alg. 1's figure is shown (the report, ``comcore demo --compare``).
+ALG1_NOTE = (
+    "Alg. 1 is not reproduced: its error here is far above the paper's "
+    "(docs/results/paper.md says why)."
+)
 #: What the statuses in the bench's tables mean (the report's and ``conditions.md``'s).
 STATUS_NOTE = (
     "Statuses count the trials by the status each ended with (comcore.Status). `ok`: the "
@@ -39,7 +50,8 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     -------
     dict
         ``{key tuple: stats}`` with ``n``, ``error`` (mean, std, min, max,
-        median of ``error_cm``), ``pushes`` (mean, std, min, max of
+        median of ``error_cm`` over the rows whose estimator did not raise:
+        ``None`` each where every one raised), ``pushes`` (mean, std, min, max of
         ``pushes_used``), ``total_pushes`` (their sum), ``statuses``
         (``{status: rows}`` of every status, ``"ok"`` included, most frequent
         first: ``"ok"``, Alg. 2's ``"wide"``, Alg. 1's ``"unchecked"``, the
@@ -59,7 +71,7 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
         groups[tuple(row[k] for k in keys)].append(row)
     out = {}
     for key, members in groups.items():
-        err = np.array([r["error_cm"] for r in members], float)
+        err = np.array([r["error_cm"] for r in members if r["status"] != Status.ERROR], float)
         pushes = np.array([r["pushes_used"] for r in members], float)
         statuses = Counter(r["status"] for r in members)
         out[key] = {
@@ -73,7 +85,9 @@ def group_stats(rows: Iterable[Mapping], keys=("estimator", "object", "friction"
     return out
 
 
-def _describe(values: np.ndarray) -> dict[str, float]:
+def _describe(values: np.ndarray) -> dict[str, float | None]:
+    if not len(values):
+        return dict.fromkeys(("mean", "std", "min", "max", "median"))
     return {
         "mean": float(values.mean()),
         "std": float(values.std()),  # population std; the paper does not say which
@@ -81,6 +95,10 @@ def _describe(values: np.ndarray) -> dict[str, float]:
         "max": float(values.max()),
         "median": float(np.median(values)),
     }
+
+
+def _number(value: float | None, digits: int) -> str:
+    return "–" if value is None else f"{value:.{digits}f}"
 
 
 def _cell(ours: float | None, paper: float | None, digits: int = 2) -> str:
@@ -179,7 +197,8 @@ def summary_table(rows: Sequence[Mapping]) -> str:
     (``"ok 158, budget 42"``; :data:`STATUS_NOTE` says what each means): every
     ``alg1`` trial is ``"unchecked"`` (Alg. 1 has no test of its evidence), an
     active estimator's may be ``"budget"`` (the push budget spent before the
-    target radius: usable, wider), Alg. 2's ``"wide"``, ...
+    target radius: usable, wider), Alg. 2's ``"wide"``, ... The error columns
+    cover the trials whose estimator did not raise (``–`` where none).
     """
     stats = group_stats(rows, keys=("estimator", "friction"))
     header = [
@@ -190,10 +209,10 @@ def summary_table(rows: Sequence[Mapping]) -> str:
     for (name, friction), s in stats.items():
         e, p = s["error"], s["pushes"]
         body.append(
-            [name, friction, str(s["n"]), f"{e['mean']:.3f}", f"{e['median']:.3f}",
-             f"{e['std']:.3f}", f"{e['max']:.3f}", f"{p['mean']:.2f}", str(s["total_pushes"]),
-             status_cell(s), str(s["errors"])]
-        )  # fmt: skip
+            [name, friction, str(s["n"])]
+            + [_number(e[stat], 3) for stat in ("mean", "median", "std", "max")]
+            + [f"{p['mean']:.2f}", str(s["total_pushes"]), status_cell(s), str(s["errors"])]
+        )
     return _markdown(header, body)
 
 
@@ -229,17 +248,21 @@ def markdown_report(rows: Sequence[Mapping], meta: Mapping, figures: Mapping[str
         f"Wall time {meta.get('wall_s', 0.0):.1f} s with {meta.get('workers')} worker(s) "
         f"on {meta.get('machine', 'this machine')}{_cpu_text(meta, rows)}; "
         f"{len(rows)} result rows.",
-        "Errors are distances from the estimate to the true CoM in cm; cells read "
+        "Errors are distances from the estimate to the true CoM in cm, over the trials whose "
+        "estimator did not raise (`–` where every one raised); cells read "
         "`ours (paper)`; ratios are ours / paper. std is the population standard deviation.",
         "## Summary",
         "Real pushes count the pushes run on the object: a learned predictor's prior pushes "
         "plus the pushes an estimator used (Alg. 1 uses every candidate), or, for an estimator "
-        "that pushes the object itself, the pushes it executed. " + STATUS_NOTE
+        "that pushes the object itself, the pushes it executed. "
+        + STATUS_NOTE
         + " (docs/how-to/benchmark.md, docs/results/active.md).",
         summary_table(rows),
     ]
     if "alg1" in estimators:
-        parts += ["## Table I: Alg. 1 (`alg1`), error in cm", table_one(rows, "alg1")]
+        parts.append(ALG1_NOTE)
+    if "alg1" in estimators:
+        parts += ["## Table I: Alg. 1 (`alg1`), error in cm", ALG1_NOTE, table_one(rows, "alg1")]
     if "alg2" in estimators:
         parts += ["## Table II: Alg. 2 (`alg2`), error in cm and pushes", table_two(rows, "alg2")]
     if figures:

@@ -9,7 +9,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 
-from ._options import check_estimator_options
+from ._options import check_estimator_options, check_estimator_values
 from ._registry import PREDICTORS, parse_estimator
 from ._trial import (
     DEFAULT_CANDIDATES,
@@ -83,6 +83,7 @@ class BenchConfig:
             raise ValueError(f"estimators must be distinct and not empty, got {estimators}")
         for label in estimators:
             check_estimator_options(label)  # parses it; unknown options fail before any trial
+            check_estimator_values(label)  # a value the estimator refuses, likewise
         object.__setattr__(self, "estimators", estimators)
         if not (0.0 <= self.cone < math.pi / 2):
             raise ValueError(f"cone must be in [0, pi/2), got {self.cone}")

@@ -193,41 +193,33 @@ def measure_motion(before: Mask, after: Mask, *, near_theta: float = 0.0) -> Mot
         The object before and after the motion, in the same camera (same
         shape and resolution), each wholly in view.
     near_theta : float, optional
-        Where several rotations are consistent with the masks (a symmetric
-        outline), the one nearest to this (radians) is returned, on its
-        branch: ``|theta - near_theta| <= pi / symmetry``. Default 0: the
-        smallest rotation, right for one push. A caller tracking an object
-        over many pushes against its first mask passes its predicted
-        rotation.
+        Where several rotations fit (a symmetric outline), the one nearest to
+        this (radians), ``|theta - near_theta| <= pi / symmetry``. Default 0: the
+        smallest, right for one push; a caller tracking an object against its
+        first mask passes its predicted rotation.
 
     Returns
     -------
     MotionMeasurement
-        ``motion`` maps ``before`` onto ``after`` in the one convention:
+        ``motion`` maps ``before`` onto ``after``:
         ``comcore.apply_motion(before.pixels, theta, (tx, ty), before.centroid)``
-        lands on ``after``'s pixels (theta > 0 counter-clockwise on screen;
-        ``(tx, ty)`` is the displacement in pixels of the material point under
-        ``before``'s area centroid). ``residual_px`` is the RMS distance
-        between the outlines after the fit (about 0.1 to 0.35 px for exact
-        rigid motions at 2.5 mm per pixel). ``symmetry`` is ``n`` when the
-        outline matches itself turned by ``2 pi / n`` (a rectangle 2, a
-        square 4, a regular hexagon 6); ``theta`` is then, as always, the
-        consistent rotation nearest to ``near_theta`` (by default the
-        smallest, ``|theta| <= pi / n``). ``ambiguous`` is True when the rotation is not
-        observable from the outline (a disc, a near-disc, a small regular
-        polygon) or two different rotations explain the masks; the
-        translation is still valid, ``theta`` is not, and ``symmetry`` is 1.
+        lands on ``after``'s pixels (theta > 0 counter-clockwise on screen, ``(tx,
+        ty)`` the shift in pixels of the material point under ``before``'s area
+        centroid). ``residual_px``: the RMS distance between the outlines after
+        the fit. ``symmetry``: ``n`` when the outline matches itself turned by
+        ``2 pi / n`` (a rectangle 2, a square 4). ``ambiguous``: the rotation
+        cannot be seen from the outline (a disc, a small regular polygon) or two
+        rotations explain the masks; the translation is still valid, ``theta``
+        is not, and ``symmetry`` is 1.
 
     Raises
     ------
     TypeError
         If ``before`` or ``after`` is not a :class:`comcore.Mask`.
     ValueError
-        If the masks differ in shape or resolution, or ``near_theta`` is not
-        finite.
+        If the masks differ in shape or resolution, or ``near_theta`` is not finite.
     comcore.ImageError
-        If a mask touches the image border (the object may be partly out of
-        view; its outline would be cut). A ``ValueError``.
+        A ValueError: a mask touches the image border (its outline would be cut).
 
     Examples
     --------

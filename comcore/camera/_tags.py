@@ -61,6 +61,35 @@ Choices (written down here)
   the whole frame can tell, so every frame is searched whole (a search first
   in a window around the last pose would miss that copy and call the frame
   found). The edge fit reads only the marker's neighbourhood.
+
+Examples
+--------
+A square object carrying AprilTag 36h11 #3 turns 0.2 rad counter-clockwise
+on screen about its centroid ``c0`` and slides 5 px right between two
+frames (``simulators.tag_frames`` renders them); in a third the tag is
+hidden:
+
+>>> import numpy as np
+>>> from comcore.conventions import apply_motion
+>>> from simulators.tag_frames import render_tag_frame
+>>> square = np.array([(100, 80), (220, 80), (220, 180), (100, 180)], float)
+>>> c0 = square.mean(axis=0)
+>>> frames = []
+>>> for theta, shift in ((0.0, (0.0, 0.0)), (0.2, (5.0, 0.0))):
+...     outline = apply_motion(square, theta, shift, c0)
+...     centre = apply_motion([140.0, 130.0], theta, shift, c0)
+...     frames.append(render_tag_frame(outline, centre, theta, 48, tag_id=3, rng=0))
+>>> hidden = frames[1].copy()
+>>> hidden[100:160, 110:170] = 60  # the arm over the tag
+>>> track = track_tag([*frames, hidden], 3)
+>>> track.status, track.lost
+(('found', 'found', 'missing'), (2,))
+>>> round(track.poses[1].theta, 2)  # counter-clockwise on screen: positive
+0.2
+>>> offset = centroid_in_tag(track.poses[0], c0)  # or the first frame's Mask
+>>> first, second = track.motions(offset)
+>>> [round(v, 1) for v in first], second
+([0.2, 5.0, 0.0], None)
 """
 
 from __future__ import annotations
@@ -356,76 +385,29 @@ def track_tag(
     Raises
     ------
     TypeError, ValueError
-        On invalid arguments, naming them (a homography that is not 3 x 3,
-        finite and invertible; an unknown dictionary, listing the known ones; a
-        ``tag_id`` outside the dictionary; ``tag_size`` <= 0; ...). Also a
-        ValueError naming ``pixels_from_image`` if it mirrors a found marker.
+        On invalid arguments, naming them (an unknown dictionary lists the known
+        ones); a ValueError naming ``pixels_from_image`` if it mirrors a marker.
     ImportError
         If OpenCV is not installed (``pip install comcore[sim]``).
 
     Examples
     --------
-    A square object carrying AprilTag 36h11 #3 turns 0.2 rad counter-clockwise
-    on screen about its centroid ``c0`` and slides 5 px right between two
-    frames (``simulators.tag_frames`` renders them); in a third the tag is
-    hidden:
+    The module's docstring tracks a tag over three frames; a dictionary must be known:
 
     >>> import numpy as np
-    >>> from comcore.conventions import apply_motion
-    >>> from simulators.tag_frames import render_tag_frame
-    >>> square = np.array([(100, 80), (220, 80), (220, 180), (100, 180)], float)
-    >>> c0 = square.mean(axis=0)
-    >>> frames = []
-    >>> for theta, shift in ((0.0, (0.0, 0.0)), (0.2, (5.0, 0.0))):
-    ...     outline = apply_motion(square, theta, shift, c0)
-    ...     centre = apply_motion([140.0, 130.0], theta, shift, c0)
-    ...     frames.append(render_tag_frame(outline, centre, theta, 48, tag_id=3, rng=0))
-    >>> hidden = frames[1].copy()
-    >>> hidden[100:160, 110:170] = 60  # the arm over the tag
-    >>> track = track_tag([*frames, hidden], 3)
-    >>> track.status, track.lost
-    (('found', 'found', 'missing'), (2,))
-    >>> round(track.poses[1].theta, 2)  # counter-clockwise on screen: positive
-    0.2
-    >>> offset = centroid_in_tag(track.poses[0], c0)  # or the first frame's Mask
-    >>> first, second = track.motions(offset)
-    >>> [round(v, 1) for v in first], second
-    ([0.2, 5.0, 0.0], None)
+    >>> frames = [np.zeros((40, 40), np.uint8)]
     >>> track_tag(frames, 3, dictionary="apriltag_36h12")
     Traceback (most recent call last):
     ...
     ValueError: dictionary must be one of ['apriltag_16h5', ...], got 'apriltag_36h12'
     """
-    h = np.eye(3) if pixels_from_image is None else _check_homography(
-        pixels_from_image, "pixels_from_image"
-    )  # fmt: skip
+    h = np.eye(3)
+    if pixels_from_image is not None:
+        h = _check_homography(pixels_from_image, "pixels_from_image")
     cv2, d = _aruco_dictionary(dictionary)
-    if isinstance(tag_id, bool) or not isinstance(tag_id, (int, np.integer)):
-        raise TypeError(f"tag_id must be an int, got {type(tag_id).__name__}")
-    n_ids = int(d.bytesList.shape[0])
-    if not 0 <= tag_id < n_ids:
-        raise ValueError(f"tag_id must be in 0..{n_ids - 1} for {dictionary!r}, got {tag_id}")
-    undistort = None
-    if camera_matrix is not None:
-        k = _check_matrix(camera_matrix, "camera_matrix", (3, 3))
-        dist = np.zeros(5)
-        if distortion is not None:
-            dist = np.array(distortion, dtype=float).ravel()
-            if dist.size not in (4, 5, 8, 12, 14) or not np.isfinite(dist).all():
-                raise ValueError(
-                    f"distortion must hold 4, 5, 8, 12 or 14 finite coefficients, got {dist.size}"
-                )
-        undistort = (k, dist)
-    elif distortion is not None:
-        raise ValueError("distortion needs camera_matrix (the intrinsics it belongs to)")
-    if (tag_size is None) != (resolution is None):
-        raise ValueError(
-            "tag_size and resolution go together (the marker's side in metres and the "
-            "frame's metres per pixel): give both or neither"
-        )
-    expected = None
-    if tag_size is not None:
-        expected = check_positive(tag_size, "tag_size") / check_positive(resolution, "resolution")
+    _check_tag_id(tag_id, d, dictionary)
+    undistort = _undistortion(camera_matrix, distortion)
+    expected = _expected_side(tag_size, resolution)
     frames = _check_images(images)
 
     params = cv2.aruco.DetectorParameters()
@@ -462,6 +444,44 @@ def track_tag(
         status.append("found")
     lost = tuple(i for i, s in enumerate(status) if s != "found")
     return TagTrack(tuple(poses), tuple(status), lost)
+
+
+def _check_tag_id(tag_id, d, dictionary: str) -> None:
+    """Raise unless ``tag_id`` is an int naming a marker of the dictionary ``d``."""
+    if isinstance(tag_id, bool) or not isinstance(tag_id, (int, np.integer)):
+        raise TypeError(f"tag_id must be an int, got {type(tag_id).__name__}")
+    n_ids = int(d.bytesList.shape[0])
+    if not 0 <= tag_id < n_ids:
+        raise ValueError(f"tag_id must be in 0..{n_ids - 1} for {dictionary!r}, got {tag_id}")
+
+
+def _undistortion(camera_matrix, distortion):
+    """``(K, coefficients)`` to undistort the corners with, or None without ``camera_matrix``."""
+    if camera_matrix is None:
+        if distortion is not None:
+            raise ValueError("distortion needs camera_matrix (the intrinsics it belongs to)")
+        return None
+    k = _check_matrix(camera_matrix, "camera_matrix", (3, 3))
+    dist = np.zeros(5)
+    if distortion is not None:
+        dist = np.array(distortion, dtype=float).ravel()
+        if dist.size not in (4, 5, 8, 12, 14) or not np.isfinite(dist).all():
+            raise ValueError(
+                f"distortion must hold 4, 5, 8, 12 or 14 finite coefficients, got {dist.size}"
+            )
+    return (k, dist)
+
+
+def _expected_side(tag_size, resolution) -> float | None:
+    """The marker's side in pixels of comcore's frame, or None when its size is not given."""
+    if (tag_size is None) != (resolution is None):
+        raise ValueError(
+            "tag_size and resolution go together (the marker's side in metres and the "
+            "frame's metres per pixel): give both or neither"
+        )
+    if tag_size is None:
+        return None
+    return check_positive(tag_size, "tag_size") / check_positive(resolution, "resolution")
 
 
 def _find(detector, image: np.ndarray, tag_id: int):

@@ -44,9 +44,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog = getattr(module, "EPILOG", None)  # the statuses and exit codes, where given
         formatter = argparse.RawDescriptionHelpFormatter if epilog else argparse.HelpFormatter
         p = sub.add_parser(
-            name, help=module.HELP, description=module.HELP, epilog=epilog,
+            name,
+            help=module.HELP,
+            description=module.HELP,
+            epilog=epilog,
             formatter_class=formatter,
-        )  # fmt: skip
+        )
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser

@@ -59,11 +59,13 @@ class Frames:
 
     def theta_from_degrees(self) -> Frames:
         """The frames with theta, given in degrees, in radians."""
-        return Frames(self.path, tuple(
-            tuple((line, f._replace(view=comcore.Motion(math.radians(f.view.theta), *f.view[1:])))
-                  for line, f in push)
-            for push in self.rows
-        ))  # fmt: skip
+
+        def in_radians(frame):
+            view = frame.view
+            return frame._replace(view=comcore.Motion(math.radians(view.theta), *view[1:]))
+
+        rows = tuple(tuple((line, in_radians(f)) for line, f in push) for push in self.rows)
+        return Frames(self.path, rows)
 
     def of(self, kept) -> list:
         """The frames of the pushes ``kept`` (0-based rows of the pushes CSV), per push.
@@ -143,8 +145,11 @@ def _check_header(path: Path, header: list) -> None:
     extra = [h or "(unnamed)" for h in header if h not in FRAME_COLUMNS]
     twice = sorted({h for h in header if header.count(h) > 1})
     if extra or twice:
-        what = (f"column(s) {', '.join(extra)} that are not frame columns" if extra
-                else f"column(s) {', '.join(twice)} twice")  # fmt: skip
+        what = (
+            f"column(s) {', '.join(extra)} that are not frame columns"
+            if extra
+            else f"column(s) {', '.join(twice)} twice"
+        )
         raise InputError(f"--frames: {path} has {what}; expected {expected}, got {got}")
 
 
@@ -205,8 +210,9 @@ def dropped_frames(est, frames: Frames, kept, pushes_lines, dropped: dict) -> li
             continue
         line = int(pushes_lines[k])
         if k not in at:
-            why[k] = [(j, f"push_dropped: {dropped.get(line, 'not estimated')}")
-                      for j in range(len(rows))]  # fmt: skip
+            why[k] = [
+                (j, f"push_dropped: {dropped.get(line, 'not estimated')}") for j in range(len(rows))
+            ]
             continue
         record = records.get(at[k])
         if record is None or record.outcome != "evidence":
@@ -215,10 +221,13 @@ def dropped_frames(est, frames: Frames, kept, pushes_lines, dropped: dict) -> li
         elif record.dropped_frames:
             why[k] = list(record.dropped_frames)
     return [
-        {"push": k + 1, "line": int(pushes_lines[k]),
-         "frames": [{"line": frames.rows[k][j][0], "reason": r} for j, r in why[k]]}
+        {
+            "push": k + 1,
+            "line": int(pushes_lines[k]),
+            "frames": [{"line": frames.rows[k][j][0], "reason": r} for j, r in why[k]],
+        }
         for k in sorted(why)
-    ]  # fmt: skip
+    ]
 
 
 def dropped_note(frames: Frames, dropped_rows) -> str:

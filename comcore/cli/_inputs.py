@@ -15,6 +15,7 @@ import numpy as np
 
 import comcore
 from comcore.geometry._disc_contacts import pusher_contacts
+from comcore.recordings._recording import DEFAULT_TRAVEL_M
 
 __all__ = [
     "COLUMNS",
@@ -139,9 +140,13 @@ def read_mask(
         reference = _read_image(background, "--background")
     try:
         return comcore.mask_from_image(
-            image, object=side, threshold=threshold, background=reference, roi=roi,
+            image,
+            object=side,
+            threshold=threshold,
+            background=reference,
+            roi=roi,
             resolution=resolution,
-        )  # fmt: skip
+        )
     except (TypeError, ValueError) as e:  # comcore.ImageError is a ValueError
         message = str(e)
         for keyword, option in _OPTION_NAMES.items():
@@ -190,12 +195,21 @@ def read_pushes(path) -> Pushes:
 
 
 def read_bag(
-    path, object_topic: str, pusher_topic: str, outline, pusher_radius: float, resolution: float,
-    *, object_child_frame: str | None = None, pusher_child_frame: str | None = None,
-) -> tuple[comcore.Mask, Pushes, comcore.Recording]:  # fmt: skip
+    path,
+    object_topic: str,
+    pusher_topic: str,
+    outline,
+    pusher_radius: float,
+    resolution: float,
+    *,
+    object_child_frame: str | None = None,
+    pusher_child_frame: str | None = None,
+    travel: float = DEFAULT_TRAVEL_M,
+) -> tuple[comcore.Mask, Pushes, comcore.Recording]:
     """The mask and pushes of a bag (:func:`comcore.recordings.bag.recording_from_bag`).
 
-    ``outline`` is the path of the outline's file (``--outline``). The pushes
+    ``outline`` is the path of the outline's file (``--outline``); ``travel``
+    (metres) the window of pusher travel each push's motion is taken over. The pushes
     are numbered as the rows of the pushes CSV the recording would make (the
     first is line 2), so that the messages and the JSON read alike for both
     inputs. What is wrong (the bag, a topic, the outline, rosbags missing) is
@@ -209,9 +223,16 @@ def read_bag(
         import comcore.recordings.bag as bag
 
         rec = bag.recording_from_bag(
-            path, object_topic, pusher_topic, poly, pusher_radius, resolution=resolution,
-            object_child_frame=object_child_frame, pusher_child_frame=pusher_child_frame,
-        )  # fmt: skip
+            path,
+            object_topic,
+            pusher_topic,
+            poly,
+            pusher_radius,
+            resolution=resolution,
+            travel=travel,
+            object_child_frame=object_child_frame,
+            pusher_child_frame=pusher_child_frame,
+        )
     except (ValueError, ImportError) as e:
         raise InputError(f"--bag: {e}") from e
     if not rec.pushes:

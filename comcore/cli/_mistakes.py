@@ -1,7 +1,8 @@
 """What ``comcore estimate`` checks a recording for: the mistakes a user makes on day one.
 
 theta in degrees, x and y swapped, most pushes missing the mask (refused, with the likely
-mistake), and theta's sign flipped (the y-up convention: reported as ``inconsistent``
+mistake), a mask whose scale disagrees with the pushes' (:func:`scale_mistake`: refused), and
+theta's sign flipped (the y-up convention: reported as ``inconsistent``
 whatever the method, :func:`sign_flip_nats`). Theta in degrees is seen by a turn over pi and,
 where every turn is small, by the motion model's evidence (:func:`units_mistake`, with
 :func:`comcore.active._posterior.theta_degrees_nats`: the library's check, which
@@ -24,6 +25,7 @@ __all__ = [
     "SIGN_FLIP_NATS",
     "object_size_m",
     "recording_mistakes",
+    "scale_mistake",
     "sign_flip_nats",
     "sign_mistake",
     "units_mistake",
@@ -37,6 +39,12 @@ SIGN_FLIP_NATS = 3.0
 #: More than this share of the pushes dropped (missing the object or starting inside it)
 #: means the pushes are not in the mask's pixel frame: refused.
 MOST_DROPPED = 0.5
+#: At least this share of the pushes dropped sends the recording to :func:`scale_mistake`.
+SCALE_DROPPED = 0.25
+#: The scales :func:`scale_mistake` tries: the pushes about an anchor point, times these.
+SCALES = np.round(np.arange(0.5, 2.0001, 0.01), 2)
+#: Closest a scale that fits may be to 1 and still count as a disagreement.
+SCALE_TOLERANCE = 0.05
 
 
 def sign_flip_nats(mask: comcore.Mask, actions, motions) -> float:
@@ -123,6 +131,14 @@ def recording_mistakes(mask, recorded, dropped: dict, degrees: bool = False) -> 
             f"{np.radians(theta):.3g} rad)"
         )
     n = len(recorded.lines)
+    scaled = scale_mistake(mask, recorded.actions, len(dropped))
+    if scaled and len(dropped) <= MOST_DROPPED * n:
+        raise InputError(
+            f"--mask and --pushes: {len(dropped)} of {n} pushes miss the object or start inside "
+            f"it (CSV line(s) {line_list(list(dropped))}) and {scaled}: the mask's scale "
+            "disagrees with the pushes' (a camera zoomed otherwise, or a mask made at another "
+            "resolution); take the mask with the camera and zoom the pushes were measured in"
+        )
     if len(dropped) <= MOST_DROPPED * n:
         return
     message = (
@@ -137,9 +153,67 @@ def recording_mistakes(mask, recorded, dropped: dict, degrees: bool = False) -> 
             f"; with the x and y columns swapped {hits} of {n} would hit it: x is the column and "
             "y the row (pointing down), so sx, ex, tx go along the image's width"
         )
+    elif scaled:
+        message += f"; {scaled}: the mask's scale disagrees with the pushes'"
     else:
         message += "; are the mask and the pushes in the same pixel frame and resolution?"
     raise InputError(message)
+
+
+def _fitting(mask: comcore.Mask, actions: np.ndarray) -> int:
+    """How many pushes start off the object and enter it (the leading point's path)."""
+    found = comcore.geometry.contacts(mask, actions)
+    return int(np.sum(found.hit & ~found.starts_inside))
+
+
+def scale_mistake(mask: comcore.Mask, actions, dropped: int) -> str | None:
+    """Say whether the pushes fit the mask at another scale; ``None`` if not, or not asked.
+
+    The pushes are in the recording's pixels; a mask taken at another zoom (or
+    drawn at another resolution) puts the object where the pushes start inside
+    it or miss it. The rule: when at least :data:`SCALE_DROPPED` of the pushes
+    are dropped (``dropped`` of them), the pushes' end points are scaled about
+    the mask's area centroid, the image's centre and its top-left pixel by each
+    of :data:`SCALES`; if one scale at least :data:`SCALE_TOLERANCE` from 1
+    lets all but a tenth of the pushes (and more than as given) start off the
+    object and enter it, the mask's scale disagrees with the pushes'. The scale
+    named is the one the mask would need (the inverse of the pushes'): of those
+    that fit the most pushes, the closest to 1 (long pushes fit a range).
+
+    Examples
+    --------
+    A square and four pushes that reach it only once it is drawn about 1.3 times larger:
+
+    >>> import numpy as np
+    >>> mask = comcore.Mask(np.pad(np.ones((26, 26), bool), 17))
+    >>> pushes = [(30, 1, 30, 14), (30, 59, 30, 46), (1, 30, 14, 30), (59, 30, 46, 30)]
+    >>> scale_mistake(mask, pushes, 4)
+    'the pushes fit the mask scaled by 1.28 about its centroid (4 of 4 pushes), but 0 of 4 as given'
+    """
+    actions = np.asarray(actions, dtype=float).reshape(-1, 4)
+    n = len(actions)
+    if n == 0 or dropped < SCALE_DROPPED * n:
+        return None
+    given = _fitting(mask, actions)
+    height, width = mask.data.shape
+    anchors = {
+        "its centroid": np.array(mask.centroid, dtype=float),
+        "the image's centre": np.array([(width - 1) / 2, (height - 1) / 2]),
+        "the image's top-left pixel": np.zeros(2),
+    }
+    best = (given, 0.0, "", 1.0)  # (pushes that fit, -|scale - 1|, anchor, scale)
+    for scale in SCALES[np.abs(SCALES - 1.0) >= SCALE_TOLERANCE]:
+        for where, anchor in anchors.items():
+            ends = anchor + scale * (actions.reshape(-1, 2) - anchor)
+            found = (_fitting(mask, ends.reshape(-1, 4)), -abs(scale - 1.0), where, scale)
+            best = max(best, found, key=lambda f: f[:2])
+    fits, _, where, scale = best
+    if fits > given and n - fits <= n // 10:
+        return (
+            f"the pushes fit the mask scaled by {1 / scale:.2f} about {where} ({fits} of {n} "
+            f"pushes), but {given} of {n} as given"
+        )
+    return None
 
 
 def object_size_m(mask: comcore.Mask) -> list[float]:

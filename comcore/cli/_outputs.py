@@ -65,19 +65,26 @@ def region_summary(est: comcore.Estimate, resolution: float, credible: float) ->
 
 def print_text(result: dict, est: comcore.Estimate) -> None:
     x, y = est.com
-    print(f"CoM: ({x:.2f}, {y:.2f}) px (column, row) = ({est.com_m[0]:.4f}, "
-          f"{est.com_m[1]:.4f}) m {MASK_FRAME}")  # fmt: skip
+    print(
+        f"CoM: ({x:.2f}, {y:.2f}) px (column, row) = ({est.com_m[0]:.4f}, "
+        f"{est.com_m[1]:.4f}) m {MASK_FRAME}"
+    )
     if "com_object_m" in result:
         ox, oy = result["com_object_m"]
-        print(f"CoM in the object's frame (the outline's, of --object-topic): ({ox:.4f}, "
-              f"{oy:.4f}) m")  # fmt: skip
+        print(
+            f"CoM in the object's frame (the outline's, of --object-topic): ({ox:.4f}, {oy:.4f}) m"
+        )
     n_kept = result["n_pushes"] - len(result["dropped_lines"])
-    print(f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
-          "pushes used")  # fmt: skip
+    print(
+        f"method {result['method']}, status {result['status']}, {len(est.used)} of {n_kept} "
+        "pushes used"
+    )
     print(f"status {result['status']}: {result['status_meaning']}")
     width, height = (100 * v for v in result["object_size_m"])
-    print(f"object: {width:.1f} x {height:.1f} cm at {result['resolution']:g} m per pixel "
-          "(check it: a wrong --resolution shows here)")  # fmt: skip
+    print(
+        f"object: {width:.1f} x {height:.1f} cm at {result['resolution']:g} m per pixel "
+        "(check it: a wrong --resolution shows here)"
+    )
     region = result["region"]
     if "credible_radius_px" in region:
         bagged = f" (bagged: {region['bootstrap']} resamplings of the pushes)"
@@ -91,12 +98,16 @@ def print_text(result: dict, est: comcore.Estimate) -> None:
     if result["n_frames"]:
         n_read = result["n_frames"]
         n_dropped = sum(len(p["frames"]) for p in result["dropped_frames"])
-        print(f"frames: {n_read} read, {n_read - n_dropped} scored along their pushes, "
-              f"{n_dropped} not (the JSON's dropped_frames says which and why)")  # fmt: skip
+        print(
+            f"frames: {n_read} read, {n_read - n_dropped} scored along their pushes, "
+            f"{n_dropped} not (the JSON's dropped_frames says which and why)"
+        )
     if result["used_lines"]:
         drawn = ", as the overlay numbers them" if result["overlay"] is not None else ""
-        print(f"pushes used (CSV lines, in order{drawn}): "
-              + ", ".join(map(str, result["used_lines"])))  # fmt: skip
+        print(
+            f"pushes used (CSV lines, in order{drawn}): "
+            + ", ".join(map(str, result["used_lines"]))
+        )
     if result["overlay"] is not None:
         replaced = " (replaced the existing file)" if result["overlay_replaced"] else ""
         print(f"overlay: {result['overlay']}{replaced}")

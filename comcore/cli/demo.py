@@ -1,8 +1,11 @@
-"""``comcore demo``: push a simulated object, run the estimators, print each CoM and its error.
+"""``comcore demo``: a whole active session on a simulated object, and its estimate.
 
-The paper's two (Alg. 1 and Alg. 2, given the simulator's motion of every candidate push)
-beside the active estimator the README recommends (:func:`comcore.estimate_active`, which
-chooses and makes its own pushes) and the centroid baseline.
+By default :class:`comcore.ActiveSession` pushes a simulated benchmark object through
+``simulators.SimulatedRobot`` (never reset, seen through a camera) until it stops, then
+prints the estimate, the size of its 90 % credible region and the true CoM. ``--compare``
+prints instead the paper's two estimators (Alg. 1 and Alg. 2, given the simulator's motion
+of every candidate push) beside the active estimator (:func:`comcore.estimate_active`) and
+the centroid baseline.
 """
 
 from __future__ import annotations
@@ -18,8 +21,9 @@ import comcore
 from ._options import non_negative_int, positive_int
 
 HELP = (
-    "push a simulated benchmark object and compare the paper's two estimators with the "
-    "active one (needs comcore[sim])"
+    "run an active session on a simulated benchmark object and print its estimate, region and "
+    "the true CoM; --compare: the paper's two estimators beside the active one (needs "
+    "comcore[sim])"
 )
 
 #: What a status other than ``ok`` means here (printed under the table).
@@ -63,9 +67,25 @@ def add_arguments(parser) -> None:
     add = parser.add_argument
     add("--object", type=_object_name, default="Obj7", help="benchmark object (Obj1..Obj20)")
     add("--friction", choices=("low", "high"), default="low", help="friction class")
-    add("--pushes", type=positive_int, default=60, help="number of candidate pushes")
-    add("--cone", type=_cone, default=0.3, help="push directions about the normal (radians)")
+    add(
+        "--pushes",
+        type=positive_int,
+        default=60,
+        help="number of candidate pushes (with --compare)",
+    )
+    add(
+        "--cone",
+        type=_cone,
+        default=0.3,
+        help="push directions about the normal, radians (with --compare)",
+    )
     add("--seed", type=non_negative_int, default=0, help="seed of the random draws")
+    add(
+        "--compare",
+        action="store_true",
+        help="compare the paper's Alg. 1 and Alg. 2 (given --pushes candidate pushes) with the "
+        "active estimator and the centroid instead of running one session",
+    )
 
 
 def run(args) -> int:
@@ -78,7 +98,58 @@ def run(args) -> int:
 
 
 def _run(args) -> int:
+    return _compare(args) if args.compare else _session(args)
+
+
+def _session(args) -> int:
+    """One :class:`comcore.ActiveSession` against a simulated robot; print what it found."""
     import simulators
+
+    rng = np.random.default_rng(args.seed)
+    sim = simulators.random_simulator(args.object, friction=args.friction, rng=rng)
+    robot = simulators.SimulatedRobot(sim, rng=rng)
+    first = robot.camera_mask()
+    session = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=rng)
+    print(
+        f"{args.object}: {first.area_m2 * 1e4:.1f} cm^2, mu_contact {sim.mu_contact:.2f}; "
+        "an active session pushes it (a simulated robot, never reset, seen from above)"
+    )
+    while not session.done:
+        try:
+            push = robot.execute(session.next_push())
+        except ValueError as e:  # the robot refused the push
+            print(f"  push {robot.pushes + 1}: not made ({e})")
+            session.observe(failed=True)
+            continue
+        session.observe(robot.camera_mask())
+        print(f"  push {robot.pushes}: turned {math.degrees(push.motion.theta):+.1f} degrees")
+    est = session.estimate()
+    _print_session(est, robot.true_com_px(), first.resolution)
+    return 0
+
+
+def _print_session(est: comcore.Estimate, truth, resolution: float) -> None:
+    """The estimate, its region and the true CoM, in pixels of the first mask and in cm."""
+    cm = 100 * resolution
+    pushes = sum(p.outcome != "failed" for p in est.pushes)
+    print(
+        f"estimate: CoM ({est.com[0]:.1f}, {est.com[1]:.1f}) px, status {est.status} after "
+        f"{pushes} pushes"
+    )
+    if est.posterior is not None:
+        area = float(np.count_nonzero(est.region)) * cm * cm
+        radius = est.posterior.credible_radius_px * cm * 10
+        print(f"90 % region: {area:.2f} cm^2 (radius {radius:.1f} mm)")
+    print(
+        f"true CoM: ({truth[0]:.1f}, {truth[1]:.1f}) px; the estimate is "
+        f"{est.error_px(truth) * cm:.2f} cm from it"
+        + ("" if est.region_holds(truth) else ", outside the region")
+    )
+
+
+def _compare(args) -> int:
+    import simulators
+    from comcore.bench._report import ALG1_NOTE
     from predictors import OraclePredictor
 
     rng = np.random.default_rng(args.seed)
@@ -98,13 +169,13 @@ def _run(args) -> int:
     baseline = comcore.Estimate(com=mask.centroid, com_m=mask.centroid_m, region=mask.data)
     heatmap = comcore.estimate_heatmap(mask, actions, motions)
     progressive = comcore.estimate_progressive(mask, actions, motions)
+    made = sum(p.outcome != "failed" for p in active.pushes)
     rows = [  # (name, estimate, the pushes it rests on, the status shown)
         ("centroid (baseline)", baseline, 0, "baseline"),
         ("Alg. 1 heat map", heatmap, len(heatmap.used), heatmap.status),
         ("Alg. 2 progressive", progressive, len(progressive.used), progressive.status),
-        ("active (its own pushes)", active, sum(p.outcome != "failed" for p in active.pushes),
-         active.status),
-    ]  # fmt: skip
+        ("active (its own pushes)", active, made, active.status),
+    ]
     for name, est, pushes, status in rows:
         print(
             f"  {name:23s} CoM ({est.com[0]:6.1f}, {est.com[1]:6.1f}) px  "
@@ -118,4 +189,6 @@ def _run(args) -> int:
         "  pushes: those an estimate rests on (Alg. 1 every candidate, Alg. 2 the ones it\n"
         "  chose); the active estimator's are the pushes it made itself"
     )
+    if any(name.startswith("Alg. 1") for name, *_ in rows):
+        print(f"  {ALG1_NOTE}")
     return 0

@@ -11,8 +11,10 @@ push must start from the pose of the mask.
 Pushes that miss the object (a graze past a corner included) or start inside
 it are dropped with one warning naming their CSV line numbers; ``--strict``
 refuses them, and so is a recording where most pushes would be dropped (with
-a hint when swapping the x and y columns makes them hit). ``--example`` runs on
-the small recording shipped in ``comcore/data/examples/``.
+a hint when swapping the x and y columns makes them hit), or where a quarter or more
+are dropped and the pushes fit the mask at another scale (a mask taken at another
+zoom than the pushes: :func:`comcore.cli._mistakes.scale_mistake` says the rule).
+``--example`` runs on the small recording shipped in ``comcore/data/examples/``.
 
 ``--frames`` adds the frames a camera saw during the pushes, a CSV with the
 columns ``push, px, py, theta, tx, ty`` (:mod:`comcore.cli._frames`): ``push``
@@ -36,9 +38,13 @@ the tip's radius (``--pusher-radius``) give the mask and the pushes through
 :func:`comcore.recordings.bag.recording_from_bag` (needs ``comcore[ros]``). The
 mask is drawn from the outline, so ``--resolution`` is then the mask's pixel
 size, not a camera's, and has a default (2.5 mm). The pushes are numbered as
-the lines of the pushes CSV the recording would make (the first is line 2). The
-CoM is also given in the object's frame (the outline's, of the object topic's poses):
-the JSON's ``com_object_m``.
+the lines of the pushes CSV the recording would make (the first is line 2). Each
+push's motion is taken over ``--travel`` metres of pusher travel after first contact
+(default 3 cm): set it to the cell's push length or less, since a push that travels
+less is skipped as ``short``. The CoM is also given in the object's frame (the
+outline's, of the object topic's poses): the JSON's ``com_object_m``; the ROS
+messages' stamp is the bag's time at the end of the last push kept (0 for a mask and
+a CSV, which carry no clock).
 
 The default method, ``posterior``, scores the pushes with the motion model of
 :class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
@@ -67,6 +73,7 @@ import json
 import sys
 from importlib import resources
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -75,6 +82,7 @@ from comcore._validation import check_physical
 from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, DEFAULT_TARGET_RADIUS
 from comcore.active._posterior import MAX_BOOTSTRAP
 from comcore.active._theta_units import THETA_UNITS
+from comcore.recordings._recording import DEFAULT_TRAVEL_M
 
 from . import _options
 from ._frames import FRAME_COLUMNS, dropped_frames, dropped_note, frame_error, read_frames
@@ -165,6 +173,33 @@ def add_arguments(parser) -> None:
     add = parser.add_argument
     _add_input_arguments(parser)
     _add_bag_arguments(parser)
+    _add_image_arguments(parser)
+    _add_unit_arguments(parser)
+    add(
+        "--method",
+        choices=METHODS,
+        default=METHODS[0],
+        help="estimator (default posterior). posterior: the active estimator's posterior over "
+        "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
+        "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
+        "(docs/how-to/benchmark.md measures it). alg2: the paper's Alg. 2; "
+        "alg2-rotation: Alg. 2 taking "
+        "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
+    )
+    add(
+        "--strict",
+        action="store_true",
+        help="refuse pushes that miss the object or start inside it (default: drop them "
+        "with a warning)",
+    )
+    _add_model_arguments(parser)
+    _add_status_arguments(parser)
+    _add_output_arguments(parser)
+
+
+def _add_image_arguments(parser) -> None:
+    """``--object``, ``--threshold``, ``--background`` and ``--roi``: reading the mask image."""
+    add = parser.add_argument
     add(
         "--object",
         choices=("auto", "bright", "dark"),
@@ -193,30 +228,15 @@ def add_arguments(parser) -> None:
         help="look only inside this box of the image, in pixels (columns X0..X1-1, rows "
         "Y0..Y1-1); pixel coordinates do not change",
     )
-    _add_unit_arguments(parser)
-    add(
-        "--method",
-        choices=METHODS,
-        default=METHODS[0],
-        help="estimator (default posterior). posterior: the active estimator's posterior over "
-        "the recorded pushes, with a 90 %% credible region; it weighs every push, so a push "
-        "observed turning the wrong way does not cut the true CoM away as it can in alg2 "
-        "(docs/how-to/benchmark.md measures it). alg2: the paper's Alg. 2; "
-        "alg2-rotation: Alg. 2 taking "
-        "pushes by ascending |theta|; alg1: the heat map; centroid: the area centroid",
-    )
-    add(
-        "--strict",
-        action="store_true",
-        help="refuse pushes that miss the object or start inside it (default: drop them "
-        "with a warning)",
-    )
-    _add_model_arguments(parser)
-    _add_status_arguments(parser)
+
+
+def _add_output_arguments(parser) -> None:
+    """``--json``, ``--frame-id``, ``--overlay`` and ``--no-overlay``."""
+    add = parser.add_argument
     add("--json", action="store_true", help="print one JSON object instead of text")
     add(
         "--frame-id",
-        help="the tf frame named in the JSON's ROS messages (\"ros\": InertiaStamped and "
+        help='the tf frame named in the JSON\'s ROS messages ("ros": InertiaStamped and '
         "PoseWithCovarianceStamped fields, comcore.ros.ros_messages). With --mask: the CoM in "
         f"the mask frame's metres (x along the columns, y down the rows), default {MASK_FRAME_ID}. "
         "With --bag: in the object's frame (the outline's, the object topic's), default "
@@ -284,6 +304,14 @@ def _add_bag_arguments(parser) -> None:
     )
     for option, text in BAG_OPTIONS.items():
         bag.add_argument(option, metavar="FILE" if option == "--outline" else "NAME", help=text)
+    bag.add_argument(
+        "--travel",
+        type=float,
+        metavar="METRES",
+        help="the pusher's travel after first contact over which each push's motion is taken "
+        f"(default {DEFAULT_TRAVEL_M:g} m): your cell's push length or less; a push that "
+        "travels less is skipped as short",
+    )
 
 
 def _add_status_arguments(parser) -> None:
@@ -410,12 +438,18 @@ def estimate(
     if method == "posterior":
         chosen = None if model == "none" else DEFAULT_MODEL
         return comcore.estimate_posterior(
-            mask, actions, motions, credible=CREDIBLE, model=chosen, pusher_radius=pusher_radius,
+            mask,
+            actions,
+            motions,
+            credible=CREDIBLE,
+            model=chosen,
+            pusher_radius=pusher_radius,
             likelihood=comcore.Likelihood(systematic_error=systematic_error),
-            bootstrap=bootstrap, target_radius=target_radius,
+            bootstrap=bootstrap,
+            target_radius=target_radius,
             theta_units="rad",  # the command checks theta's unit itself
             frames=frames,
-        )  # fmt: skip
+        )
     if method == "alg1":
         return comcore.estimate_heatmap(mask, actions, motions)
     if method in ("alg2", "alg2-rotation"):
@@ -461,12 +495,18 @@ def _write_overlay(path: Path, mask, pushes, est, method: str) -> bool:
         raise ModuleNotFoundError(str(e), name="matplotlib") from e
     replaced = path.exists()
     x, y = est.com
-    title = (f"comcore estimate --method {method}: CoM ({x:.1f}, {y:.1f}) px, status "
-             f"{est.status}\npushes numbered by their CSV line")  # fmt: skip
+    title = (
+        f"comcore estimate --method {method}: CoM ({x:.1f}, {y:.1f}) px, status "
+        f"{est.status}\npushes numbered by their CSV line"
+    )
     ax = comcore.plot.plot_estimate(
-        mask, est, actions=pushes.actions, title=title, credible=CREDIBLE,
+        mask,
+        est,
+        actions=pushes.actions,
+        title=title,
+        credible=CREDIBLE,
         numbers=overlay_numbers(est, pushes.lines),
-    )  # fmt: skip
+    )
     ax.figure.savefig(path)
     return replaced
 
@@ -477,8 +517,11 @@ def _frames_options(args) -> None:
         return
     if args.bag or args.example:
         other = "--bag" if args.bag else "--example"
-        why = ("its pushes are cut from its poses, not rows of a pushes CSV" if args.bag
-               else "the example has no frames")  # fmt: skip
+        why = (
+            "its pushes are cut from its poses, not rows of a pushes CSV"
+            if args.bag
+            else "the example has no frames"
+        )
         raise InputError(f"--frames goes with --mask and --pushes, not {other} ({why})")
     if not args.pushes:
         raise InputError("--frames needs --pushes: its push column numbers the pushes CSV's rows")
@@ -499,10 +542,14 @@ def _bag_options(args) -> None:
     if not args.bag:
         if given:
             raise InputError(f"{', '.join(given)} need --bag (they say what to read in the bag)")
+        if getattr(args, "travel", None) is not None:
+            raise InputError(
+                "--travel needs --bag: a pushes CSV gives each push's path and motion itself"
+            )
         return
-    others = [o for o, v in (("--mask", args.mask), ("--pushes", args.pushes),
-                             ("--example", args.example), ("--background", args.background),
-                             ("--roi", args.roi)) if v]  # fmt: skip
+    image = {"--mask": args.mask, "--pushes": args.pushes, "--example": args.example}
+    image.update({"--background": args.background, "--roi": args.roi})
+    others = [option for option, value in image.items() if value]
     if others:
         raise InputError(
             f"--bag replaces --mask and --pushes (and the image's options); give one or the "
@@ -519,17 +566,27 @@ def _read(args, resolution: float, pusher_radius: float):
     """The mask, the pushes and the bag's Recording (None for the mask image and the CSV)."""
     if args.bag:
         mask, recorded, rec = read_bag(
-            args.bag, args.object_topic, args.pusher_topic, args.outline, pusher_radius,
-            resolution, object_child_frame=args.object_child_frame,
+            args.bag,
+            args.object_topic,
+            args.pusher_topic,
+            args.outline,
+            pusher_radius,
+            resolution,
+            object_child_frame=args.object_child_frame,
             pusher_child_frame=args.pusher_child_frame,
-        )  # fmt: skip
+            travel=_travel(args),
+        )
         print(f"comcore estimate: --bag: {rec.report()}".replace("\n", "\n  "), file=sys.stderr)
         return mask, recorded, rec
     mask_path, pushes_path = _inputs(args)
     mask = read_mask(
-        mask_path, resolution, args.object, threshold=args.threshold,
-        background=args.background, roi=args.roi,
-    )  # fmt: skip
+        mask_path,
+        resolution,
+        args.object,
+        threshold=args.threshold,
+        background=args.background,
+        roi=args.roi,
+    )
     return mask, read_pushes(pushes_path), None
 
 
@@ -547,8 +604,13 @@ def _inputs(args):
     return Path(args.mask), Path(args.pushes)
 
 
-def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None) -> dict:
-    """The JSON object of a run (without the overlay); ``frame``: a bag's object frame."""
+def _result(args, mask, recorded, pushes, dropped, est, *, mistake=None, frame=None) -> dict:
+    """The JSON object of a run (without the overlay); ``frame``: a bag's Recording.
+
+    The ROS messages are stamped with the bag's time at the end of its last push
+    kept (:attr:`comcore.Recording.stamp`), 0 without a bag.
+    """
+    stamp = None if frame is None else frame.stamp
     status = comcore.Status.INCONSISTENT if mistake else est.status
     return {
         "com_px": list(est.com),
@@ -574,8 +636,11 @@ def _result(args, mask, recorded, pushes, dropped, est, mistake=None, frame=None
         "overlay": None,
         "overlay_replaced": False,
         "ros": comcore.ros.ros_messages(
-            dataclasses.replace(est, status=status), frame_id=args.frame_id,
-            resolution=None if frame is not None else mask.resolution, frame=frame,
+            dataclasses.replace(est, status=status),
+            frame_id=args.frame_id,
+            resolution=None if frame is not None else mask.resolution,
+            frame=frame,
+            stamp=0.0 if stamp is None else stamp,
         ),
     }
 
@@ -592,8 +657,10 @@ def _overlay(args, mask, pushes, est, result: dict) -> int:
         if args.overlay:  # asked for by name: an error
             print(f"comcore estimate: cannot write the overlay {overlay}: {why}", file=sys.stderr)
             return 2
-        print(f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
-              file=sys.stderr)  # fmt: skip
+        print(
+            f"comcore estimate: no overlay written ({why}; --no-overlay skips it) ({e})",
+            file=sys.stderr,
+        )
         return 0
     except (OSError, ValueError) as e:
         print(f"comcore estimate: cannot write the overlay {overlay}: {e}", file=sys.stderr)
@@ -608,6 +675,17 @@ def _target(value) -> float:
     """``--target-radius`` (metres), checked."""
     try:
         return check_physical(value, "--target-radius", "target_radius")
+    except ValueError as e:
+        raise InputError(str(e)) from None
+
+
+def _travel(args) -> float:
+    """``--travel`` (metres), checked; its default without it."""
+    travel = getattr(args, "travel", None)
+    if travel is None:
+        return DEFAULT_TRAVEL_M
+    try:
+        return check_physical(travel, "--travel", "push_length")
     except ValueError as e:
         raise InputError(str(e)) from None
 
@@ -649,6 +727,89 @@ def _numbers(args) -> tuple[float, float, float]:
     return resolution, pusher_radius, systematic_error
 
 
+class _Inputs(NamedTuple):
+    """What a run read and checked, before estimating."""
+
+    mask: comcore.Mask
+    """The object's mask."""
+    recorded: object
+    """Every push read (``Pushes``), dropped ones included."""
+    pushes: object
+    """The pushes kept (``Pushes``)."""
+    dropped: dict
+    """``{CSV line: why}`` of the pushes dropped."""
+    frames: object
+    """The frames read (``--frames``), or None."""
+    from_bag: comcore.Recording | None
+    """The bag's Recording (``--bag``), or None."""
+    pusher_radius: float
+    """``--pusher-radius``, metres."""
+    systematic_error: float
+    """``--systematic-error``, metres."""
+
+    @property
+    def kept(self) -> list[int]:
+        """The rows of ``recorded`` that were kept."""
+        return [k for k, line in enumerate(self.recorded.lines) if int(line) not in self.dropped]
+
+
+def _prepare(args) -> _Inputs:
+    """Check the options, read the inputs and screen the pushes (InputError on a mistake)."""
+    _frames_options(args)
+    _bag_options(args)
+    if not args.bag:
+        _inputs(args)  # the mask and CSV options, checked before the numbers
+    resolution, pusher_radius, systematic_error = _numbers(args)
+    mask, recorded, from_bag = _read(args, resolution, pusher_radius)
+    frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
+    if args.theta_units == "deg":
+        recorded = recorded.theta_from_degrees()
+        frames = None if frames is None else frames.theta_from_degrees()
+    contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
+    pushes, dropped = screen_pushes(
+        mask, recorded, strict=args.strict, pusher_radius=contact_radius
+    )
+    recording_mistakes(mask, recorded, dropped, degrees=args.theta_units == "deg")
+    return _Inputs(
+        mask, recorded, pushes, dropped, frames, from_bag, pusher_radius, systematic_error
+    )
+
+
+def _warn_dropped(read: _Inputs) -> None:
+    """One warning naming the pushes dropped (and their frames), if any."""
+    if not read.dropped:
+        return
+    lines = read.recorded.lines
+    rows = [k for k, line in enumerate(lines) if int(line) in read.dropped]
+    note = "" if read.frames is None else dropped_note(read.frames, rows)
+    print(
+        f"comcore estimate: warning: dropped {len(read.dropped)} of {len(lines)} pushes "
+        f"that miss the object or start inside it: CSV line(s) {line_list(list(read.dropped))} "
+        "(--strict refuses them)" + note,
+        file=sys.stderr,
+    )
+
+
+def _estimate(args, read: _Inputs) -> tuple[comcore.Estimate, str | None]:
+    """The estimate and the mistake the recording shows (None if none)."""
+    mask, pushes, frames = read.mask, read.pushes, read.frames
+    units = units_mistake(mask, pushes, args.theta_units, read.pusher_radius)
+    est = estimate(
+        mask,
+        pushes.actions,
+        pushes.motions,
+        args.method,
+        model=args.model,
+        systematic_error=read.systematic_error,
+        bootstrap=args.bootstrap,
+        pusher_radius=read.pusher_radius,
+        target_radius=args.target_radius,
+        frames=None if frames is None else frames.of(read.kept),
+    )
+    mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
+    return est, mistake
+
+
 def run(args) -> int:
     """Run ``comcore estimate``; its exit code (:data:`EPILOG`).
 
@@ -656,45 +817,19 @@ def run(args) -> int:
     :data:`EXIT_INCONSISTENT` when the status is ``inconsistent``.
     """
     try:
-        _frames_options(args)
-        _bag_options(args)
-        if not args.bag:
-            _inputs(args)  # the mask and CSV options, checked before the numbers
-        resolution, pusher_radius, systematic_error = _numbers(args)
-        mask, recorded, from_bag = _read(args, resolution, pusher_radius)
-        frames = None if args.frames is None else read_frames(args.frames, recorded.lines)
-        if args.theta_units == "deg":
-            recorded = recorded.theta_from_degrees()
-            frames = None if frames is None else frames.theta_from_degrees()
-        contact_radius = pusher_radius if args.method == "posterior" else 0.0  # Alg. 1, 2: points
-        pushes, dropped = screen_pushes(
-            mask, recorded, strict=args.strict, pusher_radius=contact_radius
-        )
-        recording_mistakes(mask, recorded, dropped, degrees=args.theta_units == "deg")
+        read = _prepare(args)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
-    kept = [k for k, line in enumerate(recorded.lines) if int(line) not in dropped]
-    if dropped:
-        rows = [k for k, line in enumerate(recorded.lines) if int(line) in dropped]
-        print(
-            f"comcore estimate: warning: dropped {len(dropped)} of {len(recorded.lines)} pushes "
-            f"that miss the object or start inside it: CSV line(s) {line_list(list(dropped))} "
-            "(--strict refuses them)" + ("" if frames is None else dropped_note(frames, rows)),
-            file=sys.stderr,
-        )
+    _warn_dropped(read)
     try:
-        units = units_mistake(mask, pushes, args.theta_units, pusher_radius)
-        est = estimate(mask, pushes.actions, pushes.motions, args.method, model=args.model,
-                       systematic_error=systematic_error, bootstrap=args.bootstrap,
-                       pusher_radius=pusher_radius, target_radius=args.target_radius,
-                       frames=None if frames is None else frames.of(kept))  # fmt: skip
-        mistake = "; ".join(m for m in (units, sign_mistake(mask, pushes)) if m) or None
+        est, mistake = _estimate(args, read)
     except InputError as e:
         print(f"comcore estimate: {e}", file=sys.stderr)
         return 2
     except (TypeError, ValueError) as e:
-        error = None if frames is None else frame_error(str(e), frames, kept, recorded.lines)
+        frames, lines = read.frames, read.recorded.lines
+        error = None if frames is None else frame_error(str(e), frames, read.kept, lines)
         if error is not None:  # a frame that does not fit its push: the frames CSV's mistake
             print(f"comcore estimate: {error}", file=sys.stderr)
             return 2
@@ -709,14 +844,24 @@ def run(args) -> int:
             else status_meaning(est.status, args.target_radius)
         )
         print(f"comcore estimate: warning: status {est.status}: {meaning}", file=sys.stderr)
-    result = _result(args, mask, recorded, pushes, dropped, est, mistake, frame=from_bag)
+    return _report(args, read, est, mistake)
+
+
+def _report(args, read: _Inputs, est, mistake) -> int:
+    """Print the result (text or JSON) and write the overlay; the exit code."""
+    mask, recorded, frames, from_bag = read.mask, read.recorded, read.frames, read.from_bag
+    result = _result(
+        args, mask, recorded, read.pushes, read.dropped, est, mistake=mistake, frame=from_bag
+    )
     if frames is not None:
         result["n_frames"] = frames.n_frames
-        result["dropped_frames"] = dropped_frames(est, frames, kept, recorded.lines, dropped)
+        result["dropped_frames"] = dropped_frames(
+            est, frames, read.kept, recorded.lines, read.dropped
+        )
     if from_bag is not None:  # the CoM in the outline's frame, the frame of the object topic
         result["com_object_m"] = from_bag.object_from_pixels(np.array(est.com))[0].tolist()
     shown = dataclasses.replace(est, status=comcore.Status.INCONSISTENT) if mistake else est
-    code = _overlay(args, mask, pushes, shown, result)
+    code = _overlay(args, mask, read.pushes, shown, result)
     if code:
         return code
     if args.json:

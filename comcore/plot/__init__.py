@@ -72,22 +72,22 @@ def _name(estimate: Estimate, belief: str) -> str:
 def _arrows(ax, pushes: np.ndarray, color, **style) -> None:
     colors = [color] * len(pushes) if isinstance(color, str) else list(color)
     for (sx, sy, ex, ey), color in zip(pushes, colors):
+        arrow = {"arrowstyle": "-|>", "color": color, "lw": style.get("lw", 1.4)}
+        arrow.update(alpha=style.get("alpha", 1.0), shrinkA=0, shrinkB=0)
         ax.annotate(
-            "", (ex, ey), (sx, sy), zorder=style.get("zorder", ZORDER["arrows"]),
-            arrowprops={"arrowstyle": "-|>", "color": color, "lw": style.get("lw", 1.4),
-                        "alpha": style.get("alpha", 1.0), "shrinkA": 0, "shrinkB": 0},
-        )  # fmt: skip
+            "", (ex, ey), (sx, sy), zorder=style.get("zorder", ZORDER["arrows"]), arrowprops=arrow
+        )
 
 
 def _numbers(ax, pushes: np.ndarray, colors, places: np.ndarray, fontsize: float, labels) -> None:
     """Number the pushes (white on the arrow's colour) at ``places``: ``labels``, or 1, 2, ..."""
     for k, (point, push, color) in enumerate(zip(places, pushes, colors)):
-        ax.plot([point[0], push[0]], [point[1], push[1]], "-", color=color, lw=0.6,
-                alpha=0.5, zorder=ZORDER["arrows"])  # fmt: skip
+        line = ([point[0], push[0]], [point[1], push[1]])
+        ax.plot(*line, "-", color=color, lw=0.6, alpha=0.5, zorder=ZORDER["arrows"])
         bbox = {"boxstyle": "circle,pad=0.2", "fc": color, "ec": "white", "lw": 0.6}
         text = str(k + 1 if labels is None else labels[k])
-        ax.text(*point, text, color="white", fontsize=fontsize, ha="center",
-                va="center", zorder=ZORDER["numbers"], bbox=bbox, clip_on=True)  # fmt: skip
+        style = {"ha": "center", "va": "center", "zorder": ZORDER["numbers"], "bbox": bbox}
+        ax.text(*point, text, color="white", fontsize=fontsize, clip_on=True, **style)
 
 
 def _marker(ax, point, marker: str, color, label: str) -> None:
@@ -143,42 +143,35 @@ def plot_estimate(
     credible: float | None = None,
     numbers=None,
 ):
-    """Draw an estimate on its mask: belief, pushes in order, region, estimate and truth.
+    """Draw an estimate on its mask: belief, pushes numbered in order, region, estimate, truth.
 
     Parameters
     ----------
     mask : Mask
         The mask the estimate was computed on (for an active estimate, the first mask).
     estimate : Estimate
-        Any estimator's result. The object is coloured by ``posterior.image``
-        (active and offline posterior, on a log scale) or ``heatmap.image``
-        (Alg. 1) where present; otherwise the region is filled. The region is
-        outlined in every case (for a posterior: its credible region).
+        Any estimator's result. The object is coloured by ``posterior.image`` (log
+        scale) or ``heatmap.image`` where present, else the region is filled; the
+        region is outlined in every case.
     actions : array_like, shape (n, 4), optional
         The pushes the estimator was given (the candidates); ``estimate.used``
         indexes them. Drawn faint blue where not used.
     truth : (float, float), optional
         The true CoM in pixels, drawn as a green cross.
     ax : matplotlib.axes.Axes, optional
-        Where to draw; by default a new ``Figure``'s axes (``ax.figure.savefig``),
-        sized to the window.
+        Where to draw; by default a new ``Figure``'s axes sized to the window.
     title : str, optional
-        Replaces the default title (estimator kind, CoM, pushes, and the
-        status when it is not ``ok``).
+        Replaces the default title (estimator kind, CoM, pushes, status if not ok).
     view : {"object", "image"}, optional
-        ``"object"`` (default): the object and the pushes drawn, with a margin
-        (pushes are followed at most ``PUSH_REACH`` object sizes past the
-        object), so that an object that fills a small part of a wide camera
-        frame is still drawn large. ``"image"``: the whole image.
+        ``"object"`` (default): the object and the pushes (followed at most
+        ``PUSH_REACH`` object sizes past it), so that a small object in a wide
+        frame is drawn large. ``"image"``: the whole image.
     credible : float, optional
-        The level the posterior's credible region was read at (the
-        estimator's ``credible``, e.g. 0.9): the legend names it. Default:
-        the share of ``posterior.region_image`` the region holds, about the
-        level.
+        The level the posterior's credible region was read at (e.g. 0.9), for
+        the legend. Default: the share of ``posterior.region_image`` it holds.
     numbers : sequence of int, shape (k,), optional
-        The number written on each numbered push (the pushes the estimate
-        rests on, in order: :func:`executed_pushes`), e.g. the CSV lines
-        ``comcore estimate`` names them by. Default 1, 2, ..., k.
+        The number written on each push the estimate rests on, in order
+        (:func:`executed_pushes`), e.g. CSV lines. Default 1, 2, ..., k.
 
     Returns
     -------
@@ -187,17 +180,8 @@ def plot_estimate(
     Raises
     ------
     ValueError
-        If the mask and the estimate's region differ in shape, ``used``
-        indexes pushes beyond ``actions``, or ``view`` is unknown.
-
-    Notes
-    -----
-    Every push an estimate rests on is numbered in the order it was used
-    (executed, for the active estimator): the number sits on the push's line
-    just behind its start, outside the object, so it hides neither the
-    object nor the estimate and the truth; numbers that would touch step back
-    along their lines (:func:`number_positions`). The markers are drawn above
-    the arrows.
+        If the mask and the region differ in shape, ``used`` indexes pushes
+        beyond ``actions``, or ``view`` is unknown.
 
     Examples
     --------
@@ -218,6 +202,38 @@ def plot_estimate(
     >>> [float(v) for v in (*ax.get_xlim(), *ax.get_ylim())]  # 3 px around the object
     [296.5, 332.5, 222.5, 196.5]
     """
+    mask, executed, others = _checked(mask, estimate, actions, view, numbers)
+    x0, x1, y0, y1 = _window(mask, np.vstack([executed, others]), view)
+    if ax is None:
+        height = min(max(6.0 * (y1 - y0) / max(x1 - x0, 1e-9), 3.0), 9.0)
+        fig = Figure(figsize=(6.0, height + 0.9), dpi=110, layout="constrained")
+        ax = fig.add_subplot()
+    belief = _draw_belief(ax, mask, estimate)
+    _draw_region(ax, estimate, belief, credible)
+    _arrows(ax, others, COLORS["other"], lw=0.8, alpha=0.45, zorder=ZORDER["other_arrows"])
+    evidence = _evidence(estimate, len(executed))
+    colors = [COLORS["used"] if e else COLORS["no_evidence"] for e in evidence]
+    _arrows(ax, executed, colors)
+    _legend_pushes(ax, evidence, len(others), bool(estimate.pushes))
+    x, y = estimate.com
+    markers = [(x, y)]
+    _marker(ax, (x, y), "x", COLORS["estimate"], f"estimate ({x:.1f}, {y:.1f})")
+    if truth is not None:
+        tx, ty = check_point(truth, "truth")
+        markers.append((tx, ty))
+        _marker(ax, (tx, ty), "+", COLORS["truth"], f"true CoM ({tx:.1f}, {ty:.1f})")
+    places, fontsize, (x0, x1, y0, y1) = _number_layout(ax, executed, markers, (x0, x1, y0, y1))
+    _numbers(ax, executed, colors, places, fontsize, numbers)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y1, y0)
+    if title is None:
+        title = _title(estimate, belief, len(executed), len(others))
+    _label(ax, title)
+    return ax
+
+
+def _checked(mask, estimate, actions, view, numbers):
+    """The checked mask, and the pushes drawn numbered and the others (:func:`plot_estimate`)."""
     mask = check_mask(mask)
     if not isinstance(estimate, Estimate):
         raise TypeError(f"estimate must be a comcore.Estimate, got {type(estimate).__name__}")
@@ -234,11 +250,11 @@ def plot_estimate(
             f"numbers must hold one number per push drawn numbered ({len(executed)}: the "
             f"estimate's pushes, in order), got {len(numbers)}"
         )
-    x0, x1, y0, y1 = _window(mask, np.vstack([executed, others]), view)
-    if ax is None:
-        height = min(max(6.0 * (y1 - y0) / max(x1 - x0, 1e-9), 3.0), 9.0)
-        fig = Figure(figsize=(6.0, height + 0.9), dpi=110, layout="constrained")
-        ax = fig.add_subplot()
+    return mask, executed, others
+
+
+def _draw_belief(ax, mask: Mask, estimate: Estimate) -> str:
+    """The object coloured by the belief (or the region filled); the belief's kind."""
     belief, values = belief_of(estimate)
     image = np.ones((*mask.shape, 3))
     image[mask.data] = COLORS["object"]
@@ -256,50 +272,52 @@ def plot_estimate(
         kwargs = {"norm": norm} if norm is not None else {"vmin": 0, "vmax": 1}
         picture = ax.imshow(shown, cmap="viridis", interpolation="nearest", **kwargs)
         ax.figure.colorbar(picture, ax=ax, shrink=0.8, label=label)
-    if estimate.region.any() and not estimate.region.all():
-        from matplotlib.collections import LineCollection
-        from matplotlib.lines import Line2D
+    return belief
 
-        outline = LineCollection(
-            region_outline(estimate.region), colors=[COLORS["region"]], linewidths=2.0,
-            zorder=ZORDER["region"], capstyle="projecting",
-        )  # fmt: skip
-        ax.add_collection(outline)
-        region_label = _region_label(estimate, belief, credible)
-        ax.add_line(Line2D([], [], color=COLORS["region"], lw=2.0, label=region_label))
-    _arrows(ax, others, COLORS["other"], lw=0.8, alpha=0.45, zorder=ZORDER["other_arrows"])
-    evidence = _evidence(estimate, len(executed))
-    colors = [COLORS["used"] if e else COLORS["no_evidence"] for e in evidence]
-    _arrows(ax, executed, colors)
-    _legend_pushes(ax, evidence, len(others), bool(estimate.pushes))
+
+def _draw_region(ax, estimate: Estimate, belief: str, credible) -> None:
+    """The region's outline and its legend entry (none for an empty or a whole region)."""
+    if not estimate.region.any() or estimate.region.all():
+        return
+    from matplotlib.collections import LineCollection
+    from matplotlib.lines import Line2D
+
+    outline = LineCollection(
+        region_outline(estimate.region),
+        colors=[COLORS["region"]],
+        linewidths=2.0,
+        zorder=ZORDER["region"],
+        capstyle="projecting",
+    )
+    ax.add_collection(outline)
+    region_label = _region_label(estimate, belief, credible)
+    ax.add_line(Line2D([], [], color=COLORS["region"], lw=2.0, label=region_label))
+
+
+def _title(estimate: Estimate, belief: str, n_executed: int, n_others: int) -> str:
+    """The default title: estimator kind, CoM, pushes, and the status when it is not ``ok``."""
     x, y = estimate.com
-    markers = [(x, y)]
-    _marker(ax, (x, y), "x", COLORS["estimate"], f"estimate ({x:.1f}, {y:.1f})")
-    if truth is not None:
-        tx, ty = check_point(truth, "truth")
-        markers.append((tx, ty))
-        _marker(ax, (tx, ty), "+", COLORS["truth"], f"true CoM ({tx:.1f}, {ty:.1f})")
-    places, fontsize, (x0, x1, y0, y1) = _number_layout(ax, executed, markers, (x0, x1, y0, y1))
-    _numbers(ax, executed, colors, places, fontsize, numbers)
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y1, y0)
-    ax.set_xlabel("x (pixels)")
-    ax.set_ylabel("y (pixels, down)")
-    n_all = len(executed) + len(others)
-    used = f"{len(executed)} of {n_all} pushes used" if n_all else "no push"
+    n_all = n_executed + n_others
+    used = f"{n_executed} of {n_all} pushes used" if n_all else "no push"
     if is_active(estimate):
-        used = f"{len(executed)} pushes executed"
-    if title is None:
-        title = f"{_name(estimate, belief)}: CoM ({x:.1f}, {y:.1f}) px, {used}"
-        if not estimate.ok:
-            title += f", status {estimate.status}"
-    ax.set_title(title, fontsize=9)
+        used = f"{n_executed} pushes executed"
+    title = f"{_name(estimate, belief)}: CoM ({x:.1f}, {y:.1f}) px, {used}"
+    if not estimate.ok:
+        title += f", status {estimate.status}"
+    return title
+
+
+def _label(ax, title: str) -> None:
+    """Axis labels, the title, and the legend under the x label whatever the axes' height."""
     from matplotlib.transforms import ScaledTranslation
 
+    ax.set_xlabel("x (pixels)")
+    ax.set_ylabel("y (pixels, down)")
+    ax.set_title(title, fontsize=9)
     below = ax.transAxes + ScaledTranslation(0.0, -0.45, ax.figure.dpi_scale_trans)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below, fontsize=8,
-              ncol=2)  # under the x label, whatever the axes' height  # fmt: skip
-    return ax
+    ax.legend(
+        loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below, fontsize=8, ncol=2
+    )
 
 
 def _number_layout(ax, pushes: np.ndarray, markers, window):

@@ -106,7 +106,12 @@ def _mesh_outline(path: Path) -> np.ndarray:
         raise ImportError(
             "reading an outline from a mesh needs trimesh and shapely: pip install comcore[sim]"
         ) from e
-    mesh = trimesh.load(path, force="mesh")
+    try:
+        mesh = trimesh.load(path, force="mesh")
+    except (OSError, ValueError, TypeError, KeyError, IndexError, AttributeError) as e:
+        raise ValueError(f"cannot read {path} as a mesh: {e}") from e
+    if mesh.bounds is None or len(getattr(mesh, "faces", ())) == 0:
+        raise ValueError(f"{path}: the mesh has no faces, so no section near its base")
     low, high = mesh.bounds[:, 2]
     height = low + SECTION_HEIGHT * (high - low)
     section = mesh.section(plane_origin=[0.0, 0.0, height], plane_normal=[0.0, 0.0, 1.0])  # type: ignore[attr-defined]

@@ -20,6 +20,10 @@ __all__ = ["pose_at", "push_window", "pusher_gaps", "stream", "to_frame"]
 def stream(rows, name: str) -> np.ndarray:
     """Rows ``(t, x, y, yaw)`` sorted by time, repeated times dropped, yaw unwrapped."""
     arr = np.array(_as_float_rows(rows, 4, name, tuple()))  # type: ignore[arg-type]
+    if len(arr) == 0:
+        raise ValueError(
+            f"{name} must hold samples at two or more distinct times, got an empty stream"
+        )
     arr = arr[np.argsort(arr[:, 0], kind="stable")]
     keep = np.concatenate([[True], np.diff(arr[:, 0]) > 0])
     arr = arr[keep]

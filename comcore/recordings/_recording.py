@@ -9,6 +9,34 @@ outline, and per push the path of the pusher's leading point (an
 rigid :class:`Motion` over a window of pusher travel after first contact.
 Pushes that cannot be used are reported (:class:`SkippedPush`), never dropped
 silently.
+
+Each stream is sorted by time and its yaw unwrapped (seen from above, ``z`` up,
+counter-clockwise ``yaw`` is positive). Per push:
+
+* **First contact** is the first time the pusher's disc comes within
+  ``contact_tolerance`` of the outline, the object's pose interpolated at the
+  pusher's sample times (and the crossing interpolated between samples). A disc
+  that overlaps the outline by more than the tolerance at the first sample
+  ``"starts_inside"``; one that never comes that close ``"misses"``.
+* **The window** runs from first contact until the pusher's centre is ``travel``
+  metres (straight-line distance) from where it was then; both ends are
+  interpolated between samples, the object's poses at those times too. A pusher
+  that never gets that far is ``"short"``.
+* **The action** is the path of the pusher's LEADING point (its centre plus
+  ``pusher_radius`` along the direction of travel, as :class:`Action` defines
+  it), straight from ``standoff`` metres before its position at first contact to
+  its position at the window's end, in the object's frame at first contact, in
+  pixels of the mask.
+* **The motion** is the object's rigid motion over the window as :class:`Motion`
+  defines it: the change of yaw (counter-clockwise seen from above is
+  counter-clockwise on screen) and the displacement of the material point under
+  the mask's area centroid, in the object's frame at first contact, pixels (see
+  :func:`comcore.apply_motion`).
+
+An action whose start falls on the mask is ``"starts_inside"``, one whose disc
+misses the drawn mask (:func:`comcore.geometry.disc_contacts`) ``"misses"``. A
+kept push whose leading line misses the mask while its disc touches it is kept
+with ``line_hits=False`` (its side touched the object).
 """
 
 from __future__ import annotations
@@ -96,6 +124,10 @@ class Recording:
         The pixel frame: :meth:`pixels_from_object` and :meth:`object_from_pixels`.
     pusher_radius, travel : float
         Metres, as given.
+    time_origin_ns : int or None
+        The streams' time 0 as ROS time, nanoseconds since the epoch, where it
+        is known (a bag's start, :func:`comcore.recordings.bag.recording_from_bag`);
+        ``None`` otherwise.
     """
 
     mask: Mask
@@ -105,6 +137,19 @@ class Recording:
     frame: OutlineFrame
     pusher_radius: float
     travel: float
+    time_origin_ns: int | None = None
+
+    @property
+    def stamp(self) -> tuple[int, int] | None:
+        """ROS time ``(sec, nanosec)`` at which the last kept push's window ends.
+
+        ``None`` where the streams' clock is not known (:attr:`time_origin_ns`) or no
+        push was kept.
+        """
+        if self.time_origin_ns is None or not self.pushes:
+            return None
+        end = int(self.time_origin_ns) + round(max(p.end_time for p in self.pushes) * 1e9)
+        return divmod(end, 1_000_000_000)
 
     @property
     def actions(self) -> np.ndarray:
@@ -157,93 +202,52 @@ def recording_from_poses(
 ) -> Recording:
     """Turn recorded pose streams of pushes into comcore's Mask, Actions and Motions.
 
-    Each push is a pair of streams in one world frame (metres, ``z`` up: seen
-    from above, counter-clockwise ``yaw`` is positive): the object's pose
-    ``(t, x, y, yaw)`` (its frame's origin and heading, the frame ``outline``
-    is given in) and the pusher's ``(t, x, y, yaw)`` (the centre of its round
-    tip; its yaw is not used). Samples may come out of order: each stream is
-    sorted by time and its yaw unwrapped. Per push:
-
-    * **First contact** is the first time the pusher's disc comes within
-      ``contact_tolerance`` of the outline, the object's pose interpolated at
-      the pusher's sample times (and the crossing interpolated between
-      samples). A disc that overlaps the outline by more than the tolerance at
-      the first sample ``"starts_inside"``; one that never comes that close
-      ``"misses"``.
-    * **The window** runs from first contact until the pusher's centre is
-      ``travel`` metres (straight-line distance) from where it was then; both
-      ends are interpolated between samples, the object's poses at those
-      times too. A pusher that never gets that far is ``"short"``.
-    * **The action** is the path of the pusher's LEADING point (its centre
-      plus ``pusher_radius`` along the direction of travel, as comcore's
-      :class:`Action` defines it), straight from ``standoff`` metres before
-      its position at first contact to its position at the window's end, in
-      the object's frame at first contact, in pixels of the mask.
-    * **The motion** is the object's rigid motion over the window as
-      :class:`Motion` defines it: the change of yaw (counter-clockwise seen
-      from above is counter-clockwise on screen) and the displacement of the
-      material point under the mask's area centroid, in the object's frame at
-      first contact, pixels (see :func:`comcore.apply_motion`).
-
-    An action whose start falls on the mask is ``"starts_inside"``, one whose
-    disc misses the drawn mask (:func:`comcore.geometry.disc_contacts`) ``"misses"``.
-    A kept push whose leading line misses the mask while its disc touches it
-    is kept with ``line_hits=False`` (its side touched the object).
+    Each push is a pair of streams in one world frame, the object's pose and the
+    pusher tip's centre; this module's docstring says how each push is read.
 
     Parameters
     ----------
     outline : array_like, shape (k, 2)
-        The object's outline in its own frame, metres (``x`` right, ``y`` up
-        seen from above; either orientation).
+        The object's outline in its own frame, metres (``x`` right, ``y`` up seen
+        from above; either orientation).
     pushes : sequence of (object_poses, pusher_poses)
         Per push, the two streams, each array_like of shape (n, 4) with rows
-        ``(t, x, y, yaw)``: seconds, metres, metres, radians. One pair per
-        push: cut a long log into pushes first.
+        ``(t, x, y, yaw)``: seconds, metres, metres, radians (the pusher's yaw is
+        not used). Cut a long log into pushes first (:func:`split_pushes`).
     pusher_radius : float
         Radius of the round pusher's tip, metres (>= 0).
     travel : float, optional
-        Length of the window, metres of pusher travel after first contact
-        (default 3 cm).
-    resolution : float, optional
-        Metres per pixel of the mask (default 2.5 mm).
+        The window: metres of pusher travel after first contact (default 3 cm).
+    resolution, margin : float, optional
+        Metres per pixel of the mask (default 2.5 mm); its empty border (2 cm).
     com : array_like, shape (2,), optional
-        The true CoM in the object's frame, metres, where you know it
-        (:attr:`Recording.com` gives it in pixels).
+        The true CoM in the object's frame, metres, where known.
     names : sequence of str, optional
         One name per push, for the reports.
-    margin : float, optional
-        Empty border around the outline in the mask, metres (default 2 cm).
     standoff : float, optional
         How far before the leading point's first-contact position the action
-        starts, metres (default 1 cm): an action must start off the object.
+        starts, metres (default 1 cm).
     contact_tolerance : float, optional
-        Gap between the disc and the outline that counts as contact, metres
-        (default 2 mm; tracking and outline errors).
+        Gap between the disc and the outline that counts as contact (default 2 mm).
     frame_rate : float, optional
-        Also keep, per push, the poses during its window at this rate (Hz,
-        from first contact; the streams interpolated at those times) as
+        Also keep the poses during each window at this rate (Hz) as
         ``RecordedPush.frames``, for ``estimate_posterior(..., frames=...)``.
 
     Returns
     -------
     Recording
-        ``mask``, ``pushes`` (one :class:`RecordedPush` each), ``skipped``
-        (one :class:`SkippedPush` each), ``com`` and the frame's conversions;
-        ``recording.actions`` and ``recording.motions`` are the arrays the
-        estimators take.
+        ``recording.actions`` and ``recording.motions`` are what the estimators take.
 
     Raises
     ------
     TypeError, ValueError
-        On invalid arguments (each named): a stream that is not (n, 4) finite
-        numbers, with fewer than two distinct times, a bad outline, radius,
-        length or resolution.
+        On invalid arguments, each named: a stream that is not (n, 4) finite
+        numbers with two distinct times, a bad outline, radius, length or resolution.
 
     Examples
     --------
-    A 6 x 6 cm plate at the origin, pushed along its bottom edge's normal
-    (world +y) 1 cm right of its centre, turning counter-clockwise; the
-    action goes up the screen (pixel ``y`` down) right of the centroid:
+    A 6 cm square plate pushed up its bottom edge's normal 1 cm right of its
+    centre, turning counter-clockwise; the action goes up the screen:
 
     >>> import numpy as np, comcore
     >>> square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
@@ -253,10 +257,8 @@ def recording_from_poses(
     >>> obj = np.column_stack([t, 0 * t, 0.04 * moving, 0.2 * moving])
     >>> rec = comcore.recording_from_poses(square, [(obj, pusher)], 0.004, travel=0.02, com=(0, 0))
     >>> push = rec.pushes[0]
-    >>> push.line_hits, np.round(push.action, 2).tolist()
-    (True, [23.5, 35.5, 23.5, 23.5])
-    >>> push.motion.theta > 0, rec.com
-    (True, (19.5, 19.5))
+    >>> push.line_hits, np.round(push.action, 2).tolist(), push.motion.theta > 0, rec.com
+    (True, [23.5, 35.5, 23.5, 23.5], True, (19.5, 19.5))
     """
     poly = check_outline(outline)
     radius = check_positive(pusher_radius, "pusher_radius", allow_zero=True)
@@ -297,10 +299,9 @@ def recording_from_poses(
         if isinstance(window[0], str):
             skipped.append(SkippedPush(i, names[i], *window))
             continue
-        pushed = _push(frame, obj, pusher, radius, standoff, centroid_m, *window)
-        frames = ()
-        if rate is not None:
-            frames = _frames(frame, obj, pusher, radius, centroid_m, *window, rate)
+        span = _Window(obj, pusher, *window)
+        pushed = _push(frame, span, radius, standoff, centroid_m)
+        frames = () if rate is None else _frames(frame, span, radius, centroid_m, rate)
         kept.append((i, *pushed, frames))
     pushes_out = _check_on_mask(mask, kept, radius, names, skipped)
     skipped.sort(key=lambda s: s.index)
@@ -311,8 +312,22 @@ def recording_from_poses(
     return Recording(mask, tuple(pushes_out), tuple(skipped), true_com, frame, radius, travel)
 
 
-def _push(frame, obj, pusher, radius, standoff, centroid_m, t_contact, t_end):
+class _Window(NamedTuple):
+    """One push's two streams and the window of pusher travel the push is taken over."""
+
+    obj: np.ndarray
+    """The object's poses, rows ``(t, x, y, yaw)``."""
+    pusher: np.ndarray
+    """The pusher's, likewise."""
+    t_contact: float
+    """Time of first contact: the window's start, seconds."""
+    t_end: float
+    """Time the window ends, seconds."""
+
+
+def _push(frame, window: _Window, radius, standoff, centroid_m):
     """``(action_px, motion, speed, t_contact, t_end, deviation_m)`` of one push's window."""
+    obj, pusher, t_contact, t_end = window
     pose0, pose1 = pose_at(obj, [t_contact, t_end])
     ends = to_frame(pose_at(pusher, [t_contact, t_end])[:, :2], pose0)
     chord = ends[1] - ends[0]
@@ -345,8 +360,9 @@ def _motion(frame, pose0, pose1, centroid_m) -> Motion:
     return Motion(pose1[2] - pose0[2], moved[0] / frame.resolution, -moved[1] / frame.resolution)
 
 
-def _frames(frame, obj, pusher, radius, centroid_m, t_contact, t_end, rate) -> tuple:
+def _frames(frame, window: _Window, radius, centroid_m, rate) -> tuple:
     """The window's poses at ``rate`` Hz from first contact, as PushFrames (mask's frame)."""
+    obj, pusher, t_contact, t_end = window
     times = t_contact + np.arange(1, int((t_end - t_contact) * rate) + 1) / rate
     times = times[times < t_end]
     if not len(times):

@@ -41,10 +41,46 @@ Examples
 >>> import comcore.recordings.bag as bag
 >>> bag.SUPPORTED_TYPES[0]
 'geometry_msgs/msg/PoseStamped'
+
+:func:`recording_from_bag` on a bag of four pushes, its ROS 2 messages written to
+MCAP (a 6 cm square plate that does not move here; the tip comes up to it from 2 cm
+away and goes 1.2 cm in, four times):
+
+>>> import pathlib, tempfile
+>>> import numpy as np
+>>> from rosbags.rosbag2 import StoragePlugin, Writer
+>>> from rosbags.typesys import Stores, get_typestore
+>>> import comcore.recordings.bag as bag
+>>> store = get_typestore(Stores.ROS2_HUMBLE)
+>>> ros = store.types
+>>> def pose(ns, x, y):
+...     stamp = ros["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+...     header = ros["std_msgs/msg/Header"](stamp=stamp, frame_id="world")
+...     point = ros["geometry_msgs/msg/Point"](x=x, y=y, z=0.0)
+...     turn = ros["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
+...     body = ros["geometry_msgs/msg/Pose"](position=point, orientation=turn)
+...     msg = ros["geometry_msgs/msg/PoseStamped"](header=header, pose=body)
+...     return store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped")
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "pushes"
+>>> t = np.arange(801) / 100  # 8 s at 100 Hz
+>>> tip_y = -0.054 + 0.015 * (1 - np.cos(np.pi * t))  # 3 cm up and back, 4 times
+>>> with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+...     kind = "geometry_msgs/msg/PoseStamped"
+...     plate = writer.add_connection("/plate", kind, typestore=store)
+...     tip = writer.add_connection("/tip", kind, typestore=store)
+...     for ti, y in zip(t, tip_y):
+...         ns = 10**9 + round(ti * 1e9)
+...         writer.write(plate, ns, pose(ns, 0.0, 0.0))
+...         writer.write(tip, ns, pose(ns, 0.01, float(y)))
+>>> square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
+>>> rec = bag.recording_from_bag(path, "/plate", "/tip", square, 0.004, travel=0.01)
+>>> len(rec.pushes), rec.pushes[1].name, rec.pushes[1].action.direction
+(4, 'push 2 at 1.51 s', (0.0, -1.0))
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from typing import NamedTuple
@@ -117,6 +153,9 @@ class BagPoses(NamedTuple):
     """The topic's message type (one of :data:`SUPPORTED_TYPES`)."""
     time_source: str
     """``"header"`` or ``"receive"``: where the times came from."""
+    start_ns: int = 0
+    """The bag's start (its first message's receive time), nanoseconds since the epoch: the
+    time 0 of ``poses``."""
 
 
 def bag_topics(path) -> dict[str, str]:
@@ -166,8 +205,10 @@ def _entries(msg, msgtype: str):
         child, position, orientation = "", msg.pose.position, msg.pose.orientation
     elif msgtype == "geometry_msgs/msg/TransformStamped":
         child, position, orientation = (
-            msg.child_frame_id, msg.transform.translation, msg.transform.rotation,
-        )  # fmt: skip
+            msg.child_frame_id,
+            msg.transform.translation,
+            msg.transform.rotation,
+        )
     else:  # nav_msgs/msg/Odometry
         pose = msg.pose.pose
         child, position, orientation = msg.child_frame_id, pose.position, pose.orientation
@@ -194,9 +235,7 @@ def poses_from_bag(
     check_orientation: bool = True,
     time: str = "auto",
 ) -> BagPoses:
-    """Read one topic's poses as rows ``(t, x, y, yaw)``, checked.
-
-    See the module's docstring for the times, the yaw and the checks.
+    """Read one topic's poses as rows ``(t, x, y, yaw)``, checked (see the module's docstring).
 
     Parameters
     ----------
@@ -205,43 +244,36 @@ def poses_from_bag(
     topic : str
         A topic holding one of :data:`SUPPORTED_TYPES`.
     child_frame : str, optional
-        For transforms and odometry: the child frame whose poses to read
-        (``child_frame_id``; a leading ``/`` does not matter). Needed when the
-        topic carries several (a ``/tf`` topic does).
+        For transforms and odometry: the ``child_frame_id`` to read (a leading
+        ``/`` does not matter); needed when the topic carries several (``/tf``).
     check_orientation : bool, optional
-        Check the quaternions (default True; the pusher's are not used, and
-        :func:`recording_from_bag` does not check them). A zero quaternion
-        unchecked gives the yaw 0.
+        Check the quaternions (default True; :func:`recording_from_bag` does not
+        check the pusher's). A zero quaternion unchecked gives the yaw 0.
     time : {"auto", "header", "receive"}, optional
-        Where the times come from (:data:`TIME_SOURCES`; default ``"auto"``:
-        the headers' stamps when every one is nonzero, else the receive times).
+        Where the times come from (:data:`TIME_SOURCES`; default ``"auto"``).
 
     Returns
     -------
     BagPoses
+        With ``start_ns``, the bag's start: time 0 of the rows.
 
     Raises
     ------
     ValueError
-        Each naming the topic: not in the bag (the bag's topics are listed),
-        of a type not supported, empty, a child frame needed or not seen (the
-        child frames seen are listed), poses in several frames, times not
-        increasing, positions that look like millimetres, a quaternion not of
-        unit norm or whose rotation is not about ``z``.
+        Each naming the topic: not in the bag, of a type not supported, empty,
+        a child frame needed or not seen, poses in several frames, times not
+        increasing, millimetres, a quaternion not of unit norm or not about ``z``.
     ImportError
         Without rosbags (``pip install comcore[ros]``).
 
     Examples
     --------
-    A pusher tip's pose at 100 Hz, written to a ROS 1 bag and read back:
-
-    >>> import pathlib, tempfile
+    >>> import pathlib, tempfile  # a tip's pose at 100 Hz, to a ROS 1 bag and back
     >>> from rosbags.rosbag1 import Writer
     >>> from rosbags.typesys import Stores, get_typestore
     >>> import comcore.recordings.bag as bag
     >>> store = get_typestore(Stores.ROS1_NOETIC)
-    >>> ros = store.types
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tip.bag"
+    >>> ros, path = store.types, pathlib.Path(tempfile.mkdtemp()) / "tip.bag"
     >>> with Writer(path) as writer:
     ...     tip = writer.add_connection("/tip", "geometry_msgs/msg/PoseStamped", typestore=store)
     ...     for k in range(3):
@@ -255,8 +287,8 @@ def poses_from_bag(
     ...         data = store.serialize_ros1(msg, "geometry_msgs/msg/PoseStamped")
     ...         writer.write(tip, ns, data)
     >>> read = bag.poses_from_bag(path, "/tip")
-    >>> read.poses.round(3).tolist(), read.frame_id, read.time_source
-    ([[0.0, 0.0, 0.2, 0.0], [0.01, 0.01, 0.2, 0.0], [0.02, 0.02, 0.2, 0.0]], 'world', 'header')
+    >>> read.poses.round(3).tolist(), read.frame_id, read.time_source, read.start_ns
+    ([[0.0, 0.0, 0.2, 0.0], [0.01, 0.01, 0.2, 0.0], [0.02, 0.02, 0.2, 0.0]], 'world', 'header', 1700000000000000000)
     >>> bag.poses_from_bag(path, "/object")
     Traceback (most recent call last):
     ...
@@ -335,7 +367,7 @@ def _poses(rows, topic, msgtype, start, check_orientation, time) -> BagPoses:
     poses = np.column_stack([t, xy, np.unwrap(yaw)])
     poses.setflags(write=False)
     child = rows[0][3] if msgtype in _CHILD_FRAME_TYPES else ""
-    return BagPoses(poses, frames[0], child, msgtype, source)
+    return BagPoses(poses, frames[0], child, msgtype, source, start)
 
 
 def _times(rows, topic: str, start: int, time: str) -> tuple[np.ndarray, np.ndarray, str]:
@@ -464,6 +496,8 @@ def recording_from_bag(
     Returns
     -------
     Recording
+        With ``time_origin_ns``, the bag's start (its ``stamp``: the end of the
+        last push kept, in ROS time). The module's docstring has an example.
 
     Raises
     ------
@@ -474,43 +508,6 @@ def recording_from_bag(
         For an option :func:`comcore.recording_from_poses` does not take, or ``names``.
     ImportError
         Without rosbags (``pip install comcore[ros]``).
-
-    Examples
-    --------
-    A bag of four pushes, its ROS 2 messages written to MCAP (a 6 cm square
-    plate that does not move here; the tip comes up to it from 2 cm away and
-    goes 1.2 cm in, four times):
-
-    >>> import pathlib, tempfile
-    >>> import numpy as np
-    >>> from rosbags.rosbag2 import StoragePlugin, Writer
-    >>> from rosbags.typesys import Stores, get_typestore
-    >>> import comcore.recordings.bag as bag
-    >>> store = get_typestore(Stores.ROS2_HUMBLE)
-    >>> ros = store.types
-    >>> def pose(ns, x, y):
-    ...     stamp = ros["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
-    ...     header = ros["std_msgs/msg/Header"](stamp=stamp, frame_id="world")
-    ...     point = ros["geometry_msgs/msg/Point"](x=x, y=y, z=0.0)
-    ...     turn = ros["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
-    ...     body = ros["geometry_msgs/msg/Pose"](position=point, orientation=turn)
-    ...     msg = ros["geometry_msgs/msg/PoseStamped"](header=header, pose=body)
-    ...     return store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped")
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "pushes"
-    >>> t = np.arange(801) / 100  # 8 s at 100 Hz
-    >>> tip_y = -0.054 + 0.015 * (1 - np.cos(np.pi * t))  # 3 cm up and back, 4 times
-    >>> with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
-    ...     kind = "geometry_msgs/msg/PoseStamped"
-    ...     plate = writer.add_connection("/plate", kind, typestore=store)
-    ...     tip = writer.add_connection("/tip", kind, typestore=store)
-    ...     for ti, y in zip(t, tip_y):
-    ...         ns = 10**9 + round(ti * 1e9)
-    ...         writer.write(plate, ns, pose(ns, 0.0, 0.0))
-    ...         writer.write(tip, ns, pose(ns, 0.01, float(y)))
-    >>> square = [(-0.03, -0.03), (0.03, -0.03), (0.03, 0.03), (-0.03, 0.03)]
-    >>> rec = bag.recording_from_bag(path, "/plate", "/tip", square, 0.004, travel=0.01)
-    >>> len(rec.pushes), rec.pushes[1].name, rec.pushes[1].action.direction
-    (4, 'push 2 at 1.51 s', (0.0, -1.0))
     """
     if "names" in options:
         raise TypeError("recording_from_bag names the pushes itself: names is not an option")
@@ -529,9 +526,13 @@ def recording_from_bag(
         )
     tolerance = options.get("contact_tolerance", DEFAULT_CONTACT_TOLERANCE_M)
     pieces = split_pushes(
-        poly, obj.poses, pusher.poses, pusher_radius, separation=separation,
+        poly,
+        obj.poses,
+        pusher.poses,
+        pusher_radius,
+        separation=separation,
         contact_tolerance=tolerance,
-    )  # fmt: skip
+    )
     if not pieces:
         _, gap = pusher_gaps(poly, stream(obj.poses, "object"), pusher.poses, pusher_radius)
         closest = f"{gap.min():.3g} m" if len(gap) else "nothing: no time in common"
@@ -542,4 +543,5 @@ def recording_from_bag(
             "outline in the object's?"
         )
     names = [f"push {k + 1} at {round(p[0, 0], 2) + 0.0:.2f} s" for k, (_, p) in enumerate(pieces)]
-    return recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
+    rec = recording_from_poses(poly, pieces, pusher_radius, names=names, **options)
+    return dataclasses.replace(rec, time_origin_ns=obj.start_ns)

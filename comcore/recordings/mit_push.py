@@ -190,33 +190,50 @@ def read_push(path) -> PushFile:
     ImportError
         For an h5 file without h5py (``pip install comcore[real]``).
     ValueError
-        If a table is missing or not of shape (n, 4), or a JSON file does not
-        hold one object of tables.
+        If the file cannot be read as JSON (``.json``) or HDF5 (any other
+        name), a table is missing or not of shape (n, 4), or a JSON file does
+        not hold one object of tables.
     """
     path = os.fspath(path)
-    if path.endswith(".json"):
-        with open(path) as f:
-            data = json.load(f)
-        if not isinstance(data, dict):
-            raise ValueError(
-                f"{path!r} must hold one JSON object of tables ({{'tip_pose': [[t, x, y, yaw], "
-                f"...], ...}}), got a {type(data).__name__}"
-            )
-    else:
-        try:
-            import h5py
-        except ImportError as e:
-            raise ImportError(
-                "reading the MIT push dataset's h5 files needs h5py: pip install comcore[real]"
-            ) from e
-        with h5py.File(path, "r") as f:
-            data = {key: f[key][()] for key in f.keys()}
+    data = _read_json(path) if path.endswith(".json") else _read_h5(path)
     try:
         name = parse_name(path)
     except ValueError:
         name = None
     wrench = _table(data, "ft_wrench", path) if "ft_wrench" in data else np.empty((0, 4))
     return PushFile(_table(data, "object_pose", path), _table(data, "tip_pose", path), wrench, name)
+
+
+def _read_json(path: str) -> dict:
+    """The tables of a JSON file of the dataset, by name."""
+    try:
+        with open(path) as f:
+            data = json.load(f)
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise ValueError(f"path: cannot read {path!r} as JSON: {e}") from e
+    if not isinstance(data, dict):
+        raise ValueError(
+            f"{path!r} must hold one JSON object of tables ({{'tip_pose': [[t, x, y, yaw], "
+            f"...], ...}}), got a {type(data).__name__}"
+        )
+    return data
+
+
+def _read_h5(path: str) -> dict:
+    """The tables of an HDF5 file of the dataset, by name."""
+    try:
+        import h5py
+    except ImportError as e:
+        raise ImportError(
+            "reading the MIT push dataset's h5 files needs h5py: pip install comcore[real]"
+        ) from e
+    try:
+        with h5py.File(path, "r") as f:
+            return {key: f[key][()] for key in f.keys()}
+    except OSError as e:
+        raise ValueError(
+            f"path: cannot read {path!r} as HDF5 (the dataset's files are .h5 or .json): {e}"
+        ) from e
 
 
 def load_pushes(

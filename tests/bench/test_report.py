@@ -8,7 +8,13 @@ import pytest
 
 from comcore.bench import ROW_FIELDS
 from comcore.bench._io import paper_table, read_rows, write_rows
-from comcore.bench._report import group_stats, markdown_report, table_one, table_two
+from comcore.bench._report import (
+    ALG1_NOTE,
+    group_stats,
+    markdown_report,
+    table_one,
+    table_two,
+)
 from tests.extras import require_simulators
 
 
@@ -76,6 +82,9 @@ def test_report_has_the_tables_figures_and_notes():
                    "![Fig. 7](bench_fig7_pushes.png)", "CPU time 6.0 s, 6.000 s per trial", "`active` skipped: not built",
                    "1 trial(s) redrew", "ValueError: boom"):  # fmt: skip
         assert needle in text, needle
+    table_i = text[text.index("## Table I") : text.index("## Table II")]
+    assert ALG1_NOTE in table_i and "docs/results/paper.md" in ALG1_NOTE
+    assert ALG1_NOTE not in markdown_report(rows[1:], meta, {})  # no Alg. 1, no sentence
 
 
 @pytest.mark.parametrize("suffix", [".jsonl", ".parquet"])
@@ -149,3 +158,18 @@ def test_the_friction_table_counts_every_status_by_name():
     header, _, low, both = friction_table(rows).splitlines()
     assert header.rstrip(" |").endswith("| statuses")
     assert low.endswith("| wide 2, ok 1, inconsistent 1 |") and both.endswith("| wide 2, ok 1, inconsistent 1 |")
+
+
+def test_trials_that_raised_give_no_error_figures():
+    from comcore.bench._report import summary_table
+
+    rows = [row("alg1", status="error", error=9.0, trial=t) for t in range(2)]
+    rows += [row("alg2", status="error", error=9.0, trial=0), row("alg2", error=1.0, trial=1)]
+    stats = group_stats(rows, keys=("estimator",))
+    assert stats[("alg1",)]["error"] == dict.fromkeys(("mean", "std", "min", "max", "median"))
+    assert stats[("alg2",)]["error"]["mean"] == 1.0 and stats[("alg2",)]["errors"] == 1
+    lines = {line.split("|")[1].strip(): line for line in summary_table(rows).splitlines()[2:]}
+    cells = [c.strip() for c in lines["alg1"].split("|")[1:-1]]
+    assert cells[3:7] == ["–"] * 4 and cells[-1] == "2"
+    assert "9.000" not in lines["alg2"] and "| 1.000 |" in lines["alg2"]
+    assert "| – (" in table_one(rows, "alg1")

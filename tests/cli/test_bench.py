@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("shapely")  # the bench runs the simulator (comcore[sim])
@@ -105,6 +106,33 @@ def test_an_estimator_option_typo_is_refused_before_the_first_trial(tmp_path, ca
     assert main(args) == 2
     err = capsys.readouterr().err
     assert "alg2 has no option min_scor (did you mean min_score?)" in err
+    assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
+
+
+@pytest.mark.parametrize(
+    ("label", "message"),
+    [
+        ("alg1(threshold=2)", "threshold must be in [0, 1], got 2.0"),
+        ("alg2(min_score=5)", "min_score must be in [0, 1], got 5.0"),
+        ("alg2-rotation(mu=-1)", "mu must be >= 0, got -1.0"),
+        ("active(target_radius=-1)", "target_radius must be a finite number > 0"),
+        ("active(model='crystal')", "model must be one of"),
+        ("active-robot(observe='sonar')", "observe must be one of"),
+    ],
+)
+def test_a_bad_option_value_is_refused_before_the_first_trial(
+    tmp_path, capsys, monkeypatch, label, message
+):
+    import comcore.bench._runner as runner
+
+    def no_trial(spec):
+        raise AssertionError("a trial ran")
+
+    monkeypatch.setattr(runner, "run_trial", no_trial)
+    args = ["bench", *TINY, "--out", str(tmp_path), "--estimators", label]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert f"estimators: {label!r}: {message}" in err
     assert "Traceback" not in err and not (tmp_path / "results.partial.jsonl").exists()
 
 
@@ -254,8 +282,25 @@ def test_version_is_printed(capsys):
     assert capsys.readouterr().out.strip() == f"comcore {comcore.__version__}"
 
 
-def test_demo_shows_the_active_estimator_beside_the_papers_and_alg1_is_not_ok(capsys):
-    assert main(["demo", "--pushes", "20", "--seed", "1"]) == 0
+def test_demo_runs_a_whole_session_and_prints_the_estimate_its_region_and_the_truth(capsys):
+    import simulators
+
+    assert main(["demo", "--seed", "0"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    pushes = [line for line in out if line.startswith("  push ")]
+    assert 1 <= len(pushes) <= 5  # the session's default budget
+    estimate, region, truth = out[-3:]
+    assert estimate.startswith("estimate: CoM (") and f"after {len(pushes)} pushes" in estimate
+    assert region.startswith("90 % region: ") and " cm^2 (radius " in region
+    sim = simulators.random_simulator("Obj7", friction="low", rng=np.random.default_rng(0))
+    x, y = simulators.SimulatedRobot(sim).true_com_px()  # in the camera's first frame
+    assert truth.startswith(f"true CoM: ({x:.1f}, {y:.1f}) px; the estimate is ")
+
+
+def test_demo_compare_shows_the_active_estimator_beside_the_papers_and_alg1_is_not_ok(capsys):
+    from comcore.bench._report import ALG1_NOTE
+
+    assert main(["demo", "--compare", "--pushes", "20", "--seed", "1"]) == 0
     out = capsys.readouterr().out
     table = [line for line in out.splitlines() if line.startswith("  ") and " CoM (" in line]
     lines = {line.split(" CoM (")[0].strip(): line for line in table}
@@ -266,6 +311,7 @@ def test_demo_shows_the_active_estimator_beside_the_papers_and_alg1_is_not_ok(ca
     assert lines["centroid (baseline)"].endswith("status baseline")
     active_pushes = int(lines["active (its own pushes)"].split(" pushes ")[1].split()[0])
     assert 1 <= active_pushes <= 5  # the active estimator's default budget
+    assert ALG1_NOTE in out and "docs/results/paper.md" in ALG1_NOTE
 
 
 def test_bench_help_lists_every_estimator_with_its_options(capsys):

@@ -698,3 +698,59 @@ def test_an_empty_frame_id_is_refused(files, capsys):
             "--no-overlay"]  # fmt: skip
     assert main(args) == 2
     assert "--frame-id" in capsys.readouterr().err
+
+
+def zoomed_recording(folder: Path, zoom: float) -> tuple[Path, Path]:
+    """The shipped example's first 12 pushes, each starting 4 px before the object, and the
+    example's mask taken at ``zoom`` times the pushes' scale (about the object's centroid)."""
+    from matplotlib.image import imread
+    from scipy import ndimage
+
+    from comcore.cli._inputs import read_pushes
+    from comcore.cli.estimate import example_files
+
+    files = example_files()
+    image = np.pad(imread(files["mask"]), 30) > 0.5
+    recorded = read_pushes(files["pushes"])
+    actions, motions = recorded.actions[:12] + 30, recorded.motions[:12]
+    mask = comcore.Mask(image)
+    found = comcore.geometry.contacts(mask, actions)
+    direction = actions[:, 2:] - actions[:, :2]
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    rows = np.hstack([found.point - 4 * direction, actions[:, 2:], motions])
+    pushes = folder / "pushes.csv"
+    pushes.write_text(HEADER + "".join(",".join(f"{v:.3f}" for v in r) + "\n" for r in rows))
+    centre = np.array(mask.centroid)[::-1]  # (row, column)
+    zoomed = ndimage.affine_transform(
+        image.astype(float), np.eye(2) / zoom, offset=centre - centre / zoom, order=1
+    )
+    path = folder / f"mask-{zoom}.png"
+    write_png(path, zoomed > 0.5)
+    return path, pushes
+
+
+def test_a_mask_at_another_scale_than_the_pushes_is_refused_naming_the_scale(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    same, pushes = zoomed_recording(tmp_path, 1.0)
+    args = ["estimate", *RES, "--pushes", str(pushes), "--json", "--no-overlay"]
+    assert main([*args, "--mask", str(same), "--model", "none"]) == 0
+    assert json.loads(capsys.readouterr().out)["dropped_lines"] == {}
+    zoomed, _ = zoomed_recording(tmp_path, 1.25)
+    assert main([*args, "--mask", str(zoomed), "--model", "none"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "--mask and --pushes: 3 of 12 pushes miss the object or start inside it" in captured.err
+    assert "the pushes fit the mask scaled by 0.8" in captured.err
+    assert "the mask's scale disagrees with the pushes'" in captured.err
+
+
+def test_a_scale_hint_needs_a_scale_that_fits(tmp_path):
+    from comcore.cli._mistakes import scale_mistake
+
+    mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    rows = np.array([p[:4] for p in PUSHES], float)
+    assert scale_mistake(mask, rows, 0) is None  # nothing dropped: nothing asked
+    around = np.array([(0, 2, 30, 2), (0, 25, 30, 25), (2, 0, 2, 30), (25, 0, 25, 30)], float)
+    assert "scaled by 1.16 about its centroid (4 of 4" in scale_mistake(mask, around, 4)
+    centre = np.array([(13.5, 13.5, 30, 13.5), (0, 13, 30, 13)], float)
+    assert scale_mistake(mask, centre, 1) is None  # starts at the centroid: no scale mends it

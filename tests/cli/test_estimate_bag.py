@@ -12,6 +12,7 @@ pytest.importorskip("rosbags")
 
 import comcore.recordings.bag as bag
 from comcore.cli import main
+from comcore.cli.estimate import estimate
 from tests import bags
 
 TOPICS = ["--object-topic", "/plate/pose", "--pusher-topic", "/tip"]
@@ -146,3 +147,34 @@ def test_the_ros_frame_is_the_object_child_frame_or_the_one_named(recorded, caps
         capsys, bag_args(recorded, "--method", "centroid", "--frame-id", "plate")
     )
     assert result["ros"]["pose_with_covariance_stamped"]["header"]["frame_id"] == "plate"
+
+
+def test_travel_sets_the_push_window_and_a_longer_one_skips_every_push(recorded, capsys):
+    path, outline, _ = recorded
+    code, result, err = run_json(capsys, bag_args(recorded, "--model", "none", "--travel", "0.02"))
+    assert code == 0, err
+    rec = bag.recording_from_bag(path, "/plate/pose", "/tip", outline, bags.RADIUS, travel=0.02)
+    expected = estimate(
+        rec.mask, rec.actions, rec.motions, "posterior", model="none", pusher_radius=bags.RADIUS
+    )
+    assert result["com_px"] == list(expected.com)
+    _, default, _ = run_json(capsys, bag_args(recorded, "--model", "none"))
+    assert default["com_px"] != result["com_px"]  # another window, other motions
+    assert main([*bag_args(recorded, "--travel", "0.04"), "--no-overlay"]) == 2
+    assert "less than the window's 40.0 mm" in capsys.readouterr().err
+    assert main([*bag_args(recorded, "--travel", "25"), "--no-overlay"]) == 2
+    assert "--travel 25 m is implausible" in capsys.readouterr().err
+    assert main(["estimate", "--example", "--travel", "0.02", "--no-overlay"]) == 2
+    assert "--travel needs --bag" in capsys.readouterr().err
+
+
+def test_the_ros_stamp_is_the_bags_time_at_the_end_of_the_last_push(recorded, capsys):
+    _, _, rec = recorded
+    code, result, err = run_json(capsys, bag_args(recorded, "--method", "centroid"))
+    assert code == 0, err
+    log = bags.simulated_log(n_pushes=6)
+    end = bags.bag_start_ns(log, types=("/plate/pose",)) + round(rec.pushes[-1].end_time * 1e9)
+    expected = {"sec": end // 10**9, "nanosec": end % 10**9}
+    for message in ("inertia_stamped", "pose_with_covariance_stamped"):
+        assert result["ros"][message]["header"]["stamp"] == expected
+    assert expected["sec"] > bags.START_NS // 10**9

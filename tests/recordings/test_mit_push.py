@@ -179,3 +179,21 @@ def test_import_comcore_does_not_load_h5py_or_this_module():
     code = "import sys, comcore; print('h5py' in sys.modules, 'comcore.recordings.mit_push' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
+
+
+@pytest.mark.parametrize("name, text", [("x.h5", "not hdf5"), ("x.txt", "x"), ("x.mcap", "")])
+def test_a_file_that_is_not_hdf5_is_refused_naming_it(tmp_path, name, text):
+    pytest.importorskip("h5py")
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(ValueError, match=f"cannot read '.*{name}' as HDF5"):
+        mp.read_push(path)
+    with pytest.raises(ValueError, match=f"cannot read '.*{name}' as HDF5"):
+        mp.load_pushes([path])
+
+
+def test_a_json_file_that_is_not_json_is_refused_naming_it(tmp_path):
+    path = tmp_path / "x.json"
+    path.write_text("{not json")
+    with pytest.raises(ValueError, match="cannot read '.*x.json' as JSON"):
+        mp.read_push(path)

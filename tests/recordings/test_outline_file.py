@@ -47,3 +47,12 @@ def test_a_mesh_gives_its_footprint_in_its_own_frame(tmp_path):
     outline = read_outline(path)
     lo, hi = outline.min(axis=0), outline.max(axis=0)
     assert np.allclose(lo, (-0.02, -0.025), atol=1e-9) and np.allclose(hi, (0.04, 0.015), atol=1e-9)
+
+
+def test_a_mesh_without_faces_is_refused_by_name(tmp_path):
+    pytest.importorskip("shapely")
+    pytest.importorskip("trimesh")
+    path = tmp_path / "point.obj"
+    path.write_text("v 0 0 0\n")
+    with pytest.raises(ValueError, match=r"point\.obj: the mesh has no faces"):
+        read_outline(path)

@@ -66,3 +66,15 @@ def test_no_contact_and_bad_arguments():
         split_pushes(SQUARE, plate, later, -1.0)
     with pytest.raises(ValueError, match="object_poses"):
         split_pushes(SQUARE, plate[:, :3], later, RADIUS)
+
+
+@pytest.mark.parametrize("empty", [[], np.zeros((0, 4))])
+def test_an_empty_pose_stream_is_refused_by_name(empty):
+    t = np.linspace(0.0, 1.0, 101)
+    pusher = np.column_stack([t, np.full_like(t, 0.01), -0.034 + 0.04 * t, 0 * t])
+    with pytest.raises(ValueError, match="pushes\\[0\\] object poses .* got an empty stream"):
+        recording_from_poses(SQUARE, [(empty, pusher)], 0.004)
+    with pytest.raises(ValueError, match="pusher_poses .* got an empty stream"):
+        split_pushes(SQUARE, pusher, empty, 0.004)
+    with pytest.raises(ValueError, match="object_poses .* got an empty stream"):
+        split_pushes(SQUARE, empty, pusher, 0.004)
