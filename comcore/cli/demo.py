@@ -124,7 +124,7 @@ def _session(args) -> int:
         session.observe(robot.camera_mask())
         print(f"  push {robot.pushes}: turned {math.degrees(push.motion.theta):+.1f} degrees")
     est = session.estimate()
-    _print_session(est, robot.true_com_px(), first.resolution)
+    _print_session(est, robot.true_com_px, first.resolution)
     return 0
 
 

@@ -293,7 +293,7 @@ def test_demo_runs_a_whole_session_and_prints_the_estimate_its_region_and_the_tr
     assert estimate.startswith("estimate: CoM (") and f"after {len(pushes)} pushes" in estimate
     assert region.startswith("90 % region: ") and " cm^2 (radius " in region
     sim = simulators.random_simulator("Obj7", friction="low", rng=np.random.default_rng(0))
-    x, y = simulators.SimulatedRobot(sim).true_com_px()  # in the camera's first frame
+    x, y = simulators.SimulatedRobot(sim).true_com_px  # in the camera's first frame
     assert truth.startswith(f"true CoM: ({x:.1f}, {y:.1f}) px; the estimate is ")
 
 
