@@ -23,7 +23,7 @@ import comcore
 # Timing comcore's internal push scoring directly: no public API exposes it alone.
 from comcore.active._choice import sense_information
 from comcore.active._grid import GridPosterior
-from comcore.vt._force_lines import force_lines
+from comcore.vt._voting import force_lines
 
 
 def median_ms(fn, repeats: int) -> float:

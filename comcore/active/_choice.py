@@ -27,7 +27,7 @@ from ..camera._pose_tracking import camera_from_object
 from ..conventions import DEFAULT_TRAVEL_M
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
 from ..geometry._sampling import sample_pushes
-from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, push_force_lines
+from ..vt._voting import LINE_SCALE_PX, force_line_distances, push_force_lines
 from ._grid import GridPosterior
 from ._motion_term import STUDENT_DOF, com_shift, model_predictions, student_t, theta_scale
 from ._options import _bounded_count

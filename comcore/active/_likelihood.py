@@ -4,7 +4,7 @@ Open this file to change how an observed push is scored: what a user sets
 (:class:`Likelihood`, in metres and radians), its form in one mask's pixels
 (:class:`Scoring`, derived from it), and the terms. Every push is scored on
 the object (the first mask's frame): its action and force lines there
-(:mod:`comcore.vt._force_lines`), and its motion in the object's frame.
+(:mod:`comcore.vt._voting`), and its motion in the object's frame.
 
 * **The Voting Theorem's term.** The sense of rotation tells the side of the
   push's force line the CoM lies on: soft (a logistic edge whose standard
@@ -48,8 +48,14 @@ from .._validation import (
 from ..conventions import ANGLE_EPS, check_plausible, rotation_sense
 from ..motion._limit_surface import LimitSurfaceModel
 from ..motion._predictor import HypothesisPredictor
-from ..vt._force_lines import LINE_SCALE_PX, force_line_distances, side_probability
-from ..vt._senses import _LOGISTIC_STD, UNEXPLAINED_STDS, SenseTally
+from ..vt._voting import (
+    _LOGISTIC_STD,
+    LINE_SCALE_PX,
+    UNEXPLAINED_STDS,
+    SenseTally,
+    force_line_distances,
+    side_probability,
+)
 from ._grid import GridPosterior
 from ._lattice import lattice_stride
 from ._motion_term import (
@@ -874,7 +880,7 @@ def push_log_likelihood(
     With probability ``1 - flip_prob`` the observed sense is the true one; with
     ``flip_prob`` it is flipped (and then the unflipped rotation is what the
     motion model must explain). The Voting Theorem term is the soft side of
-    the force line (:func:`comcore.vt._force_lines.side_probability`); a rotation
+    the force line (:func:`comcore.vt._voting.side_probability`); a rotation
     within ``theta_tol`` carries no sense information.
 
     Parameters

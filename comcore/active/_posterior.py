@@ -55,7 +55,7 @@ from .._validation import (
 from ..camera._pose_tracking import is_miss
 from ..conventions import DEFAULT_PUSHER_RADIUS, rotation_sense
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
-from ..vt._force_lines import force_line_distances, push_force_lines
+from ..vt._voting import force_line_distances, push_force_lines
 from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
 from ._grid import prior_grid
 from ._likelihood import (

@@ -246,7 +246,7 @@ def offline_status(
 def sense_check(tally, estimate_index: int) -> SenseCheck:
     """Whether a recording's observed senses are what its best hypothesis would give.
 
-    ``tally`` (:class:`comcore.vt._senses.SenseTally`) counts, for every
+    ``tally`` (:class:`comcore.vt._voting.SenseTally`) counts, for every
     (CoM, friction) hypothesis, the pushes whose observed sense it leaves
     unexplained, and the probability of each being so under the hypothesis
     that made them (``flip_prob`` and the force line's blur). The fewest any
@@ -259,7 +259,7 @@ def sense_check(tally, estimate_index: int) -> SenseCheck:
     Examples
     --------
     >>> import numpy as np
-    >>> from comcore.vt._senses import SenseTally
+    >>> from comcore.vt._voting import SenseTally
     >>> tally = SenseTally((2, 1))
     >>> for _ in range(20):  # twenty pushes, each saying the CoM is on the side of pixel 0
     ...     tally.add(np.array([[5.0], [-5.0]]), +1, 0.05, 1.0)

@@ -23,7 +23,7 @@ from .._types import Action, Motion
 from .._validation import check_actions, check_mask, check_motions, check_turns
 from ..conventions import apply_motion, rotation_matrix
 from ..geometry._disc_contacts import pusher_contacts
-from ..vt._force_lines import push_force_lines
+from ..vt._voting import push_force_lines
 from ._registration import _measure, _measure_near
 
 __all__ = [

@@ -22,6 +22,8 @@ Choices (the paper is silent on them):
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._mask import Mask
@@ -34,10 +36,28 @@ from .._validation import (
     check_points,
     check_positive,
 )
-from ..conventions import ANGLE_EPS, DEFAULT_PUSHER_RADIUS, _ccw_cross, rotation_sense
+from ..conventions import (
+    ANGLE_EPS,
+    DEFAULT_PUSHER_RADIUS,
+    _ccw_cross,
+    ccw_cross,
+    rotate_vectors,
+    rotation_sense,
+)
 from ..geometry._disc_contacts import pusher_contacts
 
-__all__ = ["consistent", "predicted_sense", "region"]
+__all__ = [
+    "LINE_SCALE_PX",
+    "UNEXPLAINED_STDS",
+    "SenseTally",
+    "consistent",
+    "force_line_distances",
+    "force_lines",
+    "predicted_sense",
+    "push_force_lines",
+    "region",
+    "side_probability",
+]
 
 
 def _unit(v, name: str) -> np.ndarray:
@@ -357,3 +377,140 @@ def region(
         ok = _consistent(r, con.normal[i], unit[i], int(senses[i]), a_lo, a_hi, band=band)
         out[i, rows[ok], cols[ok]] = True
     return out[0] if single else out
+
+
+#: Standard deviation of a logistic of unit scale (its scale is std * sqrt(3) / pi).
+_LOGISTIC_STD = math.pi / math.sqrt(3.0)
+#: A hypothesis leaves a push's observed sense unexplained when it lies more than this many
+#: standard deviations of the force line's blur on the wrong side of the line (the logistic
+#: edge then gives the observed sense 2.6 % before ``flip_prob``).
+UNEXPLAINED_STDS = 2.0
+
+
+class SenseTally:
+    """How many pushes' observed senses each (CoM, friction) hypothesis leaves unexplained.
+
+    The Voting Theorem's check of recorded pushes, with or without a motion
+    model: a push is unexplained by a hypothesis that lies more than
+    :data:`UNEXPLAINED_STDS` standard deviations of the force line's blur on
+    the wrong side of its force line. Under the hypothesis that made the
+    pushes, push ``i`` is unexplained with probability at most
+    ``allowed[i]``: its sense's flip probability (``flip_prob``, more for a
+    rotation within the tracking noise of zero: :func:`sense_flip_prob`)
+    plus the edge's 2.6 %. The stop rule compares the fewest unexplained
+    pushes with those probabilities (:func:`comcore.active._stop.sense_check`).
+
+    Examples
+    --------
+    Two pushes whose senses put the CoM on opposite sides of one line: every
+    hypothesis leaves one of them unexplained.
+
+    >>> tally = SenseTally((3, 1))
+    >>> distances = np.array([[-9.0], [0.0], [9.0]])  # three CoMs, one friction value
+    >>> tally.add(distances, +1, 0.05, 1.0)
+    >>> tally.add(distances, -1, 0.05, 1.0)
+    >>> tally.counts[:, 0].tolist(), tally.fewest, len(tally.allowed)
+    ([1, 0, 1], 0, 2)
+    """
+
+    def __init__(self, shape: tuple[int, int]):
+        self.counts = np.zeros(shape, dtype=np.int64)
+        self.allowed: list[float] = []
+
+    def add(self, distances, sense: int, flip_prob: float, scale: float) -> None:
+        """Count one push of observed ``sense`` (0: none, not counted) at ``distances`` (p, m).
+
+        ``flip_prob`` is the probability its sense is wrong, ``scale`` the
+        force line's logistic scale (pixels).
+        """
+        if sense == 0:
+            return
+        margin = UNEXPLAINED_STDS * _LOGISTIC_STD * scale
+        self.counts += np.asarray(sense * distances < -margin)
+        edge = 1.0 / (1.0 + math.exp(UNEXPLAINED_STDS * _LOGISTIC_STD))
+        self.allowed.append(flip_prob + (1.0 - 2.0 * flip_prob) * edge)
+
+    @property
+    def fewest(self) -> int:
+        """The fewest pushes any hypothesis leaves unexplained (0 before any)."""
+        return int(self.counts.min()) if self.counts.size else 0
+
+    def at_pixel(self, index: int) -> int:
+        """The fewest pushes a CoM at grid pixel ``index`` leaves unexplained, any friction."""
+        return int(self.counts[index].min())
+
+
+#: Scale (pixels) of the soft edge of a force line at the default 2.5 mm/px and
+#: an exact pusher (the estimators derive it from metres: ``LINE_BLUR_M`` and
+#: ``pusher_error`` in :mod:`comcore.active._likelihood`). The Voting Theorem's sense
+#: is taken to be wrong for a CoM at distance d from the line with probability
+#: ``1 / (1 + exp(|d| / scale))`` (plus ``flip_prob``): pixel outlines, the
+#: smoothed normal, the pusher's radius and the object turning during the push
+#: blur the line (how often the sense is wrong at each distance, measured against
+#: the simulator: docs/explanation/likelihood.md, "The line is soft").
+LINE_SCALE_PX = 1.2
+
+
+def push_force_lines(con, actions, mus) -> np.ndarray:
+    """Force lines (n, m, 3) of pushes that hit, from their contacts, for each friction value."""
+    actions = np.asarray(actions, dtype=float)
+    direction = actions[:, 2:] - actions[:, :2]
+    direction = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    return force_lines(con.point, con.normal, direction, np.arctan(mus))
+
+
+def force_lines(contact, normal, direction, alphas) -> np.ndarray:
+    """Coefficients ``(a, b, k)`` of each push's force line for each cone half-angle.
+
+    The signed distance of a point ``p`` is ``a p_x + b p_y + k``, positive on
+    the counter-clockwise side (a CoM there turns the object counter-clockwise).
+
+    Parameters
+    ----------
+    contact, normal, direction : numpy.ndarray, shape (n, 2)
+        Contact points, unit inward normals and unit push directions.
+    alphas : numpy.ndarray, shape (m,)
+        Friction cone half-angles ``atan(mu)``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m, 3)
+
+    Examples
+    --------
+    A push to the right along the normal at (0, 5): points above it (smaller
+    row) are on its counter-clockwise side.
+
+    >>> lines = force_lines(np.array([[0.0, 5.0]]), np.array([[1.0, 0.0]]),
+    ...                     np.array([[1.0, 0.0]]), np.array([0.3]))
+    >>> force_line_distances(np.array([[5.0, 3.0], [5.0, 7.0]]), lines)[:, 0, 0].tolist()
+    [2.0, -2.0]
+    """
+    beta = np.arctan2(ccw_cross(normal, direction), np.einsum("ij,ij->i", normal, direction))
+    delta = np.clip(beta[:, None], -alphas[None, :], alphas[None, :])  # (n, m)
+    n_b = np.broadcast_to(normal[:, None, :], (*delta.shape, 2))
+    force = rotate_vectors(n_b, delta)  # (n, m, 2)
+    a, b = force[..., 1], -force[..., 0]
+    k = -(a * contact[:, None, 0] + b * contact[:, None, 1])
+    return np.stack([a, b, k], axis=-1)
+
+
+def force_line_distances(points, lines) -> np.ndarray:
+    """Signed distances, shape (n_points, *lines.shape[:-1])."""
+    pts = np.asarray(points, dtype=lines.dtype)
+    flat = lines.reshape(-1, 3)
+    out = pts @ flat[:, :2].T + flat[:, 2]
+    return out.reshape(len(pts), *lines.shape[:-1])
+
+
+def side_probability(distance, scale: float = LINE_SCALE_PX):
+    """Probability of the positive sense at a signed distance from the force line.
+
+    The logistic ``1 / (1 + exp(-d / scale)) = 0.5 + 0.5 tanh(d / (2 scale))``.
+
+    Examples
+    --------
+    >>> side_probability(np.array([-100.0, 0.0, 1.2]), 1.2).round(3)
+    array([0.   , 0.5  , 0.731])
+    """
+    return 0.5 + 0.5 * np.tanh(np.asarray(distance, dtype=float) / (2 * scale))

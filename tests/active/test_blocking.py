@@ -13,8 +13,8 @@ import comcore
 import comcore.bench
 from comcore.active._choice import binary_entropy, sense_information
 from comcore.active._grid import GridPosterior
-from comcore.vt._force_lines import force_line_distances as line_distances
-from comcore.vt._force_lines import force_lines, side_probability
+from comcore.vt._voting import force_line_distances as line_distances
+from comcore.vt._voting import force_lines, side_probability
 from tests.records import actions_of, motions_of
 from tests.scripts import run_script
 

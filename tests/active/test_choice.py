@@ -22,7 +22,7 @@ from comcore.active._likelihood import Scoring
 from comcore.active._motion_term import ModelNoise
 from comcore.camera._pose_tracking import moved_mask
 from comcore.geometry._disc_contacts import pusher_contacts
-from comcore.vt._force_lines import push_force_lines
+from comcore.vt._voting import push_force_lines
 
 PLATE = comcore.Mask(np.pad(np.ones((20, 20), bool), 8))  # object pixels 8..27
 MUS = comcore.Likelihood(n_mu=3).mus

@@ -12,7 +12,7 @@ from comcore.active._grid import prior_grid
 from comcore.active._lattice import lattice_stride, model_lattice
 from comcore.active._likelihood import Scoring, push_evidence
 from comcore.geometry._disc_contacts import pusher_contacts
-from comcore.vt._force_lines import push_force_lines
+from comcore.vt._voting import push_force_lines
 from tests.active.test_blocking import ToyModel
 
 

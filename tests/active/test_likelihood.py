@@ -25,7 +25,7 @@ from comcore.active._likelihood import (
 )
 from comcore.active._options import DEFAULT_MODEL
 from comcore.geometry._disc_contacts import pusher_contacts
-from comcore.vt._force_lines import LINE_SCALE_PX, push_force_lines
+from comcore.vt._voting import LINE_SCALE_PX, push_force_lines
 from tests.active.test_blocking import ToyModel  # the Voting Theorem's sense, |theta| by lever
 
 #: A 20 x 20 plate, 6 px margin: object pixels 6..25, centroid (15.5, 15.5).

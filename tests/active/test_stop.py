@@ -20,7 +20,7 @@ from comcore.active._stop import (
     stop_index,
     stop_reason,
 )
-from comcore.vt._senses import SenseTally
+from comcore.vt._voting import SenseTally
 
 RESOLUTION = 0.0025  # m/px: the default target radius of 6 mm is 2.4 px
 
