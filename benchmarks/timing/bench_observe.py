@@ -9,18 +9,17 @@ camera (at most 0.3 m), its image placed in the middle of a ``--camera`` image: 
 sees a camera frame of that size, with its defaults (``ActiveSession(mask,
 pusher_radius=...)``), a mask only, no frames. The session asks for ``--pushes`` pushes;
 the robot makes each, and the session's ``observe(mask)`` of the mask after it is timed
-(wall, ``time.perf_counter``, and CPU, ``time.process_time``) ``--repeats`` times: on deep copies of the session made just
-before, each given a fresh copy of the mask (a mask's fields are cached per Mask object),
-then once on the session itself, which goes on to the next push. Printed: a table of the
-median and 90th percentile of the wall time, and the median CPU time, over all the objects' pushes and repeats, per resolution, and
-the machine's load average. ``--profile MM`` runs cProfile over the timed calls at that
-resolution instead and prints the 25 most costly functions (cumulative).
+(wall, ``time.perf_counter``, and CPU, ``time.process_time``). Each of ``--repeats``
+repeats plays the session anew (same seeds, same pushes, new masks: nothing cached).
+Printed: per resolution, the median and 90th percentile of the wall time and the median
+CPU time over all the objects' pushes and repeats; and the machine's load average.
+``--profile MM`` runs cProfile over the timed calls at that resolution instead and prints
+the ``--top`` most costly functions (``--sort``: cumulative, tottime).
 """
 
 from __future__ import annotations
 
 import argparse
-import copy
 import cProfile
 import os
 import pstats
@@ -32,7 +31,7 @@ import comcore
 import simulators
 
 #: Table round the object's bounding disc tried, metres, widest first.
-MARGINS = (0.3, 0.2, 0.15, 0.1, 0.07, 0.05, 0.04, 0.03, 0.02)
+MARGINS = (0.3, 0.2, 0.15, 0.1, 0.07, 0.05, 0.04, 0.03, 0.02, 0.015, 0.01)
 
 
 def fresh(mask: comcore.Mask) -> comcore.Mask:
@@ -44,9 +43,7 @@ def robot_in_camera(name: str, resolution: float, camera: tuple[int, int]):
     """The robot with the widest margin whose image fits the camera ``(rows, cols)``."""
     sim = simulators.random_simulator(name, friction="high", rng=1)
     for margin in MARGINS:
-        robot = simulators.SimulatedRobot(
-            sim, resolution=resolution, camera_margin=margin, rng=1
-        )
+        robot = simulators.SimulatedRobot(sim, resolution=resolution, camera_margin=margin, rng=1)
         if robot.image_shape[0] <= camera[0] and robot.image_shape[1] <= camera[1]:
             return sim, robot
     raise SystemExit(f"{name} does not fit a {camera[1]}x{camera[0]} camera at {resolution} m/px")
@@ -61,28 +58,23 @@ def placed(mask: comcore.Mask, camera: tuple[int, int]) -> tuple[comcore.Mask, n
 
 
 def session_times(name, resolution, args, camera, profiler=None) -> list[tuple[float, float]]:
-    """Wall and CPU seconds of each timed ``observe`` of one object's session."""
-    sim, robot = robot_in_camera(name, resolution, camera)
-    first, offset = placed(robot.camera_mask(), camera)
-    session = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0)
+    """Wall and CPU seconds of each ``observe`` of one object's sessions, all repeats."""
     times = []
-    for _ in range(args.pushes):
-        action = session.next_push()
-        ends = np.concatenate([action[:2] - offset, action[2:] - offset])
-        robot.execute(comcore.Action(*ends))
-        after, _ = placed(robot.camera_mask(), camera)
-        for k in range(args.repeats + 1):
-            target = session if k == args.repeats else copy.deepcopy(session)
-            mask = fresh(after)
+    for _ in range(args.repeats):
+        sim, robot = robot_in_camera(name, resolution, camera)
+        first, offset = placed(robot.camera_mask(), camera)
+        session = comcore.ActiveSession(first, pusher_radius=sim.pusher_radius, rng=0)
+        for _ in range(args.pushes):
+            action = session.next_push()
+            robot.execute(comcore.Action(*(np.asarray(action) - np.tile(offset, 2))))
+            after, _ = placed(robot.camera_mask(), camera)
             if profiler is not None:
                 profiler.enable()
             start, cpu = time.perf_counter(), time.process_time()
-            target.observe(mask)
-            elapsed = (time.perf_counter() - start, time.process_time() - cpu)
+            session.observe(after)
+            times.append((time.perf_counter() - start, time.process_time() - cpu))
             if profiler is not None:
                 profiler.disable()
-            if k < args.repeats:
-                times.append(elapsed)
     return times
 
 
@@ -109,8 +101,10 @@ def main(argv=None) -> None:
         pstats.Stats(profiler).sort_stats(args.sort).print_stats(args.top)
         return
     print(f"load average before: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
-    print(f"camera {width} x {height}, objects {args.objects}, {args.pushes} pushes, "
-          f"{args.repeats} repeats")
+    print(
+        f"camera {width} x {height}, objects {args.objects}, {args.pushes} pushes, "
+        f"{args.repeats} repeats"
+    )
     print("| resolution (mm/px) | robot's image (px) | median (ms) | p90 (ms) | median CPU (ms) |")
     print("|---|---|---|---|---|")
     for mm in (float(v) for v in args.resolutions.split(",")):
@@ -119,8 +113,10 @@ def main(argv=None) -> None:
             times += session_times(name, mm / 1000, args, camera)
         shape = robot_in_camera(args.objects.split(",")[0], mm / 1000, camera)[1].image_shape
         wall, cpu = np.array(times).T * 1e3
-        print(f"| {mm:g} | {shape[1]} x {shape[0]} | {np.median(wall):.0f} | "
-              f"{np.percentile(wall, 90):.0f} | {np.median(cpu):.0f} |")
+        print(
+            f"| {mm:g} | {shape[1]} x {shape[0]} | {np.median(wall):.0f} | "
+            f"{np.percentile(wall, 90):.0f} | {np.median(cpu):.0f} |"
+        )
     print(f"load average after: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
 
 
