@@ -13,9 +13,9 @@ import math
 
 import numpy as np
 from scipy import ndimage
-from scipy.special import logsumexp
 
 from .._mask import Mask
+from .._numeric import logsumexp
 from ..conventions import pixel_centres
 from ._lattice import model_lattice
 
