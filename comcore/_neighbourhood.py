@@ -33,8 +33,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ._numeric import bilinear
-
 __all__ = [
     "NEIGHBOURHOOD_MARGIN_M",
     "LocalArrays",
@@ -285,8 +283,6 @@ class LocalArrays:
         i = np.clip(np.concatenate([f0, f0 + 1]), 0, shape[0] - 1).astype(np.intp)
         j = np.clip(np.concatenate([f1, f1 + 1]), 0, shape[1] - 1).astype(np.intp)
         arrays, (i0, j0) = self.local(i, j)
-        if mode == "nearest":  # scipy's numbers without its overhead per call
-            return tuple(bilinear(a, c0 - i0, c1 - j0) for a in arrays)
         coords = np.vstack([c0 - i0, c1 - j0])
         return tuple(
             ndimage.map_coordinates(a, coords, order=1, mode=mode, cval=cval) for a in arrays

@@ -1,56 +1,20 @@
-"""Lighter stand-ins for two scipy routines a session calls on every step, same numbers.
+"""A lighter stand-in for ``scipy.special.logsumexp``, the same numbers.
 
-A session's step calls ``scipy.ndimage.map_coordinates`` (bilinear) a few hundred times on
-small batches of points and ``scipy.special.logsumexp`` on its posterior grid; most of
-their cost is argument handling and, for ``logsumexp``, a second pass over the whole array
-that only its infinite results use. :func:`bilinear` and :func:`logsumexp` do the same
-floating-point operations in the same order, so they return the same numbers bit for bit
-(``tests/camera/test_numeric.py`` compares them), and hand what they do not cover (other
-modes, non-finite input or results) to scipy.
+A session's step calls ``logsumexp`` several times on its posterior grid (tempers x CoM
+pixels x frictions x models), which grows with the square of the camera's resolution.
+scipy's computes every result twice: once by the shifted sum, once directly for the
+results that come out infinite. :func:`logsumexp` does the shifted sum's floating-point
+operations in the same order, so it returns the same numbers bit for bit
+(``tests/camera/test_numeric.py`` compares them), and hands what it does not cover
+(non-finite results, other dtypes) to scipy.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage, special
+from scipy import special
 
-__all__ = ["bilinear", "logsumexp"]
-
-
-def bilinear(array: np.ndarray, coord0, coord1) -> np.ndarray:
-    """``ndimage.map_coordinates(array, [coord0, coord1], order=1, mode="nearest")``.
-
-    ``array`` 2-D float64; ``coord0``, ``coord1`` 1-D, one length (rows, columns).
-    Beyond the edges the nearest row or column is read, with the weights of the
-    unclamped coordinate, as scipy does.
-
-    Examples
-    --------
-    >>> a = np.arange(12.0).reshape(3, 4)
-    >>> bilinear(a, np.array([0.5, 2.0, -1.0]), np.array([0.5, 1.0, 9.0])).tolist()
-    [2.5, 9.0, 3.0]
-    """
-    c0, c1 = np.asarray(coord0, dtype=float), np.asarray(coord1, dtype=float)
-    if (
-        array.ndim != 2
-        or array.dtype != np.float64
-        or not (np.isfinite(c0).all() and np.isfinite(c1).all())
-    ):
-        return ndimage.map_coordinates(array, np.vstack([c0, c1]), order=1, mode="nearest")
-    h, w = array.shape
-    f0, f1 = np.floor(c0), np.floor(c1)
-    t0, t1 = c0 - f0, c1 - f1
-    u0, u1 = 1.0 - t0, 1.0 - t1
-    i0 = np.clip(f0, 0, h - 1).astype(np.intp)
-    i1 = np.clip(f0 + 1, 0, h - 1).astype(np.intp)
-    j0 = np.clip(f1, 0, w - 1).astype(np.intp)
-    j1 = np.clip(f1 + 1, 0, w - 1).astype(np.intp)
-    # scipy's sum: from 0.0, the corners with the last axis fastest, value * w0 * w1 each
-    out = 0.0 + array[i0, j0] * u0 * u1
-    out += array[i0, j1] * u0 * t1
-    out += array[i1, j0] * t0 * u1
-    out += array[i1, j1] * t0 * t1
-    return out
+__all__ = ["logsumexp"]
 
 
 def logsumexp(a, axis=None, b=None, keepdims: bool = False):

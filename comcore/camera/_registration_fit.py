@@ -16,7 +16,6 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage, optimize
 
-from .._numeric import bilinear
 from ..conventions import rotation_matrix
 
 #: Gaussian sigma (pixels) of the smoothing of both masks for the fine fit.
@@ -69,8 +68,6 @@ class _Fields:
         )
 
     def _sample(self, which: slice, points: np.ndarray, order: int) -> list[np.ndarray]:
-        if order == 1:  # scipy's numbers without its overhead per call
-            return [bilinear(a, points[:, 1], points[:, 0]) for a in self.images[1][which]]
         coords = [points[:, 1], points[:, 0]]
         return [
             ndimage.map_coordinates(a, coords, order=order, mode="nearest", prefilter=False)
