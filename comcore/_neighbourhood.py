@@ -264,7 +264,7 @@ class LocalArrays:
         return tuple(a[i - i0, j - j0] for a in arrays)
 
     def interpolate(
-        self, coord0, coord1, mode: str = "nearest", cval: float = 0.0
+        self, coord0, coord1, mode: str = "nearest", cval: float = 0.0, count: int | None = None
     ) -> tuple[np.ndarray, ...]:
         """``scipy.ndimage.map_coordinates(array, [coord0, coord1], order=1)`` of each array.
 
@@ -274,6 +274,7 @@ class LocalArrays:
         gives ``cval`` on the window as on the image, since the window then
         reaches that border), and the coordinates are shifted by its origin, an
         integer (exact in floating point). ``coord0``, ``coord1``: 1-D, one length.
+        ``count``: only the first ``count`` arrays (default all).
         """
         c0, c1 = np.asarray(coord0, dtype=float), np.asarray(coord1, dtype=float)
         finite = np.isfinite(c0) & np.isfinite(c1)
@@ -285,5 +286,6 @@ class LocalArrays:
         arrays, (i0, j0) = self.local(i, j)
         coords = np.vstack([c0 - i0, c1 - j0])
         return tuple(
-            ndimage.map_coordinates(a, coords, order=1, mode=mode, cval=cval) for a in arrays
+            ndimage.map_coordinates(a, coords, order=1, mode=mode, cval=cval)
+            for a in arrays[:count]
         )

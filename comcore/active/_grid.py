@@ -13,9 +13,9 @@ import math
 
 import numpy as np
 from scipy import ndimage
-from scipy.special import logsumexp
 
 from .._mask import Mask
+from .._numeric import logsumexp
 from ..conventions import pixel_centres
 from ._lattice import model_lattice
 
@@ -110,8 +110,17 @@ class GridPosterior:
         return w / w.sum()
 
     def _member_predictive(self, full) -> np.ndarray:
-        """Each member's log-probability of an observation of log-likelihood ``full``."""
-        return logsumexp(self._members + full, axis=(1, 2, 3))
+        """Each member's log-probability of an observation of log-likelihood ``full``.
+
+        Remembered for the last ``full`` (the same array) and members: a push's reading
+        asks for it (:meth:`predictive`) before :meth:`update` multiplies the push in.
+        """
+        last = getattr(self, "_last_predictive", None)
+        if last is not None and last[0] is full and last[1] is self._members:
+            return last[2]
+        per = logsumexp(self._members + full, axis=(1, 2, 3))
+        self._last_predictive = (full, self._members, per)
+        return per
 
     def predictive(self, full) -> float:
         """Log-probability the posterior gave an observation of log-likelihood ``full``."""

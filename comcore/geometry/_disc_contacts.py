@@ -94,12 +94,12 @@ def disc_contacts(mask: Mask, actions, pusher_radius: float) -> Contacts:
     pad = int(np.ceil(radius)) + 4
     field = outline_field(mask) if pad <= FIELD_PAD_PX else OutlineField(mask, pad=pad)
     starts_inside = mask._contains(start)
-    lead = field.sample(start[:, 0], start[:, 1])[0]
+    lead = field.distance(start[:, 0], start[:, 1])
     starts_inside |= lead <= 0.0
     radii = np.full(n, radius)
     if radius > 0:  # a disc overlapping the outline behind an outside leading point: shrink it
         back = start - radius * unit
-        overlap = (field.sample(back[:, 0], back[:, 1])[0] <= radius) & ~starts_inside
+        overlap = (field.distance(back[:, 0], back[:, 1]) <= radius) & ~starts_inside
         radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
     centre0 = start - radii[:, None] * unit
     # March the centre only where it can touch: over the image grown by the disc's radius.
@@ -112,17 +112,13 @@ def disc_contacts(mask: Mask, actions, pusher_radius: float) -> Contacts:
     k0, k1 = np.where(crosses, k0, 0.0), np.where(crosses, k1, 0.0)
     n_steps = int((k1 - k0).max()) + 1 if n else 1
     t = np.minimum((k0[:, None] + np.arange(n_steps)[None, :]) * MARCH_STEP_PX, length[:, None])
-    px = centre0[:, :1] + t * unit[:, :1]
-    py = centre0[:, 1:] + t * unit[:, 1:]
-    touching = (field.sample(px, py)[0] <= radii[:, None]) & crosses[:, None]
-    hit = touching.any(axis=1)
-    first = np.argmax(touching, axis=1)
+    first, hit = field.first_touch(centre0, unit, t, radii, rows=crosses)
     rows = np.arange(n)
     lo = np.where(hit, np.maximum(t[rows, first] - MARCH_STEP_PX, 0.0), 0.0)
     hi = np.where(hit, t[rows, first], 0.0)
     for _ in range(CONTACT_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        d = field.sample(centre0[:, 0] + mid * unit[:, 0], centre0[:, 1] + mid * unit[:, 1])[0]
+        d = field.distance(centre0[:, 0] + mid * unit[:, 0], centre0[:, 1] + mid * unit[:, 1])
         inside = d <= radii
         hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
     travel = np.where(hit, hi, 0.0)

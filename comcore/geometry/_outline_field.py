@@ -31,6 +31,8 @@ FIELD_PAD_PX = 24
 FIELD_HALO_PX = filter_halo(SDF_SMOOTHING_PX)
 #: March step (pixels) and bisections of the search for the first contact.
 CONTACT_MARCH_PX, CONTACT_BISECTIONS = 0.25, 8
+#: Steps of a march read at a time (:meth:`OutlineField.first_touch`).
+CONTACT_CHUNK = 64
 
 
 class OutlineField:
@@ -65,6 +67,36 @@ class OutlineField:
         norm = np.maximum(np.hypot(gx, gy), 1e-12)
         return d.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
 
+    def distance(self, x, y) -> np.ndarray:
+        """The distance of :meth:`sample` alone (its gradient not interpolated)."""
+        (d,) = self._local.interpolate(np.ravel(y) + self.pad, np.ravel(x) + self.pad, count=1)
+        return d.reshape(np.shape(x))
+
+    def first_touch(self, origin, unit, t, radius, rows=None, chunk: int = CONTACT_CHUNK):
+        """Per path, the first step where a disc is within ``radius`` of the outline.
+
+        The disc's centre at step ``k`` of path ``i`` is ``origin[i] + t[i, k] * unit[i]``
+        (``t`` (n, m) pixels, ``radius`` (n,)). Returns ``(first, hit)``: the step's
+        index (0 where none touches) and whether one does; ``rows`` (bool (n,)) leaves
+        the others out (not hit). The steps are read ``chunk`` at a time and a path is
+        dropped once it touches: the same answer as reading every step.
+        """
+        n, m = np.shape(t)
+        first, hit = np.zeros(n, dtype=np.intp), np.zeros(n, dtype=bool)
+        live = np.arange(n) if rows is None else np.flatnonzero(rows)
+        for k in range(0, m, chunk):
+            if not len(live):
+                break
+            tk = t[live, k : k + chunk]
+            px = origin[live, :1] + tk * unit[live, :1]
+            py = origin[live, 1:] + tk * unit[live, 1:]
+            touching = self.distance(px, py) <= radius[live, None]
+            got = touching.any(axis=1)
+            first[live[got]] = k + np.argmax(touching[got], axis=1)
+            hit[live[got]] = True
+            live = live[~got]
+        return first, hit
+
     def pusher_paths(self, actions, radius):
         """Where each push's disc first touches the outline, and how far it goes on.
 
@@ -98,7 +130,7 @@ class OutlineField:
         delta = actions[:, 2:] - actions[:, :2]
         length = np.hypot(delta[:, 0], delta[:, 1])
         unit = delta / length[:, None]
-        lead = self.sample(actions[:, 0], actions[:, 1])[0]
+        lead = self.distance(actions[:, 0], actions[:, 1])
         if (lead <= 0).any():
             bad = np.flatnonzero(lead <= 0)[:5].tolist()
             raise ValueError(
@@ -107,7 +139,7 @@ class OutlineField:
         radii = np.full(len(actions), float(radius))
         if radius > 0:
             back = actions[:, :2] - radius * unit
-            overlap = self.sample(back[:, 0], back[:, 1])[0] <= radius
+            overlap = self.distance(back[:, 0], back[:, 1]) <= radius
             radii[overlap] = np.minimum(radius, 0.45 * lead[overlap])
         start = actions[:, :2] - radii[:, None] * unit
         travel, hit = _first_contact(self, start, unit, length, radii)
@@ -165,17 +197,15 @@ def _first_contact(field, start, unit, length, radius):
     n = int((k1 - k0).max(initial=0.0)) + 1
     k = k0[:, None] + np.arange(n)[None, :]  # indices into the full march
     t = np.minimum(k * CONTACT_MARCH_PX, length[:, None])
-    px, py = start[:, :1] + t * unit[:, :1], start[:, 1:] + t * unit[:, 1:]
-    touching = field.sample(px, py)[0] <= radius[:, None]
-    hit = touching.any(axis=1) & ~(touching[:, 0] & (k0 == 0))
-    first = np.argmax(touching, axis=1)
+    first, touches = field.first_touch(start, unit, t, radius)
+    hit = touches & ~((first == 0) & (k0 == 0))  # touching at the start: not a hit
     rows = np.arange(len(start))
     k_first = k[rows, first]
     lo = np.where(hit, np.minimum(np.maximum(k_first - 1, 0) * CONTACT_MARCH_PX, length), 0.0)
     hi = np.where(hit, np.minimum(k_first * CONTACT_MARCH_PX, length), 0.0)
     for _ in range(CONTACT_BISECTIONS):
         mid = 0.5 * (lo + hi)
-        inside = field.sample(start[:, 0] + mid * unit[:, 0], start[:, 1] + mid * unit[:, 1])[0]
+        inside = field.distance(start[:, 0] + mid * unit[:, 0], start[:, 1] + mid * unit[:, 1])
         inside = inside <= radius
         hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
     return np.where(hit, hi, 0.0), hit

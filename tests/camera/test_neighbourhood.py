@@ -75,6 +75,7 @@ class WholeOutlineField:
         )
         gy, gx = np.gradient(sdf)
         self.pad, self._fields = pad, (sdf, gx, gy)
+        self.shape = mask.shape  # the mask image's (rows, columns), as OutlineField.shape
 
     def sample(self, x, y):
         shape = np.shape(x)
@@ -84,6 +85,17 @@ class WholeOutlineField:
         )
         norm = np.maximum(np.hypot(gx, gy), 1e-12)
         return d.reshape(shape), (gx / norm).reshape(shape), (gy / norm).reshape(shape)
+
+    def distance(self, x, y):
+        return self.sample(x, y)[0]
+
+    def first_touch(self, origin, unit, t, radius, rows=None):
+        """Every step of every path read (OutlineField.first_touch stops a path at its touch)."""
+        px, py = origin[:, :1] + t * unit[:, :1], origin[:, 1:] + t * unit[:, 1:]
+        touching = self.distance(px, py) <= radius[:, None]
+        if rows is not None:
+            touching &= rows[:, None]
+        return np.argmax(touching, axis=1), touching.any(axis=1)
 
 
 def whole_inward_normals(mask, points):

@@ -70,4 +70,4 @@ def test_the_voting_region_of_a_grazing_push_needs_the_pushers_radius(square_mas
     region = comcore.vt.region(square_mask, GRAZING, 0.05, pusher_radius=RADIUS)
     assert 0 < region.sum() < square_mask.area_px
     with pytest.raises(ValueError, match="hit"):
-        comcore.vt.region(square_mask, GRAZING, 0.05)
+        comcore.vt.region(square_mask, GRAZING, 0.05, pusher_radius=0.0)  # a point pusher misses
