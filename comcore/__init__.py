@@ -65,7 +65,7 @@ from .camera import MotionMeasurement, mask_from_image, measure_motion
 from .conventions import apply_motion
 from .geometry import mask_from_outline, sample_pushes
 from .goal import Goal, GoalSession
-from .motion import HypothesisPredictor, LimitSurfaceModel, Predictor
+from .motion import LimitSurfaceModel, Predictor
 from .paper import estimate_heatmap, estimate_progressive
 from .recordings import RecordedPush, Recording, SkippedPush, recording_from_poses
 
@@ -78,7 +78,6 @@ __all__ = [
     "Estimate",
     "Goal",
     "GoalSession",
-    "HypothesisPredictor",
     "ImageError",
     "Likelihood",
     "LimitSurfaceModel",
