@@ -145,7 +145,9 @@ def test_the_shape_is_checked_and_named():
 
 @pytest.mark.parametrize("value", [4e34, -4e34])
 def test_a_turn_no_push_can_cause_is_refused_on_every_path(value):
-    broken = r"^Scaled.predict_hypotheses predicted a turn no push can cause: [-]?4e\+34 rad.*broken"
+    broken = (
+        r"^Scaled.predict_hypotheses predicted a turn no push can cause: [-]?4e\+34 rad.*broken"
+    )
     model = Scaled(value=value)
     with pytest.raises(ValueError, match=broken):
         push_once(model)
@@ -172,9 +174,7 @@ def test_theta_in_degrees_is_refused_as_such():
 def test_the_bound_grows_with_the_push_and_shrinks_with_the_object():
     small = comcore.Mask(np.pad(np.ones((10, 10), bool), 6))
     rho = np.sqrt(((MASK.pixels - MASK.centroid) ** 2).sum(1).mean())
-    assert turn_bounds(PUSHES, MASK).tolist() == pytest.approx(
-        [MAX_TURN_PER_LENGTH * 20 / rho] * 2
-    )
+    assert turn_bounds(PUSHES, MASK).tolist() == pytest.approx([MAX_TURN_PER_LENGTH * 20 / rho] * 2)
     assert (turn_bounds(PUSHES, small) > turn_bounds(PUSHES, MASK)).all()
     assert turn_bounds(2 * PUSHES, MASK)[0] == pytest.approx(2 * turn_bounds(PUSHES, MASK)[0])
 
@@ -206,3 +206,22 @@ def test_the_docstrings_toy_model_ends_ok_within_a_centimetre(seed):
         session.observe(robot.camera_mask())
     error_m = robot.resolution * session.estimate().error_px(robot.true_com_px())
     assert session.status == "ok" and error_m < 0.01
+
+
+@pytest.mark.slow
+def test_the_shipped_models_stay_within_the_turn_bound_on_the_benchmark_objects():
+    simulators = require_simulators()
+    worst = 0.0
+    for i in range(1, 21):
+        sim = simulators.random_simulator(f"Obj{i}", "low", rng=i)
+        mask, model = sim.mask, comcore.LimitSurfaceModel(pusher_radius=sim.pusher_radius)
+        pushes = comcore.sample_pushes(mask, 4, rng=i)
+        outline = np.argwhere(mask.boundary)[:, ::-1].astype(float)
+        coms = np.concatenate([outline[:: max(1, len(outline) // 24)], mask.pixels[::97]])
+        for mu in (0.0, 0.6, np.inf):
+            out = model.predict_hypotheses(mask, pushes, coms, mu)
+            check_model_output(model, out, pushes, coms, mu, mask)
+            worst = max(worst, float((np.abs(out[..., 0]) / turn_bounds(pushes, mask)).max()))
+        truth = sim.push_motions(pushes)
+        check_model_output(sim, truth, pushes, None, None, mask)
+    assert 0.1 < worst < 1.0  # a degrees model (57 times) would overshoot the bound
