@@ -225,3 +225,40 @@ def test_the_shipped_models_stay_within_the_turn_bound_on_the_benchmark_objects(
         truth = sim.push_motions(pushes)
         check_model_output(sim, truth, pushes, None, None, mask)
     assert 0.1 < worst < 1.0  # a degrees model (57 times) would overshoot the bound
+
+
+def test_the_plausibility_check_reads_hypotheses_too():
+    from comcore.motion._predictor import check_plausible_motions
+
+    pushes = np.array([(0, 0, 10, 0), (0, 5, 0, 25)], float)
+    fine = np.zeros((3, 2, 3))
+    fine[2, 1] = (3.0, 0.0, 199.0)
+    assert check_plausible_motions(fine, pushes, "M") is not None
+    bad = fine.copy()
+    bad[1, 1, 1] = 250.0  # hypothesis 1, push 1 (20 px): over 200 px
+    with pytest.raises(
+        ValueError, match=r"M predicted .* push 1 \(20 px long\) moves the object by 250 px"
+    ):
+        check_plausible_motions(bad, pushes, "M")
+    with pytest.raises(ValueError, match=r"expected \(\.\.\., 2, 3\)"):
+        check_plausible_motions(np.zeros((3, 3)), pushes, "M")
+
+
+def test_the_shipped_predictors_refuse_impossible_motions_themselves(square_mask, monkeypatch):
+    simulators = require_simulators()
+    import predictors.ellipsoid
+    from predictors import EllipsoidPredictor, OraclePredictor
+
+    push = [(0, 20, 40, 20)]
+
+    def exploded(*args, **kwargs):
+        return np.full((1, 1, 3), 4e34)
+
+    monkeypatch.setattr(predictors.ellipsoid, "simulate", exploded)
+    with pytest.raises(ValueError, match="EllipsoidPredictor predicted a motion no push can cause"):
+        EllipsoidPredictor(com=(24.0, 24.0)).predict(square_mask, push)
+    sim = simulators.random_simulator("Obj1", rng=0)
+    oracle = OraclePredictor(sim)
+    monkeypatch.setattr(sim, "push_motions", lambda actions: np.full((len(actions), 3), 4e34))
+    with pytest.raises(ValueError, match=r"OraclePredictor\(PushSimulator.* predicted a motion no"):
+        oracle.predict(sim.mask, comcore.sample_pushes(sim.mask, 2, rng=0))
