@@ -60,7 +60,7 @@ from .active import (
 from .camera import MotionMeasurement, measure_motion
 from .conventions import apply_motion
 from .geometry import mask_from_outline, sample_pushes
-from .motion import HypothesisPredictor, LimitSurfaceModel, Predictor
+from .motion import LimitSurfaceModel, Predictor
 from .paper import estimate_heatmap, estimate_progressive
 
 # The application layers load on first use: ``import comcore`` loads the core alone.
@@ -105,7 +105,6 @@ __all__ = [
     "Estimate",
     "Goal",
     "GoalSession",
-    "HypothesisPredictor",
     "ImageError",
     "Likelihood",
     "LimitSurfaceModel",

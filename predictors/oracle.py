@@ -24,7 +24,7 @@ class OraclePredictor:
     its own object, so the mask it is asked about must be the simulator's
     (same shape, resolution and pixels); priors are ignored.
 
-    It is also a :class:`comcore.HypothesisPredictor`: for a CoM hypothesis it
+    It is also a :class:`comcore.Predictor`: for a CoM hypothesis it
     tilts the true mass distribution to put the CoM there (see
     :meth:`simulators.PushSimulator.with_com`). A hypothesis that no tilt can
     reach (on an outline pixel or near one: outside the hull of the support

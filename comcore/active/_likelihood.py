@@ -47,7 +47,7 @@ from .._validation import (
 )
 from ..conventions import ANGLE_EPS, check_plausible, rotation_sense
 from ..motion._limit_surface import LimitSurfaceModel
-from ..motion._predictor import HypothesisPredictor
+from ..motion._predictor import check_model_output, check_predictor
 from ..vt._voting import (
     _LOGISTIC_STD,
     LINE_SCALE_PX,
@@ -318,7 +318,7 @@ class Scoring:
     resolution: float
     """Metres per pixel of the mask the pushes are scored on."""
     models: tuple = ()
-    """The motion models (HypothesisPredictors; empty: the Voting Theorem alone)."""
+    """The motion models (:class:`comcore.Predictor`; empty: the Voting Theorem alone)."""
     pusher_radius: float = 0.0
     """Metres: each push's contact is where the pusher's disc first touches the object."""
     systematic_floor: float = FLOOR
@@ -446,7 +446,7 @@ class Scoring:
 
 
 def check_models(model, pusher_radius: float = DEFAULT_PUSHER_RADIUS) -> tuple:
-    """``model`` as a tuple of HypothesisPredictors (empty for None).
+    """``model`` as a tuple of :class:`comcore.Predictor` models (empty for None).
 
     :data:`comcore.active._options.DEFAULT_MODEL` becomes
     ``LimitSurfaceModel(pusher_radius=pusher_radius)``.
@@ -457,11 +457,7 @@ def check_models(model, pusher_radius: float = DEFAULT_PUSHER_RADIUS) -> tuple:
         return ()
     models = tuple(model) if isinstance(model, (list, tuple)) else (model,)
     for m in models:
-        if not isinstance(m, HypothesisPredictor):
-            raise TypeError(
-                "model must implement comcore.HypothesisPredictor (a predict_hypotheses(mask, "
-                f"actions, coms, mu) method) or be a sequence of them, got {type(m).__name__}"
-            )
+        check_predictor(m, "model")
     if not models:
         raise ValueError("model must not be an empty sequence")
     return models
@@ -822,6 +818,15 @@ def path_predictions(scoring, mask, action, pixels, alive, path) -> np.ndarray:
             if len(idx):
                 pred = model.predict_path_hypotheses(
                     mask, act, pixels[idx], float(mu_j), path.fractions
+                )
+                pred = check_model_output(
+                    model,
+                    pred,
+                    np.tile(act, (len(path.fractions), 1)),
+                    pixels[idx],
+                    mu_j,
+                    mask,
+                    method="predict_path_hypotheses",
                 )
                 out[idx, j, k] = pred
     return np.where(alive[..., None, None], out, 0.0)

@@ -1,6 +1,6 @@
 """The motion model's term of a push's likelihood: predicted against observed motion.
 
-A :class:`comcore.HypothesisPredictor` predicts each push's motion for CoM and
+A :class:`comcore.Predictor` predicts each push's motion for CoM and
 friction hypotheses (:func:`model_predictions`); the observed motion is scored
 against the predictions with heavy-tailed Student-t residuals in the rotation
 and in the displacement of each hypothesis' CoM (:func:`motion_log_likelihood`),
@@ -20,6 +20,7 @@ import numpy as np
 from scipy.special import digamma
 
 from ..conventions import rotate_vectors
+from ..motion._predictor import check_model_output
 
 __all__ = [
     "NEAR_LINE_M",
@@ -210,14 +211,8 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
             idx = np.flatnonzero(alive[:, j, k])
             if len(idx) == 0 or callable(getattr(model, "predict_frictions", None)):
                 continue
-            pred = np.asarray(model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j)))
-            shape = (len(idx), len(actions), 3)
-            if pred.shape != shape or not np.isfinite(pred).all():
-                raise ValueError(
-                    f"model.predict_hypotheses must return finite motions of shape {shape}, "
-                    f"got shape {pred.shape}"
-                )
-            out[idx, j, k] = pred
+            pred = model.predict_hypotheses(mask, actions, pixels[idx], float(mu_j))
+            out[idx, j, k] = check_model_output(model, pred, actions, pixels[idx], mu_j, mask)
     return out
 
 

@@ -100,7 +100,7 @@ class ActiveSession(PushLoop):
         Pushes in the first mask's frame; each must start outside the object
         and hit it. Default: ``comcore.sample_pushes`` with ``choice``'s
         ``n_candidates``, ``cone`` and ``travel``.
-    model : HypothesisPredictor, sequence of them, or None, optional
+    model : comcore.Predictor, sequence of them, or None, optional
         Motion model of the likelihood. Default:
         ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``. ``None``:
         the Voting Theorem alone. Several models are weighed against each

@@ -10,8 +10,9 @@ worse (its turns then look like none).
 
 **Where the check lives.** In the library, so that :func:`comcore.estimate_posterior`'s users
 get it too: with a motion model and ``theta_units="auto"`` (its default) it compares the two
-evidences itself and refuses a recording in degrees (a ValueError saying *theta looks like
-degrees: multiply the column by pi/180*); ``"deg"`` converts, ``"rad"`` vouches for radians and
+evidences itself and refuses a recording in degrees (a ValueError saying that the model and
+the data disagree, as if theta were in degrees, and naming both faults: theta in degrees, or
+a model whose theta is wrong); ``"deg"`` converts, ``"rad"`` vouches for radians and
 skips the check (one posterior instead of two). This module holds the margin, the units and the
 words; the evidences are compared beside the posterior they rerun
 (``scaled_gain`` and ``theta_degrees_nats`` in :mod:`comcore.active._posterior`), so that it
@@ -76,14 +77,20 @@ def theta_in_radians(motions, theta_units: str) -> np.ndarray:
 
 
 def degrees_message(gain: float, column: str = "the column") -> str:
-    """What to say of a recording whose theta looks like degrees (``gain`` nats).
+    """What to say of pushes that every theta times pi/180 explains ``gain`` nats better.
+
+    The data and the motion model disagree, and either may be at fault: theta
+    recorded in degrees, or a model whose theta has the wrong sign or unit. The
+    message names both.
 
     Examples
     --------
     >>> degrees_message(42.0)
-    'theta looks like degrees: multiply the column by pi/180 (every theta times pi/180 explains the pushes 42 nats better than as given)'
+    'the motion model and the data disagree, as if theta were in degrees: if it is, multiply the column by pi/180; if not, the theta of the model is wrong: check its sign and unit against a push whose turn you know (every theta times pi/180 explains the pushes 42 nats better than as given)'
     """  # noqa: E501
     return (
-        f"theta looks like degrees: multiply {column} by pi/180 (every theta times pi/180 "
-        f"explains the pushes {gain:.0f} nats better than as given)"
+        "the motion model and the data disagree, as if theta were in degrees: if it is, "
+        f"multiply {column} by pi/180; if not, the theta of the model is wrong: check its "
+        "sign and unit against a push whose turn you know (every theta times pi/180 explains "
+        f"the pushes {gain:.0f} nats better than as given)"
     )

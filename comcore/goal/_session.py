@@ -276,7 +276,7 @@ class GoalSession(PushLoop):
     learn : bool, optional
         Update the posterior with every push (default True); False plans on
         the prior, fixed.
-    planner_model : HypothesisPredictor, optional
+    planner_model : comcore.Predictor, optional
         The model that predicts candidates (default
         :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
     n_particles : int, optional

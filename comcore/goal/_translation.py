@@ -26,6 +26,7 @@ from ..conventions import apply_motion, rotate_vectors
 from ..geometry._contacts import contacts
 from ..geometry._disc_contacts import disc_contacts
 from ..motion._limit_surface import LimitSurfaceModel, check_push_lengths
+from ..motion._predictor import check_model_output
 from ._types import PLANNING_PARTICLES, CoMHypotheses, hypotheses_from
 
 __all__ = [
@@ -117,13 +118,8 @@ def predict_motions(model, first: Mask, actions: np.ndarray, hyps: CoMHypotheses
         return model._motions(first, np.asarray(actions, float), press, hyps.mus)
     for mu in np.unique(hyps.mus):
         rows = np.flatnonzero(hyps.mus == mu)
-        pred = np.asarray(model.predict_hypotheses(first, actions, hyps.coms[rows], float(mu)))
-        if pred.shape != (len(rows), len(actions), 3) or not np.isfinite(pred).all():
-            raise ValueError(
-                "model.predict_hypotheses must return finite motions of shape "
-                f"{(len(rows), len(actions), 3)}, got {pred.shape}"
-            )
-        out[rows] = pred
+        pred = model.predict_hypotheses(first, actions, hyps.coms[rows], float(mu))
+        out[rows] = check_model_output(model, pred, actions, hyps.coms[rows], mu, first)
     return out
 
 
@@ -206,7 +202,7 @@ def translation_push(
         The object's pose now relative to ``mask`` (default: where ``mask`` is).
     pusher_radius : float, optional
         Metres (default 4 mm).
-    model : HypothesisPredictor, optional
+    model : comcore.Predictor, optional
         Default :class:`comcore.LimitSurfaceModel` with ``pusher_radius``,
         every hypothesis integrated.
     n_offsets, n_particles : int, optional

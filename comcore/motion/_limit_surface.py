@@ -110,7 +110,7 @@ def check_push_lengths(mask: Mask, actions: np.ndarray, name: str = "actions") -
 
 @dataclass(frozen=True)
 class LimitSurfaceModel:
-    """Quasi-static pushing with the footprint's exact limit surface (a ``HypothesisPredictor``).
+    """Quasi-static pushing with the footprint's exact limit surface (a :class:`comcore.Predictor`).
 
     The floor's friction is integrated over the mask's pixels (gathered into
     about ``support_points`` blocks) under a pressure consistent with each
@@ -245,7 +245,7 @@ class LimitSurfaceModel:
         expect_frictions(check_mask(mask), np.atleast_1d(np.asarray(mus, dtype=float)))
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
-        """Motions of each action for each CoM hypothesis (:class:`comcore.HypothesisPredictor`).
+        """Motions of each action for each CoM hypothesis (:class:`comcore.Predictor`).
 
         Parameters
         ----------
@@ -290,7 +290,7 @@ class LimitSurfaceModel:
     def predict_path_hypotheses(self, mask, action, coms, mu, fractions) -> np.ndarray:
         """Motions part way along one push, for each CoM hypothesis, shape (n_coms, J, 3).
 
-        The optional method of :class:`comcore.HypothesisPredictor` that the
+        The optional method of :class:`comcore.Predictor` that the
         frames of a push are scored with (:mod:`comcore.active._path`): the
         push integrated once, its state after each of its ``n_steps`` steps
         kept, and read at ``fractions`` (J,) of its travel after first contact

@@ -1,20 +1,35 @@
-"""The :class:`Predictor` protocol: how motion models plug into comcore."""
+"""The :class:`Predictor` protocol and the checks on what a model returns.
+
+A motion model plugs into every estimator through one method,
+``predict_hypotheses(mask, actions, coms, mu)`` (:class:`Predictor`); the paper's
+few-shot form ``predict(mask, actions, priors=())`` is a default method built on it.
+What a model returns is checked where it enters an estimator
+(:func:`check_model_output`): its shape, NaN and inf, and a turn no push of that
+length can cause (theta in degrees, corrupt weights).
+"""
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+import abc
+import math
+from functools import partial
 
 import numpy as np
 
 from .._mask import Mask
-from .._validation import check_actions, check_motions
+from .._types import readonly
+from .._validation import check_actions, check_mask, check_priors
 
 __all__ = [
-    "HypothesisPredictor",
+    "MAX_PUSH_THETA",
+    "MAX_TRANSLATION_PER_PUSH_LENGTH",
+    "MAX_TURN_PER_LENGTH",
     "Predictor",
+    "check_model_output",
     "check_plausible_motions",
     "check_predictor",
     "predict_motions",
+    "turn_bounds",
 ]
 
 #: The largest rotation (radians) a predicted push may cause: half a turn. A push turns
@@ -94,51 +109,214 @@ def check_plausible_motions(motions, actions, who: str) -> np.ndarray:
     )
 
 
-@runtime_checkable
-class Predictor(Protocol):
-    """Anything that predicts the motion of pushes on an object.
+#: The largest turn (radians) a model may predict for a push, as a multiple of the push's
+#: length over the object's size: ``MAX_TURN_PER_LENGTH * L / rho`` for a push of length ``L``
+#: (pixels, its whole path, approach included) on a mask whose radius of gyration about its
+#: centroid is ``rho`` (pixels).
+MAX_TURN_PER_LENGTH = 10.0
+# Why a bound of this form. In a quasi-static push the pusher moves the contact by at most
+# L along the push. On a limit surface whose pressure has radius of gyration c about the CoM,
+# a force line at distance d from the CoM turns the object about a centre of rotation c^2 / d
+# beyond the CoM, so the contact is at least d + c^2 / d >= 2 c from it and the object turns
+# by at most L / (2 c). The pressure's c is not the footprint's rho: the pressure consistent
+# with a CoM near the outline crowds there, and a CoM on the outline (any friction, pushes of
+# 0.5 to 10 cm) turns comcore's LimitSurfaceModel by up to 3.7 L / rho on the 20 benchmark
+# objects, EllipsoidPredictor by 3.1 L / rho and the simulator by 1.8 L / rho. A factor of 10
+# keeps 2.7 times that margin (tests/motion/test_model_output.py checks the shipped models),
+# and a model whose turns are in degrees (57 times its radians) still overshoots it: over
+# every CoM hypothesis, the outline's included, a push turns the object by a good part of
+# L / rho, 57 times which is beyond 10 L / rho.
 
-    One method: ``predict(mask, actions, priors=())`` returns one motion
-    ``(theta, tx, ty)`` per action, as an array of shape (n, 3) or a sequence
-    of :class:`comcore.Motion`. ``priors`` are ``(Action, Motion)`` pairs
-    already observed on the same mask (a few-shot predictor conditions on
-    them; others may ignore them). Conventions: :mod:`comcore.conventions`.
+_COMPONENTS = ("theta", "tx", "ty")
+
+
+def turn_bounds(actions, mask: Mask) -> np.ndarray:
+    """The largest turn (radians) each push may cause: :data:`MAX_TURN_PER_LENGTH` ``L / rho``.
+
+    Parameters
+    ----------
+    actions : array_like, shape (n, 4)
+        Pushes in pixels; ``L`` is each one's length.
+    mask : Mask
+        The object; ``rho`` is its radius of gyration about its centroid
+        (pixels, at least half a pixel).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
 
     Examples
     --------
-    A toy predictor that believes the CoM is the mask's centroid and turns the
-    object by 0.01 rad per pixel of lever arm:
-
-    >>> import numpy as np
-    >>> import comcore
-    >>> class LeverArm:
-    ...     def predict(self, mask, actions, priors=()):
-    ...         acts = comcore.checks.check_actions(actions)
-    ...         lever = comcore.geometry.signed_line_distance([mask.centroid], acts)[0]
-    ...         theta = 0.01 * lever  # CoM on the push's CCW side: CCW
-    ...         return np.column_stack([theta, acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1]])
-    >>> isinstance(LeverArm(), comcore.Predictor)
-    True
-    >>> m = comcore.Mask(np.pad(np.ones((10, 10), bool), 3))
-    >>> comcore.motion.predict_motions(LeverArm(), m, [(0, 5, 6, 5)]).round(3)
-    array([[-0.025,  6.   ,  0.   ]])
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> turn_bounds([(0, 13, 30, 13)], mask).round(2).tolist()
+    [36.79]
     """
+    acts = check_actions(actions)
+    length = np.hypot(acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1])
+    return MAX_TURN_PER_LENGTH * length / _gyration_px(mask)
 
-    def predict(self, mask: Mask, actions, priors=()):  # pragma: no cover - protocol
-        """Return motions ``(theta, tx, ty)`` for each action, shape (n, 3)."""
-        ...
+
+def _gyration_px(mask: Mask) -> float:
+    """The mask's radius of gyration about its centroid (pixels, at least 0.5)."""
+    offsets = mask.pixels - np.asarray(mask.centroid)
+    return max(float(np.sqrt((offsets**2).sum(axis=1).mean())), 0.5)
 
 
-@runtime_checkable
-class HypothesisPredictor(Protocol):
-    """A motion model that predicts for given CoM hypotheses and contact friction.
+def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=None):
+    """What a motion model returned, checked where it enters an estimator; as an array.
 
-    Optional extension of :class:`Predictor` used by estimators that keep a
-    belief over the CoM (``comcore.estimate_active``): one method,
-    ``predict_hypotheses(mask, actions, coms, mu)`` returning an array of shape
-    ``(n_coms, n_actions, 3)``: the motion ``(theta, tx, ty)`` of each action if
-    the CoM were at each of ``coms`` (pixels, shape (n_coms, 2)) and the
-    contact friction were ``mu`` (a float).
+    Refused with a ValueError that names the model's class and method: a shape
+    other than one motion per CoM hypothesis and push; NaN or inf (naming it,
+    the hypothesis' CoM and friction, and the push); a turn beyond what a push
+    of that length can cause (:func:`turn_bounds`), said to be theta in degrees
+    where every turn divided by 180 / pi would be possible. A model that is
+    merely wrong (a flipped sign) passes: the estimator finds that its
+    predictions and the observed motions disagree.
+
+    Parameters
+    ----------
+    model : object
+        The model (named in the message by its class).
+    output : array_like, shape (n_coms, n_actions, 3), or (n_actions, 3) without ``coms``
+        What it returned: ``(theta, tx, ty)``, radians counter-clockwise on
+        screen and pixels.
+    actions : array_like, shape (n_actions, 4)
+        The pushes it was asked about (pixels).
+    coms : array_like, shape (n_coms, 2), or None
+        The CoM hypotheses it was asked about (pixels); None for a few-shot
+        ``predict`` (one motion per push).
+    mu : float, array_like of shape (n_coms,), or None
+        The contact friction of each hypothesis (for the message).
+    mask : Mask
+        The object the pushes were asked about.
+    method : str, optional
+        The method that returned ``output`` (default ``"predict_hypotheses"``,
+        or ``"predict"`` without ``coms``).
+
+    Returns
+    -------
+    numpy.ndarray of float, the shape of ``output``
+
+    Raises
+    ------
+    ValueError
+        As above.
+
+    Examples
+    --------
+    >>> import numpy as np, comcore
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> class Mine: pass
+    >>> check_model_output(Mine(), [[[0.2, 9.0, 0.0]]], [(0, 13, 30, 13)], [(14, 14)], 0.3, mask)
+    array([[[0.2, 9. , 0. ]]])
+    >>> check_model_output(Mine(), [[[45.0, 9.0, 0.0]]], [(0, 8, 30, 8)], [(14, 14)], 0.3, mask)
+    Traceback (most recent call last):
+    ...
+    ValueError: Mine.predict_hypotheses turns the object by up to 45 rad, more than a push of that length can (push 0, 30 px long, turns an object of radius of gyration 8.15 px by at most 36.8 rad); every turn times pi/180 would be possible: theta in degrees? multiply by pi/180
+    """  # noqa: E501
+    acts = check_actions(actions)
+    method = method or ("predict" if coms is None else "predict_hypotheses")
+    who = f"{type(model).__name__}.{method}"
+    pts = None if coms is None else np.asarray(coms, dtype=float).reshape(-1, 2)
+    expected = (len(acts), 3) if pts is None else (len(pts), len(acts), 3)
+    try:
+        out = np.asarray(output, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(
+            f"{who} must return numbers (theta, tx, ty), got {type(output).__name__}: {e}"
+        ) from e
+    if out.shape != expected:
+        what = "(n_actions, 3)" if pts is None else "(n_coms, n_actions, 3)"
+        raise ValueError(
+            f"{who} returned motions of shape {out.shape}, expected {what} = {expected}: one "
+            "(theta, tx, ty) per " + ("push" if pts is None else "CoM hypothesis and push")
+        )
+    _refuse_not_finite(who, out, pts, mu)
+    _refuse_impossible(who, out, acts, mask)
+    return out
+
+
+def _hypothesis(where: tuple, pts, mu) -> str:
+    """`` for the CoM (x, y) px and mu = m`` of an index into a model's output."""
+    if pts is None:
+        return ""
+    h = int(where[0])
+    mu_h = mu if mu is None or np.ndim(mu) == 0 else np.asarray(mu).reshape(-1)[h]
+    friction = "" if mu_h is None else f" and mu = {float(mu_h):.3g}"
+    return f" for the CoM hypothesis ({pts[h, 0]:.1f}, {pts[h, 1]:.1f}) px{friction}"
+
+
+def _refuse_not_finite(who: str, out: np.ndarray, pts, mu) -> None:
+    """A ValueError naming the first NaN or inf of ``out`` (which value, push, hypothesis)."""
+    bad = ~np.isfinite(out)
+    if not bad.any():
+        return
+    where = tuple(int(i) for i in np.argwhere(bad)[0])
+    value = float(out[where])
+    kind = "NaN" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    raise ValueError(
+        f"{who} returned {kind} as the {_COMPONENTS[where[-1]]} of push {where[-2]}"
+        f"{_hypothesis(where, pts, mu)} ({int(bad.sum())} of {out.size} values are not "
+        "finite): a motion model must return finite motions"
+    )
+
+
+def _refuse_impossible(who: str, out: np.ndarray, acts: np.ndarray, mask: Mask) -> None:
+    """A ValueError for a turn or a displacement no push of that length can cause."""
+    if out.size == 0:
+        return
+    length = np.hypot(acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1])
+    rho = _gyration_px(mask)
+    bound = MAX_TURN_PER_LENGTH * length / rho
+    theta = np.abs(out[..., 0])
+    if (theta > bound).any():
+        where = np.unravel_index(np.argmax(theta / np.maximum(bound, 1e-300)), theta.shape)
+        i = int(where[-1])
+        limit = (
+            f"push {i}, {length[i]:.3g} px long, turns an object of radius of gyration "
+            f"{rho:.3g} px by at most {bound[i]:.3g} rad"
+        )
+        if (theta * (math.pi / 180) <= bound).all():
+            raise ValueError(
+                f"{who} turns the object by up to {theta.max():.3g} rad, more than a push of "
+                f"that length can ({limit}); every turn times pi/180 would be possible: theta "
+                "in degrees? multiply by pi/180"
+            )
+        raise ValueError(
+            f"{who} predicted a turn no push can cause: {float(out[where][0]):.3g} rad ({limit}); "
+            "the model is broken (corrupt weights, a unit mistake?), not the object"
+        )
+    shift = np.hypot(out[..., 1], out[..., 2])
+    carried = shift > MAX_TRANSLATION_PER_PUSH_LENGTH * length
+    if carried.any():
+        where = tuple(np.argwhere(carried)[0])
+        i = int(where[-1])
+        raise ValueError(
+            f"{who} predicted a motion no push can cause: push {i} ({length[i]:.3g} px long) "
+            f"moves the object by {shift[where]:.3g} px, more than "
+            f"{MAX_TRANSLATION_PER_PUSH_LENGTH:g} times the push's length; the model is "
+            "broken (corrupt weights, a unit mistake?), not the object"
+        )
+
+
+class Predictor(abc.ABC):
+    """A motion model that plugs into every estimator: one method, ``predict_hypotheses``.
+
+    ``predict_hypotheses(mask, actions, coms, mu)`` returns an array of shape
+    ``(n_coms, n_actions, 3)``: the motion ``(theta, tx, ty)`` of each push in
+    ``actions`` (pixels of ``mask``, shape (n_actions, 4)) if the CoM were at each
+    of ``coms`` (pixels, shape (n_coms, 2)) and the contact friction were ``mu``.
+    ``theta`` is the turn in radians, counter-clockwise on screen; ``(tx, ty)``
+    is the displacement in pixels (x = column, y = row, down) of the material
+    point under the mask's area centroid (:mod:`comcore.conventions`).
+    ``ActiveSession``, ``estimate_posterior``, ``estimate_active`` and
+    ``GoalSession`` take it as ``model=``; what it returns is checked
+    (:func:`check_model_output`).
+
+    Any object with that method is a ``Predictor`` (``isinstance`` says so);
+    a subclass also inherits the paper's few-shot form :meth:`predict`, so
+    Alg. 1 and 2 (:func:`predict_motions`) take it too.
 
     How often it is called: :func:`comcore.estimate_posterior` asks once per friction
     value, all pushes in one call (in chunks on large masks); a session once per push
@@ -148,37 +326,113 @@ class HypothesisPredictor(Protocol):
 
     Examples
     --------
-    >>> import numpy as np
-    >>> import comcore
-    >>> class Lever:
+    A quasi-static lever arm: the object turns more the farther the push's
+    line passes from the CoM, and its CoM moves along the push.
+
+    >>> import numpy as np, comcore
+    >>> class LeverArm(comcore.Predictor):
     ...     def predict_hypotheses(self, mask, actions, coms, mu):
-    ...         lever = comcore.geometry.signed_line_distance(coms, actions)  # (n_coms, n_actions)
-    ...         return np.stack([0.01 * lever, 0 * lever, 0 * lever], axis=-1)
-    >>> isinstance(Lever(), comcore.HypothesisPredictor)
-    True
+    ...         acts = comcore.checks.check_actions(actions)  # (n_actions, 4) pixels
+    ...         coms = np.asarray(coms, dtype=float).reshape(-1, 2)  # (n_coms, 2) pixels
+    ...         push = acts[:, 2:] - acts[:, :2]
+    ...         unit = push / np.hypot(*push.T)[:, None]
+    ...         travel = np.hypot(*(acts[:, 2:] - comcore.geometry.contacts(mask, acts).point).T)
+    ...         lever = comcore.geometry.signed_line_distance(coms, acts)  # > 0: CoM on the left
+    ...         offset = (np.asarray(mask.centroid) - coms)[:, None]  # centroid from each CoM
+    ...         spread = 0.5 * (((mask.pixels - mask.centroid) ** 2).sum(1).mean()
+    ...                         + (offset**2).sum(-1))  # the pressure's spread about the CoM
+    ...         theta = travel * lever / (spread + lever**2)  # CCW when the CoM is on the left
+    ...         along = travel * spread / (spread + lever**2)  # the CoM's travel along the push
+    ...         turned = comcore.conventions.rotate_vectors(offset, theta) - offset
+    ...         moved = along[..., None] * unit + turned  # the centroid's displacement
+    ...         return np.concatenate([theta[..., None], moved], axis=-1)
+    >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 4))
+    >>> LeverArm().predict_hypotheses(mask, [(0, 9, 10, 9)], [(13.5, 13.5)], 0.3).round(2)
+    array([[[-0.55,  4.04,  0.  ]]])
+    >>> isinstance(LeverArm(), comcore.Predictor), isinstance(object(), comcore.Predictor)
+    (True, False)
     """
 
-    def predict_hypotheses(self, mask: Mask, actions, coms, mu: float):  # pragma: no cover
-        """Return motions of shape (n_coms, n_actions, 3)."""
-        ...
+    @classmethod
+    def __subclasshook__(cls, other):
+        """Any class with a ``predict_hypotheses`` method is a Predictor."""
+        if cls is Predictor:
+            if any(callable(vars(k).get("predict_hypotheses")) for k in other.__mro__):
+                return True
+        return NotImplemented
+
+    @abc.abstractmethod
+    def predict_hypotheses(self, mask: Mask, actions, coms, mu: float):
+        """Motions ``(theta, tx, ty)`` of each action for each CoM, shape (n_coms, n_actions, 3)."""
+
+    def predict(self, mask: Mask, actions, priors=()) -> np.ndarray:
+        """The paper's few-shot form: motions of ``actions`` after the prior pushes, (n, 3).
+
+        Fits the CoM and the contact friction to ``priors`` (``(Action, Motion)``
+        pairs observed on ``mask``, theta in radians) with
+        :func:`comcore.estimate_posterior` under this model, and predicts at
+        the estimate (the CoM's posterior mean, the most probable friction).
+        Without priors it predicts at the mask's area centroid with the
+        middle of the default friction range.
+        """
+        from ..active._likelihood import mu_grid  # the estimators build on this module
+        from ..active._posterior import estimate_posterior
+
+        acts = check_actions(actions)
+        prior_actions, prior_motions = check_priors(priors)
+        if len(prior_actions) == 0:
+            com, mu = mask.centroid, float(mu_grid(None, 1)[0])
+        else:
+            est = estimate_posterior(
+                mask, prior_actions, prior_motions, model=self, bootstrap=0, theta_units="rad"
+            )
+            details = est.posterior
+            com, mu = est.com, float(details.mu_grid[np.argmax(details.mu_posterior)])
+        out = self.predict_hypotheses(mask, acts, [com], mu)
+        return check_model_output(self, out, acts, [com], mu, mask)[0]
 
 
-def check_predictor(predictor, name: str = "predictor") -> Predictor:
-    """Raise TypeError unless ``predictor`` implements :class:`Predictor`."""
-    if not isinstance(predictor, Predictor) or not callable(getattr(predictor, "predict", None)):
-        raise TypeError(
-            f"{name} must implement comcore.Predictor (a predict(mask, actions, priors=()) "
-            f"method), got {type(predictor).__name__}"
+def check_predictor(model, name: str = "model"):
+    """``model`` if it implements :class:`Predictor` (``predict_hypotheses``), else a TypeError.
+
+    A few-shot model with only ``predict(mask, actions, priors)`` (such as
+    ``predictors.AnpPredictor``) is told why it cannot score CoM hypotheses.
+
+    Examples
+    --------
+    >>> class FewShot:
+    ...     def predict(self, mask, actions, priors=()): ...
+    >>> check_predictor(FewShot())
+    Traceback (most recent call last):
+    ...
+    TypeError: model must implement comcore.Predictor (a predict_hypotheses(mask, actions, coms, mu) method), got FewShot: it has only the few-shot predict(mask, actions, priors), and this estimator scores CoM hypotheses, asking how each push would move the object if the CoM were at each of many points; use it through comcore.motion.predict_motions (Alg. 1 and 2), or give it a CoM input
+    """  # noqa: E501
+    if callable(getattr(model, "predict_hypotheses", None)):
+        return model
+    why = ""
+    if callable(getattr(model, "predict", None)):
+        why = (
+            ": it has only the few-shot predict(mask, actions, priors), and this estimator "
+            "scores CoM hypotheses, asking how each push would move the object if the CoM "
+            "were at each of many points; use it through comcore.motion.predict_motions "
+            "(Alg. 1 and 2), or give it a CoM input"
         )
-    return predictor
+    raise TypeError(
+        f"{name} must implement comcore.Predictor (a predict_hypotheses(mask, actions, coms, mu) "
+        f"method), got {type(model).__name__}{why}"
+    )
 
 
 def predict_motions(predictor, mask: Mask, actions, priors=()) -> np.ndarray:
-    """Call a predictor and validate what it returns.
+    """Call a predictor's few-shot ``predict`` and check what it returns.
+
+    Every :class:`Predictor` has one (a structural one gets
+    :meth:`Predictor.predict`); a purely few-shot model (``predictors.AnpPredictor``)
+    needs only ``predict(mask, actions, priors=())``.
 
     Parameters
     ----------
-    predictor : Predictor
+    predictor : Predictor, or an object with ``predict(mask, actions, priors=())``
     mask : Mask
     actions : array_like, shape (n, 4)
     priors : sequence of (Action, Motion), optional
@@ -191,19 +445,22 @@ def predict_motions(predictor, mask: Mask, actions, priors=()) -> np.ndarray:
     Raises
     ------
     TypeError
-        If ``predictor`` does not implement :class:`Predictor`.
+        If ``predictor`` has neither method, naming :class:`Predictor`.
     ValueError
-        If it returns other than one finite motion per action, or a motion
-        no push can cause (:func:`check_plausible_motions`: ``|theta|`` over
-        pi, a translation over ten times the push's length), naming it.
+        If it returns other than one finite motion per action, or a motion no
+        push of that length can cause (:func:`check_model_output`), naming it.
     """
-    predictor = check_predictor(predictor)
+    predict = getattr(predictor, "predict", None)
+    if not callable(predict):
+        if not callable(getattr(predictor, "predict_hypotheses", None)):
+            raise TypeError(
+                "predictor must implement comcore.Predictor (a predict_hypotheses(mask, actions, "
+                "coms, mu) method) or have a few-shot predict(mask, actions, priors=()) method, "
+                f"got {type(predictor).__name__}"
+            )
+        predict = partial(Predictor.predict, predictor)
+    mask = check_mask(mask)
     acts = check_actions(actions)
-    out = predictor.predict(mask, acts, priors)
-    who = type(predictor).__name__
-    try:
-        motions = check_motions(out, n=acts.shape[0], name=f"{who}.predict output")
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"predictor returned invalid motions: {e}") from e
-    check_plausible_motions(motions, acts, who)
-    return motions
+    out = predict(mask, acts, priors)
+    motions = check_model_output(predictor, out, acts, None, None, mask, method="predict")
+    return readonly(motions)

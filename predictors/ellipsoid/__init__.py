@@ -131,7 +131,7 @@ class EllipsoidPredictor:
         return self.pusher_radius / mask.resolution
 
     def predict_hypotheses(self, mask, actions, coms, mu) -> np.ndarray:
-        """Motions of each action for each CoM hypothesis (:class:`comcore.HypothesisPredictor`).
+        """Motions of each action for each CoM hypothesis (:class:`comcore.Predictor`).
 
         Parameters
         ----------

@@ -367,8 +367,8 @@ def test_a_prior_off_the_object_is_allowed():
         ({"mu": -0.2}, ValueError, "mu must be >= 0"),
         ({"n_mu": 0}, ValueError, "n_mu must be >= 1"),
         ({"n_mu": 2.0}, TypeError, "n_mu must be an int"),
-        ({"model": object()}, TypeError, "model must implement comcore.HypothesisPredictor"),
-        ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.HypothesisPredictor"),
+        ({"model": object()}, TypeError, "model must implement comcore.Predictor"),
+        ({"model": [ToyModel(), 3]}, TypeError, "model must implement comcore.Predictor"),
         ({"model": []}, ValueError, "model must not be an empty sequence"),
         ({"candidates": [(0, 0, 0, 1)]}, ValueError, "candidates must start outside the object and touch it"),
         ({"candidates": [(0, 0, 1)]}, ValueError, r"candidates must have shape \(n, 4\)"),
@@ -411,7 +411,8 @@ def test_a_model_returning_garbage_is_reported():
             return np.zeros((len(coms), 2))
 
     mask = _plate()
-    with pytest.raises(ValueError, match="predict_hypotheses must return finite motions"):
+    garbage = r"Broken.predict_hypotheses returned motions of shape \(\d+, 2\)"
+    with pytest.raises(ValueError, match=garbage):
         comcore.estimate_active(mask, _robot(mask, (20.0, 20.0), 0.3), model=Broken(), rng=0)
 
 

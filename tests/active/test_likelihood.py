@@ -302,7 +302,7 @@ def test_check_models():
     model = ToyModel()
     assert check_models(model) == (model,)
     assert check_models([model, model]) == (model, model)
-    with pytest.raises(TypeError, match="model must implement comcore.HypothesisPredictor .* got str"):
+    with pytest.raises(TypeError, match="model must implement comcore.Predictor .* got str"):
         check_models("limit surface")
     with pytest.raises(TypeError, match="got int"):
         check_models([model, 3])

@@ -220,8 +220,8 @@ def test_only_live_hypotheses_are_asked_and_the_rest_are_nan():
 @pytest.mark.parametrize("out", [np.zeros((1, 1, 3)), np.full((2, 1, 3), np.nan)])
 def test_a_model_returning_the_wrong_shape_or_nan_is_named(out):
     alive = np.ones((2, 1, 1), dtype=bool)
-    with pytest.raises(ValueError, match=r"model.predict_hypotheses must return finite motions "
-                                         r"of shape \(2, 1, 3\)"):  # fmt: skip
+    with pytest.raises(ValueError, match=r"Recorder.predict_hypotheses returned (motions of shape "
+                                         r"\(1, 1, 3\), expected|NaN as the theta of push 0)"):  # fmt: skip
         model_predictions([Recorder(out)], PLATE, np.array([[0.0, 10, 30, 10]]),
                           PLATE.pixels[:2], [0.3], alive)  # fmt: skip
 

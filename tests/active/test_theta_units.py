@@ -21,7 +21,10 @@ from tests.scripts import run_script
 #: test_user_mistakes.py's), pushed 3 mm at a time: every turn under 3 degrees.
 RESOLUTION = 0.005
 TRUE_COM = (16.0, 29.0)
-MESSAGE = "theta looks like degrees: multiply the column by pi/180"
+MESSAGE = (
+    "the motion model and the data disagree, as if theta were in degrees: if it is, "
+    "multiply the column by pi/180"
+)
 
 
 def l_mask() -> comcore.Mask:

@@ -579,7 +579,11 @@ def test_the_centroid_baseline_says_it_checks_nothing(files, capsys):
 
 
 # -- theta in degrees where every turn is small (--theta-units) --------------------------------
-DEGREES = "theta looks like degrees: multiply the column by pi/180"
+DEGREES = (
+    "the motion model and the data disagree, as if theta were in degrees: if it is, multiply "
+    "the column by pi/180; if not, the theta of the model is wrong: check its sign and unit "
+    "against a push whose turn you know"
+)
 
 
 @pytest.fixture(scope="module")

@@ -118,8 +118,8 @@ def test_empty_inputs_give_empty_outputs():
     assert no_com.shape == (0, 1, 3)
 
 
-def test_implements_the_hypothesis_predictor_protocol():
-    assert isinstance(MODEL, comcore.HypothesisPredictor)
+def test_implements_the_predictor_protocol():
+    assert isinstance(MODEL, comcore.Predictor)
 
 
 @pytest.mark.parametrize(

