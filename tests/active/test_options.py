@@ -29,7 +29,6 @@ ENTRY_POINTS = (
 ACTIVE_MODULES = (
     *sorted((ROOT / "comcore" / "active").glob("*.py")),
     ROOT / "comcore" / "camera" / "_pose_tracking.py",
-    ROOT / "comcore" / "vt" / "_force_lines.py",
 )
 
 

@@ -204,7 +204,7 @@ def test_the_docstrings_toy_model_ends_ok_within_a_centimetre(seed):
     while not session.done:
         robot.execute(session.next_push())
         session.observe(robot.camera_mask())
-    error_m = robot.resolution * session.estimate().error_px(robot.true_com_px())
+    error_m = robot.resolution * session.estimate().error_px(robot.true_com_px)
     assert session.status == "ok" and error_m < 0.01
 
 
