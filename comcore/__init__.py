@@ -44,10 +44,9 @@ from . import geometry as geometry
 from . import motion as motion
 from . import paper as paper
 from . import vt as vt
-from ._errors import ComcoreError, ImageError, PushFailedError, SessionError
 from ._lazy import lazy_exports
 from ._mask import Mask
-from ._status import Status
+from ._status import ComcoreError, ImageError, PushFailedError, SessionError, Status
 from ._types import Action, Estimate, Motion, PushFrame, PushRecord
 from .active import (
     ActiveSession,

@@ -2,7 +2,7 @@
 
 ``comcore estimate`` and ``comcore.estimate_posterior`` refuse a recording when every theta
 multiplied by pi/180 raises its log evidence under the motion model by more than
-``comcore.active._theta_units.DEGREES_NATS`` (:func:`theta_degrees_nats`). This script
+``comcore.active._posterior.DEGREES_NATS`` (:func:`theta_degrees_nats`). This script
 measures that gain on simulated recordings (``simulators.random_simulator``, the benchmark
 objects, low and high friction, ``comcore.sample_pushes`` with cone 0.3 rad, run from the
 initial pose as a recording holds them, with tracking noise added) of three kinds:
@@ -31,8 +31,7 @@ import time
 import numpy as np
 
 import comcore
-from comcore.active._posterior import theta_degrees_nats
-from comcore.active._theta_units import DEGREES_NATS
+from comcore.active._posterior import DEGREES_NATS, theta_degrees_nats
 
 KINDS = ("radians, 3 cm", "radians, small", "degrees, small")
 #: Largest turn of a small-turn recording (radians): 3 degrees.

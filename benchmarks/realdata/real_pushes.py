@@ -105,7 +105,7 @@ MODELS.update(
     }
 )
 # estimate_posterior's region from the posterior itself, not the bagged one
-# (comcore.active._bagging):
+# (comcore.active._posterior):
 # before is the default before bagging (a 2 mm floor alone), sys0-nobag before both
 MODELS.update(
     {

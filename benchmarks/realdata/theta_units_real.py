@@ -2,7 +2,7 @@
 
 ``comcore.estimate_posterior`` (``theta_units="auto"``) and ``comcore estimate`` refuse a
 recording when every theta multiplied by pi/180 raises its log evidence under the motion model
-by more than ``comcore.active._theta_units.DEGREES_NATS`` (chosen on simulated recordings by
+by more than ``comcore.active._posterior.DEGREES_NATS`` (chosen on simulated recordings by
 ``benchmarks/calibration/theta_units.py``). This script measures that gain on the MIT push
 dataset's recorded pushes (radians, as recorded: every alarm is a false one), for seeded random
 subsets of k pushes and all pushes, per plate, and on the same subsets with theta written in
@@ -27,8 +27,7 @@ import numpy as np
 import real_push_runs as runs
 
 import comcore.recordings.mit_push as mp
-from comcore.active._posterior import theta_degrees_nats
-from comcore.active._theta_units import DEGREES_NATS
+from comcore.active._posterior import DEGREES_NATS, theta_degrees_nats
 
 OBJECTS = (*runs.SPLITS["train"], *runs.SPLITS["test"])
 

@@ -19,11 +19,10 @@ from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
 from .._types import PathPoint, PosteriorDetails
-from ._bagging import RECORDED_BOOTSTRAP
 from ._choice import PushChoice
 from ._likelihood import Likelihood
 from ._options import RECORDED_SYSTEMATIC_ERROR, SESSION_SYSTEMATIC_ERROR
-from ._posterior import estimate_posterior
+from ._posterior import RECORDED_BOOTSTRAP, estimate_posterior
 from ._records import SessionState, credible_level
 from ._session import ActiveSession
 from ._stop import SenseCheck, StopRule

@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from .._errors import PushFailedError
 from .._mask import Mask
-from .._status import Status
+from .._status import PushFailedError, Status
 from .._types import Estimate, Motion
 from .._validation import check_mask, check_motions
 from ._session import ActiveSession

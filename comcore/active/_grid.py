@@ -10,16 +10,67 @@ never assumed. What multiplies into it is :mod:`comcore.active._likelihood`'s.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
+from scipy import ndimage, sparse, special
 
 from .._mask import Mask
-from .._numeric import logsumexp
 from ..conventions import pixel_centres
-from ._lattice import model_lattice
 
-__all__ = ["GridPosterior", "prior_grid"]
+__all__ = [
+    "GridPosterior",
+    "Lattice",
+    "lattice_stride",
+    "model_lattice",
+    "prior_grid",
+]
+
+
+# scipy.special.logsumexp's numbers without its second pass (the grid's hot path):
+# the shifted sum's floating-point operations in scipy's order, so the same bits
+# (tests/active/test_logsumexp.py compares them); non-finite results and other dtypes go to scipy.
+def logsumexp(a, axis=None, b=None, keepdims: bool = False):
+    """``scipy.special.logsumexp(a, axis, b, keepdims)`` for real float64 arrays.
+
+    The largest term is taken out of the sum and added back through ``log1p``, as
+    scipy does; where a result is not finite (all weights zero, an infinite or NaN
+    term) scipy computes it instead.
+
+    Examples
+    --------
+    >>> x = np.log([[1.0, 2.0], [3.0, 4.0]])
+    >>> bool(logsumexp(x) == special.logsumexp(x))
+    True
+    >>> logsumexp(x, axis=1, b=[[1.0, 0.0], [1.0, 1.0]]).round(6).tolist()
+    [0.0, 1.94591]
+    """
+    arr = np.asarray(a)
+    weights = None if b is None else np.asarray(b)
+    if arr.dtype != np.float64 or (weights is not None and weights.dtype != np.float64):
+        return special.logsumexp(a, axis=axis, b=b, keepdims=keepdims)
+    if weights is not None:
+        arr, weights = np.broadcast_arrays(arr, weights)
+    if arr.ndim == 0 or arr.size == 0:
+        return special.logsumexp(a, axis=axis, b=b, keepdims=keepdims)
+    axes = tuple(range(arr.ndim)) if axis is None else axis
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if weights is not None:
+            arr = np.where(weights == 0, -np.inf, arr)
+        top = np.max(arr, axis=axes, keepdims=True)
+        at_top = arr == top
+        arr = np.where(at_top, -np.inf, arr)
+        count = at_top.astype(np.float64) if weights is None else weights * at_top
+        m = np.sum(count, axis=axes, keepdims=True, dtype=np.float64)
+        terms = np.exp(arr - top) if weights is None else weights * np.exp(arr - top)
+        s = np.sum(terms, axis=axes, keepdims=True, dtype=np.float64)
+        s = np.where(s == 0, s, s / m)
+        out = np.log1p(s) + np.log(m) + top
+    if not (np.isfinite(out).all() and (m > 0).all() and (s >= -1).all()):
+        return special.logsumexp(a, axis=axis, b=b, keepdims=keepdims)
+    if not keepdims:
+        out = np.squeeze(out, axis=axes)
+    return out[()] if out.ndim == 0 else out
 
 
 def prior_grid(mask: Mask, prior) -> tuple[np.ndarray, np.ndarray]:
@@ -89,7 +140,7 @@ class GridPosterior:
         """The lattice of every ``stride``-th pixel the model's terms are computed on.
 
         None for stride 1 (every pixel asked); kept for the session
-        (:func:`comcore.active._lattice.model_lattice`).
+        (:func:`comcore.active._grid.model_lattice`).
         """
         if stride not in self._lattices:
             self._lattices[stride] = model_lattice(self.pixels, stride)
@@ -207,7 +258,7 @@ class GridPosterior:
         """The pixel weights a credible region is read from, shape (p,), summing to 1.
 
         The CoM-pixel marginal, or ``marginal`` given over the same pixels (a
-        bagged posterior's, :mod:`comcore.active._bagging`); with ``blur_px`` > 0
+        bagged posterior's, :mod:`comcore.active._posterior`); with ``blur_px`` > 0
         blurred by a Gaussian of that standard deviation (pixels) over the
         grid's pixels (mass blurred off them is dropped and the rest
         renormalised): an error on the CoM that no number of pushes averages
@@ -281,3 +332,86 @@ def _box_blur(rows, cols, w, sigma: float, radius: int) -> np.ndarray:
     np.add.at(image, (rows, cols), w)
     blurred = matrix(image.shape[0]) @ image @ matrix(image.shape[1])
     return blurred[rows, cols]
+
+
+def lattice_stride(spacing_m: float, resolution: float) -> int:
+    """Pixels between lattice nodes for a spacing (metres) on a camera of ``resolution``."""
+    if spacing_m <= 0:
+        return 1
+    return max(1, int(np.floor(spacing_m / resolution + 1e-9)))
+
+
+@dataclass(frozen=True)
+class Lattice:
+    """Nodes (indices into the posterior's pixels) and the interpolation weights.
+
+    ``weights`` is a sparse (p, n) matrix whose rows sum to 1: pixel ``i``'s term is
+    ``weights[i] @ node_terms``.
+    """
+
+    nodes: np.ndarray
+    weights: sparse.csr_matrix
+
+    def gather_any(self, flags: np.ndarray) -> np.ndarray:
+        """Per node: whether any pixel that reads it is flagged; ``flags`` (p, ...) bool."""
+        flat = flags.reshape(len(flags), -1).astype(float)
+        return (self.weights.T @ flat > 0).reshape(len(self.nodes), *flags.shape[1:])
+
+    def gather_sum(self, values: np.ndarray) -> np.ndarray:
+        """Per node: the sum of ``values`` (p, ...) over the pixels it stands for.
+
+        Each pixel's value is shared among the nodes it reads by its weights, so the
+        nodes' total is the pixels'.
+        """
+        flat = values.reshape(len(values), -1)
+        return np.asarray(self.weights.T @ flat).reshape(len(self.nodes), *values.shape[1:])
+
+    def spread(self, node_values: np.ndarray, usable: np.ndarray) -> np.ndarray:
+        """Per pixel: ``node_values`` (n, ...) interpolated; nodes not ``usable`` count 0.
+
+        A pixel is only as good as its nodes: callers ask the model about every node a
+        live pixel reads (:meth:`gather_any`), so a live pixel never reads an unusable one.
+        """
+        vals = np.where(usable, node_values, 0.0)
+        flat = vals.reshape(len(self.nodes), -1)
+        n_pix = self.weights.shape[0]
+        return np.asarray(self.weights @ flat).reshape(n_pix, *node_values.shape[1:])
+
+
+def model_lattice(pixels: np.ndarray, stride: int) -> Lattice | None:
+    """The lattice of every ``stride``-th pixel of ``pixels`` (p, 2), or None for stride 1.
+
+    ``pixels`` are pixel centres ``(x, y)`` on the integer grid (as
+    :func:`comcore.conventions.pixel_centres` gives them), the nodes those whose
+    column and row are multiples of ``stride`` counted from the first pixel's.
+    Hypotheses off the integer grid (none a session makes) get None: every one asked.
+    """
+    if stride <= 1 or len(pixels) == 0:
+        return None
+    offsets = pixels - pixels.min(axis=0)
+    if np.abs(offsets - np.rint(offsets)).max() > 1e-9:  # not a pixel grid: every one asked
+        return None
+    grid = np.rint(offsets).astype(np.intp)  # (p, 2) column, row
+    cell = grid // stride
+    on_node = (grid % stride == 0).all(axis=1)
+    # the index of the pixel on each lattice node, -1 where the node is off the object
+    lookup = np.full((int(cell[:, 1].max()) + 2, int(cell[:, 0].max()) + 2), -1, dtype=np.intp)
+    lookup[cell[on_node, 1], cell[on_node, 0]] = np.flatnonzero(on_node)
+    frac = (grid - cell * stride) / stride  # (p, 2) in [0, 1)
+    rows, cols, vals = [], [], []
+    for dx, dy in ((0, 0), (1, 0), (0, 1), (1, 1)):
+        w = (frac[:, 0] if dx else 1 - frac[:, 0]) * (frac[:, 1] if dy else 1 - frac[:, 1])
+        found = lookup[cell[:, 1] + dy, cell[:, 0] + dx]
+        use = (found >= 0) & (w > 0)
+        rows.append(np.flatnonzero(use))
+        cols.append(found[use])
+        vals.append(w[use])
+    rows, cols, vals = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+    total = np.bincount(rows, weights=vals, minlength=len(pixels))
+    lonely = np.flatnonzero(total == 0)  # no node of its cell on the object: its own node
+    rows = np.concatenate([rows, lonely])
+    cols = np.concatenate([cols, lonely])
+    vals = np.concatenate([vals / total[rows[: len(vals)]], np.ones(len(lonely))])
+    nodes, column = np.unique(cols, return_inverse=True)
+    weights = sparse.csr_matrix((vals, (rows, column)), shape=(len(pixels), len(nodes)))
+    return Lattice(nodes=nodes, weights=weights)

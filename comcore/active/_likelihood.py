@@ -15,7 +15,7 @@ the object (the first mask's frame): its action and force lines there
   each (CoM, friction, model) hypothesis predicts against the observed one,
   Student-t residuals, the pusher's offset marginalised, the whole term raised
   to each power of ``model_weight``; with the frames of a push, the density of
-  its path given its end pose (:mod:`comcore.active._path_term`).
+  its path given its end pose (:mod:`comcore.active._motion_term`).
 * **The noise.** The tracking error of a measured motion (``motion_noise``,
   widened by a registration's residual: :func:`tracking_noise`), and whether
   any hypothesis explains the pushes at all (:func:`consistency_threshold`;
@@ -56,8 +56,7 @@ from ..vt._voting import (
     force_line_distances,
     side_probability,
 )
-from ._grid import GridPosterior
-from ._lattice import lattice_stride
+from ._grid import GridPosterior, lattice_stride
 from ._motion_term import (
     NEAR_LINE_M,
     KnownPushes,
@@ -69,11 +68,11 @@ from ._motion_term import (
     model_predictions,
     motion_terms,
     offset_marginal,
+    path_log_likelihood,
     theta_scale,
 )
 from ._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, _bounded_count, _set
 from ._options import SESSION_SYSTEMATIC_ERROR as FLOOR
-from ._path_term import path_log_likelihood
 
 __all__ = [
     "LINE_BLUR_M",
@@ -115,7 +114,7 @@ UNKNOWN_MU_RANGE = (0.0, 2.0)
 PATH_WANDER = 4.0
 #: ``Likelihood.model_spacing``'s default (metres): the 2.5 mm pixel every accuracy table
 #: was measured at, so that those sessions ask the model about every pixel as before, and a
-#: finer camera asks it about as many hypotheses (:mod:`comcore.active._lattice`).
+#: finer camera asks it about as many hypotheses (:mod:`comcore.active._grid`).
 MODEL_SPACING = 0.0025
 #: Largest cone half-angle used for an unbounded friction range (radians).
 MAX_ALPHA = math.pi / 2 - 1e-3
@@ -189,7 +188,7 @@ class Likelihood:
     """Spacing (metres, >= 0) of the lattice of CoM hypotheses the motion model is asked
     about: on a camera finer than it (1 mm per pixel: every second pixel in x and y) the
     model's terms of every other pixel are interpolated from the lattice's nodes around it
-    (:mod:`comcore.active._lattice`), which keeps the cost of a push that of a 2.5 mm
+    (:mod:`comcore.active._grid`), which keeps the cost of a push that of a 2.5 mm
     camera. A camera of this size per pixel or coarser, or 0: every pixel asked."""
     systematic_error: float | None = None
     """Standard deviation (metres) of an error on the CoM that more pushes do not average
@@ -414,7 +413,7 @@ class Scoring:
 
     @property
     def lattice_stride(self) -> int:
-        """Every how many pixels the model is asked (:mod:`comcore.active._lattice`)."""
+        """Every how many pixels the model is asked (:mod:`comcore.active._grid`)."""
         return lattice_stride(self.likelihood.model_spacing, self.resolution)
 
     @property
@@ -833,7 +832,7 @@ def path_predictions(scoring, mask, action, pixels, alive, path) -> np.ndarray:
 
 
 def path_term(push: PushToScore, predicted: Predicted, motion, factor: float, sign: float = 1.0):
-    """The path's log density given the end pose (:mod:`comcore.active._path_term`).
+    """The path's log density given the end pose (:mod:`comcore.active._motion_term`).
 
     Per hypothesis (p, m, k) for the model's scales times ``factor``; ``sign`` -1 scores
     the path with every rotation negated (the flipped sense). The scales are the

@@ -24,7 +24,7 @@ with a record of why (``PushRecord.dropped_frames``), when
 Frames given out of order, or with the pusher off the push's path by more than
 :data:`OFF_PATH_M`, are the caller's mistake: a ValueError naming the frame.
 
-**Scoring**: :mod:`comcore.active._path_term` (the path's density given the end
+**Scoring**: :mod:`comcore.active._motion_term` (the path's density given the end
 pose), :class:`PushPath` what it reads.
 """
 

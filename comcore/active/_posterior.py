@@ -8,7 +8,7 @@ nothing stops.
 while a motion model's error on a real object, shared by pushes made alike, does not
 average away. So the credible region, its radius and the covariance are read from the
 posterior averaged over ``bootstrap`` Bayesian-bootstrap resamplings of the pushes
-(:mod:`comcore.active._bagging`), which widens where the pushes disagree; ``com`` is
+(:mod:`comcore.active._posterior`), which widens where the pushes disagree; ``com`` is
 the posterior's mean either way, and ``posterior.history`` holds the posterior's own
 states. The status compares that region's equivalent-circle radius with
 ``target_radius``: ``"ok"`` means the same here as where a session stops.
@@ -20,7 +20,7 @@ or whose estimate most of them contradict, is ``"inconsistent"`` whatever the mo
 
 **The units of theta.** ``theta_units="auto"`` reads radians and, with a motion model,
 refuses a recording that every theta multiplied by pi/180 explains more than
-:data:`comcore.active._theta_units.DEGREES_NATS` nats better (:func:`scaled_gain`):
+:data:`comcore.active._posterior.DEGREES_NATS` nats better (:func:`scaled_gain`):
 turns under 3 degrees are under pi everywhere, so the bound on theta cannot see
 them. This costs a second posterior, without bagging. ``"rad"`` skips the check,
 ``"deg"`` converts. Records (``pushes``) are in radians and not checked.
@@ -55,13 +55,14 @@ from .._validation import (
 from ..camera._pose_tracking import is_miss
 from ..conventions import DEFAULT_PUSHER_RADIUS, rotation_sense
 from ..geometry._disc_contacts import pusher_contacts, usable_pushes
+from ..motion._predictor import register_few_shot_fit
 from ..vt._voting import force_line_distances, push_force_lines
-from ._bagging import RECORDED_BOOTSTRAP, PushLikelihoods
-from ._grid import prior_grid
+from ._grid import GridPosterior, prior_grid
 from ._likelihood import (
     PushMemo,
     SenseTally,
     gyration_px,
+    mu_grid,
     push_evidence,
     sense_flip_prob,
     tracking_noise,
@@ -73,15 +74,31 @@ from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
 from ._session import session_setup
 from ._stop import offline_status, sense_check
-from ._theta_units import (
-    DEGREES_NATS,
-    check_theta_units,
-    degrees_message,
-    theta_in_radians,
-)
 
-__all__ = ["estimate_posterior", "scaled_gain", "theta_degrees_nats"]
+__all__ = [
+    "DEGREES_NATS",
+    "MAX_BAG_FLOATS",
+    "MAX_KEPT_FLOATS",
+    "RECORDED_BOOTSTRAP",
+    "THETA_UNITS",
+    "PushLikelihoods",
+    "check_theta_units",
+    "degrees_message",
+    "estimate_posterior",
+    "scaled_gain",
+    "theta_degrees_nats",
+    "theta_in_radians",
+]
 
+#: Bayesian-bootstrap resamplings :func:`comcore.estimate_posterior` averages by default:
+#: enough for the region to change little with the seed (docs/how-to/recordings.md;
+#: benchmarks/timing/bench_bagging.py times them).
+RECORDED_BOOTSTRAP = 200
+#: Floats one block of resamplings may hold at once (resamplings x tempers x hypotheses).
+MAX_BAG_FLOATS = 4_000_000
+#: Most log-likelihoods kept for the resamplings (pushes x tempers x hypotheses, 400 MB): 40
+#: pushes over a 15 cm object at 1 mm/px keep 16 million before any is pruned.
+MAX_KEPT_FLOATS = 50_000_000
 #: Most Bayesian-bootstrap resamplings ``bootstrap`` may ask for (each costs a
 #: multiply-add per push and live hypothesis; benchmarks/timing/bench_bagging.py times them).
 MAX_BOOTSTRAP = 10_000
@@ -454,3 +471,150 @@ def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> 
         ))
         for i in range(len(acts))
     ]  # fmt: skip
+
+
+
+
+class PushLikelihoods:
+    """Each evidence push's tempered log-likelihood over a posterior's live hypotheses.
+
+    Built on the posterior before any push (its log prior is kept); :meth:`add`
+    each push's ``Evidence.tempered`` (n_tempers, p, m, k) as it is multiplied
+    in. Hypotheses the posterior prunes (a ``-inf`` log-likelihood) are dropped
+    from every row, so memory is pushes x live hypotheses.
+    """
+
+    def __init__(self, post: GridPosterior, n_pushes: int):
+        """Refuse (naming ``bootstrap``) to keep over :data:`MAX_KEPT_FLOATS` for ``n_pushes``."""
+        kept = n_pushes * post.n_tempers * post.log_w.size
+        if kept > MAX_KEPT_FLOATS:
+            raise ValueError(
+                f"bootstrap would keep {kept:,} log-likelihoods ({n_pushes} pushes over "
+                f"{post.log_w.size:,} hypotheses, {8 * kept / 1e9:.1f} GB): pass bootstrap=0, "
+                "fewer pushes or a coarser mask resolution"
+            )
+        self.shape = post.log_w.shape  # (p, m, k)
+        self.live = np.arange(post.log_w.size)
+        self.log_prior = post.log_w.reshape(-1).copy()
+        self.rows: list[np.ndarray] = []
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def add(self, tempered) -> None:
+        """Keep one push's log-likelihood, shape (n_tempers, p, m, k)."""
+        loglik = np.asarray(tempered, dtype=float)
+        flat = loglik.reshape(loglik.shape[0], -1)[:, self.live]
+        alive = np.isfinite(flat).all(axis=0)
+        if not alive.all():
+            self.live = self.live[alive]
+            self.rows = [row[:, alive] for row in self.rows]
+            flat = flat[:, alive]
+        self.rows.append(flat)
+
+    def bagged_marginal(self, temper_weights, draws: int, rng: np.random.Generator) -> np.ndarray:
+        """The CoM-pixel marginal averaged over ``draws`` Bayesian-bootstrap resamplings, (p,).
+
+        ``temper_weights`` (n_tempers,) mix each resampling's tempered posteriors
+        (the posterior's own weights). With fewer than two pushes every
+        resampling is the posterior itself.
+        """
+        stack = np.stack(self.rows)  # (n, T, h)
+        n, n_tempers, h = stack.shape
+        weights = rng.standard_exponential((draws, n))
+        weights *= n / weights.sum(axis=1, keepdims=True)  # Dirichlet(1, ..., 1) x n
+        log_prior = self.log_prior[self.live]
+        temper_w = np.asarray(temper_weights, dtype=float)
+        per_pixel = int(np.prod(self.shape[1:]))
+        joint = np.zeros(h)
+        block = max(1, MAX_BAG_FLOATS // max(n_tempers * h, 1))
+        flat = stack.reshape(n, -1)
+        for first in range(0, draws, block):
+            w = weights[first : first + block]
+            post = (w @ flat).reshape(len(w), n_tempers, h) + log_prior
+            post -= post.max(axis=2, keepdims=True)
+            np.exp(post, out=post)
+            post /= post.sum(axis=2, keepdims=True)  # each resampling's tempered posteriors
+            joint += temper_w @ post.sum(axis=0)
+        marginal = np.bincount(self.live // per_pixel, weights=joint, minlength=self.shape[0])
+        return marginal / marginal.sum()
+
+
+#: The units ``theta_units`` takes: ``auto`` (radians, checked against degrees), ``rad``
+#: (radians, not checked), ``deg`` (degrees, converted).
+THETA_UNITS = ("auto", "rad", "deg")
+#: A recording whose log evidence under the motion model rises by more than this (nats) with
+#: every theta multiplied by pi/180 is in degrees (calibrated by
+#: benchmarks/calibration/theta_units.py on seed 1; its false alarms and detections on seed 0
+#: are in docs/how-to/recordings.md).
+DEGREES_NATS = 10.0
+
+
+def check_theta_units(theta_units) -> str:
+    """``theta_units`` if it is one of :data:`THETA_UNITS`, else a ValueError.
+
+    Examples
+    --------
+    >>> check_theta_units("deg")
+    'deg'
+    >>> check_theta_units("degrees")
+    Traceback (most recent call last):
+    ...
+    ValueError: theta_units must be one of ('auto', 'rad', 'deg'), got 'degrees'
+    """
+    if not isinstance(theta_units, str) or theta_units not in THETA_UNITS:
+        raise ValueError(f"theta_units must be one of {THETA_UNITS}, got {theta_units!r}")
+    return theta_units
+
+
+def theta_in_radians(motions, theta_units: str) -> np.ndarray:
+    """``motions`` (n, 3) with theta in radians: multiplied by pi/180 for ``"deg"``.
+
+    Examples
+    --------
+    >>> theta_in_radians([[90.0, 1.0, 2.0]], "deg").round(4).tolist()
+    [[1.5708, 1.0, 2.0]]
+    """
+    motions = np.array(motions, dtype=float)
+    if check_theta_units(theta_units) == "deg" and motions.ndim == 2 and motions.shape[1:] == (3,):
+        motions[:, 0] *= math.pi / 180
+    return motions
+
+
+def degrees_message(gain: float, column: str = "the column") -> str:
+    """What to say of pushes that every theta times pi/180 explains ``gain`` nats better.
+
+    The data and the motion model disagree, and either may be at fault: theta
+    recorded in degrees, or a model whose theta has the wrong sign or unit. The
+    message names both.
+
+    Examples
+    --------
+    >>> degrees_message(42.0)
+    'the motion model and the data disagree, as if theta were in degrees: if it is, multiply the column by pi/180; if not, the theta of the model is wrong: check its sign and unit against a push whose turn you know (every theta times pi/180 explains the pushes 42 nats better than as given)'
+    """  # noqa: E501
+    return (
+        "the motion model and the data disagree, as if theta were in degrees: if it is, "
+        f"multiply {column} by pi/180; if not, the theta of the model is wrong: check its "
+        "sign and unit against a push whose turn you know (every theta times pi/180 explains "
+        f"the pushes {gain:.0f} nats better than as given)"
+    )
+
+
+def fit_to_priors(model, mask: Mask, actions, motions) -> tuple[tuple[float, float], float]:
+    """The CoM and friction a model's few-shot ``predict`` uses (:class:`comcore.Predictor`).
+
+    The posterior mean CoM and the most probable friction under ``model`` given the prior
+    pushes (``estimate_posterior``, no bootstrap, theta in radians); without prior pushes,
+    the mask's area centroid and the middle of the default friction range.
+    """
+    if len(actions) == 0:
+        return mask.centroid, float(mu_grid(None, 1)[0])
+    est = estimate_posterior(
+        mask, actions, motions, model=model, bootstrap=0, theta_units="rad"
+    )
+    details = est.posterior
+    return est.com, float(details.mu_grid[np.argmax(details.mu_posterior)])
+
+
+register_few_shot_fit(fit_to_priors)

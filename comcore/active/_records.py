@@ -17,9 +17,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._errors import SessionError
 from .._mask import Mask
-from .._status import Status
+from .._status import SessionError, Status
 from .._types import Action, Estimate, Motion, PosteriorDetails, PushRecord
 from ._grid import GridPosterior
 from ._likelihood import consistency_threshold
@@ -121,7 +120,7 @@ class PushLog:
 
         The region is read from :meth:`GridPosterior.region_weights`: the
         posterior's marginal, or ``marginal`` (p,) where given (a bagged
-        posterior's, :mod:`comcore.active._bagging`; the covariance is then its spread
+        posterior's, :mod:`comcore.active._posterior`; the covariance is then its spread
         about the posterior's mean), blurred by the systematic error.
         ``details`` (``senses``, ``bootstrap``, ``pose``) go to the estimate's
         :class:`comcore.active.PosteriorDetails` with the posterior's own.

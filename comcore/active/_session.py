@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._errors import SessionError
 from .._mask import Mask
+from .._status import SessionError
 from .._types import Action, Estimate, Motion, SkippedPush
 from .._validation import (
     check_motions,

@@ -8,8 +8,8 @@ import os
 import numpy as np
 from scipy import ndimage
 
-from .._errors import ImageError
 from .._mask import Mask
+from .._status import ImageError
 from ..conventions import DEFAULT_RESOLUTION, check_image_size
 from ..geometry._regions import EIGHT_CONNECTED
 from ._input import check_background, grey_image, look_window, read_image
@@ -277,7 +277,7 @@ def mask_from_image(
     >>> comcore.mask_from_image(np.linspace(160, 240, 60) * np.ones((40, 1)))  # a lit table
     Traceback (most recent call last):
     ...
-    comcore._errors.ImageError: no object: the image matches the table...
+    comcore._status.ImageError: no object: the image matches the table...
     """
     if isinstance(image, (str, os.PathLike)):
         image = read_image(image)

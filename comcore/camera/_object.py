@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy import ndimage
 
-from .._errors import ImageError
+from .._status import ImageError
 from ..geometry._regions import EIGHT_CONNECTED
 from ._light import SMOOTH_SHARE, Grid, Quadratic, smooth_leftover, spread
 

@@ -15,8 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 import comcore
-from comcore.active._posterior import theta_degrees_nats
-from comcore.active._theta_units import DEGREES_NATS, degrees_message
+from comcore.active._posterior import DEGREES_NATS, degrees_message, theta_degrees_nats
 
 from ._inputs import InputError, line_list
 

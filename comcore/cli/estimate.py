@@ -54,7 +54,7 @@ theta's sign flipped is reported as ``inconsistent`` with that hint
 (:func:`sign_flip_nats`), and one that every theta times pi/180 explains far
 better under the motion model is refused as being in degrees (``--theta-units``:
 :func:`comcore.cli._mistakes.units_mistake`; the check itself is the library's,
-:mod:`comcore.active._theta_units`, which :func:`comcore.estimate_posterior`
+:mod:`comcore.active._posterior`, which :func:`comcore.estimate_posterior`
 makes too). ``--resolution`` (metres per pixel) has no default: a camera's
 scale is the user's to measure.
 
@@ -80,8 +80,7 @@ import numpy as np
 import comcore
 from comcore._validation import check_physical
 from comcore.active._options import DEFAULT_MODEL, DEFAULT_PUSHER_RADIUS, DEFAULT_TARGET_RADIUS
-from comcore.active._posterior import MAX_BOOTSTRAP
-from comcore.active._theta_units import THETA_UNITS
+from comcore.active._posterior import MAX_BOOTSTRAP, THETA_UNITS
 from comcore.recordings._recording import DEFAULT_TRAVEL_M
 
 from . import _options

@@ -9,9 +9,8 @@ connected regions (:func:`largest_component`) and seeded push sampling
 """
 
 from ._contacts import Contacts, contacts, signed_line_distance, split_by_line
-from ._disc_contacts import disc_contacts
+from ._disc_contacts import OutlineField, disc_contacts, outline_field
 from ._outline import mask_from_outline
-from ._outline_field import OutlineField, outline_field
 from ._raster import rasterise_polygon
 from ._regions import largest_component
 from ._sampling import sample_pushes

@@ -20,7 +20,7 @@ from .._mask import Mask
 from .._neighbourhood import LocalArrays, margin_px
 from .._validation import check_actions, check_mask, check_number, check_points
 from ..conventions import check_plausible
-from ..geometry._outline_field import outline_field
+from ..geometry._disc_contacts import outline_field
 from ._lattice import (
     PushLattice,
     _table_step,

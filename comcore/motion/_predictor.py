@@ -300,6 +300,19 @@ def _refuse_impossible(who: str, out: np.ndarray, acts: np.ndarray, mask: Mask) 
         )
 
 
+#: The fit behind the default few-shot :meth:`Predictor.predict`: ``fit(model, mask,
+#: actions, motions) -> (com, mu)``. The posterior it needs lives a layer above the motion
+#: models, which never import it: :mod:`comcore.active` registers its fit here
+#: (:func:`register_few_shot_fit`) when it is imported, as ``import comcore`` does.
+_FEW_SHOT_FIT = None
+
+
+def register_few_shot_fit(fit) -> None:
+    """Set the fit the default :meth:`Predictor.predict` uses (``comcore.active`` calls this)."""
+    global _FEW_SHOT_FIT
+    _FEW_SHOT_FIT = fit
+
+
 class Predictor(abc.ABC):
     """A motion model that plugs into every estimator: one method, ``predict_hypotheses``.
 
@@ -375,19 +388,11 @@ class Predictor(abc.ABC):
         Without priors it predicts at the mask's area centroid with the
         middle of the default friction range.
         """
-        from ..active._likelihood import mu_grid  # the estimators build on this module
-        from ..active._posterior import estimate_posterior
-
+        if _FEW_SHOT_FIT is None:  # pragma: no cover - comcore imports comcore.active
+            raise RuntimeError("Predictor.predict needs comcore.active: import comcore first")
         acts = check_actions(actions)
         prior_actions, prior_motions = check_priors(priors)
-        if len(prior_actions) == 0:
-            com, mu = mask.centroid, float(mu_grid(None, 1)[0])
-        else:
-            est = estimate_posterior(
-                mask, prior_actions, prior_motions, model=self, bootstrap=0, theta_units="rad"
-            )
-            details = est.posterior
-            com, mu = est.com, float(details.mu_grid[np.argmax(details.mu_posterior)])
+        com, mu = _FEW_SHOT_FIT(self, mask, prior_actions, prior_motions)
         out = self.predict_hypotheses(mask, acts, [com], mu)
         return check_model_output(self, out, acts, [com], mu, mask)[0]
 

@@ -1,11 +1,11 @@
-"""Tests of the bagged posterior of a recording (comcore/active/_bagging.py, estimate_posterior's region)."""
+"""Tests of the bagged posterior of a recording (comcore/active/_posterior.py, estimate_posterior's region)."""
 
 import numpy as np
 import pytest
 
 import comcore
-from comcore.active._bagging import PushLikelihoods
 from comcore.active._grid import GridPosterior
+from comcore.active._posterior import PushLikelihoods
 from tests.active.test_blocking import ToyModel, _plate, _robot
 
 #: No floor: the bagging alone.
@@ -141,7 +141,7 @@ def test_the_callers_arrays_are_not_mutated():
 
 
 def test_a_bag_too_big_to_keep_is_refused_before_any_push_is_scored(monkeypatch):
-    import comcore.active._bagging as bagging
+    import comcore.active._posterior as bagging
 
     mask, actions, motions, *_ = _two_groups(0.0, n=6)
     monkeypatch.setattr(bagging, "MAX_KEPT_FLOATS", 6 * mask.area_px * 6 - 1)  # 6 friction values

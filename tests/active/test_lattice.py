@@ -1,4 +1,4 @@
-"""Tests of the model's lattice on cameras finer than it (comcore/active/_lattice.py)."""
+"""Tests of the model's lattice on cameras finer than it (comcore/active/_grid.py)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import comcore
-from comcore.active._grid import prior_grid
-from comcore.active._lattice import lattice_stride, model_lattice
+from comcore.active._grid import lattice_stride, model_lattice, prior_grid
 from comcore.active._likelihood import Scoring, push_evidence
 from comcore.geometry._disc_contacts import pusher_contacts
 from comcore.vt._voting import push_force_lines

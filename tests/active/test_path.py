@@ -7,9 +7,8 @@ import pytest
 
 import comcore
 from comcore._types import PathPoint, PushRecord
-from comcore.active._motion_term import STUDENT_DOF
+from comcore.active._motion_term import STUDENT_DOF, _conditional_t, path_log_likelihood
 from comcore.active._path import MAX_PATH_FRAMES, PushPath, check_frames
-from comcore.active._path_term import _conditional_t, path_log_likelihood
 
 simulators = pytest.importorskip("simulators")
 pytest.importorskip("shapely")

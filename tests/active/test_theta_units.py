@@ -1,4 +1,4 @@
-"""Theta in degrees where every turn is small: estimate_posterior refuses it (comcore.active._theta_units).
+"""Theta in degrees where every turn is small: estimate_posterior refuses it (comcore.active._posterior).
 
 A recording in degrees whose turns are all under 3 degrees is under pi in every row, so the
 check that theta is at most pi passes it; the motion model's evidence tells it (the CLI's side
@@ -13,8 +13,7 @@ import numpy as np
 import pytest
 
 import comcore
-from comcore.active._posterior import theta_degrees_nats
-from comcore.active._theta_units import DEGREES_NATS
+from comcore.active._posterior import DEGREES_NATS, theta_degrees_nats
 from tests.scripts import run_script
 
 #: The user's object: an L at 5 mm per pixel, its true CoM in pixels (as tests/core/

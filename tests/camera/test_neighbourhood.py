@@ -17,7 +17,7 @@ import comcore
 import comcore._neighbourhood as neighbourhood
 from comcore._mask import NORMAL_SMOOTHING_PX
 from comcore._neighbourhood import LocalArrays, Window, margin_px, padded_crop
-from comcore.geometry._outline_field import FIELD_PAD_PX, SDF_SMOOTHING_PX, OutlineField
+from comcore.geometry._disc_contacts import FIELD_PAD_PX, SDF_SMOOTHING_PX, OutlineField
 from comcore.motion._lattice import PushLattice, _memo, _table_step, pressure_table, table_pressures
 from comcore.motion._limit_surface import _on_object
 from comcore.motion._pressure import pressures, support

@@ -1,10 +1,10 @@
-"""comcore._numeric.logsumexp: scipy's numbers, bit for bit."""
+"""comcore.active._grid.logsumexp: scipy's numbers, bit for bit."""
 
 import numpy as np
 import pytest
 from scipy import special
 
-from comcore._numeric import logsumexp
+from comcore.active._grid import logsumexp
 
 
 def bits(x) -> np.ndarray:
