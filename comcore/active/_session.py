@@ -348,7 +348,7 @@ class ActiveSession(PushLoop):
         self._plan()
 
     def _reading(self, mask, motion, failed: bool, executed, frames=None):
-        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
+        """The push's record, its evidence ``(loglik, excess, overlap)`` or ``()``, the new pose."""
         return read_push(
             PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
             self._candidates, self._pending, mask, motion, failed, executed=executed, frames=frames,
