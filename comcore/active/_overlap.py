@@ -38,7 +38,9 @@ that of its depth: the allowance is :data:`OVERLAP_SIGMAS` of the three errors
 together, plus the outline's slack. A push whose rotation was not observed is
 checked at every rotation (the least depth over a grid of turns, the grid's half
 step in the allowance). Misses and failed pushes carry no evidence and are not
-checked.
+checked; nor is any push scored by the Voting Theorem alone (``model=None``),
+whose evidence is each push's sense of rotation, not how far the object went: a
+turn in place reported in the sense a CoM gives is data it explains.
 """
 
 from __future__ import annotations
@@ -99,7 +101,8 @@ def pusher_overlap(mask, scoring, record, gyration_px: float) -> PusherOverlap |
         The likelihood in pixels (its tracking noise, pusher error and radius).
     record : PushRecord
         The push (its ``action`` and ``motion`` in the first mask's frame, its
-        ``rotation_observed`` and ``residual_px``); only pushes with evidence are checked.
+        ``rotation_observed`` and ``residual_px``); only pushes with evidence scored with
+        a motion model (``scoring.models``) are checked.
     gyration_px : float
         The first mask's radius of gyration (pixels), for the registration's rotation noise.
 
@@ -111,7 +114,8 @@ def pusher_overlap(mask, scoring, record, gyration_px: float) -> PusherOverlap |
     >>> import numpy as np, comcore
     >>> from comcore.active._likelihood import Scoring, gyration_px
     >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))
-    >>> scoring = Scoring.build(comcore.Likelihood(), mask, (), pusher_radius=0.004)
+    >>> model = comcore.LimitSurfaceModel(pusher_radius=0.004)
+    >>> scoring = Scoring.build(comcore.Likelihood(), mask, (model,), pusher_radius=0.004)
     >>> push = comcore.PushRecord(action=(22.0, 42.3, 22.0, 25.5), motion=(0.1, 0.0, 0.0),
     ...                           outcome="evidence")
     >>> round(pusher_overlap(mask, scoring, push, gyration_px(mask)).depth_px, 1)
@@ -120,7 +124,7 @@ def pusher_overlap(mask, scoring, record, gyration_px: float) -> PusherOverlap |
     >>> pusher_overlap(mask, scoring, moved, gyration_px(mask)) is None
     True
     """
-    if record.outcome != "evidence" or record.motion is None:
+    if record.outcome != "evidence" or record.motion is None or not scoring.models:
         return None
     depth, allowed = overlap_and_allowance(mask, scoring, record, gyration_px)
     return PusherOverlap(depth, allowed) if depth > allowed else None

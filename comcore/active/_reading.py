@@ -29,7 +29,6 @@ from ..conventions import object_motion_from_camera
 from ..geometry._disc_contacts import pusher_contacts
 from ._grid import GridPosterior
 from ._likelihood import PushMemo, Scoring, push_evidence, tracking_noise
-from ._overlap import pusher_overlap
 from ._path import (
     OFF_PATH_M,
     FramedPush,
@@ -119,11 +118,9 @@ def read_push(
     executed=None,
     frames=None,
 ):
-    """The push's record, its evidence ``(loglik, excess, overlap)`` or ``()``, and the new pose.
+    """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose.
 
-    ``overlap``: the :class:`comcore.active._overlap.PusherOverlap` of a pusher that ends
-    inside the object as the motion moved it, or None. ``candidates``
-    (:class:`comcore.active._choice.Candidates`) and ``index``: the push
+    ``candidates`` (:class:`comcore.active._choice.Candidates`) and ``index``: the push
     planned; ``mask`` or ``motion``: what the camera or the tracker saw;
     ``failed``: the push could not be made; ``executed``: the path the pusher
     took (camera pixels) or None; ``frames``: what the camera saw during the push
@@ -182,8 +179,7 @@ def read_push(
     else:
         branch, loglik, excess = best_branch(ctx, branches, action, lines, memo)
     record = push_record(base, ctx.pose, scored, branch, "evidence", path=points, dropped=dropped)
-    overlap = pusher_overlap(ctx.first, ctx.scoring, record, ctx.gyration_px)
-    return record, (loglik, excess, overlap), branch.pose
+    return record, (loglik, excess), branch.pose
 
 
 def frame_path(ctx: PushContext, action, frames, branch: PoseReading):

@@ -30,6 +30,7 @@ from ._grid import prior_grid
 from ._likelihood import Likelihood, Scoring, check_models, gyration_px
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, group_or_default
 from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
+from ._overlap import pusher_overlap
 from ._reading import PushContext, read_push
 from ._records import PushLog, PushLoop, SessionState
 from ._stop import StopRule, choice_status, stop_reason
@@ -337,7 +338,8 @@ class ActiveSession(PushLoop):
         if failed and executed is not None:
             raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
         record, evidence, pose = self._reading(mask, motion, failed, executed, frames)
-        self._log.add(record, self._posterior, *evidence)
+        overlap = pusher_overlap(self._first, self._scoring, record, self._gyration_px)
+        self._log.add(record, self._posterior, *evidence, overlap=overlap)
         self._candidates.made(self._pending)
         if record.outcome != "failed":
             self._mask_now = mask  # None after a motion: the first mask moved to the new pose
@@ -348,7 +350,7 @@ class ActiveSession(PushLoop):
         self._plan()
 
     def _reading(self, mask, motion, failed: bool, executed, frames=None):
-        """The push's record, its evidence ``(loglik, excess, overlap)`` or ``()``, the new pose."""
+        """The push's record, its evidence ``(loglik, excess)`` or ``()``, and the new pose."""
         return read_push(
             PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
             self._candidates, self._pending, mask, motion, failed, executed=executed, frames=frames,

@@ -22,9 +22,9 @@ In order:
 
 Whatever the reason, the status is ``"inconsistent"`` instead when no (CoM,
 friction, model) hypothesis explains the pushes well
-(:func:`comcore.active._likelihood.consistency_threshold`). A push whose pusher
-ends inside the object as its motion moved it, which no hypothesis explains
-(:mod:`comcore.active._overlap`), stops the session ``"inconsistent"`` at once.
+(:func:`comcore.active._likelihood.consistency_threshold`), or when a push's
+pusher ends inside the object as its motion moved it, which no hypothesis
+explains (:mod:`comcore.active._overlap`).
 
 A posterior over recorded pushes (:func:`offline_status`) chooses none and has
 no budget: it is ``"ok"`` (consistent, its credible region at most its
@@ -181,8 +181,8 @@ def stop_reason(rule, state, resolution: float) -> Status | None:
     -------
     Status or None
         ``"ok"``, ``"budget"`` or ``"inconsistent"`` (either, when no
-        hypothesis explains the pushes; at once on a contradiction,
-        ``state.contradiction``), or None.
+        hypothesis explains the pushes or ``state.contradiction`` says why
+        none can), or None.
 
     Examples
     --------
@@ -194,8 +194,6 @@ def stop_reason(rule, state, resolution: float) -> Status | None:
     >>> stop_reason(comcore.StopRule(min_pushes=3), state, 0.0025) is None
     True
     """
-    if state.contradiction is not None:  # no later push explains it away: stop now
-        return Status.INCONSISTENT
     small = region_reached(state.credible_radius_px, rule.target_radius, resolution)
     if small and state.n_evidence >= rule.min_pushes:
         reason = Status.OK

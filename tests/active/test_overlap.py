@@ -38,7 +38,6 @@ def test_a_turn_in_place_after_a_deep_push_is_inconsistent_not_ok(motion):
     assert not state.consistent
     assert state.contradiction.startswith("pushes[0]: the pusher's centre ends ")
     assert "px inside the object" in state.contradiction
-    assert len(est.pushes) == 1  # a contradiction stops the session at once
 
 
 def test_the_replay_of_a_contradicting_session_is_inconsistent_too():
@@ -53,13 +52,21 @@ def test_the_replay_of_a_contradicting_session_is_inconsistent_too():
 def test_estimate_posterior_names_the_push_that_contradicts():
     actions = [(22.0, 46.0, 22.0, 30.0), (46.0, 22.0, 30.0, 22.0), (22.0, 0.0, 22.0, 15.0)]
     moved = [(0.0, 0.0, -8.0), (0.0, -8.0, 0.0), (0.0, 0.0, 7.0)]  # each as far as pushed
-    est = comcore.estimate_posterior(SQUARE, actions, moved, model=None)
+    est = comcore.estimate_posterior(SQUARE, actions, moved)
     assert est.posterior.history[-1].contradiction is None
     short = [moved[0], (0.0, -2.0, 0.0), moved[2]]  # push 1 moved 2 px, pushed 8 px deep
-    est = comcore.estimate_posterior(SQUARE, actions, short, model=None)
+    est = comcore.estimate_posterior(SQUARE, actions, short)
     assert est.status == "inconsistent"
     assert est.posterior.history[-1].contradiction.startswith("pushes[1]: ")
     assert [s.contradiction is None for s in est.posterior.history] == [True, True, False, False]
+
+
+def test_the_voting_theorem_alone_reads_senses_and_checks_no_sizes():
+    est = comcore.estimate_active(
+        SQUARE, lambda a: (0.1, 0.0, 0.0), model=None, stop=comcore.StopRule(max_pushes=3), rng=0
+    )
+    assert len(est.pushes) == 3
+    assert all(s.contradiction is None for s in est.posterior.history)
 
 
 # -- what is checked, and what the noise allows ------------------------------------------------
@@ -79,11 +86,12 @@ def test_a_point_pusher_is_its_leading_point():
 
 
 def test_misses_and_failed_pushes_are_not_checked():
-    scoring = Scoring.build(comcore.Likelihood(), SQUARE, (), pusher_radius=0.004)
+    model = comcore.LimitSurfaceModel(pusher_radius=0.004)
+    scoring = Scoring.build(comcore.Likelihood(), SQUARE, (model,), pusher_radius=0.004)
     for outcome, motion in (("miss", (0.0, 0.0, 0.0)), ("failed", None)):
         record = comcore.PushRecord(action=DEEP, motion=motion, outcome=outcome)
         assert pusher_overlap(SQUARE, scoring, record, gyration_px(SQUARE)) is None
-    session = comcore.ActiveSession(SQUARE, model=None, rng=0)
+    session = comcore.ActiveSession(SQUARE, rng=0)
     session.next_push()
     session.observe(failed=True)
     session.next_push()
@@ -127,12 +135,12 @@ def test_an_unobserved_rotation_is_checked_at_every_turn():
 # -- the stop rule -------------------------------------------------------------------------------
 
 
-def test_a_contradiction_is_inconsistent_at_once_whatever_the_excess():
-    state = SessionState((0.0, 0.0), 5.0, 10.0, 0.0, -3.0, 1, 1, contradiction="pushes[0]: ...")
+def test_a_contradiction_is_inconsistent_whatever_the_excess():
+    rule = comcore.StopRule(max_pushes=8)
+    state = SessionState((0.0, 0.0), 0.0, 0.5, 0.0, -3.0, 8, 8, contradiction="pushes[0]: ...")
     assert not state.consistent
-    assert stop_reason(comcore.StopRule(max_pushes=8), state, 0.0025) == "inconsistent"
+    assert stop_reason(rule, state, 0.0025) == "inconsistent"
     assert offline_status(state) == "inconsistent"
-    assert (
-        stop_reason(comcore.StopRule(max_pushes=8), state._replace(contradiction=None), 0.0025)
-        is None
-    )
+    assert stop_reason(rule, state._replace(contradiction=None), 0.0025) == "ok"
+    # a session goes on to its stop as with an excess, and stops inconsistent then
+    assert stop_reason(rule, state._replace(n_pushes=1, credible_radius_px=10.0), 0.0025) is None
