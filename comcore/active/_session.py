@@ -216,7 +216,10 @@ class ActiveSession(PushLoop):
 
         The :attr:`excess_nats` of the best hypothesis is above
         ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
-        quantile of its distribution under the likelihood).
+        quantile of its distribution under the likelihood), or, with a motion
+        model, a push's pusher ends inside the object as its reported motion
+        moved it (:mod:`comcore.active._overlap`; ``history[-1].contradiction``
+        names the push and the depth).
         """
         return self._log.state.consistent
 
