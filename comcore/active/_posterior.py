@@ -70,6 +70,7 @@ from ._likelihood import (
 from ._motion_term import KnownPushes
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL
 from ._options import RECORDED_SYSTEMATIC_ERROR as RECORDED_FLOOR
+from ._overlap import pusher_overlap
 from ._path import FramedPush, PushPath, check_frames, path_tracking, read_path
 from ._records import PushLog
 from ._session import session_setup
@@ -279,7 +280,7 @@ def _scored(mask, given, run: _Run, con, *, bag: bool) -> _Posterior:
             rotation_observed=record.rotation_observed, tracking=tracking, path=path,
             memo=PushMemo(known=run.known),
         )  # fmt: skip
-        log.add(record, post, loglik, excess)
+        log.add(record, post, loglik, excess, pusher_overlap(mask, scoring, record, gyration))
         if kept is not None:
             kept.add(loglik.tempered)
         _count_sense(senses, scoring, post.pixels, lines[i], record, tracking)

@@ -45,10 +45,16 @@ class SessionState(NamedTuple):
     """Pushes so far that carried evidence."""
     expected_gain_bits: float | None = None
     """Expected information (bits) of the push chosen next (None: none chosen)."""
+    contradiction: str | None = None
+    """Why the pushes so far contradict themselves whatever the CoM (the first push whose
+    pusher ends inside the object as its motion moved it, and how deep:
+    :mod:`comcore.active._overlap`), or None."""
 
     @property
     def consistent(self) -> bool:
-        """False when even the best hypothesis is surprised beyond ``10 + 6 sqrt(n)`` nats."""
+        """False on a :attr:`contradiction` or an excess above ``10 + 6 sqrt(n)`` nats."""
+        if self.contradiction is not None:
+            return False
         n = self.n_evidence
         return n == 0 or self.excess_nats <= consistency_threshold(n)
 
@@ -63,6 +69,7 @@ class PushLog:
         self.history: list[SessionState] = []
         self.excess = np.zeros(post.log_w.shape)
         self.log_evidence = 0.0
+        self.contradiction: str | None = None  # SessionState.contradiction
         self._state(post)
 
     def _state(self, post: GridPosterior) -> None:
@@ -76,11 +83,20 @@ class PushLog:
                 excess_nats=self.excess_nats,
                 n_pushes=len(self.executed),
                 n_evidence=self.n_evidence,
+                contradiction=self.contradiction,
             )
         )
 
-    def add(self, record: PushRecord, post: GridPosterior, loglik=None, excess=None) -> None:
-        """Add a push's record; with evidence, multiply its likelihood into ``post``."""
+    def add(
+        self, record: PushRecord, post: GridPosterior, loglik=None, excess=None, overlap=None
+    ) -> None:
+        """Add a push's record; with evidence, multiply its likelihood into ``post``.
+
+        ``overlap``: the push's :class:`comcore.active._overlap.PusherOverlap` (None: none),
+        kept as the log's contradiction if it is the first.
+        """
+        if overlap is not None and self.contradiction is None:
+            self.contradiction = overlap.message(len(self.records))
         if loglik is not None:
             evidence = post.update(loglik.tempered, loglik.full)
             record = dataclasses.replace(record, log_evidence=evidence)

@@ -30,6 +30,7 @@ from ._grid import prior_grid
 from ._likelihood import Likelihood, Scoring, check_models, gyration_px
 from ._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, group_or_default
 from ._options import SESSION_SYSTEMATIC_ERROR as SESSION_FLOOR
+from ._overlap import pusher_overlap
 from ._reading import PushContext, read_push
 from ._records import PushLog, PushLoop, SessionState
 from ._stop import StopRule, choice_status, stop_reason
@@ -215,7 +216,10 @@ class ActiveSession(PushLoop):
 
         The :attr:`excess_nats` of the best hypothesis is above
         ``10 + 6 sqrt(n)`` for ``n`` pushes with evidence (above the 99.9 %
-        quantile of its distribution under the likelihood).
+        quantile of its distribution under the likelihood), or, with a motion
+        model, a push's pusher ends inside the object as its reported motion
+        moved it (:mod:`comcore.active._overlap`; ``history[-1].contradiction``
+        names the push and the depth).
         """
         return self._log.state.consistent
 
@@ -337,7 +341,8 @@ class ActiveSession(PushLoop):
         if failed and executed is not None:
             raise TypeError("observe(failed=True) takes no executed push: nothing was executed")
         record, evidence, pose = self._reading(mask, motion, failed, executed, frames)
-        self._log.add(record, self._posterior, *evidence)
+        overlap = pusher_overlap(self._first, self._scoring, record, self._gyration_px)
+        self._log.add(record, self._posterior, *evidence, overlap=overlap)
         self._candidates.made(self._pending)
         if record.outcome != "failed":
             self._mask_now = mask  # None after a motion: the first mask moved to the new pose

@@ -22,7 +22,9 @@ In order:
 
 Whatever the reason, the status is ``"inconsistent"`` instead when no (CoM,
 friction, model) hypothesis explains the pushes well
-(:func:`comcore.active._likelihood.consistency_threshold`).
+(:func:`comcore.active._likelihood.consistency_threshold`), or when a push's
+pusher ends inside the object as its motion moved it, which no hypothesis
+explains (:mod:`comcore.active._overlap`).
 
 A posterior over recorded pushes (:func:`offline_status`) chooses none and has
 no budget: it is ``"ok"`` (consistent, its credible region at most its
@@ -179,7 +181,8 @@ def stop_reason(rule, state, resolution: float) -> Status | None:
     -------
     Status or None
         ``"ok"``, ``"budget"`` or ``"inconsistent"`` (either, when no
-        hypothesis explains the pushes), or None.
+        hypothesis explains the pushes or ``state.contradiction`` says why
+        none can), or None.
 
     Examples
     --------

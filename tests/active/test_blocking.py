@@ -35,11 +35,14 @@ class ToyModel:
 
     ``theta = sense * 0.4 * tanh(|d| / length)`` where ``d`` is the CoM's distance
     to the push line and the sense comes from :func:`comcore.vt.predicted_sense`;
-    the centroid moves along the push, less when the object turns.
+    the centroid moves ``travel`` px along the push, less when the object turns (a
+    ``travel`` short of the push's past its contact is physics no rigid pusher makes:
+    :mod:`comcore.active._overlap`).
     """
 
-    def __init__(self, length=8.0):
+    def __init__(self, length=8.0, travel=12.0):
         self.length = length
+        self.travel = travel
 
     def predict_hypotheses(self, mask, actions, coms, mu):
         acts = comcore.checks.check_actions(actions)
@@ -52,7 +55,7 @@ class ToyModel:
             lever = comcore.geometry.signed_line_distance(coms, a[None])[:, 0]
             theta = sense * 0.4 * np.tanh(np.abs(lever) / self.length)
             out[:, j, 0] = theta
-            out[:, j, 1:] = 12.0 * direction * (1 - np.abs(theta))[:, None]
+            out[:, j, 1:] = self.travel * direction * (1 - np.abs(theta))[:, None]
         return out
 
 
@@ -183,11 +186,12 @@ def test_with_the_true_model_the_credible_region_holds_the_com(seed, selection):
     mask = _ell()
     rng = np.random.default_rng(seed)
     com = tuple(mask.pixels[rng.integers(mask.area_px)])
-    push = _robot(mask, com, 0.4)
+    truth = ToyModel(travel=20.0)  # the object clears the pusher's path
+    push = _robot(mask, com, 0.4, model=truth)
     est = comcore.estimate_active(
         mask,
         push,
-        model=ToyModel(),
+        model=truth,
         rng=seed, stop=comcore.StopRule(target_radius=0.002), choice=comcore.PushChoice(selection=selection, n_candidates=60))
     assert est.region[int(com[1]), int(com[0])]
     assert est.error_px(com) < 1.5
