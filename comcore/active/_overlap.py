@@ -51,7 +51,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..conventions import rotation_matrix
-from ..geometry._outline_field import outline_field
+from ..geometry._disc_contacts import outline_field
 from ._likelihood import tracking_noise
 
 __all__ = [

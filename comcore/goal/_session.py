@@ -21,6 +21,7 @@ from .._validation import check_count, check_mask, check_one_object, check_physi
 from ..active._choice import Candidates, PushChoice
 from ..active._likelihood import Likelihood, PushMemo, gyration_px
 from ..active._options import DEFAULT_CREDIBLE, DEFAULT_MODEL, group_or_default
+from ..active._overlap import pusher_overlap
 from ..active._path import check_frames
 from ..active._reading import (
     PushContext,
@@ -597,7 +598,8 @@ class GoalSession(PushLoop):
             self._handed_out, self._plan, self._final = False, None, Status.LOST
             return
         record, evidence, pose = self._reading(mask, motion, frames)
-        self._log.add(record, self._posterior, *evidence)
+        overlap = pusher_overlap(self._first, self._scoring, record, self._gyration)
+        self._log.add(record, self._posterior, *evidence, overlap=overlap)
         self._n_pushes += 1
         self._kinds.append(self._plan.kind)
         if self._plan.kind == "learn":  # not offered again (a miss too), as an ActiveSession's
