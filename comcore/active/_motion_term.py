@@ -206,7 +206,9 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
             expect(mask, mus)
     for k, model in enumerate(models):
         if callable(getattr(model, "predict_frictions", None)):
-            friction_predictions(model, mask, actions, pixels, mus, alive[:, :, k], out=out[:, :, k])
+            friction_predictions(
+                model, mask, actions, pixels, mus, alive[:, :, k], out=out[:, :, k]
+            )
     for j, mu_j in enumerate(mus):
         for k, model in enumerate(models):
             idx = np.flatnonzero(alive[:, j, k])
