@@ -35,21 +35,16 @@ else:  # Python 3.10
 class Status(_StrEnum):
     """Why an estimator returned what it did, or what a session waits for.
 
-    Every :attr:`Estimate.status <comcore.Estimate>`,
-    :attr:`ActiveSession.status <comcore.ActiveSession>` and
-    :attr:`GoalSession.status <comcore.GoalSession>` is a member. A member is its
-    string (``Status.OK == "ok"``, ``json.dumps`` writes ``"ok"``, f-strings print
-    ``ok``, and its repr is the string's, ``'ok'``), so code that compares with
-    or prints the strings keeps working. Only ``OK``
-    makes :attr:`Estimate.ok <comcore.Estimate>` true; every other final status
-    comes with the fallback its estimator documents (usually the mask's area
-    centroid), never a NaN.
+    Every ``status`` of an :class:`~comcore.Estimate`, :class:`~comcore.ActiveSession` and
+    :class:`~comcore.GoalSession` is a member. A member is its string (``Status.OK == "ok"``;
+    ``json.dumps``, f-strings and repr give the string). Only ``OK`` makes ``Estimate.ok`` true;
+    every other final status comes with its estimator's fallback (usually the mask's area
+    centroid), never a NaN. What to do on each: docs/tutorials/robot-session.md.
 
-    ``ok`` means one thing everywhere: the data were consistent AND the
-    estimate's region reached the target radius (``target_radius``, metres,
-    default 6 mm: the equivalent-circle radius ``sqrt(area / pi)`` of the
-    region, compared by :func:`region_reached`). Where the data were
-    consistent but the region did not reach it, the status says why:
+    ``ok`` means, for every estimator, that the data were consistent AND the estimate's region
+    (the 90 % credible region; Alg. 2's final feasible region) reached ``target_radius``
+    (metres, default 6 mm; radius ``sqrt(area / pi)``, by :func:`region_reached`), a session's
+    only after ``StopRule.min_pushes`` pushes with evidence. Consistent but wider, it says why:
 
     | entry point | region reached the target | consistent, region wider |
     | --- | --- | --- |
@@ -57,96 +52,41 @@ class Status(_StrEnum):
     | ``estimate_posterior``, ``comcore estimate`` | ``ok`` | ``wide`` |
     | ``estimate_progressive`` (Alg. 2) | ``ok`` | ``wide`` |
 
-    A session (:class:`comcore.ActiveSession`, :func:`comcore.estimate_active`)
-    is ``ok`` only after ``StopRule.min_pushes`` pushes with evidence; its
-    three wide statuses name why it stopped before its region reached the
-    target.
-    The region is the 90 % credible region for the sessions and the posterior
-    (``StopRule.target_radius`` for a session, the ``target_radius`` keyword
-    of :func:`comcore.estimate_posterior`, ``--target-radius`` of ``comcore
-    estimate``), and for Alg. 2 the final feasible region it takes its mean
-    of (the ``target_radius`` keyword of :func:`comcore.estimate_progressive`).
-    ``wide``, ``budget``, ``exhausted`` and ``uninformative`` all say: usable,
-    less sure than asked. ``inconsistent`` replaces any of them when the data
-    contradict each other: do not use the estimate.
-
     Attributes
     ----------
     OK : "ok"
-        The data were consistent and the estimate's region reached the target
-        radius (a session: its credible region is as small as its stop rule
-        asks, after ``min_pushes`` pushes with evidence).
+        Consistent, and the region reached the target radius.
     WIDE : "wide"
-        The data were consistent but the region is wider than the target
-        radius (:func:`comcore.estimate_posterior`, ``comcore estimate``,
-        :func:`comcore.estimate_progressive`): the estimate is usable and its
-        region says how unsure it is; more pushes, across the region, narrow
-        it. A session says ``budget``, ``exhausted`` or ``uninformative``
-        instead, naming why it stopped wide.
+        Consistent, but the region is wider than the target radius (offline estimators): usable.
     UNCHECKED : "unchecked"
-        Alg. 1 (:func:`comcore.estimate_heatmap`) found a region, but nothing
-        tests its evidence: any motions, right or wrong, give one. Also the
-        area-centroid baseline (``comcore estimate --method centroid``, the
-        bench's ``centroid``), which uses no push at all.
-    NO_ACTIONS : "no_actions"
-        No push could be used (none given, or none turned the object enough);
-        the estimate is the mask's area centroid.
-    FLAT_HEATMAP : "flat_heatmap"
-        Alg. 1's heat map is flat over the object: the pushes single out no
-        region; the estimate is the centroid.
-    EMPTY_REGION : "empty_region"
-        The region an estimator kept came out empty; the estimate is the
-        centroid of the whole mask.
+        Alg. 1 (:func:`comcore.estimate_heatmap`) or the centroid baseline: nothing tests it.
+    NO_ACTIONS, FLAT_HEATMAP, EMPTY_REGION : "no_actions", "flat_heatmap", "empty_region"
+        The mask's centroid: no push could be used (none given, or none turned enough);
+        Alg. 1's heat map is flat over the object; the region an estimator kept is empty.
     INCONSISTENT : "inconsistent"
-        The pushes contradict each other: no (CoM, friction, model) hypothesis
-        explains them well (the posterior and the sessions, whatever their
-        stop), or some of them contradict the region the others leave (Alg. 2,
-        :func:`comcore.estimate_progressive`: the estimate rests on the
-        others, :attr:`ProgressiveDetails.contradicted
-        <comcore.paper.ProgressiveDetails>` lists them). Check the pixel
-        frame and the sign of theta.
+        The pushes contradict each other (Alg. 2 lists them in ``progressive.contradicted``):
+        do not use the estimate; check the pixel frame and the sign of theta.
     NO_EVIDENCE : "no_evidence"
-        No push moved the object measurably (:func:`comcore.estimate_posterior`):
-        the estimate is the prior's mean.
-    BUDGET : "budget"
-        A session spent its ``max_pushes`` (:class:`comcore.StopRule`) before
-        its region was small (active) or the object reached the goal (goal);
-        the estimate is usable, its region wider than ``target_radius`` (or
-        fewer than ``min_pushes`` pushes carried evidence): a session's
-        ``wide``. In ``comcore bench`` it is the active estimator's trials
-        that spent the bench's push budget before the target radius.
-    EXHAUSTED : "exhausted"
-        An active session had no candidate push left to offer in this pose
-        (its region wider than the target: usable, as ``wide``).
-    UNINFORMATIVE : "uninformative"
-        No candidate push left was expected to teach more than
-        ``StopRule.min_information`` bits (its region wider than the target:
-        usable, as ``wide``).
+        No push moved the object measurably (:func:`comcore.estimate_posterior`); the prior's mean.
+    BUDGET, EXHAUSTED, UNINFORMATIVE : "budget", "exhausted", "uninformative"
+        A session stopped wide but usable: it spent ``StopRule.max_pushes`` (``comcore bench``:
+        its budget); had no candidate push left in this pose; had none expected to teach
+        ``StopRule.min_information`` bits.
     PUSH_FAILED : "push_failed"
-        The partial estimate of :func:`comcore.estimate_active` when a push
-        failed (:attr:`comcore.PushFailedError.partial`).
-    WAITING_PUSH : "waiting_push"
-        A session goes on: call its ``next_push()``.
-    WAITING_OBSERVATION : "waiting_observation"
-        A session handed a push out: call its ``observe(...)``.
-    REACHED : "reached"
-        :class:`comcore.GoalSession`: the pose is within the goal's tolerances.
-    STUCK : "stuck"
-        :class:`comcore.GoalSession`: no push is expected to bring the object
-        closer (the goal needs a pull, or a push the outline does not allow).
-    LOST : "lost"
-        :class:`comcore.GoalSession`: the object left the camera's view.
+        :func:`comcore.estimate_active`'s partial estimate when a push failed.
+    WAITING_PUSH, WAITING_OBSERVATION : "waiting_push", "waiting_observation"
+        A session goes on: call its ``next_push()``, or ``observe(...)`` for the push handed out.
+    REACHED, STUCK, LOST : "reached", "stuck", "lost"
+        :class:`comcore.GoalSession`: within tolerance; no push brings it closer; out of view.
     ERROR : "error"
-        ``comcore bench`` only: the estimator (or the simulation of its
-        motions) raised; the row's ``message`` says what.
+        ``comcore bench`` only: the estimator (or its simulation) raised; see the row's message.
 
     Examples
     --------
-    >>> import json, comcore
-    >>> comcore.Status.INCONSISTENT == "inconsistent", json.dumps(comcore.Status.OK)
-    (True, '"ok"')
-    >>> f"status {comcore.Status('budget')}"
-    'status budget'
+    >>> import json
+    >>> from comcore import Status
+    >>> Status("budget") == "budget", json.dumps(Status.OK), f"{Status.WIDE}"
+    (True, '"ok"', 'wide')
     """
 
     OK = "ok"

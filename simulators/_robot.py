@@ -284,59 +284,43 @@ def retreat_starts(simulator, pose, starts, directions) -> np.ndarray:
 class SimulatedRobot:
     """A push simulator playing a real robot: never reset, seen through a camera.
 
-    The object starts at the simulator's initial pose and stays wherever each
-    push leaves it. Actions are in the **camera frame**: pixels of
-    :meth:`camera_mask` (x = column, y = row down), the camera fixed and looking
-    straight down. The camera covers the disc about the footprint's area
-    centroid that holds the object in every orientation, plus ``camera_margin``
-    on every side (:func:`camera_frame_margin`), so pushes that turn the object
-    any way and carry it a few centimetres keep it in view; :meth:`camera_mask`
-    raises when the object touches the image border (it left the view).
-
-    Realism options, each drawn from ``rng``:
-
-    * ``pusher_error``: std (metres) of the pusher's position across the push:
-      the whole commanded path is shifted along its normal by one normal draw
-      per push. ``angle_error``: std (radians) of a turn of the path about its
-      start, drawn per push. A shifted start that lands inside the object is
-      moved back along the push (1 mm steps, at most 5 cm) until it is outside,
-      as an arm lowering its pusher a little farther back would.
-    * ``mask_noise``: probability that each outline pixel of a camera mask is
-      flipped (object pixels on the outline become table, table pixels next to
-      it become object); holes are then filled and the largest component kept.
-      0.5 shifts the outline by about half a pixel, pixel by pixel; every
-      :meth:`camera_mask` call draws afresh, like a new camera frame.
-
-    A video camera: ``execute(action, frame_rate=...)`` also returns the frames a
-    camera at that rate saw during the push, the pusher moving along its path at
-    ``speed`` (:meth:`execute`).
+    The object starts at the simulator's initial pose and stays wherever each push leaves it.
+    Actions are in the **camera frame**: pixels of :meth:`camera_mask` (x = column, y = row
+    down), the camera fixed and looking straight down. The camera covers the disc about the
+    footprint's area centroid that holds the object in every orientation, plus
+    ``camera_margin`` on every side (:func:`camera_frame_margin`), so pushes that turn the
+    object any way and carry it a few centimetres keep it in view; :meth:`camera_mask` raises
+    when the object touches the image border (it left the view). ``execute(action,
+    frame_rate=...)`` also returns the frames a video camera saw during the push.
 
     Parameters
     ----------
     simulator : PushSimulator
-        The object (shape, mass, friction, pusher). It is not modified; the robot
-        builds its own copy with the camera's margin, resolution and engine.
+        The object (shape, mass, friction, pusher). It is not modified; the robot builds its
+        own copy with the camera's margin, resolution and engine.
     pusher_error : float, optional
-        Metres (std) across the push, default 0.
+        Std (metres) of the pusher's position: the whole path is shifted along its normal by
+        one draw per push (default 0). A start shifted into the object is moved back along
+        the push (1 mm steps, at most 5 cm) until it is outside.
     angle_error : float, optional
-        Radians (std) of the push direction, default 0.
+        Std (radians) of a turn of the path about its start, drawn per push (default 0).
     mask_noise : float, optional
-        Flip probability of each outline pixel, in [0, 1), default 0.
+        Probability, in [0, 1), that each outline pixel of a camera mask is flipped (holes
+        then filled, the largest component kept); each :meth:`camera_mask` draws afresh
+        (default 0; 0.5 moves the outline by about half a pixel).
     camera_margin : float or None, optional
-        Metres of table around the object's bounding disc in the camera image
-        (default :data:`DEFAULT_CAMERA_MARGIN`); ``None`` keeps the simulator's
-        frame (its mask is then the camera's first image).
+        Metres of table around the object's bounding disc in the camera image (default
+        :data:`DEFAULT_CAMERA_MARGIN`); ``None`` keeps the simulator's frame.
     resolution : float, optional
         Metres per camera pixel; default the simulator's.
     engine : str or EngineSettings, optional
-        The physics playing the world: ``"quasistatic"``, ``"pymunk"`` or full
-        :class:`EngineSettings`; default the simulator's.
+        The physics: ``"quasistatic"``, ``"pymunk"`` or :class:`EngineSettings`; default the
+        simulator's.
     speed : float, optional
-        The pusher's speed along its path, m/s (default :data:`DEFAULT_PUSHER_SPEED`):
-        what times the frames of ``execute(..., frame_rate=...)``. The pushes are
-        quasi-static whatever it is.
+        The pusher's speed along its path, m/s (default :data:`DEFAULT_PUSHER_SPEED`): what
+        times the video frames. The pushes are quasi-static whatever it is.
     rng : None, int or numpy.random.Generator, optional
-        Seed of the pusher and camera noise (:func:`comcore.checks.check_rng`).
+        Seed of the pusher and camera noise, the only random draws.
 
     Examples
     --------

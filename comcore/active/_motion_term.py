@@ -206,7 +206,9 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
             expect(mask, mus)
     for k, model in enumerate(models):
         if callable(getattr(model, "predict_frictions", None)):
-            friction_predictions(model, mask, actions, pixels, mus, alive[:, :, k], out[:, :, k])
+            friction_predictions(
+                model, mask, actions, pixels, mus, alive[:, :, k], out=out[:, :, k]
+            )
     for j, mu_j in enumerate(mus):
         for k, model in enumerate(models):
             idx = np.flatnonzero(alive[:, j, k])
@@ -217,7 +219,7 @@ def model_predictions(models, mask, actions, pixels, mus, alive) -> np.ndarray:
     return out
 
 
-def friction_predictions(model, mask, actions, pixels, mus, alive, out) -> None:
+def friction_predictions(model, mask, actions, pixels, mus, alive, *, out) -> None:
     """One ``model.predict_frictions`` call for every friction value, written into ``out``.
 
     ``alive`` (p, m) says which (pixel, mu) hypotheses to keep; the model is

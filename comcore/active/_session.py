@@ -58,84 +58,36 @@ def session_setup(
 class ActiveSession(PushLoop):
     """Find the CoM by pushing, one push at a time, driven by the caller's loop.
 
-    The ask/tell form of :func:`comcore.estimate_active` (same posterior,
-    likelihood, push choice and stop rule; see there), for a robot that
-    cannot reset the object and sees it through a camera::
-
-        session = comcore.ActiveSession(first_mask, pusher_radius=0.004, rng=0)
-        while not session.done:
-            action = session.next_push()   # camera frame, on the object as it is now
-            robot.execute(action)
-            session.observe(camera_mask())  # or observe(motion=...), observe(failed=True)
-        estimate = session.estimate()       # .com in the first mask's frame
-
-    **Frames.** The posterior lives on the object, in the first mask's frame.
-    The session tracks the object's :attr:`pose` relative to the first mask:
-    from each observed mask, registered against the FIRST mask with
-    :func:`comcore.measure_motion` (so tracking errors do not pile up), or
-    from each motion the caller's tracker reports (camera frame, about the
-    object's current centroid). Candidates are drawn once on the first mask
-    and move with the object: :meth:`next_push` offers only pushes that, in
-    the current pose, start and end in the image, start outside the object
-    and hit it (checked on the last observed mask, or on the first mask moved
-    to the pose). A push is never offered twice.
-
-    **Pushes without evidence.** A push after which the object turned by
-    less than 0.01 rad and moved by less than 1 mm
-    (:data:`comcore.camera._pose_tracking.MISS_ROTATION`, ``MISS_TRANSLATION_M``) is a
-    miss: recorded, counted in the budget, no evidence. ``observe(failed=True)``
-    (the robot could not execute it): not counted, no evidence. A mask whose
-    registration is ``ambiguous`` (a disc: the rotation cannot be seen) gives
-    the translation only.
-
-    **State.** After every call that changes it (construction, :meth:`observe`,
-    :meth:`reset_pose`) the session applies the stop rule and, if it goes on,
-    chooses the next push; reading :attr:`done`, :attr:`status` or
-    :attr:`history` computes nothing.
+    The ask/tell form of :func:`comcore.estimate_active` (same posterior, likelihood, push choice
+    and stop rule) for a robot that cannot reset the object and sees it by camera: :meth:`next_push`
+    gives a push in the camera frame, on the object where it is now; :meth:`observe` takes a mask, a
+    motion or ``failed=True``; :meth:`estimate` gives the CoM in the first mask's frame. The
+    :attr:`pose` is tracked from each mask (registered against the first) or motion. Candidates are
+    drawn once on the first mask and move with the object; each is offered once, if it hits the
+    object and stays in the image. Each call that changes the state applies the stop rule and
+    chooses the next push; reading :attr:`done`, :attr:`status` or :attr:`history` computes nothing.
+    Frames, misses: docs/explanation/method.md, docs/how-to/your-robot.md.
 
     Parameters
     ----------
     mask : Mask
         The object as the camera sees it before the first push.
     candidates : array_like, shape (n, 4), optional
-        Pushes in the first mask's frame; each must start outside the object
-        and hit it. Default: ``comcore.sample_pushes`` with ``choice``'s
-        ``n_candidates``, ``cone`` and ``travel``.
+        Pushes in the first mask's frame, each starting outside the object and hitting it
+        (default: :func:`comcore.sample_pushes` with ``choice``'s settings).
     model : comcore.Predictor, sequence of them, or None, optional
-        Motion model of the likelihood. Default:
-        ``comcore.LimitSurfaceModel(pusher_radius=pusher_radius)``. ``None``:
-        the Voting Theorem alone. Several models are weighed against each
-        other like the friction.
+        Motion model(s), weighed like the friction (default ``comcore.LimitSurfaceModel``;
+        ``None``: the Voting Theorem alone).
     pusher_radius : float, optional
-        Radius (metres) of the round pusher, for the default model (default
-        :data:`comcore.conventions.DEFAULT_PUSHER_RADIUS`, 4 mm): set it from
-        your robot.
+        Radius of the round pusher in metres (default 4 mm): set it from your robot.
     prior : array_like, shape (H, W), optional
-        Non-negative prior weights of the CoM over the image (default uniform
-        over the object; pass e.g. the convex hull if the CoM may lie off it).
+        Non-negative prior weights of the CoM over the image (default uniform on the object).
     credible : float, optional
         Mass of the credible region, in (0, 1).
     rng : None, int or numpy.random.Generator, optional
         Seeds the default candidates (the only random choice).
-    likelihood : Likelihood, optional
-        How pushes are scored (noise scales in metres and radians, friction,
-        the model's power); default ``comcore.Likelihood()``.
-    stop : StopRule, optional
-        When to stop; default ``comcore.StopRule()`` (5 pushes, 6 mm).
-    choice : PushChoice, optional
-        How pushes are chosen; default ``comcore.PushChoice()``.
-
-    Attributes
-    ----------
-    done : bool
-    status : Status
-        ``"waiting_push"`` (call :meth:`next_push`), ``"waiting_observation"``
-        (call :meth:`observe`), or final: ``"ok"``, ``"budget"``,
-        ``"exhausted"`` (no candidate left that can be pushed in this pose),
-        ``"uninformative"``, or ``"inconsistent"`` (instead of any of them)
-        when no hypothesis explains the motions well (:attr:`consistent`).
-    pose : Motion
-        The object's pose now relative to the first mask.
+    likelihood, stop, choice : Likelihood, StopRule, PushChoice, optional
+        How pushes are scored, when to stop, how pushes are chosen (default: each class's).
 
     Raises
     ------
@@ -144,8 +96,7 @@ class ActiveSession(PushLoop):
 
     Examples
     --------
-    The object turns 0.1 rad in the Voting Theorem's sense and stays put (no
-    physics: the Voting Theorem alone, ``model=None``):
+    The object turns 0.1 rad in the Voting Theorem's sense and stays put (``model=None``):
 
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((30, 30), bool), 8))

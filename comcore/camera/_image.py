@@ -225,21 +225,18 @@ def mask_from_image(
     image : array_like or str or os.PathLike
         Grey (H, W) or RGB(A) (H, W, 3|4), or a file (``pip install comcore[sim]``).
     threshold : None, "auto", "otsu" or float, optional
-        ``None``/``"auto"``: the table's light is fitted and taken off, and the
-        outline is where each pixel is half-way between the table under it
-        and the object (``comcore.camera._object``). ``"otsu"``: one level for
-        the whole image (:func:`otsu_threshold`). A number: that grey level
-        (with ``background``, the least difference from it).
+        ``None``/``"auto"``: the outline is half-way between the table's fitted light and the
+        object, pixel by pixel (``comcore.camera._object``); ``"otsu"``: one level for the image
+        (:func:`otsu_threshold`); a number: that grey level (with ``background``, that difference).
     object : {"auto", "bright", "dark"}, optional
         Whether the object is brighter or darker than the table.
     background : array_like or str or os.PathLike, or a sequence of them, optional
-        The empty table, same camera, arm away: the object is where the image
-        differs from it (a textured table's remedy); what differs at the frame's
-        edge (the arm) is never the object. Several frames (a sequence or a stack
+        The empty table (same camera, arm away): the object is where the image differs from it,
+        never at the frame's edge (the arm). Several frames (a sequence or a stack
         ``(N, H, W[, 3])``): their mean, and their spread sets each place's threshold.
     roi : tuple of 4 ints or array_like of bool, optional
-        Where to look: a box ``(x0, y0, x1, y1)`` (columns x0..x1-1, rows
-        y0..y1-1) or a boolean image. The object must lie inside, off its edge.
+        Where to look: a box ``(x0, y0, x1, y1)`` (columns x0..x1-1, rows y0..y1-1) or a boolean
+        image. The object must lie inside, off its edge.
     fill_holes : bool, optional
         Fill holes inside the object (default).
     resolution : float, optional
@@ -257,14 +254,11 @@ def mask_from_image(
     Raises
     ------
     comcore.ImageError
-        (a ``ValueError``) for an image that does not show one whole object,
-        with the remedy: no object, a constant image, a speckled result,
-        several objects (give ``point`` or ``roi``), low contrast (with the
-        contrast measured: never a partial mask), an object touching the
-        image's border, the edge of ``roi`` or the robot; ``background`` first
-        where it would help.
-    ValueError, TypeError
-        For a bad argument (named). ImportError: a path without opencv.
+        (a ``ValueError``) for an image without one whole object, with the remedy: none, a constant
+        image, a speckled result, several (give ``point`` or ``roi``), low contrast (never a partial
+        mask), one touching the border, ``roi``'s edge or the robot.
+    ValueError, TypeError, ImportError
+        For a bad argument (named); for a path without opencv (``pip install comcore[sim]``).
 
     Examples
     --------

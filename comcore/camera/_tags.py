@@ -1,66 +1,27 @@
 """Tag-tracked objects: an AprilTag or ArUco marker's planar pose per frame, and the motions.
 
-A tag stuck flat on the object gives its pose in every frame more precisely
-than the object's outline does (four sharp corners against a staircase of
-pixels). :func:`track_tag` detects one marker with OpenCV's own
-``cv2.aruco.ArucoDetector`` (``pip install comcore[sim]``; sub-pixel corner
-refinement) and returns its :class:`TagPose` per frame in comcore's pixel frame
-(:mod:`comcore.conventions`: x = column, y = row down, theta > 0
-counter-clockwise on screen); :meth:`TagTrack.motions` turns the poses into
-:class:`comcore.Motion` s as :func:`comcore.measure_motion` reports them, about
-the object's area centroid before each push, which
-:meth:`comcore.ActiveSession.observe` takes as ``motion=``.
+A tag stuck flat on the object gives its pose in every frame more precisely than the object's
+outline does (four sharp corners against a staircase of pixels). :func:`track_tag` detects one
+marker with OpenCV's ``cv2.aruco.ArucoDetector`` (``pip install comcore[sim]``) and returns its
+:class:`TagPose` per frame in comcore's pixel frame (:mod:`comcore.conventions`);
+:meth:`TagTrack.motions` turns the poses into :class:`comcore.Motion` s about the object's
+area centroid before each push, as :func:`comcore.measure_motion` reports them and
+:meth:`comcore.ActiveSession.observe` takes them (``motion=``). How to: docs/how-to/tags.md.
 
-Choices (written down here)
----------------------------
-* **The camera.** ``pixels_from_image`` is the homography from the camera
-  image's pixels to comcore's pixel frame (the frame of the masks): identity for
-  a camera looking straight down whose image is the mask frame, else the
-  rectification that gives the masks (e.g. the inverse of
-  :func:`simulators.homography_table_to_image` composed with the table's
-  metres-to-pixels scaling). It is the homography of the plane the tag lies in:
-  for a thin object, the table's; a tag on top of a tall object sits above the
-  table and a perspective camera sees it larger and shifted (parallax), so use
-  the homography of that plane. With ``camera_matrix`` (and ``distortion``),
-  the detected corners are undistorted first (``cv2.undistortPoints`` back to
-  pixels of ``camera_matrix``), and the homography maps undistorted pixels.
-  That is the whole of the camera model: no tag pose in 3-D (``solvePnP``) is
-  needed for a tag that lies in a known plane, and the homography is what a
-  user of comcore already has for the masks.
-* **The corners.** ``cv2.aruco`` finds the marker (contour corner
-  refinement); its four outer corners (those of the black border, in
-  ``cv2.aruco``'s order: top-left, top-right, bottom-right, bottom-left of the
-  marker image) are then refined from the border's four outer edges: along
-  each, at one-pixel steps over its middle 70 %, the profile across the edge
-  is sampled (bilinear) from half a cell inside to a cell outside, the edge
-  sits where it crosses halfway between the side's dark and light levels, a
-  line is fitted through those points (total least squares, outliers beyond
-  three robust deviations dropped) and the corners are where adjacent lines
-  meet. On rendered frames this is several times more precise than OpenCV's
-  own refinements (``CORNER_REFINE_SUBPIX``, ``_CONTOUR``, ``_APRILTAG``),
-  whose rotation errors grow as the cells get small (docs/results/camera.md,
-  ``benchmarks/accuracy/bench_tags.py``). A side without enough edge points
-  (the border against a dark background) keeps OpenCV's corners.
-* **The pose.** The corners are mapped by the homography; the pose's
-  ``(x, y)`` is their mean and ``theta`` the least-squares rotation that takes
-  the upright square's corners onto them (2-D Procrustes). ``theta = 0``: the
-  marker upright on screen, its top edge along +x.
-* **The offset.** The object's area centroid in the tag's frame,
-  ``centroid_in_tag`` (pixels along the tag's x and y axes), places the object
-  about the tag: measured once from the first frame's mask
-  (:func:`centroid_in_tag`) or given (a tag stuck at a known place, its
-  offset in metres divided by the resolution).
-* **Lost frames are said, never filled.** A frame where the marker is not
-  seen (occluded, out of view, blurred), is seen more than once (two markers
-  of one id: which one is the object's?) or has the wrong size (with
-  ``tag_size``: another plane, a false detection) has no pose: its status
-  says why and its index is in :attr:`TagTrack.lost`; a motion that needs it
-  is ``None``. Nothing is interpolated.
-* **The whole frame is searched, the neighbourhood refined.** A second marker
-  of the id anywhere in the frame makes it ambiguous, which only a search of
-  the whole frame can tell, so every frame is searched whole (a search first
-  in a window around the last pose would miss that copy and call the frame
-  found). The edge fit reads only the marker's neighbourhood.
+* **The camera** is one homography, ``pixels_from_image``, from the image's pixels (undistorted
+  first with ``camera_matrix`` and ``distortion``) to the masks' frame, of the plane the tag
+  lies in (a tag on a tall object needs its own plane's); no 3-D tag pose is needed.
+* **The corners**: OpenCV finds the marker; each outer edge of its black border is then fitted
+  with a line (the sub-pixel crossings of halfway between dark and light, total least squares,
+  outliers dropped) and the corners are where adjacent lines meet; a side without enough edge
+  points keeps OpenCV's corners (precision: docs/results/camera.md).
+* **The pose**: ``(x, y)`` the mean of the mapped corners, ``theta`` the least-squares
+  rotation of the upright square onto them (0: the marker upright, its top edge along +x).
+* **The offset** ``centroid_in_tag`` places the object about the tag: measured once from the
+  first frame's mask (:func:`centroid_in_tag`) or given.
+* **Lost frames are said, never filled**: a frame where the marker is missing, seen twice (so
+  every frame is searched whole) or of the wrong size has no pose; its status says why, it is
+  in :attr:`TagTrack.lost`, and a motion that needs it is ``None``.
 
 Examples
 --------

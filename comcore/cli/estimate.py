@@ -1,69 +1,41 @@
 """``comcore estimate``: the CoM of your own object from a mask image and a CSV of pushes.
 
-The mask is an image of the object seen from above (a mask, or a photo of
-the object on a plain table), read through :func:`comcore.mask_from_image`. The CSV has one row
-per push with the columns ``sx, sy, ex, ey`` (the pusher's path in pixels,
-x = column, y = row down) and ``theta, tx, ty`` (the observed rotation in
-radians, counter-clockwise on screen, and the displacement of the mask's area
-centroid in pixels): the conventions of :mod:`comcore.conventions`. Every
-push must start from the pose of the mask.
+The mask is an image of the object seen from above (a mask, or a photo of the object on a
+plain table), read through :func:`comcore.mask_from_image`. The CSV has one row per push with
+the columns ``sx, sy, ex, ey`` (the pusher's path in pixels, x = column, y = row down) and
+``theta, tx, ty`` (the observed rotation in radians, counter-clockwise on screen, and the
+displacement of the mask's area centroid in pixels): the conventions of
+:mod:`comcore.conventions`. Every push must start from the pose of the mask. ``--resolution``
+(metres per pixel) has no default: a camera's scale is the user's to measure. ``--example``
+runs on the small recording shipped in ``comcore/data/examples/``.
 
-Pushes that miss the object (a graze past a corner included) or start inside
-it are dropped with one warning naming their CSV line numbers; ``--strict``
-refuses them, and so is a recording where most pushes would be dropped (with
-a hint when swapping the x and y columns makes them hit), or where a quarter or more
-are dropped and the pushes fit the mask at another scale (a mask taken at another
-zoom than the pushes: :func:`comcore.cli._mistakes.scale_mistake` says the rule).
-``--example`` runs on the small recording shipped in ``comcore/data/examples/``.
+Pushes that miss the object or start inside it are dropped with one warning naming their CSV
+lines; ``--strict`` refuses them, and so is a recording where most would be dropped (with a
+hint when swapping x and y makes them hit) or whose pushes fit the mask at another scale
+(:func:`comcore.cli._mistakes.scale_mistake`). A recording far better explained with every
+theta's sign flipped is reported ``inconsistent`` with that hint (:func:`sign_flip_nats`);
+one far better explained in degrees is refused (``--theta-units``,
+:func:`comcore.cli._mistakes.units_mistake`).
 
-``--frames`` adds the frames a camera saw during the pushes, a CSV with the
-columns ``push, px, py, theta, tx, ty`` (:mod:`comcore.cli._frames`): ``push``
-numbers the pushes CSV's data rows from 1 (push 1 is its first data row, line 2
-when no line is blank), ``px, py`` is the pusher's leading point in that frame
-(pixels), ``theta, tx, ty`` the object's motion since the push began, in the
-pushes CSV's conventions and in ``--theta-units``. They go to
-:func:`comcore.estimate_posterior` (``frames=``), which scores each push's path
-with its end pose; so ``--frames`` needs ``--mask`` and ``--pushes`` (not
-``--example``, which has none, nor ``--bag``, whose pushes are cut from poses),
-the ``posterior`` method and its motion model (not ``--model none``). The
-frames of a dropped push are dropped with it. The JSON's ``n_frames`` counts
-the frames read and ``dropped_frames`` names, per push, the frames not scored
-and why.
-
-``--bag`` takes a robot's ROS bag instead of the mask and the CSV: the object's
-and the pusher's pose topics (``--object-topic``, ``--pusher-topic``, with
-``--object-child-frame`` / ``--pusher-child-frame`` for a ``/tf`` topic), the
-object's outline in its own frame (``--outline``: a polygon CSV or a mesh) and
-the tip's radius (``--pusher-radius``) give the mask and the pushes through
-:func:`comcore.recordings.bag.recording_from_bag` (needs ``comcore[ros]``). The
-mask is drawn from the outline, so ``--resolution`` is then the mask's pixel
-size, not a camera's, and has a default (2.5 mm). The pushes are numbered as
-the lines of the pushes CSV the recording would make (the first is line 2). Each
-push's motion is taken over ``--travel`` metres of pusher travel after first contact
-(default 3 cm): set it to the cell's push length or less, since a push that travels
-less is skipped as ``short``. The CoM is also given in the object's frame (the
-outline's, of the object topic's poses): the JSON's ``com_object_m``; the ROS
-messages' stamp is the bag's time at the end of the last push kept (0 for a mask and
-a CSV, which carry no clock).
+``--frames`` adds the frames a camera saw during the pushes (:mod:`comcore.cli._frames`), scored
+by :func:`comcore.estimate_posterior` (``frames=``); it needs ``--mask``, ``--pushes``, the
+``posterior`` method and a motion model. ``--bag`` takes a robot's ROS bag instead of the mask
+and the CSV, through :func:`comcore.recordings.bag.recording_from_bag` (``comcore[ros]``): the
+mask is drawn from ``--outline``, so ``--resolution`` is its pixel size (default 2.5 mm); the
+pushes are numbered as the lines of the CSV the recording would make (the first is line 2); each
+push's motion is taken over ``--travel`` metres after first contact (default 3 cm: at most the
+cell's push length, since a push that travels less is skipped as ``short``); the CoM is also
+given in the object's frame (the JSON's ``com_object_m``). The ROS messages' stamp is the bag's
+time at the end of the last push kept (0 for a mask and a CSV, which carry no clock).
 
 The default method, ``posterior``, scores the pushes with the motion model of
 :class:`comcore.ActiveSession` (``--model limit-surface``, a round pusher of
-``--pusher-radius`` metres); ``--model none`` is the Voting Theorem alone.
-Whatever the method, a recording that explains itself far better with every
-theta's sign flipped is reported as ``inconsistent`` with that hint
-(:func:`sign_flip_nats`), and one that every theta times pi/180 explains far
-better under the motion model is refused as being in degrees (``--theta-units``:
-:func:`comcore.cli._mistakes.units_mistake`; the check itself is the library's,
-:mod:`comcore.active._posterior`, which :func:`comcore.estimate_posterior`
-makes too). ``--resolution`` (metres per pixel) has no default: a camera's
-scale is the user's to measure.
-
-The status is ``ok`` when the pushes are consistent and the region (the
-posterior's 90 % credible region, Alg. 2's final region) reached
-``--target-radius`` (metres, default 6 mm, as :class:`comcore.StopRule`'s), ``wide``
-when they are consistent but the region is wider (:class:`comcore.Status`). The exit
-code says whether to use the answer (:data:`EPILOG`): 0 for an answer to use
-(``ok``, ``wide`` and the fallbacks), :data:`EXIT_INCONSISTENT` for ``inconsistent``.
+``--pusher-radius`` metres); ``--model none`` is the Voting Theorem alone. The status is
+``ok`` when the pushes are consistent and the region reached ``--target-radius`` (metres,
+default 6 mm), ``wide`` when the region is wider (:class:`comcore.Status`). The exit code
+says whether to use the answer (:data:`EPILOG`): 0 for an answer to use, :data:`EXIT_INCONSISTENT`
+for ``inconsistent``. Every option, the frames' CSV and the bag: docs/how-to/recordings.md
+and docs/how-to/bag.md.
 """
 
 from __future__ import annotations

@@ -1,67 +1,46 @@
 """The goal planner: one push, chosen by its predicted outcome over the CoM posterior.
 
-A lookahead of two pushes. The candidates are pushes along
-:data:`N_DIRECTIONS` camera directions (and the direction from the object to
-the goal, fanned by :data:`GOAL_FAN`: an object pushed on a slanted edge moves
-at an angle to the push), at offsets across the object (evenly spaced, and at
-the hypotheses' mean CoM and +-1 standard deviation of it), each for a few
-lengths up to the travel the user allows (:data:`LENGTH_FRACTIONS` of it,
-those of at least 2 px, and :data:`LEFT_FRACTIONS` of the distance left to
-the goal). The motion model predicts every candidate for every (CoM,
-friction) particle (:func:`comcore.goal._translation.predict_motions`), and
-each candidate is scored by the **expected remaining pose error** over the
-particles (:mod:`comcore.goal._costs`)::
+A lookahead of two pushes; docs/tutorials/goal.md explains it with examples.
+
+**Candidates**: pushes along :data:`N_DIRECTIONS` camera directions and the direction to the
+goal (fanned by :data:`GOAL_FAN`), at offsets across the object (evenly spaced, and at the
+hypotheses' mean CoM and +-1 standard deviation), for lengths of :data:`LENGTH_FRACTIONS` of
+the allowed travel (at least 2 px) and :data:`LEFT_FRACTIONS` of the distance left. Pushes
+that would start or end outside the image, carry the object's bounding disc out of it (mean
+prediction), or that most particles say would not move the object (a miss, as
+:func:`comcore.camera._pose_tracking.is_miss` reads one) are not offered; after a miss the
+session asks for twice its travel at least.
+
+**Cost**: the motion model predicts every candidate for every (CoM, friction) particle
+(:func:`comcore.goal._translation.predict_motions`), and each candidate is scored by the
+expected remaining pose error over the particles (:mod:`comcore.goal._costs`)::
 
     cost = (position error / position tolerance)^2
          + (orientation error / orientation tolerance)^2
          + the motion model's own error variance, in the same units
 
-each term only where the goal sets it: the characteristic length that weighs
-a rotation against a displacement is the ratio of the two tolerances. The
-expectation of a square is the squared mean plus the variance, so the spread
-of a push's outcome under the posterior counts as much as its bias: a push
-through the most likely CoM that may turn the object 10 degrees either way
-loses to a shorter or longer one that surely does not. The model's own error
-counts too (:func:`comcore.goal._costs.model_variance`): even with the true
-CoM, a push whose line passes by the CoM turns the object away from its
-prediction, the more the longer the push, so near a tight orientation
-tolerance the planner makes shorter or more predictable pushes.
+each term only where the goal sets it. An expected square is the squared mean plus the
+variance, so a push whose outcome spreads under the posterior loses to one that surely does
+not; the model's own error (:func:`comcore.goal._costs.model_variance`) grows with the push's
+length and its line's distance from the CoM, so near a tight tolerance shorter or more
+predictable pushes win.
 
-**Two steps.** The best :data:`LOOKAHEAD` pushes and the best push of each
-length are scored again by what they lead to: the least expected cost of one
-more push (:func:`comcore.goal._costs.follow_ups`) from where each coarse
-particle says the push leaves the object, averaged over the particles (half
-with the mixture's prediction, half with the particle's own, as if the push
-had taught the posterior); a push's value is the least of its own cost and
-that. A push that turns the object on the way but leads to the goal beats a
-creep that gets closer by a millimetre; a turn that only the next push can
-take back is seen. The candidate of least value is chosen if it is expected
-to bring the object closer than it is now (by at least :data:`MIN_GAIN` of
-the cost). Where none is (a wide posterior: every push may turn the object a
-lot) a **probe** is made: the push of least expected cost among those at
-least a tenth of the allowed travel long after contact
-(:data:`PROBE_LENGTH`) that bring the object closer under at least a quarter
-of the posterior's mass (:data:`PROBE_CHANCE`); it is evidence, and the next
-plan is made on a narrower posterior. Where no push is even that, there is
-none: a learning :class:`comcore.GoalSession` then makes a **learning push**
-(the most informative of an :class:`comcore.ActiveSession`'s candidates among
-those :func:`learning_safe` keeps: in view, moving the object, and at most
-:data:`LEARNING_SLACK` tolerance farther from the goal), and plans again;
-where it cannot, or has made ``learning_pushes`` of them in a row, it says
-``"stuck"`` (the goal needs a pull, or the model sees no push that helps).
-To keep a step fast, every candidate is first scored
-over :data:`COARSE_PARTICLES` particles, and the best :data:`KEPT` and the
-best of each length again over all of them; the follow-ups are pushes along
-directions of the object's own frame, whose predictions serve every pose
-(with ``push_directions``, those directions as the object lies now).
-Candidates that would start or end outside the image, or would carry the
-object's bounding disc out of it (mean prediction), or that most particles
-say would not move the object measurably (a miss, as
-:func:`comcore.camera._pose_tracking.is_miss` reads one), are not offered; after a
-miss the session asks for twice its travel at least.
+**Two steps**: the best :data:`LOOKAHEAD` pushes and the best of each length are scored again
+by the least expected cost of one more push (:func:`comcore.goal._costs.follow_ups`) from
+where each coarse particle says the push leaves the object (half with the mixture's
+prediction, half with the particle's own); a push's value is the least of its own cost and
+that. The push of least value is chosen if it cuts the cost by :data:`MIN_GAIN`. Else a
+**probe**: the push of least expected cost among those at least :data:`PROBE_LENGTH` of the
+travel long that bring the object closer under at least :data:`PROBE_CHANCE` of the
+posterior's mass. Else none: a learning :class:`comcore.GoalSession` makes a **learning push**
+(the most informative of an :class:`comcore.ActiveSession`'s candidates among those
+:func:`learning_safe` keeps) and plans again, or says ``"stuck"``.
 
-A step's time is measured by ``benchmarks/accuracy/goal_bench.py --timing``
-(docs/results/goal.md).
+**Speed**: every candidate is first scored over :data:`COARSE_PARTICLES` particles, and the
+best :data:`KEPT` and the best of each length again over all of them; the follow-ups are pushes
+along directions of the object's own frame, whose predictions serve every pose (with
+``push_directions``, those directions as the object lies now). A step's time is measured by
+``benchmarks/accuracy/goal_bench.py --timing``.
 """
 
 from __future__ import annotations

@@ -185,64 +185,11 @@ def _named_prior_particles(first, prior, n: int, mus):
 class GoalSession(PushLoop):
     """Push an object to a goal pose, one push at a time, driven by the caller's loop.
 
-    ::
-
-        session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.2, 0)),
-                                      pusher_radius=0.004, rng=0, travel=0.05)
-        while not session.done:
-            robot.execute(session.next_push())   # camera pixels
-            session.observe(camera_mask())       # or observe(motion=...)
-        print(session.status, session.pose)
-
-    Each push is planned by predicting its outcome with the motion model
-    over particles of the CoM posterior (:mod:`comcore.goal._planner`: the
-    push of least expected remaining pose error, in tolerances, up to
-    ``travel`` after contact). With ``learn=True`` (default) every push
-    is also evidence: the posterior is updated as :class:`comcore.ActiveSession`
-    updates it, and the next push is planned on it.
-
-    **Statuses.** ``"waiting_push"`` (call :meth:`next_push`) and
-    ``"waiting_observation"`` (call :meth:`observe`), as an
-    :class:`ActiveSession`'s; ``"reached"``: the pose is within the goal's
-    tolerances (the pose as read, within them less half the reading error
-    the likelihood assumes, ``motion_noise``: 0.25 degrees and 0.25 mm by
-    default); ``"budget"``: ``max_pushes`` pushes made; ``"stuck"``: no
-    candidate push is expected to bring the object closer nor given a fair
-    chance to (the planner's probe), and learning is no way out: the session
-    has made ``learning_pushes`` learning pushes in a row and still no push
-    passes, or no learning push is safe and informative, or it does not learn
-    (``learn=False``, ``learning_pushes=0``); the goal may need a pull, or a
-    push the object's outline does not allow; ``"lost"``: the object left
-    the camera's view (a mask that touches the image border, or
-    ``observe(out_of_view=True)``). Reading :attr:`done`, :attr:`status` or
-    :attr:`pose` computes nothing: the session checks the goal and plans the
-    next push when its state changes (construction, :meth:`observe`).
-
-    **Learning pushes.** Where the posterior is too wide for any push to pass
-    the planner's rules (every push may turn the object a lot either way),
-    a learning session does not stop: it makes the push an
-    :class:`ActiveSession` would choose to learn the CoM (the most
-    informative of its candidates, :meth:`comcore.active._choice.Candidates.choose`:
-    200 pushes drawn once on the first mask with ``rng``, ``travel``
-    long, and each cut to :data:`LEARNING_LENGTHS` of that), among those
-    safe for the goal (:func:`comcore.goal._planner.learning_safe`:
-    predicted to keep the object in view, to move it, within ``max_turn``,
-    and on average at most :data:`~comcore.goal._planner.LEARNING_SLACK`
-    tolerance, 1 cm by default, farther from the goal's position, or its
-    orientation where the goal sets no position); it must be expected to
-    teach more than an ActiveSession's ``min_information`` (1e-3 bits,
-    :data:`LEARNING_RULE`). Then it plans again on the narrower posterior.
-    At most ``learning_pushes`` in a row (default 3); each counts in the
-    budget.
-    :attr:`push_kinds` says why each push was made (``"goal"``, ``"probe"``,
-    ``"learn"``), :attr:`next_push_kind` why the planned one is.
-
-    **Poses.** :attr:`pose` is a :class:`comcore.Motion` in pixels (the turn
-    since the first mask and how far its area centroid has moved), as
-    :attr:`ActiveSession.pose`; :attr:`pose_m` is the same pose with its
-    translation in metres, the units of a :class:`Goal`. Both are in the
-    first mask's frame: x right, +y down the screen, theta counter-clockwise
-    on screen.
+    The loop of :class:`ActiveSession` with another aim: each push is the one of least expected
+    remaining pose error, predicted by the motion model over particles of the CoM posterior, which
+    each push also updates (``learn``); where no push passes the planner's rules, a *learning push*
+    narrows it first (:attr:`push_kinds`). The statuses, the poses (:attr:`pose` in pixels,
+    :attr:`pose_m` in metres) and the planner: docs/tutorials/goal.md.
 
     Parameters
     ----------
@@ -250,49 +197,29 @@ class GoalSession(PushLoop):
         The object as the camera sees it before the first push.
     goal : Goal
         The pose wanted, relative to ``mask`` (:class:`comcore.Goal`).
-    model : optional
-        The likelihood's motion model(s), as for :class:`ActiveSession`.
+    model, likelihood : optional
+        The likelihood's motion model(s) and scoring, as for :class:`ActiveSession`.
     pusher_radius : float, optional
-        Metres (default 4 mm).
+        Radius of the round pusher in metres (default 4 mm).
     prior : None, Estimate, ActiveSession or CoM hypotheses, optional
-        What is known of the CoM: None (uniform over the mask), an active
-        estimator's :class:`comcore.Estimate` of ``mask`` (its posterior
-        image and friction posterior: a learning session starts from both,
-        where its likelihood has the estimate's friction values), an
-        :class:`ActiveSession` on ``mask`` (its estimate now; the goal
-        session starts at its :attr:`~ActiveSession.pose`, where its pushes
-        left the object), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
+        What is known of the CoM: None (uniform), an active estimate or :class:`ActiveSession` of
+        ``mask`` (starting at its pose), or CoM pixels ``(k, 2)`` / ``(coms, weights)``.
     rng : None, int or numpy.random.Generator, optional
-        Draws the candidates of the learning pushes (once, when the first is
-        needed; None: seed 0, :data:`LEARNING_SEED`, so that a session with
-        the defaults is reproducible). The planner draws nothing at random
-        (its particles are a systematic draw).
-    likelihood : Likelihood, optional
-        As for :class:`ActiveSession`.
+        Draws the learning pushes' candidates (None: :data:`LEARNING_SEED`).
     max_pushes : int, optional
-        The push budget (at least 1; default 30, :data:`DEFAULT_GOAL_MAX_PUSHES`).
+        The push budget (at least 1; default :data:`DEFAULT_GOAL_MAX_PUSHES`).
     travel : float, optional
-        How far (metres) the pusher may travel after contact in one push
-        (default 5 cm, :data:`DEFAULT_GOAL_TRAVEL_M`).
+        How far the pusher may travel after contact, metres (default 5 cm).
     learn : bool, optional
-        Update the posterior with every push (default True); False plans on
-        the prior, fixed.
+        Update the posterior with every push (default True); False plans on the prior, fixed.
     planner_model : comcore.Predictor, optional
-        The model that predicts candidates (default
-        :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
+        The planner's model (default :class:`comcore.LimitSurfaceModel` with ``pusher_radius``).
     n_particles : int, optional
-        Posterior particles a push is planned over (default 32, at most
-        ``MAX_PLANNING_PARTICLES``, 10,000).
+        Posterior particles a push is planned over (default 32, at most 10,000).
     push_directions : array_like, optional
-        The only camera directions (radians; 0: +x, pi/2: +y down the screen)
-        the robot may push along, where its workspace allows no others
-        (default: 8 evenly spaced, and the direction to the goal). Learning
-        pushes keep to them too (within 1 degree).
+        The only camera directions (radians; pi/2: +y down the screen) the robot may push along.
     learning_pushes : int, optional
-        The most learning pushes in a row where no push passes the planner's
-        rules (default 3, :data:`DEFAULT_LEARNING_PUSHES`; 0: say
-        ``"stuck"`` at once). Only a learning session
-        (``learn=True``) makes them.
+        The most learning pushes in a row (default 3; 0: ``"stuck"`` at once).
 
     Raises
     ------
@@ -303,8 +230,8 @@ class GoalSession(PushLoop):
     --------
     >>> import numpy as np, comcore
     >>> mask = comcore.Mask(np.pad(np.ones((20, 20), bool), 40))
-    >>> session = comcore.GoalSession(mask, goal=comcore.Goal(displacement=(0.03, 0.0)),
-    ...                               travel=0.02, model=None, rng=0)
+    >>> goal = comcore.Goal(displacement=(0.03, 0.0))
+    >>> session = comcore.GoalSession(mask, goal=goal, travel=0.02, model=None, rng=0)
     >>> session.status, session.next_push().ex > session.next_push().sx
     ('waiting_push', True)
     >>> session.observe(motion=(0.0, 12.0, 0.0))  # 3 cm to the right

@@ -139,18 +139,15 @@ def estimate_progressive(
 ) -> Estimate:
     """Estimate the CoM with Alg. 2: cut the feasible region with the best-splitting push.
 
-    Starting from the whole object, repeatedly apply the kept action whose line splits the
-    region most evenly (:func:`equality_score`): keep the part :func:`comcore.vt.consistent`
-    allows for its rotation sense, drop it and every action scoring below ``min_score``,
-    until the region is at most ``area_ratio`` of the object or no action is left. The CoM
-    is the mean of the 8-connected part of the final region the left-out actions point to
-    (:mod:`comcore.paper._progressive` lists the choices the paper leaves open).
+    Apply, from the whole object, the kept action whose line splits the region most evenly
+    (:func:`equality_score`), keeping the part its sense allows (:func:`comcore.vt.consistent`);
+    drop it and every action scoring below ``min_score``; repeat until the region is at most
+    ``area_ratio`` of the object or no action is left. The CoM: the mean of the final region's
+    8-connected part the left-out actions point to (:mod:`comcore.paper._progressive`).
 
-    ``status``: ``"inconsistent"`` when no region pixel explains an action with ``|theta|
-    >= min_rotation`` (the estimate is then what the others give); else ``"ok"`` when the
-    region's equivalent-circle radius is at most ``target_radius``, ``"wide"`` when larger;
-    ``"no_actions"`` (the centroid) when no action turns the object ``min_rotation``. The
-    region is feasible, not credible: the CoM is in it when every applied sense is right.
+    ``status``: ``"ok"`` if the (feasible) region's radius reached ``target_radius``, else
+    ``"wide"``; ``"inconsistent"`` if no region pixel explains an action turning ``min_rotation``
+    or more; ``"no_actions"`` (the centroid) if none turns that much (docs/explanation/method.md).
 
     Parameters
     ----------
@@ -172,18 +169,15 @@ def estimate_progressive(
     mu : None, float or (lo, hi), optional
         Contact friction for the Voting Theorem (default unknown).
     pusher_radius : float, optional
-        Radius (metres) of a round pusher (default
-        :data:`comcore.conventions.DEFAULT_PUSHER_RADIUS`, 4 mm; 0: a point). Pushes that
-        start inside the object or miss it are listed in ``skipped``; a ValueError if more
-        than half are.
+        Radius (metres) of a round pusher (default 4 mm; 0: a point). Pushes that start inside
+        the object or miss it are listed in ``skipped``; a ValueError if more than half are.
     target_radius : float, optional
         Radius (metres) the region must reach for ``"ok"`` (default 6 mm).
 
     Returns
     -------
     Estimate
-        ``used``: the applied actions in order; ``progressive``: ``region_sizes``
-        (pixels after each cut, the object first) and ``contradicted``.
+        ``used``: the applied actions in order; ``progressive``: a :class:`ProgressiveDetails`.
 
     Examples
     --------

@@ -1,73 +1,49 @@
 """ROS bags (ROS 1 ``.bag``, rosbag2 in sqlite3 or MCAP) as comcore inputs.
 
-Not imported by ``import comcore``; import it explicitly (needs rosbags:
-``pip install comcore[ros]``)::
+Not imported by ``import comcore`` (needs rosbags: ``pip install comcore[ros]``). A robot that
+pushes records the object's pose (motion capture, a tracker) and the pusher tip's on two topics
+of :data:`SUPPORTED_TYPES`. :func:`poses_from_bag` reads one topic into rows ``(t, x, y, yaw)``,
+checked; :func:`recording_from_bag` reads both, cuts the log into pushes
+(:func:`comcore.recordings.split_pushes`) and makes a :class:`comcore.Recording`
+(:func:`comcore.recording_from_poses`); :func:`bag_topics` lists a bag's topics;
+:func:`images_from_bag` reads a camera topic (:data:`IMAGE_TYPES`) into arrays, for
+:func:`comcore.mask_from_image` or a tag tracker. See docs/how-to/bag.md.
 
-    import comcore.recordings.bag
+**Times** are seconds since the bag's first message's receive time, from the integer
+nanoseconds. ``time="auto"`` (default) takes a topic's ``header.stamp`` (each transform's own in
+a ``tf2_msgs/TFMessage``) when every one is nonzero, else the receive times; ``"header"`` or
+``"receive"`` chooses. Times out of order by at most :data:`MAX_REORDER` are sorted; further
+back, or repeated, they are refused. The object's pose is interpolated at the pusher's times.
 
-A robot that pushes records the object's pose (motion capture, a tracker) and
-the pusher tip's on two topics. :func:`poses_from_bag` reads one topic into
-rows ``(t, x, y, yaw)``, checked; :func:`recording_from_bag` reads both, cuts
-the log into pushes (:func:`comcore.recordings.split_pushes`) and turns them
-into a :class:`comcore.Recording` (:func:`comcore.recording_from_poses`);
-:func:`bag_topics` lists what a bag holds. The topics may hold any of
-:data:`SUPPORTED_TYPES`. :func:`images_from_bag` reads a camera topic
-(:data:`IMAGE_TYPES`) into arrays, for :func:`comcore.mask_from_image` or a
-tag tracker. See docs/how-to/bag.md.
-
-**Times** are seconds since the bag's start (its first message's receive
-time), taken from the integer nanoseconds so that nothing is lost to rounding.
-By default (``time="auto"``) a topic's times are its messages' ``header.stamp``
-(each transform's own header in a ``tf2_msgs/TFMessage``) when every one is
-nonzero, else the bag's receive times; ``time="header"`` or ``"receive"``
-chooses. Messages whose times are a little out of order (by at most
-:data:`MAX_REORDER`: a tracker's stamps jitter) are sorted by time; a time
-further back, or one repeated, is refused. The two topics need not share
-their times: the object's pose is interpolated linearly at the pusher's times
-(:func:`comcore.recording_from_poses`).
-
-**Poses** are read seen from above: ``x`` and ``y`` of the position, and the
-yaw about ``z`` of the orientation (``atan2(2(wz + xy), 1 - 2(y^2 + z^2))``),
-unwrapped (:func:`numpy.unwrap`). The object's quaternions are checked (unit
-norm within :data:`QUATERNION_NORM_TOLERANCE`, and the object's ``z`` axis
-within :data:`MAX_TILT` of vertical: a frame that is not ``z`` up would give a
-wrong yaw); the pusher's orientation is not used (a tool pointing down is
-turned half a turn about ``x``) and not checked. Positions that span more than
-:data:`MAX_SPAN` or lie farther than :data:`MAX_DISTANCE` from the frame's
-origin are refused as millimetres.
+**Poses** are read from above: the position's ``x``, ``y`` and the orientation's yaw about
+``z``, unwrapped. The object's quaternions must have unit norm (within
+:data:`QUATERNION_NORM_TOLERANCE`) and ``z`` within :data:`MAX_TILT` of vertical; the pusher's
+orientation is neither used nor checked. Positions spanning more than :data:`MAX_SPAN` or
+farther than :data:`MAX_DISTANCE` from the origin are refused as millimetres.
 
 Examples
 --------
->>> import comcore.recordings.bag as bag
->>> bag.SUPPORTED_TYPES[0]
-'geometry_msgs/msg/PoseStamped'
+:func:`recording_from_bag` on four pushes, ROS 2 messages written to MCAP (a 6 cm square plate
+that does not move here; the tip comes from 2 cm away and goes 1.2 cm in, four times):
 
-:func:`recording_from_bag` on a bag of four pushes, its ROS 2 messages written to
-MCAP (a 6 cm square plate that does not move here; the tip comes up to it from 2 cm
-away and goes 1.2 cm in, four times):
-
->>> import pathlib, tempfile
->>> import numpy as np
+>>> import pathlib, tempfile, numpy as np
 >>> from rosbags.rosbag2 import StoragePlugin, Writer
 >>> from rosbags.typesys import Stores, get_typestore
 >>> import comcore.recordings.bag as bag
 >>> store = get_typestore(Stores.ROS2_HUMBLE)
->>> ros = store.types
+>>> ros, kind = store.types, "geometry_msgs/msg/PoseStamped"
 >>> def pose(ns, x, y):
 ...     stamp = ros["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
 ...     header = ros["std_msgs/msg/Header"](stamp=stamp, frame_id="world")
 ...     point = ros["geometry_msgs/msg/Point"](x=x, y=y, z=0.0)
 ...     turn = ros["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
 ...     body = ros["geometry_msgs/msg/Pose"](position=point, orientation=turn)
-...     msg = ros["geometry_msgs/msg/PoseStamped"](header=header, pose=body)
-...     return store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped")
+...     return store.serialize_cdr(ros[kind](header=header, pose=body), kind)
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "pushes"
 >>> t = np.arange(801) / 100  # 8 s at 100 Hz
 >>> tip_y = -0.054 + 0.015 * (1 - np.cos(np.pi * t))  # 3 cm up and back, 4 times
 >>> with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
-...     kind = "geometry_msgs/msg/PoseStamped"
-...     plate = writer.add_connection("/plate", kind, typestore=store)
-...     tip = writer.add_connection("/tip", kind, typestore=store)
+...     plate, tip = (writer.add_connection(c, kind, typestore=store) for c in ("/plate", "/tip"))
 ...     for ti, y in zip(t, tip_y):
 ...         ns = 10**9 + round(ti * 1e9)
 ...         writer.write(plate, ns, pose(ns, 0.0, 0.0))
