@@ -14,7 +14,7 @@ import difflib
 import inspect
 from collections.abc import Callable, Sequence
 
-from ._registry import GROUPS, EstimatorSpec, parse_estimator
+from ._registry import GROUPS, EstimatorSpec, option_groups, parse_estimator
 
 __all__ = ["accepted_options", "check_estimator_options", "check_estimator_values"]
 
@@ -145,8 +145,6 @@ _ROBOT_OPTIONS = (
 
 def _check_active(options: dict, robot: bool = False) -> None:
     """Raise for a value the active estimators refuse (their own options, then the groups)."""
-    import comcore
-
     from . import _builtins
 
     rest = dict(options)
@@ -161,7 +159,7 @@ def _check_active(options: dict, robot: bool = False) -> None:
             rest.pop(name, None)
     elif rest.pop("candidates", "own") not in ("trial", "own"):
         raise ValueError(f"candidates must be 'trial' or 'own', got {options['candidates']!r}")
-    comcore.active.option_groups(**rest)
+    option_groups(**rest)
 
 
 def _value_check(spec: EstimatorSpec) -> Callable[[dict], object] | None:

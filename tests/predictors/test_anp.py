@@ -93,7 +93,10 @@ def test_missing_torch_says_which_extra_to_install():
 def test_shapes_and_protocol(scene):
     mask, queries, priors = scene
     anp = tiny_predictor()
-    assert isinstance(anp, comcore.Predictor)
+    # few-shot only: Alg. 1/2's predict_motions takes it; the estimators need a CoM input
+    assert not isinstance(anp, comcore.Predictor)
+    with pytest.raises(TypeError, match="only the few-shot predict"):
+        comcore.motion.check_predictor(anp)
     assert comcore.motion.predict_motions(anp, mask, queries, priors).shape == (12, 3)
     mean, var = anp.predict_distribution(mask, queries, priors, n_samples=4, rng=0)
     assert mean.shape == var.shape == (12, 3) and (var > 0).all()
