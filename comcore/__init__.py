@@ -81,6 +81,9 @@ __getattr__, __dir__ = lazy_exports(
         "PowerCalibration": "active",
         "calibrate_model_weight": "active",
         "mask_from_image": "camera",
+        "TableCalibration": "camera",
+        "TableView": "camera",
+        "calibrate_table": "camera",
     },
 )
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
@@ -89,7 +92,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
     from . import recordings as recordings
     from . import ros as ros
     from .active import PowerCalibration, calibrate_model_weight, estimate_active
-    from .camera import mask_from_image
+    from .camera import TableCalibration, TableView, calibrate_table, mask_from_image
     from .goal import Goal, GoalSession
     from .recordings import RecordedPush, Recording, SkippedPush, recording_from_poses
 
@@ -121,9 +124,12 @@ __all__ = [
     "SkippedPush",
     "Status",
     "StopRule",
+    "TableCalibration",
+    "TableView",
     "__version__",
     "apply_motion",
     "calibrate_model_weight",
+    "calibrate_table",
     "credible_level",
     "estimate_active",
     "estimate_heatmap",

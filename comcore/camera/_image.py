@@ -12,7 +12,7 @@ from .._errors import ImageError
 from .._mask import Mask
 from ..conventions import DEFAULT_RESOLUTION, check_image_size
 from ..geometry._regions import EIGHT_CONNECTED
-from ._input import check_background, grey_image, read_image, roi_window
+from ._input import check_background, grey_image, look_window, read_image
 from ._object import find_object
 
 __all__ = ["mask_from_image", "otsu_threshold"]
@@ -118,8 +118,9 @@ def _threshold_mode(threshold) -> str | float:
     return t
 
 
-def _global(values, valid, mode, side: str, difference: bool, lo: float, hi: float):
+def _global(values, valid, mode, side: str, *, difference: bool, span: tuple[float, float]):
     """One threshold for the whole window (Otsu's or the caller's): region and side."""
+    lo, hi = span
     inside = np.ones(values.shape, bool) if valid is None else valid
     if mode == "otsu":
         t = otsu_threshold(np.abs(values[inside]) if difference else values[inside])
@@ -181,8 +182,9 @@ def _check_edges(region, valid, box, shape, seen_as: str, one_level: bool) -> No
             hint = "one grey level for the whole image splits an unevenly lit table: "
             hint += "threshold='auto' fits the light"
         else:
-            hint = "if it is not the object but a shadow or the table's edge, give roi= to "
-            hint += "leave the border out, or background="
+            hint = "if it is the robot's arm touching the object, move the arm away or give "
+            hint += "robot_mask=; a shadow or the table's edge: give background= (an image of "
+            hint += "the empty table) or roi= to leave the border out"
         raise ImageError(
             f"the object ({seen_as}) touches the image border ({', '.join(border)}): part of it "
             f"may be out of view; move the camera or the object ({hint})"
@@ -197,6 +199,13 @@ def _check_edges(region, valid, box, shape, seen_as: str, one_level: bool) -> No
         )
 
 
+def _difference_spread(empty, box) -> np.ndarray | None:
+    """Each pixel's noise in the image less the mean of the empty table's frames (or None)."""
+    if empty is None or empty.spread is None:
+        return None
+    return empty.spread[box] * math.sqrt(1 + 1 / empty.count)
+
+
 def mask_from_image(
     image,
     *,
@@ -206,97 +215,69 @@ def mask_from_image(
     roi=None,
     fill_holes: bool = True,
     resolution: float = DEFAULT_RESOLUTION,
+    point=None,
+    robot_mask=None,
 ) -> Mask:
     """Turn a camera image of one object on a table into a :class:`Mask`.
 
     Parameters
     ----------
     image : array_like or str or os.PathLike
-        A grey image (H, W) or a colour one (H, W, 3) / (H, W, 4), RGB(A)
-        order (alpha ignored), of uint8, uint16, float or bool values; or the
-        path of an image file, read with opencv (``pip install comcore[sim]``;
-        its BGR order is handled). Colour images are turned grey (BT.601
-        luma).
+        Grey (H, W) or RGB(A) (H, W, 3|4), or a file (``pip install comcore[sim]``).
     threshold : None, "auto", "otsu" or float, optional
-        How object and table are told apart. ``None`` or ``"auto"``
-        (default): the table's light is fitted (a robust quadratic surface
-        from the image's rim, then what it leaves smoothed from the table
-        around) and taken off, so a gradient, vignetting or a shadow's soft
-        edge do not matter; the object is what differs from that light by
-        more than five times the table's noise, found on a coarse grid, and
-        its outline is where each pixel is half-way between the table under
-        it and the object, in the object's neighbourhood only
-        (``comcore.camera._object``). ``"otsu"``: one level for the whole
-        image, Otsu's (:func:`otsu_threshold`), the method of comcore 0.1.
-        A number: that grey level, in the image's own units (pixels
-        ``>= threshold`` are bright); with ``background``, the least
-        difference from it that makes an object pixel.
+        ``None``/``"auto"``: the table's light is fitted and taken off, and the
+        outline is where each pixel is half-way between the table under it
+        and the object (``comcore.camera._object``). ``"otsu"``: one level for
+        the whole image (:func:`otsu_threshold`). A number: that grey level
+        (with ``background``, the least difference from it).
     object : {"auto", "bright", "dark"}, optional
-        Whether the object is brighter or darker than the table. ``"auto"``
-        picks the side whose largest region does not touch the image border
-        (the table surrounds the object); when both or neither do, the side
-        whose region differs most from the table (``"otsu"`` and a number:
-        the side with fewer pixels, the object is the minority).
-    background : array_like or str or os.PathLike, optional
-        An image of the empty table from the same camera (same shape, any of
-        the types of ``image``): the object is where ``image`` differs from
-        it (background subtraction). A textured table, fixed shadows and the
-        light then do not matter; an exposure change between the two is
-        taken off with the table's fitted light.
+        Whether the object is brighter or darker than the table.
+    background : array_like or str or os.PathLike, or a sequence of them, optional
+        The empty table from the same camera, arm away (same shape): the object
+        is where the image differs from it (the remedy for a textured table);
+        what differs at the frame's edge (the arm) is never the object. Several
+        frames (a sequence, or a stack ``(N, H, W)`` / ``(N, H, W, 3)``): their
+        per-pixel mean, and their spread sets each place's threshold (a
+        flickering or glossy patch needs a larger difference).
     roi : tuple of 4 ints or array_like of bool, optional
-        Where to look: a box ``(x0, y0, x1, y1)`` in pixels (columns ``x0``
-        to ``x1 - 1``, rows ``y0`` to ``y1 - 1``; x is the column) or a
-        boolean image of the image's shape. Pixels outside are ignored; the
-        mask keeps the image's shape (pixel coordinates do not change). The
-        object must lie inside, off its edge.
+        Where to look: a box ``(x0, y0, x1, y1)`` (columns x0..x1-1, rows
+        y0..y1-1) or a boolean image. The object must lie inside, off its edge.
     fill_holes : bool, optional
-        Fill holes inside the object (``scipy.ndimage.binary_fill_holes``);
-        a footprint has none.
+        Fill holes inside the object (default).
     resolution : float, optional
-        Metres per pixel of the table plane (the camera calibration).
+        Metres per pixel of the table plane (tilted camera: :class:`comcore.TableView`).
+    point : (float, float), optional
+        A pixel ``(x, y)`` on the object: of several, the one nearest it.
+    robot_mask : array_like of bool, optional
+        The robot's pixels (H, W), left out; the object may not touch them.
 
     Returns
     -------
     Mask
-        The largest 8-connected region of the object's side, the image's
-        shape.
+        The object's 8-connected region, of the image's shape.
 
     Raises
     ------
     comcore.ImageError
         (a ``ValueError``) for an image that does not show one whole object,
-        saying what was seen: no object (the image matches the table, or the
-        background image), a constant image, no pixel on the object's side
-        of a given threshold, a speckled result (the largest region holds
-        less than half the object side's pixels), several objects of similar
-        size, or an object touching the image border or the edge of ``roi``
-        (part of it may be out of view).
-    ValueError
-        For a bad shape, NaN or inf, an unknown ``object`` or ``threshold``,
-        a ``background`` of another shape, a bad ``roi`` or a path that
-        cannot be read.
-    TypeError
-        For a non-numeric image or threshold.
-    ImportError
-        For a path when opencv is not installed.
+        with the remedy: no object, a constant image, a speckled result,
+        several objects (give ``point`` or ``roi``), low contrast (with the
+        contrast measured: never a partial mask), an object touching the
+        image's border, the edge of ``roi`` or the robot; ``background`` first
+        where it would help.
+    ValueError, TypeError
+        For a bad image, ``threshold``, ``object``, ``background``, ``roi``,
+        ``point`` or ``robot_mask``. ImportError: a path without opencv.
 
     Examples
     --------
-    A dark object on a bright table, as a camera would give it (uint8):
-
     >>> import numpy as np, comcore
     >>> img = np.full((40, 60), 200, np.uint8)
     >>> img[10:30, 15:45] = 30
     >>> mask = comcore.mask_from_image(img)
     >>> mask.area_px, mask.centroid
     (600, (29.5, 19.5))
-
-    The same table lit from one side (a ramp of 80 grey levels), and empty:
-
-    >>> light = np.linspace(-40, 40, 60) * np.ones((40, 1))
-    >>> comcore.mask_from_image((img + light).astype(np.uint8)).area_px
-    600
-    >>> comcore.mask_from_image((200 + light).astype(np.uint8))
+    >>> comcore.mask_from_image(np.linspace(160, 240, 60) * np.ones((40, 1)))  # a lit table
     Traceback (most recent call last):
     ...
     comcore._errors.ImageError: no object: the image matches the table...
@@ -311,11 +292,12 @@ def mask_from_image(
     if object not in OBJECTS:
         raise ValueError(f"object must be one of {', '.join(map(repr, OBJECTS))}, got {object!r}")
     mode = _threshold_mode(threshold)
-    reference = None
+    reference = empty = None
     if background is not None:
-        reference, bg_floor = check_background(background, grey.shape)
-        floor = max(floor, bg_floor)
-    box, valid = roi_window(roi, grey.shape)
+        empty = check_background(background, grey.shape)
+        reference, floor = empty.mean, max(floor, empty.floor)
+    look = look_window(roi, robot_mask, point, grey.shape)
+    box, valid = look.box, look.valid
     values = grey[box] if reference is None else grey[box] - reference[box]
     seen = values if valid is None else values[valid]
     lo, hi = float(seen.min()), float(seen.max())
@@ -333,7 +315,8 @@ def mask_from_image(
     if mode == "auto":
         found = find_object(
             values, valid, object, floor=floor, frame_side=min(grey.shape),
-            reference=None if reference is None else reference[box],
+            reference=None if reference is None else reference[box], point=look.point,
+            spread=_difference_spread(empty, box),
         )  # fmt: skip
         region, object = found.region, found.side
         seen_as = (
@@ -341,10 +324,20 @@ def mask_from_image(
             f"{'brighter' if object == 'bright' else 'darker'} than the table"
         )
     else:
-        region, object = _global(values, valid, mode, object, reference is not None, lo, hi)
+        region, object = _global(
+            values, valid, mode, object, difference=reference is not None, span=(lo, hi)
+        )
         seen_as = f"{object} side, {int(region.sum())} pixels"
     if fill_holes:
         region = _fill_holes(region)
+    if (
+        look.robot is not None
+        and (ndimage.binary_dilation(region, iterations=2) & look.robot).any()
+    ):
+        raise ImageError(
+            f"the object ({seen_as}) touches the robot (robot_mask): move the arm away from the "
+            "object before taking the frame"
+        )
     _check_edges(region, valid, box, grey.shape, seen_as, one_level=mode == "otsu")
     full = np.zeros(grey.shape, bool)
     full[box] = region

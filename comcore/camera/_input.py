@@ -8,12 +8,24 @@ image of the empty table, and the box of the region of interest.
 from __future__ import annotations
 
 import os
+from typing import NamedTuple
 
 import numpy as np
 
+from .._checks import check_point
 from .._mask import Mask
 
-__all__ = ["LUMA_WEIGHTS", "check_background", "grey_image", "read_image", "roi_window"]
+__all__ = [
+    "LUMA_WEIGHTS",
+    "MAX_BACKGROUND_FRAMES",
+    "Background",
+    "Look",
+    "check_background",
+    "grey_image",
+    "look_window",
+    "read_image",
+    "roi_window",
+]
 
 #: Luma weights of red, green and blue (ITU-R BT.601), for colour images.
 LUMA_WEIGHTS = (0.299, 0.587, 0.114)
@@ -114,13 +126,98 @@ def roi_window(roi, shape: tuple[int, int]) -> tuple[tuple[slice, slice], np.nda
     return (slice(y0, y1), slice(x0, x1)), None
 
 
-def check_background(background, shape) -> tuple[np.ndarray, float]:
+#: At most this many frames of the empty table in ``background``.
+MAX_BACKGROUND_FRAMES = 64
+
+
+class Background(NamedTuple):
+    """The empty table from one or more frames: what the image is compared with."""
+
+    mean: np.ndarray
+    """Each pixel's mean grey level over the frames (H, W)."""
+    spread: np.ndarray | None
+    """Each pixel's standard deviation over the frames (H, W); None for one frame."""
+    count: int
+    """How many frames."""
+    floor: float
+    """Half the frames' grey step: the least difference believed."""
+
+
+def _frames(background, shape) -> list:
+    """The frames of ``background``: one image, a sequence of them, or a stack (N, H, W[, C])."""
     if isinstance(background, (str, os.PathLike)):
-        background = read_image(background)
-    grey, floor = grey_image(background, "background")
-    if grey.shape != shape:
+        return [read_image(background)]
+    if isinstance(background, (list, tuple)):
+        frames = [read_image(f) if isinstance(f, (str, os.PathLike)) else f for f in background]
+    else:
+        arr = np.asarray(background)
+        stack = arr.ndim == 4 or (arr.ndim == 3 and arr.shape[1:] == tuple(shape))
+        frames = list(arr) if stack else [background]
+    if not frames:
+        raise ValueError("background holds no frame: give an image of the empty table, or several")
+    if len(frames) > MAX_BACKGROUND_FRAMES:
         raise ValueError(
-            f"background must be an image of the empty table from the same camera, with the "
-            f"image's shape {shape}, got {grey.shape}"
+            f"background may hold at most {MAX_BACKGROUND_FRAMES} frames of the empty table, "
+            f"got {len(frames)} (a video? take a few frames of it)"
         )
-    return grey, floor
+    return frames
+
+
+def check_background(background, shape) -> Background:
+    """The empty table from one frame or several (a sequence or a stack ``(N, H, W[, C])``)."""
+    greys, floor = [], 0.0
+    for k, frame in enumerate(_frames(background, shape)):
+        name = "background" if k == 0 else f"background frame {k}"
+        grey, step = grey_image(frame, name)
+        if grey.shape != tuple(shape):
+            raise ValueError(
+                f"{name} must be an image of the empty table from the same camera, with the "
+                f"image's shape {tuple(shape)}, got {grey.shape}"
+            )
+        greys.append(grey)
+        floor = max(floor, step)
+    if len(greys) == 1:
+        return Background(greys[0], None, 1, floor)
+    stack = np.stack(greys)
+    return Background(stack.mean(axis=0), stack.std(axis=0, ddof=1), len(greys), floor)
+
+
+class Look(NamedTuple):
+    """Where :func:`comcore.mask_from_image` looks."""
+
+    box: tuple[slice, slice]
+    """The window: rows and columns of the image."""
+    valid: np.ndarray | None
+    """The window's pixels to look at (None: all)."""
+    robot: np.ndarray | None
+    """The robot's pixels in the window, or None."""
+    point: tuple[float, float] | None
+    """The pixel ``(x, y)`` on the object, in the window, or None."""
+
+
+def look_window(roi, robot_mask, point, shape: tuple[int, int]) -> Look:
+    """The region of interest less the robot's pixels, and the point in it."""
+    box, valid = roi_window(roi, shape)
+    robot = None
+    if robot_mask is not None:
+        arm = np.asarray(robot_mask)
+        if arm.dtype != bool or arm.shape != shape:
+            raise ValueError(
+                f"robot_mask must be a boolean image of the image's shape {shape} (True on the "
+                f"robot), got dtype {arm.dtype}, shape {arm.shape}"
+            )
+        robot = arm[box]
+        valid = ~robot if valid is None else valid & ~robot
+        if not valid.any():
+            raise ValueError("robot_mask covers every pixel where to look: nothing left to see")
+    if point is not None:
+        x, y = check_point(point, "point")
+        rows, cols = box
+        if not (cols.start <= x < cols.stop and rows.start <= y < rows.stop):
+            raise ValueError(
+                f"point ({x:g}, {y:g}) must be a pixel (x, y) = (column, row) inside the image "
+                f"and roi (columns {cols.start}..{cols.stop - 1}, "
+                f"rows {rows.start}..{rows.stop - 1})"
+            )
+        point = (x - cols.start, y - rows.start)
+    return Look(box, valid, robot, point)

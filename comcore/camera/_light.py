@@ -62,6 +62,7 @@ class Grid:
     def __init__(self, values: np.ndarray, valid: np.ndarray | None, frame_side: int):
         h, w = values.shape
         self.shape = (h, w)
+        self.frame_side = frame_side
         self.f = f = min(-(-frame_side // COARSE_SIDE), max(min(h, w) // 8, 1))
         if f == 1:
             self.means = np.where(valid, values, 0.0) if valid is not None else values
@@ -173,9 +174,7 @@ def smooth_leftover(residual: np.ndarray, table: np.ndarray, sigma: float) -> np
             slice(max(rows.min() - 2, 0), rows.max() + 3),
             slice(max(cols.min() - 2, 0), cols.max() + 3),
         )
-        _, (near_rows, near_cols) = ndimage.distance_transform_edt(
-            ~table[box], return_indices=True
-        )
+        _, (near_rows, near_cols) = ndimage.distance_transform_edt(~table[box], return_indices=True)
         filled = residual.copy()
         filled[box] = residual[box][near_rows, near_cols]
     return ndimage.gaussian_filter(filled, max(sigma, 1.0), mode="nearest")

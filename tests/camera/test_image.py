@@ -43,8 +43,14 @@ def test_an_image_of_a_mask_gives_the_mask_back(mask, object_value, table_value)
 
 @pytest.mark.parametrize(
     ("object_value", "table_value", "dtype"),
-    [(30, 200, np.uint8), (220, 10, np.uint8), (60000, 1000, np.uint16), (0.9, 0.2, np.float32),
-     (True, False, bool), (255, 0, np.uint8)],
+    [
+        (30, 200, np.uint8),
+        (220, 10, np.uint8),
+        (60000, 1000, np.uint16),
+        (0.9, 0.2, np.float32),
+        (True, False, bool),
+        (255, 0, np.uint8),
+    ],
     ids=["dark-uint8", "bright-uint8", "uint16", "float", "bool", "0-255"],
 )
 def test_grey_images_of_any_type(object_value, table_value, dtype):
@@ -170,9 +176,24 @@ def test_a_threshold_outside_the_image_gives_an_empty_result():
         (np.zeros(10), {}, ValueError, "got shape"),
         (np.array([["a"] * 4] * 4), {}, TypeError, "image must be a numeric"),
         (np.full((4, 4), np.nan), {}, ValueError, "NaN or inf"),
-        (scene()[0], {"object": "grey"}, ValueError, "object must be one of 'auto', 'bright', 'dark'"),
-        (scene()[0], {"threshold": "high"}, ValueError, "threshold must be a grey level or one of 'auto', 'otsu', got 'high'"),
-        (scene()[0], {"threshold": [120]}, TypeError, "threshold must be a number, 'auto', 'otsu' or None, got list"),
+        (
+            scene()[0],
+            {"object": "grey"},
+            ValueError,
+            "object must be one of 'auto', 'bright', 'dark'",
+        ),
+        (
+            scene()[0],
+            {"threshold": "high"},
+            ValueError,
+            "threshold must be a grey level or one of 'auto', 'otsu', got 'high'",
+        ),
+        (
+            scene()[0],
+            {"threshold": [120]},
+            TypeError,
+            "threshold must be a number, 'auto', 'otsu' or None, got list",
+        ),
         (scene()[0], {"threshold": np.inf}, ValueError, "threshold must be finite"),
     ],
 )
@@ -226,13 +247,27 @@ FOUND_IOU = 0.9
 
 def wide_frame(condition, index=0, **kwargs):
     c = list(frames.CONDITIONS).index(condition)
-    return frames.make_frame(np.random.default_rng([2, c, index]), **frames.CONDITIONS[condition], **kwargs)
+    return frames.make_frame(
+        np.random.default_rng([2, c, index]), **frames.CONDITIONS[condition], **kwargs
+    )
 
 
 @pytest.mark.parametrize(
     "condition",
-    ["even", "gradient 60", "gradient 100", "vignetting", "frame shadow", "cast shadow",
-     "textured table", "noisy", "low contrast", "small object", "large object", "all"],
+    [
+        "even",
+        "gradient 60",
+        "gradient 100",
+        "vignetting",
+        "frame shadow",
+        "cast shadow",
+        "textured table",
+        "noisy",
+        "low contrast",
+        "small object",
+        "large object",
+        "all",
+    ],
 )
 def test_the_object_is_found_in_a_wide_camera_frame(condition):
     frame = wide_frame(condition)
@@ -274,7 +309,10 @@ def test_an_image_identical_to_its_background_is_no_object():
 
 def test_the_background_finds_the_object_where_a_fixed_thing_would_be_a_second_object():
     frame = wide_frame("clutter")
-    with pytest.raises(comcore.ImageError, match=r"several objects.*give roi="):
+    with pytest.raises(
+        comcore.ImageError,
+        match=r"several objects.*point=\(x, y\).*roi=\(x0, y0, x1, y1\).*background=",
+    ):
         comcore.mask_from_image(frame.image)
     for kwargs in ({"background": frame.background}, {"roi": frame.roi}):
         mask = comcore.mask_from_image(frame.image, **kwargs)
@@ -309,7 +347,9 @@ def test_a_threshold_with_a_background_is_the_least_difference():
     mask = comcore.mask_from_image(img, background=table, threshold=25)
     assert mask.area_px == 600 and mask.centroid == (29.5, 19.5)
     assert np.array_equal(comcore.mask_from_image(img, background=table).data, mask.data)
-    with pytest.raises(comcore.ImageError, match=r"no bright pixel at threshold 40 \(the difference"):
+    with pytest.raises(
+        comcore.ImageError, match=r"no bright pixel at threshold 40 \(the difference"
+    ):
         comcore.mask_from_image(img, background=table, threshold=40, object="bright")
 
 
@@ -355,13 +395,18 @@ def test_a_bad_roi_is_named(roi, match):
 
 
 def test_a_background_of_another_camera_is_refused():
-    with pytest.raises(ValueError, match=r"background must be an image of the empty table .*\(40, 60\), got \(40, 61\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"background must be an image of the empty table .*\(40, 60\), got \(40, 61\)",
+    ):
         comcore.mask_from_image(scene()[0], background=np.zeros((40, 61), np.uint8))
 
 
 def test_the_wrong_side_on_a_lit_table_is_no_object_of_that_side():
     frame = wide_frame("gradient 60", dark=True)
-    with pytest.raises(comcore.ImageError, match=r"no object: the image matches the table \(no brighter region"):
+    with pytest.raises(
+        comcore.ImageError, match=r"no object: the image matches the table \(no brighter region"
+    ):
         comcore.mask_from_image(frame.image, object="bright")
 
 
@@ -385,3 +430,115 @@ def test_a_drawn_lit_table_without_noise_is_not_an_object(scale):
         comcore.mask_from_image(image)
     image[54:74, 74:94] = 13 / 255 * scale
     assert comcore.mask_from_image(image).area_px == 400
+
+
+# -- a robot cell's table (tests/camera/cell_frames.py) -------------------------------------
+@pytest.mark.parametrize("seed", range(3))
+def test_a_cell_frame_with_the_empty_table_and_a_box(seed):
+    from tests.camera.cell_frames import iou, make_cell_frame
+
+    frame = make_cell_frame(np.random.default_rng([11, seed]))
+    mask = comcore.mask_from_image(frame.image, background=frame.background, roi=frame.box)
+    assert iou(mask.data, frame.truth) >= 0.95
+    # the soft shadow beside the object is no part of it (one pixel of its blurred edge may be)
+    assert frame.shadow.sum() > 1000
+    assert not (mask.data & frame.shadow & ~ndimage.binary_dilation(frame.truth)).any()
+    # without the empty table: the object, or a refusal that names the empty-table frame
+    for kwargs in ({}, {"roi": frame.box}):
+        try:
+            mask = comcore.mask_from_image(frame.image, **kwargs)
+        except comcore.ImageError as e:
+            assert "background=" in str(e)
+        else:
+            assert iou(mask.data, frame.truth) >= 0.95
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_low_contrast_object_is_whole_or_refused_with_its_contrast(seed):
+    from tests.camera.cell_frames import iou, make_cell_frame
+
+    frame = make_cell_frame(np.random.default_rng([12, seed]), "low contrast")
+    for kwargs in ({"background": frame.background, "roi": frame.box}, {"roi": frame.box}):
+        try:
+            mask = comcore.mask_from_image(frame.image, **kwargs)
+        except comcore.ImageError as e:
+            if str(e).startswith("low contrast"):
+                assert "grey levels" in str(e) and "times the table's noise" in str(e)
+        else:
+            assert iou(mask.data, frame.truth) >= 0.95
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_two_objects_are_refused_saying_how_to_choose_and_a_point_chooses(seed):
+    from tests.camera.cell_frames import iou, make_cell_frame
+
+    frame = make_cell_frame(np.random.default_rng([13, seed]), "two objects")
+    with pytest.raises(comcore.ImageError, match=r"point=\(x, y\).*roi=\(x0, y0, x1, y1\)"):
+        comcore.mask_from_image(frame.image, background=frame.background)
+    mask = comcore.mask_from_image(frame.image, background=frame.background, roi=frame.box)
+    assert iou(mask.data, frame.truth) >= 0.95
+
+
+def _glossy_table(rng, shots):
+    """A striped table with a glossy patch whose glints change from frame to frame."""
+    rows, cols = np.mgrid[0:240, 0:320]
+    table = 150 + 20 * np.sin(cols / 5.0)
+    glossy = (np.abs(cols - 230) < 60) & (np.abs(rows - 120) < 60)
+    glints = [ndimage.gaussian_filter(rng.normal(0, 300, table.shape), 4) for _ in range(shots)]
+    frames = [table + rng.normal(0, 3, table.shape) + glossy * g for g in glints]
+    return [np.clip(f, 0, 255).astype(np.uint8) for f in frames], table
+
+
+def test_several_empty_table_frames_set_each_place_s_threshold():
+    frames, table = _glossy_table(np.random.default_rng(5), 9)
+    truth = np.zeros(table.shape, bool)
+    truth[100:140, 65:115] = True
+    image = frames[0].copy()
+    image[truth] = (table[truth] - 45).astype(np.uint8)
+    empty = frames[1:]
+    # one frame: the glints differ from it as much as the object
+    with pytest.raises(comcore.ImageError, match="speckled result"):
+        comcore.mask_from_image(image, background=empty[0])
+    kept = [f.copy() for f in empty]
+    for background in (empty, np.stack(empty), tuple(empty)):
+        mask = comcore.mask_from_image(image, background=background)
+        assert np.array_equal(mask.data, truth)
+    assert all(np.array_equal(a, b) for a, b in zip(empty, kept))
+    # one frame in a stack is that frame
+    img = np.full((40, 60), 200, np.uint8)
+    img[10:30, 15:45] = 30
+    bg = np.full((40, 60), 200, np.uint8)
+    assert comcore.mask_from_image(img, background=bg[None]).area_px == 600
+
+
+@pytest.mark.parametrize(
+    "background, match",
+    [
+        ([], "background holds no frame"),
+        ([np.zeros((10, 10))] * 65, "at most 64 frames"),
+        ([np.zeros((40, 60)), np.zeros((40, 61))], r"background frame 1 must be an image.*\(40, 61\)"),
+    ],
+)  # fmt: skip
+def test_bad_background_frames_are_named(background, match):
+    with pytest.raises(ValueError, match=match):
+        comcore.mask_from_image(np.zeros((40, 60), np.uint8), background=background)
+
+
+def test_a_point_chooses_among_objects_and_the_robot_mask_is_left_out():
+    img = np.full((40, 100), 200, np.uint8)
+    img[10:30, 15:45] = 30
+    img[5:35, 70:95] = 30
+    with pytest.raises(comcore.ImageError, match=r"several objects.*point=\(x, y\)"):
+        comcore.mask_from_image(img)
+    assert comcore.mask_from_image(img, point=(30, 20)).area_px == 600
+    assert comcore.mask_from_image(img, point=(80, 20)).area_px == 750
+    arm = np.zeros(img.shape, bool)
+    arm[:, 60:] = True
+    assert comcore.mask_from_image(img, robot_mask=arm).area_px == 600
+    arm[:, 44:] = True
+    with pytest.raises(comcore.ImageError, match=r"touches the robot \(robot_mask\)"):
+        comcore.mask_from_image(img, robot_mask=arm)
+    with pytest.raises(ValueError, match="robot_mask must be a boolean image"):
+        comcore.mask_from_image(img, robot_mask=arm[:, :50])
+    with pytest.raises(ValueError, match=r"point \(500, 20\) must be a pixel"):
+        comcore.mask_from_image(img, point=(500, 20))
