@@ -42,8 +42,23 @@ from benchmarks.mujoco.cell_adapter import CellAdapter, find_com
 OBJECTS = ("Obj1", "Obj2", "Obj3", "Obj4", "Obj5", "Obj6", "Obj7", "Obj8", "Obj9", "Obj10")
 #: Where the arm waits between pushes: this far (m) in from the work area's far corner.
 REST_INSET_M = 0.03
+#: The camera's channels (``--channel``): the colour frame (comcore takes its luma) or one.
+CHANNELS = {"rgb": None, "red": 0, "green": 1, "blue": 2}
 #: Margin (m) of the user's first box around the object.
 BOX_MARGIN_M = 0.02
+
+
+class CountingAdapter(CellAdapter):
+    """The adapter, counting the frames the segmentation refuses (and why, first words)."""
+
+    refusals: list
+
+    def mask(self, frame, margin=60):
+        try:
+            return super().mask(frame, margin)
+        except ValueError as e:
+            self.refusals.append(str(e).split(":")[0])
+            raise
 
 
 def board(robot, cell, click_noise, rng):
@@ -70,18 +85,22 @@ def run(name, friction, seed, k, args):
     clicks, table = board(robot, cell, args.click_noise, np.random.default_rng([seed, k, 1]))
     outline = cell.outline_m
     box = (*(outline.min(axis=0) - BOX_MARGIN_M), *(outline.max(axis=0) + BOX_MARGIN_M))
-    adapter = CellAdapter(clicks, table, [robot.empty_table_frame()], work_area, box)
+    channel = CHANNELS[args.channel]
+    empty = robot.empty_table_frame()
+    adapter = CountingAdapter(clicks, table, [empty if channel is None else empty[..., channel]],
+                          work_area, box)  # fmt: skip
+    adapter.refusals, arm_failures = [], []
     rest = (work_area[2] - REST_INSET_M, work_area[3] - REST_INSET_M)
-    counts = {"frames": 0, "refused": 0}
 
     def camera_frame():
-        counts["frames"] += 1
-        return robot.camera_frame()
+        frame = robot.camera_frame()
+        return frame if channel is None else frame[..., channel]
 
     def arm(push_m):
         try:
             robot.execute_table(push_m, rest=rest)
-        except ValueError:  # starts inside the object as it is now, or too long
+        except ValueError as e:  # starts inside the object as it is now, or too long
+            arm_failures.append(str(e))
             return False
         return True
 
@@ -96,7 +115,9 @@ def run(name, friction, seed, k, args):
         "pushes": robot.pushes,
         "covered": bool(est.region_holds(tuple(truth_px))),
         "status": est.status,
-        "refused": sum(p.outcome == "failed" for p in est.pushes),
+        "failed": sum(p.outcome == "failed" for p in est.pushes),
+        "refused": adapter.refusals,
+        "arm_failures": len(arm_failures),
         "seconds": time.perf_counter() - t0,
     }
 
@@ -110,6 +131,7 @@ def main(argv=None):
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--tilt", type=float, default=28.0, help="degrees off vertical")
     parser.add_argument("--camera", type=int, nargs=2, default=(640, 480), metavar=("W", "H"))
+    parser.add_argument("--channel", choices=CHANNELS, default="rgb")
     parser.add_argument("--click-noise", type=float, default=0.5, help="pixels (std)")
     args = parser.parse_args(argv)
     half = (len(args.objects) + 1) // 2
@@ -121,16 +143,21 @@ def main(argv=None):
     t0 = time.time()
     with ProcessPoolExecutor(args.workers) as pool:
         rows = list(pool.map(run, *zip(*jobs)))
-    print("| object | friction | error (cm) | pushes | region holds the CoM | failed | status |")
+    print("| object | friction | error (cm) | pushes | region holds the CoM | failed: frame "
+          "refused, arm | status |")
     print("|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['object']} | {r['friction']} | {r['error_cm']:.3f} | {r['pushes']} | "
-              f"{r['covered']} | {r['refused']} | {r['status']} |")  # fmt: skip
+              f"{r['covered']} | {r['failed']}: {len(r['refused'])}, {r['arm_failures']} | "
+              f"{r['status']} |")  # fmt: skip
     err = np.array([r["error_cm"] for r in rows])
     print(f"| **mean** ({len(rows)} runs) | | **{err.mean():.3f}** | "
           f"{np.mean([r['pushes'] for r in rows]):.1f} | "
           f"**{np.mean([r['covered'] for r in rows]):.0%}** | "
-          f"{sum(r['refused'] for r in rows)} | |")  # fmt: skip
+          f"{sum(r['failed'] for r in rows)} | |")
+    reasons = [why for r in rows for why in r["refused"]]
+    for why in sorted(set(reasons)):
+        print(f"frames refused, {why}: {reasons.count(why)}")  # fmt: skip
     print(f"seed {args.seed}, tilt {args.tilt:g} deg, {args.camera[0]}x{args.camera[1]} camera, "
           f"{time.time() - t0:.0f} s, load {os.getloadavg()[0]:.1f}")  # fmt: skip
     return rows
