@@ -13,10 +13,11 @@ class CellAdapter:
         (x0, y0), (x1, y1) = self.view.pixels_from_table(np.reshape(object_box_m, (2, 2)))
         self.box = (x0, y1, x1, y0)  # where the object is, top-down pixels (row 0 is far)
 
-    def mask(self, frame, margin=60):
-        """The object's mask in the top-down image; the box then follows the object."""
+    def mask(self, frame, reach=60):
+        """The object's mask in the top-down image, looked for in a box that follows it."""
         (h, w), (x0, y0, x1, y1) = self.view.shape, np.round(self.box).astype(int)
-        roi = (max(x0 - margin, 0), max(y0 - margin, 0), min(x1 + margin, w), min(y1 + margin, h))
+        m = reach + max(x1 - x0, y1 - y0) // 2  # a push's travel (px) and the object's turn
+        roi = (max(x0 - m, 0), max(y0 - m, 0), min(x1 + m, w), min(y1 + m, h))
         top = self.view.rectify(frame)
         mask = comcore.mask_from_image(top, background=self.empty, roi=roi, resolution=0.001)
         rows, cols = np.nonzero(mask.data)
@@ -28,17 +29,22 @@ class CellAdapter:
         return self.view.robot_pushes([action])[0]
 
 
-def find_com(cell, camera, arm, pusher_radius, max_steps=30):
+def find_com(cell, camera, arm, pusher_radius, rng=None, max_steps=30):
     """One session: ``camera()`` gives a frame, ``arm(push_m)`` pushes (False: it could not)."""
-    session = comcore.ActiveSession(cell.mask(camera()), pusher_radius=pusher_radius)
+    first = cell.mask(camera())
+    session = comcore.ActiveSession(first, pusher_radius=pusher_radius, rng=rng)
     for _ in range(max_steps):
         if session.done:
             break
         if not arm(cell.arm_push(session.next_push())):
-            session.observe(failed=True)  # out of reach, a collision: no evidence
+            session.observe(failed=True)  # out of reach, a collision: nothing moved
             continue
         try:
             session.observe(cell.mask(camera()))
-        except ValueError:  # the frame refused (comcore.ImageError) or not the object
+        except ValueError:  # the frame refused (comcore.ImageError): the push taught nothing
             session.observe(failed=True)
+            try:  # but the object moved: find it again, or stop with what was learned
+                session.reset_pose(comcore.measure_motion(first, cell.mask(camera())).motion)
+            except ValueError:
+                break
     return session.estimate()  # .com in the first mask's pixels: cell.view.table_from_pixels

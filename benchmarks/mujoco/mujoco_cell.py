@@ -2,19 +2,23 @@
 
 MuJoCo plays a real cell: a camera tilted ``--tilt`` degrees off vertical renders
 ``--camera`` frames of a wood-grain table, the arm (drawn on the pusher) waits in
-view between pushes, and each object is pushed from wherever the last push left
-it (never reset). The cell is driven only through
-``benchmarks/mujoco/cell_adapter.py`` (the how-to's adapter, the same code):
+view between pushes at the work area's far corner, and each object is pushed from
+wherever the last push left it (never reset). The cell is driven only through
+``benchmarks/mujoco/cell_adapter.py``, the how-to's adapter (the same file):
 calibrated once from four table points whose pixels are where the camera sees
-them plus ``--click-noise`` pixels of noise (a user's clicks), with the board at
-the height of the object's top face (the outline the camera sees; see the
-how-to), one empty-table frame, a box around the object; pushes go out in table
-metres (:meth:`simulators.MujocoRobot.execute_table`). Default session settings,
-the robot's pusher radius.
+them plus ``--click-noise`` pixels of noise (a user's clicks), the board at the
+height of the objects' top face (the how-to's answer to parallax), one empty-table
+frame, a box around the object at the start; pushes go out in table metres
+(:meth:`simulators.MujocoRobot.execute_table`). The camera hands the adapter its
+green channel by default (``--channel``: where the yellow objects differ most
+from the wood; ``rgb`` gives the colour frame, comcore takes its luma). Default
+session settings, the robot's pusher radius, the session's stream ``[seed, k, 7]``.
 
 Reported per run: the CoM's error (cm, table metres against MuJoCo's CoM at the
-first frame), pushes, whether the 90 % region holds the CoM, frames refused; then
-the means. Trials: ``accepted_random_simulator(object, friction, rng=[seed, k])``.
+first frame), pushes, whether the 90 % region holds the CoM, failed pushes (frames
+the segmentation refused, pushes the arm could not make); then the means and the
+refusals' reasons. Objects: ``accepted_random_simulator(object, friction, rng=[seed,
+k])``, ``k`` the object's index in ``simulators.BENCHMARK_OBJECTS``.
 
     PYTHONPATH=. python benchmarks/mujoco/mujoco_cell.py --seed 0 --workers 2
     PYTHONPATH=. python benchmarks/mujoco/mujoco_cell.py --objects Obj2 --friction low
@@ -53,9 +57,9 @@ class CountingAdapter(CellAdapter):
 
     refusals: list
 
-    def mask(self, frame, margin=60):
+    def mask(self, frame, reach=60):
         try:
-            return super().mask(frame, margin)
+            return super().mask(frame, reach)
         except ValueError as e:
             self.refusals.append(str(e).split(":")[0])
             raise
@@ -87,8 +91,8 @@ def run(name, friction, seed, k, args):
     box = (*(outline.min(axis=0) - BOX_MARGIN_M), *(outline.max(axis=0) + BOX_MARGIN_M))
     channel = CHANNELS[args.channel]
     empty = robot.empty_table_frame()
-    adapter = CountingAdapter(clicks, table, [empty if channel is None else empty[..., channel]],
-                          work_area, box)  # fmt: skip
+    empty = empty if channel is None else empty[..., channel]
+    adapter = CountingAdapter(clicks, table, [empty], work_area, box)
     adapter.refusals, arm_failures = [], []
     rest = (work_area[2] - REST_INSET_M, work_area[3] - REST_INSET_M)
 
@@ -104,7 +108,7 @@ def run(name, friction, seed, k, args):
             return False
         return True
 
-    est = find_com(adapter, camera_frame, arm, sim.pusher_radius)
+    est = find_com(adapter, camera_frame, arm, sim.pusher_radius, rng=[seed, k, 7])
     truth_px = adapter.view.pixels_from_table(cell.com_m)
     com_m = adapter.view.table_from_pixels(est.com)
     robot.close()
@@ -125,18 +129,19 @@ def run(name, friction, seed, k, args):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--objects", nargs="+", default=list(OBJECTS))
-    parser.add_argument("--friction", nargs="+", help="one class for every object (default: "
-                        "low for the first half of the objects, high for the rest)")  # fmt: skip
+    parser.add_argument("--friction", choices=("low", "high"), help="one class for every "
+                        "object (default: low for the first half of the objects, high for the "
+                        "rest)")  # fmt: skip
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--tilt", type=float, default=28.0, help="degrees off vertical")
     parser.add_argument("--camera", type=int, nargs=2, default=(640, 480), metavar=("W", "H"))
-    parser.add_argument("--channel", choices=CHANNELS, default="rgb")
+    parser.add_argument("--channel", choices=CHANNELS, default="green")
     parser.add_argument("--click-noise", type=float, default=0.5, help="pixels (std)")
     args = parser.parse_args(argv)
     half = (len(args.objects) + 1) // 2
     jobs = [
-        (name, args.friction[0] if args.friction else ("low" if i < half else "high"),
+        (name, args.friction or ("low" if i < half else "high"),
          args.seed, simulators.BENCHMARK_OBJECTS.index(name), args)
         for i, name in enumerate(args.objects)
     ]  # fmt: skip

@@ -138,3 +138,16 @@ def test_the_how_to_opens_with_the_adapter_the_benchmark_runs():
     page = (ROOT / "docs/how-to/your-robot.md").read_text(encoding="utf-8")
     first = re.search(r"```python\n(.*?)```", page, re.S).group(1)
     assert first == (ROOT / "benchmarks/mujoco/cell_adapter.py").read_text(encoding="utf-8")
+
+
+@pytest.mark.slow
+def test_the_cell_benchmark_runs_on_one_object():
+    from tests.scripts import run_script
+
+    out = run_script(
+        "benchmarks/mujoco/mujoco_cell.py", "--objects", "Obj3", "--camera", "320", "240",
+        "--channel", "green",
+    )  # fmt: skip
+    row = re.search(r"^\| Obj3 \| low \| (\d+\.\d+) \| (\d+) \| (True|False) \| ", out, re.M)
+    assert row and int(row.group(2)) >= 1
+    assert "| **mean** (1 runs) |" in out and "seed 0, tilt 28 deg, 320x240 camera" in out
