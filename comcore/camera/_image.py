@@ -233,12 +233,10 @@ def mask_from_image(
     object : {"auto", "bright", "dark"}, optional
         Whether the object is brighter or darker than the table.
     background : array_like or str or os.PathLike, or a sequence of them, optional
-        The empty table from the same camera, arm away (same shape): the object
-        is where the image differs from it (the remedy for a textured table);
-        what differs at the frame's edge (the arm) is never the object. Several
-        frames (a sequence, or a stack ``(N, H, W)`` / ``(N, H, W, 3)``): their
-        per-pixel mean, and their spread sets each place's threshold (a
-        flickering or glossy patch needs a larger difference).
+        The empty table, same camera, arm away: the object is where the image
+        differs from it (a textured table's remedy); what differs at the frame's
+        edge (the arm) is never the object. Several frames (a sequence or a stack
+        ``(N, H, W[, 3])``): their mean, and their spread sets each place's threshold.
     roi : tuple of 4 ints or array_like of bool, optional
         Where to look: a box ``(x0, y0, x1, y1)`` (columns x0..x1-1, rows
         y0..y1-1) or a boolean image. The object must lie inside, off its edge.
@@ -266,8 +264,7 @@ def mask_from_image(
         image's border, the edge of ``roi`` or the robot; ``background`` first
         where it would help.
     ValueError, TypeError
-        For a bad image, ``threshold``, ``object``, ``background``, ``roi``,
-        ``point`` or ``robot_mask``. ImportError: a path without opencv.
+        For a bad argument (named). ImportError: a path without opencv.
 
     Examples
     --------

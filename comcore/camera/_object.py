@@ -55,6 +55,8 @@ SMOOTH_ROUNDS = 3
 MIN_LARGEST_SHARE = 0.5
 #: Several objects: the second region's summed difference is at least this share of the first's.
 MAX_SECOND_RATIO = 0.5
+#: Another object: off the rim, differing by this share of the object's level, as large.
+WEAK_SHARE = 0.6
 #: Low contrast: the object must differ from the table by this many times its noise per pixel.
 MIN_CONTRAST_SIGMAS = 3.0
 #: Cut up: the mask must hold this share of the candidate pixels past half the object's contrast.
@@ -249,7 +251,11 @@ def find_object(
         regions = found[side].objects()
         _check_regions(regions, side, grid.f, table, reference is not None)
         core = regions.labels == regions.ids[0]
-        _check_seen(light.seen, core, grid, table, reference is not None)
+        sign = 1.0 if side == "bright" else -1.0
+        plain = sign * (grid.means - light.model.at(grid.x, grid.y))  # before the leftovers
+        weak = plain > WEAK_SHARE * np.median(plain[core])
+        weak = ndimage.binary_opening(grid.cells & weak, EIGHT_CONNECTED, iterations=2)
+        _check_seen(light.seen | weak, core, grid, table, reference is not None)
     return _refine(_Window(values, valid, grid, reference), core, side, light, table)
 
 
@@ -301,8 +307,10 @@ def _check_regions(regions: _Regions, side: str, f: int, table: str, background:
 def _check_seen(seen: np.ndarray, core: np.ndarray, grid: Grid, table: str, background: bool):
     """ImageError if another object, off the rim, differed from the table in an earlier round.
 
-    Such an object (one beside a shadow or the arm, whose light took it in)
-    is no candidate in the end, yet it is as much an object as the one found.
+    Such an object (one beside a shadow or the arm, whose light took it in,
+    or one a little fainter than the limit, ``seen`` holding what differs from
+    the fitted light by :data:`WEAK_SHARE` of the object's level) is no candidate in the end, yet
+    it is as much an object as the one found.
     """
     labels, n = ndimage.label(seen | core, structure=EIGHT_CONNECTED)
     if n < 2:
