@@ -146,7 +146,6 @@ def test_the_cell_benchmark_runs_on_one_object():
 
     out = run_script(
         "benchmarks/mujoco/mujoco_cell.py", "--objects", "Obj3", "--camera", "320", "240",
-        "--channel", "green",
     )  # fmt: skip
     row = re.search(r"^\| Obj3 \| low \| (\d+\.\d+) \| (\d+) \| (True|False) \| ", out, re.M)
     assert row and int(row.group(2)) >= 1
