@@ -65,13 +65,17 @@ class CountingAdapter(CellAdapter):
             raise
 
 
-def board(robot, cell, click_noise, rng):
-    """Four table points (the work area's corners, 4 cm in) and their noisy pixels."""
+def board(robot, cell, click_noise, rng, height="top"):
+    """Four table points (the work area's corners, 4 cm in) and their noisy pixels.
+
+    The board lies at the objects' top face (``height="top"``) or on the table.
+    """
     x0, y0, x1, y1 = robot.camera_setup.bounds_m
     table = np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)]) + 0.04 * np.array(
         [(1, 1), (-1, 1), (-1, -1), (1, -1)]
     )
-    seen = np.column_stack([table, np.ones(4)]) @ cell.top_to_image.T
+    to_image = cell.top_to_image if height == "top" else cell.table_to_image
+    seen = np.column_stack([table, np.ones(4)]) @ to_image.T
     clicks = seen[:, :2] / seen[:, 2:] + rng.normal(0.0, click_noise, (4, 2))
     return clicks, table
 
@@ -86,7 +90,9 @@ def run(name, friction, seed, k, args):
     t0 = time.perf_counter()
     cell = robot.cell_frame()
     work_area = robot.camera_setup.bounds_m
-    clicks, table = board(robot, cell, args.click_noise, np.random.default_rng([seed, k, 1]))
+    clicks, table = board(
+        robot, cell, args.click_noise, np.random.default_rng([seed, k, 1]), args.board
+    )
     outline = cell.outline_m
     box = (*(outline.min(axis=0) - BOX_MARGIN_M), *(outline.max(axis=0) + BOX_MARGIN_M))
     channel = CHANNELS[args.channel]
@@ -137,6 +143,9 @@ def main(argv=None):
     parser.add_argument("--tilt", type=float, default=28.0, help="degrees off vertical")
     parser.add_argument("--camera", type=int, nargs=2, default=(640, 480), metavar=("W", "H"))
     parser.add_argument("--channel", choices=CHANNELS, default="green")
+    parser.add_argument("--board", choices=("top", "table"), default="top", help="where the "
+                        "calibration board lies: at the objects' top face or on the table "
+                        "(parallax uncorrected)")  # fmt: skip
     parser.add_argument("--click-noise", type=float, default=0.5, help="pixels (std)")
     args = parser.parse_args(argv)
     half = (len(args.objects) + 1) // 2
@@ -164,6 +173,7 @@ def main(argv=None):
     for why in sorted(set(reasons)):
         print(f"frames refused, {why}: {reasons.count(why)}")  # fmt: skip
     print(f"seed {args.seed}, tilt {args.tilt:g} deg, {args.camera[0]}x{args.camera[1]} camera, "
+          f"{args.channel} channel, board at the {args.board}, "
           f"{time.time() - t0:.0f} s, load {os.getloadavg()[0]:.1f}")  # fmt: skip
     return rows
 

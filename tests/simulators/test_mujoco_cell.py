@@ -149,4 +149,5 @@ def test_the_cell_benchmark_runs_on_one_object():
     )  # fmt: skip
     row = re.search(r"^\| Obj3 \| low \| (\d+\.\d+) \| (\d+) \| (True|False) \| ", out, re.M)
     assert row and int(row.group(2)) >= 1
-    assert "| **mean** (1 runs) |" in out and "seed 0, tilt 28 deg, 320x240 camera" in out
+    assert "| **mean** (1 runs) |" in out
+    assert "seed 0, tilt 28 deg, 320x240 camera, green channel, board at the top" in out
