@@ -19,7 +19,9 @@ class CellAdapter:
         m = reach + max(x1 - x0, y1 - y0) // 2  # a push's travel (px) and the object's turn
         roi = (max(x0 - m, 0), max(y0 - m, 0), min(x1 + m, w), min(y1 + m, h))
         top = self.view.rectify(frame)
-        mask = comcore.mask_from_image(top, background=self.empty, roi=roi, resolution=0.001)
+        mask = comcore.mask_from_image(
+            top, background=self.empty, roi=roi, resolution=self.view.resolution
+        )
         rows, cols = np.nonzero(mask.data)
         self.box = (cols.min(), rows.min(), cols.max() + 1, rows.max() + 1)
         return mask

@@ -610,9 +610,25 @@ class MujocoRobot:
     def execute_table(self, push_m, *, rest=None) -> MujocoPush:
         """Push along ``push_m``, ``(sx, sy, ex, ey)`` in table metres: what a cell's arm takes.
 
-        The push goes as :meth:`execute` (its errors too) on the grid's pixels. ``rest``:
-        a table point ``(x, y)`` in metres where the pusher and its arm then wait, in
-        the camera's view (:meth:`rest_pusher`); default parked out of view.
+        Parameters
+        ----------
+        push_m : array_like, shape (4,)
+            The pusher's leading point's path, table metres (the frame of
+            :meth:`cell_frame`).
+        rest : (float, float), optional
+            A table point (metres) where the pusher and its arm then wait, in the
+            camera's view (:meth:`rest_pusher`); default parked out of view.
+
+        Returns
+        -------
+        MujocoPush
+            As :meth:`execute`, which makes the push on the grid's pixels.
+
+        Raises
+        ------
+        ValueError
+            If ``push_m`` is not four finite numbers, or as :meth:`execute` (a start
+            inside the object, a push too long) or :meth:`rest_pusher`.
         """
         push = np.asarray(push_m, dtype=float)
         if push.shape != (4,) or not np.isfinite(push).all():
