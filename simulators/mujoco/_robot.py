@@ -607,6 +607,75 @@ class MujocoRobot:
             frames.append(comcore.PushFrame((float(p[0]), float(p[1])), mask))
         return tuple(frames), tuple(s[0] for s in seen), tuple(s[3] for s in seen)
 
+    def execute_table(self, push_m, *, rest=None) -> MujocoPush:
+        """Push along ``push_m``, ``(sx, sy, ex, ey)`` in table metres: what a cell's arm takes.
+
+        Parameters
+        ----------
+        push_m : array_like, shape (4,)
+            The pusher's leading point's path, table metres (the frame of
+            :meth:`cell_frame`).
+        rest : (float, float), optional
+            A table point (metres) where the pusher and its arm then wait, in the
+            camera's view (:meth:`rest_pusher`); default parked out of view.
+
+        Returns
+        -------
+        MujocoPush
+            As :meth:`execute`, which makes the push on the grid's pixels.
+
+        Raises
+        ------
+        ValueError
+            If ``push_m`` is not four finite numbers, or as :meth:`execute` (a start
+            inside the object, a push too long) or :meth:`rest_pusher`.
+        """
+        push = np.asarray(push_m, dtype=float)
+        if push.shape != (4,) or not np.isfinite(push).all():
+            raise ValueError(
+                f"push_m must be four finite numbers (sx, sy, ex, ey) in table metres, "
+                f"got {push_m!r}"
+            )
+        record = self.execute(Action(*self.simulator.to_pixels(push.reshape(2, 2)).ravel()))
+        if rest is not None:
+            self.rest_pusher(rest)
+        return record
+
+    def rest_pusher(self, at=None) -> None:
+        """Put the pusher (and the arm drawn on it) at table point ``at`` (metres), still.
+
+        Default: parked out of view. A point whose pusher disc would touch the object
+        is refused with a ValueError (the robot is unchanged).
+        """
+        if at is None:
+            self._set_pusher(PARK_XY)
+            return
+        xy = np.asarray(at, dtype=float)
+        if xy.shape != (2,) or not np.isfinite(xy).all():
+            raise ValueError(f"at must be a table point (x, y) in metres, got {at!r}")
+        shapely = require_shapely()
+        gap = shapely.distance(shapely.Polygon(self.outline_m), shapely.Point(*xy))
+        if gap <= self.simulator.pusher_radius:
+            raise ValueError(
+                f"at={tuple(xy.tolist())} puts the pusher on the object ({gap * 1000:.1f} mm "
+                f"from its outline, radius {self.simulator.pusher_radius * 1000:.1f} mm)"
+            )
+        self._set_pusher(xy)
+
+    def empty_table_frame(self) -> np.ndarray:
+        """A rendered frame with the object taken out of view, the scene left as it was.
+
+        What a cell's camera sees of the empty table (the arm where it is now): the
+        ``background=`` of :func:`comcore.mask_from_image`.
+        """
+        state = self._state()
+        self.data.qpos[:2] += 2.0 * np.asarray(PARK_XY)
+        self._mj.mj_forward(self.model, self.data)
+        try:
+            return self.camera_frame()
+        finally:
+            self._restore(state)
+
     def place(self, pose=None) -> None:
         """Put the object at ``pose`` (CoM ``(x, y)`` table metres, angle); default the start.
 
