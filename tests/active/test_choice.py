@@ -174,7 +174,7 @@ class OneInformative:
         out = np.zeros((len(coms), len(actions), 3))
         out[:, :, 1] = 5.0
         from_left = actions[:, 0] < actions[:, 2]
-        out[:, from_left, 0] = 0.02 * (coms[:, 1:2] - 17.5)
+        out[:, from_left, 0] = -0.02 * (coms[:, 1:2] - 17.5)  # the sense the Voting Theorem gives
         return out
 
 

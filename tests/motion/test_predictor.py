@@ -179,21 +179,37 @@ def test_the_bound_grows_with_the_push_and_shrinks_with_the_object():
     assert turn_bounds(2 * PUSHES, MASK)[0] == pytest.approx(2 * turn_bounds(PUSHES, MASK)[0])
 
 
-def test_a_sign_flipped_model_is_not_refused_and_the_message_blames_neither_alone():
+def test_a_sign_flipped_model_is_refused_where_it_enters_naming_the_sign():
+    """Where the Voting Theorem is sure of the sense, a flipped model turns the object the
+    other way for every hypothesis: no data can fix that, so it is refused, not scored."""
+    simulators = require_simulators()
+    sim = simulators.random_simulator("Obj4", "low", rng=2)
+    pushes = comcore.sample_pushes(sim.mask, 8, rng=2)
+    flipped = "Scaled.predict_hypotheses turns the object against Mason's Voting Theorem.*sign flipped"
+    with pytest.raises(ValueError, match=flipped):
+        comcore.estimate_posterior(sim.mask, pushes, sim.push_motions(pushes), model=Scaled(-1))
+    session = comcore.ActiveSession(sim.mask, model=Scaled(-1), rng=0)
+    push = session.next_push()
+    motion = sim.push_motions(np.asarray(push, float)[None])[0]
+    with pytest.raises(ValueError, match=flipped):
+        session.observe(motion=motion)
+
+
+def test_a_model_that_disagrees_with_the_data_is_not_said_to_be_the_datas_fault():
+    """A model whose turns are 57 times too small makes radian data look like degrees: the
+    message names both possibilities, the recording in degrees and the model's theta."""
     simulators = require_simulators()
     sim = simulators.random_simulator("Obj4", "low", rng=2)
     pushes = comcore.sample_pushes(sim.mask, 8, rng=2)
     with pytest.raises(ValueError, match="the motion model and the data disagree.*if not, the "
                        "theta of the model is wrong"):  # fmt: skip
-        comcore.estimate_posterior(sim.mask, pushes, sim.push_motions(pushes), model=Scaled(-1))
-    est = comcore.estimate_posterior(
-        sim.mask, pushes, sim.push_motions(pushes), model=Scaled(-1), theta_units="rad"
-    )
-    assert est.status != "ok"
+        comcore.estimate_posterior(
+            sim.mask, pushes, sim.push_motions(pushes), model=Scaled(math.pi / 180)
+        )
 
 
-@pytest.mark.parametrize("seed", [0, 2, 4, 5, 6])
-def test_the_docstrings_toy_model_ends_ok_within_a_centimetre(seed):
+def _toy_session(seed: int):
+    """The docstring's toy model in a session on a simulated object; (status, error in m)."""
     simulators = require_simulators()
     name = f"Obj{1 + (3 * seed) % 20}"
     friction = "low" if seed % 2 == 0 else "high"
@@ -204,8 +220,16 @@ def test_the_docstrings_toy_model_ends_ok_within_a_centimetre(seed):
     while not session.done:
         robot.execute(session.next_push())
         session.observe(robot.camera_mask())
-    error_m = robot.resolution * session.estimate().error_px(robot.true_com_px)
-    assert session.status == "ok" and error_m < 0.01
+    return str(session.status), robot.resolution * session.estimate().error_px(robot.true_com_px)
+
+
+@pytest.mark.slow
+def test_the_docstrings_toy_model_ends_ok_within_a_centimetre_on_five_of_eight_objects():
+    """Eight objects fixed up front (seeds 0-7): a rough model may stop short of ``ok``."""
+    runs = [_toy_session(seed) for seed in range(8)]
+    close = [status == "ok" and error < 0.01 for status, error in runs]
+    assert sum(close) >= 5, runs
+    assert not any(status == "ok" and error >= 0.01 for status, error in runs), runs
 
 
 @pytest.mark.slow
