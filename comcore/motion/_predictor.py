@@ -236,7 +236,7 @@ def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=N
             "(theta, tx, ty) per " + ("push" if pts is None else "CoM hypothesis and push")
         )
     _refuse_not_finite(who, out, pts, mu)
-    _refuse_impossible(who, out, acts, mask)
+    _refuse_impossible(who, out, acts, mask, pts)
     if pts is not None:
         _refuse_against_the_theorem(who, out, acts, pts, mu, mask)
     return out
@@ -311,8 +311,14 @@ def _refuse_against_the_theorem(who: str, out, acts, pts, mu, mask: Mask) -> Non
         )
 
 
-def _refuse_impossible(who: str, out: np.ndarray, acts: np.ndarray, mask: Mask) -> None:
-    """A ValueError for a turn or a displacement no push of that length can cause."""
+def _refuse_impossible(who: str, out: np.ndarray, acts: np.ndarray, mask: Mask, pts) -> None:
+    """A ValueError for a turn or a displacement no push of that length can cause.
+
+    The displacement is the area centroid's: the CoM's own (at most
+    :data:`MAX_TRANSLATION_PER_PUSH_LENGTH` push lengths) plus the turn's swing of the
+    centroid about the CoM, at most twice their distance (a half turn's chord); without
+    CoM hypotheses (``pts`` None), twice the object's largest distance from its centroid.
+    """
     if out.size == 0:
         return
     length = np.hypot(acts[:, 2] - acts[:, 0], acts[:, 3] - acts[:, 1])
@@ -337,14 +343,20 @@ def _refuse_impossible(who: str, out: np.ndarray, acts: np.ndarray, mask: Mask) 
             "the model is broken (corrupt weights, a unit mistake?), not the object"
         )
     shift = np.hypot(out[..., 1], out[..., 2])
-    carried = shift > MAX_TRANSLATION_PER_PUSH_LENGTH * length
+    centroid = np.asarray(mask.centroid)
+    if pts is None:
+        swing = 2.0 * float(np.sqrt(((mask.pixels - centroid) ** 2).sum(axis=1).max()))
+    else:
+        swing = 2.0 * np.hypot(*(pts - centroid).T)[:, None]  # (n_coms, 1)
+    carried = shift > MAX_TRANSLATION_PER_PUSH_LENGTH * length + swing
     if carried.any():
         where = tuple(np.argwhere(carried)[0])
         i = int(where[-1])
         raise ValueError(
             f"{who} predicted a motion no push can cause: push {i} ({length[i]:.3g} px long) "
             f"moves the object by {shift[where]:.3g} px, more than "
-            f"{MAX_TRANSLATION_PER_PUSH_LENGTH:g} times the push's length; the model is "
+            f"{MAX_TRANSLATION_PER_PUSH_LENGTH:g} times the push's length and the turn's swing "
+            "of the centroid about the CoM; the model is "
             "broken (corrupt weights, a unit mistake?), not the object"
         )
 
