@@ -172,7 +172,8 @@ def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=N
     other than one motion per CoM hypothesis and push; NaN or inf (naming it,
     the hypothesis' CoM and friction, and the push); a turn beyond what a push
     of that length can cause (:func:`turn_bounds`), said to be theta in degrees
-    where every turn divided by 180 / pi would be possible; turns against
+    where every turn divided by 180 / pi would be possible (these bounds, and
+    the next, for the hypotheses on the object); turns against
     Mason's Voting Theorem for most of the hypotheses where it is sure of the
     sense (a flipped sign). A model that is otherwise wrong passes: the
     estimator finds that its predictions and the observed motions disagree.
@@ -236,9 +237,14 @@ def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=N
             "(theta, tx, ty) per " + ("push" if pts is None else "CoM hypothesis and push")
         )
     _refuse_not_finite(who, out, pts, mu)
-    _refuse_impossible(who, out, acts, mask, pts)
-    if pts is not None:
-        _refuse_against_the_theorem(who, out, acts, pts, mu, mask)
+    if pts is None:
+        _refuse_impossible(who, out, acts, mask, pts)
+        return out
+    # The bounds hold for a CoM on the object; the estimators also ask about CoMs a pusher's
+    # error away from it (the offset's marginal), where a model may answer anything finite.
+    on = mask.contains(pts)
+    _refuse_impossible(who, out[on], acts, mask, pts[on])
+    _refuse_against_the_theorem(who, out[on], acts, pts[on], mu, mask)
     return out
 
 
@@ -287,7 +293,7 @@ def _refuse_against_the_theorem(who: str, out, acts, pts, mu, mask: Mask) -> Non
     whatever the model; a model that turns the object the other way for most of those
     hypotheses has its sign flipped (theta clockwise, or y up), which no data can fix.
     """
-    if np.ndim(mu) != 0 or out.size == 0 or not np.isfinite(float(mu)):
+    if mu is None or np.ndim(mu) != 0 or out.size == 0 or not np.isfinite(float(mu)):
         return  # one friction value a call (the estimators); the goal's particles are checked
     con = contacts(mask, acts)
     sure = against = 0
