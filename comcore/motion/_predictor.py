@@ -19,8 +19,6 @@ import numpy as np
 from .._mask import Mask
 from .._types import readonly
 from .._validation import check_actions, check_mask, check_priors
-from ..geometry import contacts
-from ..vt import predicted_sense
 
 __all__ = [
     "MAX_PUSH_THETA",
@@ -172,11 +170,10 @@ def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=N
     other than one motion per CoM hypothesis and push; NaN or inf (naming it,
     the hypothesis' CoM and friction, and the push); a turn beyond what a push
     of that length can cause (:func:`turn_bounds`), said to be theta in degrees
-    where every turn divided by 180 / pi would be possible (these bounds, and
-    the next, for the hypotheses on the object); turns against
-    Mason's Voting Theorem for most of the hypotheses where it is sure of the
-    sense (a flipped sign). A model that is otherwise wrong passes: the
-    estimator finds that its predictions and the observed motions disagree.
+    where every turn divided by 180 / pi would be possible (over CoM
+    hypotheses, for those on the object). A model that is merely wrong (a
+    flipped sign) passes: the estimator finds that its predictions and the
+    observed motions disagree.
 
     Parameters
     ----------
@@ -247,7 +244,6 @@ def check_model_output(model, output, actions, coms, mu, mask: Mask, *, method=N
     # does so for a few), which the likelihood then scores as it deserves.
     on = mask.contains(pts)
     _refuse_impossible(who, out[on], acts, mask, pts[on], displacement=False)
-    _refuse_against_the_theorem(who, out[on], acts, pts[on], mu, mask)
     return out
 
 
@@ -274,50 +270,6 @@ def _refuse_not_finite(who: str, out: np.ndarray, pts, mu) -> None:
         f"{_hypothesis(where, pts, mu)} ({int(bad.sum())} of {out.size} values are not "
         "finite): a motion model must return finite motions"
     )
-
-
-#: Hypotheses farther than this (pixels) from a push's force lines have a sense of rotation
-#: the Voting Theorem is sure of; a model is asked to agree with it there.
-SURE_SENSE_BAND_PX = 2.0
-#: The model is refused when it turns the object against the theorem for more than this share
-#: of those hypotheses (a flipped sign: all of them; comcore's own models: none), counted over
-#: at least :data:`MIN_SURE_SENSES` of them.
-MAX_AGAINST_THEOREM = 0.5
-MIN_SURE_SENSES = 20
-#: Hypotheses read per push for the count (an even stride through the rest).
-SENSE_SAMPLE = 2048
-
-
-def _refuse_against_the_theorem(who: str, out, acts, pts, mu, mask: Mask) -> None:
-    """A ValueError for a model whose turns contradict Mason's Voting Theorem (a flipped sign).
-
-    Where a CoM hypothesis lies beyond both edges of the friction cone of a push (farther than
-    :data:`SURE_SENSE_BAND_PX` from its force lines), the theorem fixes the sense of the turn
-    whatever the model; a model that turns the object the other way for most of those
-    hypotheses has its sign flipped (theta clockwise, or y up), which no data can fix.
-    """
-    if mu is None or np.ndim(mu) != 0 or out.size == 0 or not np.isfinite(float(mu)):
-        return  # one friction value a call (the estimators); the goal's particles are checked
-    con = contacts(mask, acts)
-    sure = against = 0
-    for i in np.flatnonzero(con.hit):
-        take = slice(None, None, max(1, len(pts) // SENSE_SAMPLE))
-        push_dir = acts[i, 2:] - acts[i, :2]
-        sense = predicted_sense(
-            pts[take], con.point[i], con.normal[i], push_dir, float(mu), band=SURE_SENSE_BAND_PX
-        )
-        turn = out[take, i, 0]
-        counted = (sense != 0) & (np.abs(turn) > 1e-9)
-        sure += int(counted.sum())
-        against += int((counted & (np.sign(turn) != sense)).sum())
-    if sure >= MIN_SURE_SENSES and against > MAX_AGAINST_THEOREM * sure:
-        raise ValueError(
-            f"{who} turns the object against Mason's Voting Theorem for {against} of {sure} CoM "
-            "hypotheses where the theorem is sure of the sense (the CoM beyond both edges of "
-            "the push's friction cone): is theta's sign flipped? theta > 0 must turn the "
-            "object counter-clockwise on screen, with x along the columns and y down the rows "
-            "(comcore.conventions)"
-        )
 
 
 def _refuse_impossible(

@@ -179,20 +179,23 @@ def test_the_bound_grows_with_the_push_and_shrinks_with_the_object():
     assert turn_bounds(2 * PUSHES, MASK)[0] == pytest.approx(2 * turn_bounds(PUSHES, MASK)[0])
 
 
-def test_a_sign_flipped_model_is_refused_where_it_enters_naming_the_sign():
-    """Where the Voting Theorem is sure of the sense, a flipped model turns the object the
-    other way for every hypothesis: no data can fix that, so it is refused, not scored."""
+def test_a_sign_flipped_model_never_ends_ok_and_the_message_blames_neither_alone():
     simulators = require_simulators()
     sim = simulators.random_simulator("Obj4", "low", rng=2)
     pushes = comcore.sample_pushes(sim.mask, 8, rng=2)
-    flipped = "Scaled.predict_hypotheses turns the object against Mason's Voting Theorem.*sign flipped"
-    with pytest.raises(ValueError, match=flipped):
+    with pytest.raises(ValueError, match="the motion model and the data disagree.*if not, the "
+                       "theta of the model is wrong"):  # fmt: skip
         comcore.estimate_posterior(sim.mask, pushes, sim.push_motions(pushes), model=Scaled(-1))
-    session = comcore.ActiveSession(sim.mask, model=Scaled(-1), rng=0)
-    push = session.next_push()
-    motion = sim.push_motions(np.asarray(push, float)[None])[0]
-    with pytest.raises(ValueError, match=flipped):
-        session.observe(motion=motion)
+    est = comcore.estimate_posterior(
+        sim.mask, pushes, sim.push_motions(pushes), model=Scaled(-1), theta_units="rad"
+    )
+    assert est.status != "ok"
+    robot = simulators.SimulatedRobot(sim, rng=2)
+    session = comcore.ActiveSession(robot.camera_mask(), model=Scaled(-1), rng=2)
+    while not session.done:
+        robot.execute(session.next_push())
+        session.observe(robot.camera_mask())
+    assert session.status != "ok"
 
 
 def test_a_model_that_disagrees_with_the_data_is_not_said_to_be_the_datas_fault():
