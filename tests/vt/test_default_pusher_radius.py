@@ -8,8 +8,7 @@ import pytest
 import comcore
 from comcore import vt
 from comcore.conventions import DEFAULT_PUSHER_RADIUS
-
-simulators = pytest.importorskip("simulators")
+from tests.extras import require_simulators
 
 
 @pytest.mark.parametrize(
@@ -25,6 +24,7 @@ def test_entry_points_default_to_the_conventions_pusher_radius(entry):
 def test_the_corner_push_holds_the_true_com_with_the_defaults():
     # Obj1, low friction, a 15.6 mm push in a 0.625 rad cone: the disc touches the corner
     # before the leading point would, and the sense the point pusher reads excludes the CoM.
+    simulators = require_simulators()
     sim = simulators.random_simulator("Obj1", "low", rng=4769)
     action = comcore.sample_pushes(sim.mask, 1, cone=0.625, travel=0.0156, rng=4769)[0]
     theta = float(sim.push(action).motion[0])
