@@ -395,10 +395,10 @@ def estimate(
 ) -> comcore.Estimate:
     """Run one of :func:`methods` on the observed pushes.
 
-    ``model`` (one of :data:`MODELS`), ``pusher_radius`` and
-    ``systematic_error`` (metres) and ``bootstrap`` are the posterior's; the other
-    methods take no model. ``target_radius`` (metres) is the posterior's and
-    Alg. 2's: the region's radius for ``"ok"``. ``frames``: per push, the
+    ``model`` (one of :data:`MODELS`), ``systematic_error`` (metres) and
+    ``bootstrap`` are the posterior's; the other methods take no model.
+    ``pusher_radius`` (metres, the recording's) is the posterior's and Alg. 2's;
+    ``target_radius`` (metres) too: the region's radius for ``"ok"``. ``frames``: per push, the
     :class:`comcore.PushFrame` s taken during it (or None), for the posterior
     with a motion model only (:func:`comcore.estimate_posterior`'s ``frames``).
     """
@@ -426,7 +426,8 @@ def estimate(
     if method in ("alg2", "alg2-rotation"):
         selection = "rotation" if method == "alg2-rotation" else "equality"
         return comcore.estimate_progressive(
-            mask, actions, motions, selection=selection, target_radius=target_radius
+            mask, actions, motions, selection=selection, target_radius=target_radius,
+            pusher_radius=pusher_radius,
         )
     if method == "centroid":
         return comcore.Estimate(  # a baseline that uses no push: nothing is checked
