@@ -318,7 +318,7 @@ class Mask:
         return LocalArrays(
             self._box.grown_by(margin + _NORMAL_HALO, _NORMAL_PAD),
             partial(_inward, self.data), _NORMAL_HALO, margin,
-        )  # fmt: skip
+        )
 
     def inward_normals(self, points) -> np.ndarray:
         """Unit inward normals of the outline near points ``(x, y)``, shape (n, 2).
@@ -366,7 +366,7 @@ class Mask:
     def from_rle(
         cls, shape, rle: str, resolution: float = DEFAULT_RESOLUTION, *,
         area_px: int | None = None, centroid=None,
-    ) -> Mask:  # fmt: skip
+    ) -> Mask:
         """A mask rebuilt from :meth:`to_rle`'s run lengths (the form its repr prints).
 
         Parameters

@@ -302,7 +302,7 @@ class PushRecord:
         set_ = object.__setattr__
         set_(self, "action", Action(*self.action))
         for name, kind in (("planned", Action), ("camera_action", Action),
-                           ("motion", Motion), ("camera_motion", Motion)):  # fmt: skip
+                           ("motion", Motion), ("camera_motion", Motion)):
             value = getattr(self, name)
             if value is not None:
                 set_(self, name, kind(*value))
@@ -526,7 +526,7 @@ class PosteriorDetails:
     def __post_init__(self):
         set_ = object.__setattr__
         for name in ("image", "region_image", "mu_grid", "mu_posterior", "model_posterior",
-                     "scale_posterior", "model_weight_posterior"):  # fmt: skip
+                     "scale_posterior", "model_weight_posterior"):
             set_(self, name, readonly(np.asarray(getattr(self, name), float)))
         for name in ("credible_radius_px", "log_evidence", "excess_nats"):
             set_(self, name, float(getattr(self, name)))
@@ -625,7 +625,7 @@ class Estimate:
             raise TypeError("Estimate.skipped must hold comcore.SkippedPush values")
         object.__setattr__(self, "skipped", skipped)
         for name, kind in (("heatmap", HeatmapDetails), ("progressive", ProgressiveDetails),
-                           ("posterior", PosteriorDetails)):  # fmt: skip
+                           ("posterior", PosteriorDetails)):
             value = getattr(self, name)
             if value is not None and not isinstance(value, kind):
                 raise TypeError(

@@ -29,7 +29,7 @@ BENCHMARK_AREAS_CM2 = dict(
         (32.9, 35.6, 27.0, 103.3, 42.5, 58.0, 53.4, 110.4, 119.4, 91.0,
          83.0, 58.3, 38.2, 43.0, 35.2, 67.8, 51.6, 120.4, 126.3, 150.5),
     )
-)  # fmt: skip
+)
 
 
 def _arc(centre, radii, degrees, n):
@@ -91,7 +91,7 @@ def _recipes() -> dict[str, np.ndarray]:
                            [6.3, 0.7], [0, 0.7]]),  # hammer
         "Obj20": _blob(np.array([1.0, 1.15, 1.3, 1.2, 1.0, 0.85, 0.9, 1.1, 1.25, 1.0, 0.8,
                                  0.75, 0.9, 1.05, 1.2, 1.1])),  # irregular convex-ish blob
-    }  # fmt: skip
+    }
 
 
 def benchmark_outline(name: str) -> np.ndarray:

@@ -65,7 +65,7 @@ class EngineSettings:
         for name in ("step_m", "quasi_static_ratio"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float, np.integer,
-                                                                 np.floating)):  # fmt: skip
+                                                                 np.floating)):
                 raise TypeError(f"{name} must be a number, got {type(value).__name__}")
             object.__setattr__(self, name, float(value))
         if not 0 < self.step_m <= 0.01:

@@ -220,11 +220,11 @@ def _work_area(rng, shape, centre, radius, truth) -> tuple[int, int, int, int]:
     roi = (
         int(max(cx - half, 0)), int(max(cy - half, 0)),
         int(min(cx + half, w)), int(min(cy + half, h)),
-    )  # fmt: skip
+    )
     if truth is not None:  # the box holds the whole object (a user draws it around the work area)
         rows, cols = np.nonzero(truth)
         roi = (min(roi[0], cols.min() - 4), min(roi[1], rows.min() - 4),
-               max(roi[2], cols.max() + 5), max(roi[3], rows.max() + 5))  # fmt: skip
+               max(roi[2], cols.max() + 5), max(roi[3], rows.max() + 5))
     return roi
 
 

@@ -130,7 +130,7 @@ class Candidates:
     def __init__(
         self, mask: Mask, candidates, choice: PushChoice, mus, rng, name: str = "candidates",
         *, pusher_radius: float,
-    ):  # fmt: skip
+    ):
         if candidates is None:
             actions = sample_pushes(
                 mask, choice.n_candidates, cone=choice.cone, travel=choice.travel, rng=rng
@@ -206,7 +206,7 @@ class Candidates:
             gains = sense_information(
                 post.pixels, post.sense_weights, self.lines[idx], scoring.flip_prob,
                 scoring.line_scale_px,
-            )  # fmt: skip
+            )
         best = first_best(gains)
         return int(idx[best]), float(gains[best])
 

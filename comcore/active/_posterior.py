@@ -193,7 +193,7 @@ def estimate_posterior(
     target_radius = check_physical(target_radius, "target_radius", "target_radius")
     rng = check_rng(rng)
     options = dict(model=model, pusher_radius=pusher_radius, prior=prior, credible=credible,
-                   likelihood=likelihood)  # fmt: skip
+                   likelihood=likelihood)
     scoring, credible = session_setup(
         mask, model, pusher_radius, credible, likelihood, systematic_floor=RECORDED_FLOOR
     )
@@ -212,7 +212,7 @@ def estimate_posterior(
     est = log.estimate(  # its status set below, once its region's radius is known
         mask, post, used, Status.OK, marginal=bagged, skipped=skipped, senses=check,
         bootstrap=0 if bagged is None else bootstrap,
-    )  # fmt: skip
+    )
     radius_px = est.posterior.credible_radius_px  # the region reported: the bagged one
     reached = region_reached(radius_px, target_radius, mask.resolution)
     est = dataclasses.replace(est, status=offline_status(log.state, check, reached=reached))
@@ -279,7 +279,7 @@ def _scored(mask, given, run: _Run, con, *, bag: bool) -> _Posterior:
             post, scoring, mask, acts[i], lines[i], record.motion,
             rotation_observed=record.rotation_observed, tracking=tracking, path=path,
             memo=PushMemo(known=run.known),
-        )  # fmt: skip
+        )
         log.add(record, post, loglik, excess, pusher_overlap(mask, scoring, record, gyration))
         if kept is not None:
             kept.add(loglik.tempered)
@@ -471,7 +471,7 @@ def _records(mask, actions, motions, pushes, rotation_observed, residual_px) -> 
             residual_px=None if math.isnan(residuals[i]) else residuals[i],
         ))
         for i in range(len(acts))
-    ]  # fmt: skip
+    ]
 
 
 

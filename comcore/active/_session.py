@@ -138,7 +138,7 @@ class ActiveSession(PushLoop):
         self._candidates = Candidates(
             self._first, candidates, self._choice, self._scoring.mus, check_rng(rng),
             pusher_radius=self._scoring.pusher_radius,
-        )  # fmt: skip
+        )
         check_push_lengths(self._first, self._candidates.actions, "candidates")
         self._posterior = self._scoring.posterior(pixels, prior_weights)
         self._gyration_px = gyration_px(self._first)
@@ -308,7 +308,7 @@ class ActiveSession(PushLoop):
         return read_push(
             PushContext(self._first, self._pose, self._posterior, self._scoring, self._gyration_px),
             self._candidates, self._pending, mask, motion, failed, executed=executed, frames=frames,
-        )  # fmt: skip
+        )
 
     def reset_pose(self, pose=None) -> None:
         """Tell the session the object was put back in the first pose (or moved to ``pose``).

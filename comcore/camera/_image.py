@@ -174,7 +174,7 @@ def _check_edges(region, valid, box, shape, seen_as: str, one_level: bool) -> No
     at_border = {
         "top": rows.start == 0, "bottom": rows.stop == h,
         "left": cols.start == 0, "right": cols.stop == w,
-    }  # fmt: skip
+    }
     touching = _touches(region)
     border = [side for side in touching if at_border[side]]
     if border:
@@ -308,7 +308,7 @@ def mask_from_image(
             values, valid, object, floor=floor, frame_side=min(grey.shape),
             reference=None if reference is None else reference[box], point=look.point,
             spread=_difference_spread(empty, box),
-        )  # fmt: skip
+        )
         region, object = found.region, found.side
         seen_as = (
             f"{object}, {int(region.sum())} pixels, {found.contrast:.3g} grey levels "

@@ -93,7 +93,7 @@ class Grid:
         """Which pixels of the window's ``[rows, cols]`` lie in the marked cells."""
         f = self.f
         return cells[np.ix_(np.arange(rows.start, rows.stop) // f,
-                            np.arange(cols.start, cols.stop) // f)]  # fmt: skip
+                            np.arange(cols.start, cols.stop) // f)]
 
     def at_pixels(self, cell_values: np.ndarray, rows: slice, cols: slice) -> np.ndarray:
         """Cell values interpolated (bilinear between cell centres) at the window's pixels."""

@@ -228,7 +228,7 @@ def find_object(
             grid.rim, np.abs(residual),
         )
         for name in names
-    }  # fmt: skip
+    }
     if not any(len(regions.ids) for regions in found.values()):
         cells = grid.cells
         largest = float(np.abs(residual[cells]).max()) if cells.any() else 0.0
@@ -243,7 +243,7 @@ def find_object(
                "background= (an image of the empty table, arm away), and if several objects "
                "are in view choose one: point=(x, y) or roi=(x0, y0, x1, y1); ")
             + "check that the object is in view, or give threshold= a grey level"
-        )  # fmt: skip
+        )
     if point is not None:
         side, core = _at_point(found, point, grid.f)
     else:

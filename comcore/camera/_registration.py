@@ -524,7 +524,7 @@ class _Problem:
         return optimize.leastsq(
             self.residuals, np.asarray(x0, dtype=float), Dfun=self.jacobian, full_output=True,
             ftol=FIT_TOL, xtol=FIT_TOL, gtol=FIT_TOL, maxfev=100 * len(x_scale), diag=1 / x_scale,
-        )[0]  # fmt: skip
+        )[0]
 
     def outline_rms(self, x) -> float:
         """RMS distance (px) of before's moved outline to after's outline."""

@@ -315,7 +315,7 @@ class TableCalibration:
                 f"and y_max > y_min, got {region!r}"
             )
         shape = (int(np.floor((box[3] - box[1]) / res + 1e-9)) + 1,
-                 int(np.floor((box[2] - box[0]) / res + 1e-9)) + 1)  # fmt: skip
+                 int(np.floor((box[2] - box[0]) / res + 1e-9)) + 1)
         check_image_size(shape, f"the top-down image of region {tuple(box.tolist())}")
         corners = np.array([[box[0], box[1]], [box[2], box[1]], [box[0], box[3]], [box[2], box[3]]])
         w = corners @ self.homography[2, :2] + self.homography[2, 2]
@@ -419,7 +419,7 @@ def _check_orientation(h: np.ndarray, table: np.ndarray) -> None:
     jac = np.column_stack([
         (_apply(h, centre[None] + (step, 0)) - _apply(h, centre[None] - (step, 0)))[0],
         (_apply(h, centre[None] + (0, step)) - _apply(h, centre[None] - (0, step)))[0],
-    ])  # fmt: skip
+    ])
     if np.linalg.det(jac) > 0:
         raise ValueError(
             "table_points are mirrored relative to image_points: seen from above, the table's "
@@ -451,13 +451,13 @@ class TableView:
         """Top-down pixels (n, 2) to table metres."""
         p = np.asarray(points, dtype=float)
         return np.stack([self.region[0] + p[..., 0] * self.resolution,
-                         self.region[3] - p[..., 1] * self.resolution], axis=-1)  # fmt: skip
+                         self.region[3] - p[..., 1] * self.resolution], axis=-1)
 
     def pixels_from_table(self, points) -> np.ndarray:
         """Table metres (n, 2) to top-down pixels."""
         p = np.asarray(points, dtype=float)
         return np.stack([(p[..., 0] - self.region[0]) / self.resolution,
-                         (self.region[3] - p[..., 1]) / self.resolution], axis=-1)  # fmt: skip
+                         (self.region[3] - p[..., 1]) / self.resolution], axis=-1)
 
     def robot_from_pixels(self, points) -> np.ndarray:
         """Top-down pixels (n, 2) to the robot's metres."""
@@ -474,7 +474,7 @@ class TableView:
         in the robot's frame, metres.
         """
         rows = np.asarray([tuple(a) for a in actions] if not isinstance(actions, np.ndarray)
-                          else actions, dtype=float).reshape(-1, 4)  # fmt: skip
+                          else actions, dtype=float).reshape(-1, 4)
         if not np.isfinite(rows).all():
             raise ValueError("actions must hold finite numbers (sx, sy, ex, ey) in pixels")
         starts = self.robot_from_pixels(rows[:, :2])
@@ -518,7 +518,7 @@ class TableView:
             ndimage.map_coordinates(planes[..., c].astype(float), coords, order=1,
                                     mode="constant", cval=float(fill))
             for c in range(planes.shape[2])
-        ], axis=-1)  # fmt: skip
+        ], axis=-1)
         if image.dtype.kind in "ui":
             info = np.iinfo(image.dtype)
             out = np.clip(np.rint(out), info.min, info.max)

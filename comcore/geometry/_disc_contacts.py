@@ -215,7 +215,7 @@ class OutlineField:
         window = mask._box.grown_by(margin_px(mask.resolution) + FIELD_HALO_PX, pad)
         self._local = LocalArrays(
             window, partial(_fields, mask.data, pad), FIELD_HALO_PX, margin_px(mask.resolution),
-        )  # fmt: skip
+        )
 
     def sample(self, x, y):
         """Distance and unit outward gradient ``(gx, gy)`` at points ``(x, y)`` (bilinear)."""

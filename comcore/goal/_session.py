@@ -364,7 +364,7 @@ class GoalSession(PushLoop):
         full = sample_pushes(
             self._first, choice.n_candidates, cone=choice.cone, travel=choice.travel,
             rng=self._rng,
-        )  # fmt: skip
+        )
         start, vector = full[:, :2], full[:, 2:] - full[:, :2]
         unit = vector / np.hypot(*vector.T)[:, None]
         standoff = DEFAULT_SAMPLED_STANDOFF_M / res  # sample_pushes' start before the contact
@@ -375,7 +375,7 @@ class GoalSession(PushLoop):
         return Candidates(
             self._first, np.vstack([full, *cut]), choice, self._scoring.mus, self._rng,
             pusher_radius=self._scoring.pusher_radius,
-        )  # fmt: skip
+        )
 
     def _learning_plan(self, hyps, context: PlanningContext) -> Plan | None:
         """The most informative push safe for the goal, as an ActiveSession chooses (or None)."""
@@ -414,7 +414,7 @@ class GoalSession(PushLoop):
         self._learning_index = best
         cost_now = float(pose_cost(
             self._goal, self._target, self._first.resolution, *self._pose
-        ))  # fmt: skip
+        ))
         return Plan(
             cands.actions[best].copy(),
             Action(*camera[at]),
@@ -558,7 +558,7 @@ class GoalSession(PushLoop):
         _, lines = executed_in_object(
             self._first, Motion.identity(), plan.action, self._scoring.mus,
             self._scoring.pusher_radius,
-        )  # fmt: skip
+        )
         moved = not is_miss(relative(self._pose, branches[0].pose), self._first.resolution)
         if not moved or lines is None or not self._learn:
             outcome = "evidence" if moved else "miss"

@@ -156,7 +156,7 @@ class Goal:
                     f"Goal.max_turn must be in (0, 2 pi] radians, got {bound:g}"
                     + (f" (degrees? math.radians({bound:g}) = {math.radians(bound):.4g})"
                        if bound > 2 * math.pi else "")
-                )  # fmt: skip
+                )
             set_(self, "max_turn", bound)
 
     def turn_band(self, start: float) -> tuple[float, float]:

@@ -91,7 +91,7 @@ class Episodes:
         np.savez_compressed(
             path, shapes=shapes, offsets=offsets, bits=np.concatenate(bits), com=self.com,
             resolution=self.resolution, actions=self.actions, motions=self.motions, mu=self.mu,
-        )  # fmt: skip
+        )
 
     @staticmethod
     def load(path) -> Episodes:
@@ -104,7 +104,7 @@ class Episodes:
             return Episodes(
                 masks=masks, resolution=z["resolution"], actions=z["actions"],
                 motions=z["motions"], com=z["com"], mu=z["mu"],
-            )  # fmt: skip
+            )
 
 
 def toy_motions(mask: Mask, actions, com, mu: float) -> np.ndarray:
@@ -223,7 +223,7 @@ def progress_bar(**kwargs):
 def load_or_generate(
     n_episodes: int, *, seed: int = 0, n_pushes: int = 32, source: str = "sim", cache=None,
     workers: int = 1, progress: bool = False,
-) -> Episodes:  # fmt: skip
+) -> Episodes:
     """Episodes ``0 .. n_episodes - 1`` of ``seed``, from the cache where possible.
 
     Parameters
@@ -285,7 +285,7 @@ def _head(ep: Episodes, n: int) -> Episodes:
     return Episodes(
         masks=ep.masks[:n], resolution=ep.resolution[:n], actions=ep.actions[:n],
         motions=ep.motions[:n], com=ep.com[:n], mu=ep.mu[:n],
-    )  # fmt: skip
+    )
 
 
 def featurise(episodes: Episodes, image_size: int = 64) -> dict:

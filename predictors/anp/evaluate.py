@@ -23,7 +23,7 @@ __all__ = ["evaluate_on_benchmark", "main"]
 
 
 def evaluate_on_benchmark(anp: AnpPredictor, objects=None, n_priors: int = 12,
-                          n_queries: int = 50, seed: int = 1000) -> list[dict]:  # fmt: skip
+                          n_queries: int = 50, seed: int = 1000) -> list[dict]:
     """One dict of metrics per (object, friction class) trial."""
     import simulators
 
@@ -39,7 +39,7 @@ def evaluate_on_benchmark(anp: AnpPredictor, objects=None, n_priors: int = 12,
             )
             pushes, true = found.pushes, found.motions
             priors = [(comcore.Action(*a), comcore.Motion(*m))
-                      for a, m in zip(pushes[:n_priors], true[:n_priors])]  # fmt: skip
+                      for a, m in zip(pushes[:n_priors], true[:n_priors])]
             pred = anp.predict(sim.mask, pushes[n_priors:], priors)
             truth = true[n_priors:]
             big = np.abs(truth[:, 0]) > np.deg2rad(5)
@@ -51,7 +51,7 @@ def evaluate_on_benchmark(anp: AnpPredictor, objects=None, n_priors: int = 12,
                 "theta_mae_deg": float(np.rad2deg(np.abs(pred[:, 0] - truth[:, 0]).mean())),
                 "t_mae_mm": float(mm * np.hypot(*(pred[:, 1:] - truth[:, 1:]).T).mean()),
                 "com_err_mm": float(mm * np.hypot(*np.subtract(com, sim.com_px))),
-            })  # fmt: skip
+            })
     return rows
 
 
@@ -64,7 +64,7 @@ def main(argv=None) -> dict:
     p.add_argument("--seed", type=int, default=1000)
     args = p.parse_args(argv)
     rows = evaluate_on_benchmark(AnpPredictor(args.weights), args.objects,
-                                 n_queries=args.queries, seed=args.seed)  # fmt: skip
+                                 n_queries=args.queries, seed=args.seed)
     for r in rows:
         print(" ".join(f"{v:.3f}" if isinstance(v, float) else str(v) for v in r.values()))
     n = sum(r["n_sense"] for r in rows)

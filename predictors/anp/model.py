@@ -172,7 +172,7 @@ def _mlp(d_in: int, d_hidden: int, d_out: int) -> nn.Sequential:
     return nn.Sequential(
         nn.Linear(d_in, d_hidden), nn.ReLU(), nn.Linear(d_hidden, d_hidden), nn.ReLU(),
         nn.Linear(d_hidden, d_out),
-    )  # fmt: skip
+    )
 
 
 class AnpModel(nn.Module):

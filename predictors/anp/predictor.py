@@ -300,7 +300,7 @@ class AnpPredictor:
                 z = q_z.mean + q_z.stddev * eps
                 dist = self.model.decode(h_query.expand(n_samples, -1, -1),
                                          attended.expand(n_samples, -1, -1), z,
-                                         args[-1].expand(n_samples, -1, -1))  # fmt: skip
+                                         args[-1].expand(n_samples, -1, -1))
                 means, variances = dist.mean.double().numpy(), dist.variance.double().numpy()
                 mean_t = means.mean(axis=0)
                 var_t = variances.mean(axis=0) + means.var(axis=0)
@@ -346,7 +346,7 @@ class AnpPredictor:
         x, y = np.asarray(frame.center) + frame.length_px * u
         rows, cols = np.nonzero(mask.data)
         outside = max(cols.min() - 0.5 - x, x - cols.max() - 0.5,
-                      rows.min() - 0.5 - y, y - rows.max() - 0.5)  # fmt: skip
+                      rows.min() - 0.5 - y, y - rows.max() - 0.5)
         if not outside <= MAX_COM_OUTSIDE_LENGTHS * frame.length_px:  # NaN too
             raise ValueError(
                 f"AnpPredictor ({self.source}) put the CoM at ({x:.4g}, {y:.4g}) px, "

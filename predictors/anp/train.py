@@ -61,7 +61,7 @@ def _tensors(d: dict, idx) -> tuple:
 
 
 def train_epoch(model, optimizer, data: dict, *, epoch: int, seed: int, batch: int = 32,
-                max_priors: int = 12, schedule=None, com_weight: bool = True) -> float:  # fmt: skip
+                max_priors: int = 12, schedule=None, com_weight: bool = True) -> float:
     """One pass over ``data`` (from :func:`featurise`); returns the mean loss.
 
     Each batch draws a random symmetry of the square, a number of priors in
@@ -82,13 +82,13 @@ def train_epoch(model, optimizer, data: dict, *, epoch: int, seed: int, batch: i
         image, feats, targs, com = dihedral(
             data["image"][idx], feats, targs, k=int(rng.integers(4)),
             flip=bool(rng.integers(2)), points=data["com"][idx],
-        )  # fmt: skip
+        )
         k = int(rng.integers(0, min(max_priors, n_pushes - 1) + 1))
         loss, _ = model.loss(
             torch.from_numpy(image), torch.from_numpy(data["size"][idx]),
             torch.from_numpy(feats), torch.from_numpy(targs), n_priors=k,
             com=torch.from_numpy(com) if com_weight else None,
-        )  # fmt: skip
+        )
         optimizer.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
@@ -150,7 +150,7 @@ def evaluate(model, data: dict, n_priors: int = 12, batch: int = 64) -> dict:
 
 #: Arguments a resumed run must share with the run that wrote the checkpoint.
 _RUN_KEYS = ("episodes", "val_episodes", "epochs", "seed", "source", "pushes", "batch", "lr",
-             "width", "channels", "no_com_loss")  # fmt: skip
+             "width", "channels", "no_com_loss")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -160,7 +160,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--epochs", type=int, default=30)
     p.add_argument("--out", type=Path, default=Path("anp.pt"),
                    help="weights file to write (default ./anp.pt; the shipped weights are "
-                        "predictors/anp/weights/anp.pt)")  # fmt: skip
+                        "predictors/anp/weights/anp.pt)")
     p.add_argument("--cache", type=Path, default=Path(".cache/anp"), help="episode cache dir")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--resume", action="store_true", help="continue from CACHE/<OUT stem>.ckpt")
@@ -216,7 +216,7 @@ def _run_record(args, t_data: float, t_train: float) -> dict:
         "train_pushes": args.episodes * args.pushes, "data_seconds": round(t_data, 1),
         "train_seconds": round(t_train, 1), "peak_rss_mib": peak_rss_mib(),
         "epochs": args.epochs,
-    }  # fmt: skip
+    }
 
 
 def main(argv=None) -> dict:
@@ -227,7 +227,7 @@ def main(argv=None) -> dict:
     torch.set_num_threads(args.threads)
     t0 = time.time()
     common = dict(n_pushes=args.pushes, source=args.source, cache=args.cache,
-                  workers=args.workers, progress=True)  # fmt: skip
+                  workers=args.workers, progress=True)
     train_ep = load_or_generate(args.episodes, seed=args.seed, **common)
     val_ep = load_or_generate(args.val_episodes, seed=args.seed + 10_000, **common)
     t_data = time.time() - t0
@@ -248,22 +248,22 @@ def main(argv=None) -> dict:
     if args.resume and ckpt.exists():
         history, first, best, t_train = _resume(ckpt, run, model, optimizer, schedule)
     bar = progress_bar(iterable=range(first, args.epochs), initial=first, total=args.epochs,
-                       desc="training")  # fmt: skip
+                       desc="training")
     for epoch in bar:
         t1 = time.time()
         loss = train_epoch(model, optimizer, train, epoch=epoch, seed=args.seed,
                            batch=args.batch, schedule=schedule,
-                           com_weight=not args.no_com_loss)  # fmt: skip
+                           com_weight=not args.no_com_loss)
         metrics = evaluate(model, val)
         t_train += time.time() - t1
         history.append({"epoch": epoch, "train_loss": loss, **metrics})
         if best is None or metrics["loss"] <= min(h["loss"] for h in history):
             best = {k: v.detach().clone() for k, v in model.state_dict().items()}
         bar.set_postfix(loss=f"{loss:.3f}", val=f"{metrics['loss']:.3f}",
-                        sense=f"{metrics['sense_acc']:.3f}")  # fmt: skip
+                        sense=f"{metrics['sense_acc']:.3f}")
         torch.save({"model": model.state_dict(), "optimizer": optimizer.state_dict(),
                     "schedule": schedule.state_dict(), "epoch": epoch, "time": t_train,
-                    "history": json.dumps(history), "best": best, "run": run}, ckpt)  # fmt: skip
+                    "history": json.dumps(history), "best": best, "run": run}, ckpt)
     model.load_state_dict(best)
     record = {
         "command": "python -m predictors.anp.train "
@@ -272,7 +272,7 @@ def main(argv=None) -> dict:
         **_run_record(args, t_data, t_train),
         "config": config.to_dict(), "validation": evaluate(model, val), "history": history,
         "torch": torch.__version__,
-    }  # fmt: skip
+    }
     save_weights(model, args.out, meta={k: record[k] for k in ("command", "date", "source")})
     record["sha256"] = file_sha256(args.out)  # load_weights checks the file against it
     args.out.with_suffix(".json").write_text(json.dumps(record, indent=2) + "\n")

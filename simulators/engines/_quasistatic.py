@@ -135,7 +135,7 @@ class QuasiStaticEngine:
         xs, angs, traj = self._follow(
             x[idx], ang[idx], centre0[idx] + t_hit[idx, None] * d[idx], d[idx],
             total[idx] - t_hit[idx], first_vertex, record=record,
-        )  # fmt: skip
+        )
         out = poses.copy()
         out[idx, :2] = xs * L
         out[idx, 2] = angs
@@ -199,7 +199,7 @@ class QuasiStaticEngine:
                 pdir = np.column_stack(
                     [cs_[act] * d0[rows, 0] + sn_[act] * d0[rows, 1],
                      -sn_[act] * d0[rows, 0] + cs_[act] * d0[rows, 1]]
-                )  # fmt: skip
+                )
                 sub = state[rows]
                 xi = self.surface.twist(q[act], nb, pdir, depth[act], sub)
                 state[rows] = sub

@@ -183,7 +183,7 @@ class CameraSetup:
         return cls(
             (w, h), settings.fov, pos, xyaxes, plane_z, light, direction, 70.0,
             settings.shadow_size, settings.table, settings.arm, tuple(map(float, bounds_m)),
-        )  # fmt: skip
+        )
 
     @property
     def intrinsics(self) -> tuple[float, float, float, float]:

@@ -159,19 +159,19 @@ class MujocoRobot:
         self.settings = MujocoSettings() if settings is None else settings
         self.camera = CameraSettings() if camera is None else camera
         for value, cls, name in ((self.settings, MujocoSettings, "settings"),
-                                 (self.camera, CameraSettings, "camera")):  # fmt: skip
+                                 (self.camera, CameraSettings, "camera")):
             if not isinstance(value, cls):
                 raise TypeError(f"{name} must be a simulators.{cls.__name__}, got {value!r}")
         margin = camera_frame_margin(
             simulator.shape, comcore.checks.check_positive(camera_margin, "camera_margin"),
             simulator.com_m,
-        )  # fmt: skip
+        )
         res = simulator.resolution if resolution is None else resolution
         self.simulator = PushSimulator(
             simulator.shape, simulator.mass, mu_contact=simulator.mu_contact,
             resolution=comcore.checks.check_positive(res, "resolution"), margin=margin,
             pusher_radius=simulator.pusher_radius, mu_floor=simulator.mu_floor,
-        )  # fmt: skip
+        )
         mujoco = require_mujoco()
         self._mj = mujoco
         grid = self.simulator
@@ -284,7 +284,7 @@ class MujocoRobot:
         return homography_table_to_image(
             self.data.cam_xpos[cam], self.data.cam_xmat[cam].reshape(3, 3), setup.focal_px,
             setup.image_size, setup.plane_z,
-        )  # fmt: skip
+        )
 
     def homography_grid_to_image(self) -> np.ndarray:
         """3x3 homography from grid pixels to frame pixels."""
@@ -452,7 +452,7 @@ class MujocoRobot:
         record = MujocoPush(
             Action(*acts[0]), self._motion_between(centroid, before, after), self.pose, hit,
             self.world_pose, lag, *path,
-        )  # fmt: skip
+        )
         self.history.append(record)
         return record
 
@@ -692,7 +692,7 @@ class MujocoRobot:
                 raise ValueError(f"pose must be three finite numbers (x, y, angle), got {pose!r}")
             origin = np.array([x, y]) - self._to_world(self.com_body, (0.0, 0.0, a))
             self.data.qpos[:7] = [*origin, self._start_qpos[2], math.cos(a / 2), 0, 0,
-                                  math.sin(a / 2)]  # fmt: skip
+                                  math.sin(a / 2)]
         self.data.qvel[:6] = 0.0
         self._set_pusher(PARK_XY)
         self._settle(min(self.settings.settle, 0.05))

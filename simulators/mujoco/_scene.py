@@ -409,4 +409,4 @@ def png_bytes(rgb: np.ndarray) -> bytes:
     return (
         b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw))
         + chunk(b"IEND", b"")
-    )  # fmt: skip
+    )
