@@ -6,13 +6,9 @@ objects comcore's own property tests draw. It needs hypothesis (``pip install co
 ``import comcore`` never loads it. May import the base modules and :mod:`comcore.geometry`.
 """
 
-import importlib
+from .._lazy import lazy_exports
 
 __all__ = ["strategies"]
 
-
-def __getattr__(name: str):
-    """Load :mod:`comcore.testing.strategies` (and so hypothesis) on first use."""
-    if name == "strategies":
-        return importlib.import_module(f"{__name__}.strategies")
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+# The strategies (and so hypothesis) load on first use.
+__getattr__, __dir__ = lazy_exports(__name__, {"strategies": "strategies"})

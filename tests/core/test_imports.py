@@ -246,45 +246,9 @@ def test_a_prefix_family_is_found(tmp_path):
 
 #: At most 12 modules directly in comcore/: the base types; everything else in a subpackage.
 MAX_TOP_MODULES = 12
-#: A function a newcomer reads fits on a screen: its body at most 80 lines of code (the docstring,
-#: blank lines and comments aside).
-MAX_FUNCTION_LINES = 80
-
-
 def test_comcore_keeps_at_most_12_modules_at_its_top():
     top = sorted(p.name for p in (ROOT / "comcore").glob("*.py"))
     assert len(top) <= MAX_TOP_MODULES, top
-
-
-def long_functions(root: Path, packages) -> dict[str, int]:
-    out = {}
-    for name, path in module_files(root, packages).items():
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                body = node.body
-                if ast.get_docstring(node) is not None and len(body) > 1:
-                    body = body[1:]
-                lines = path.read_text(encoding="utf-8").splitlines()
-                code = lines[body[0].lineno - 1 : node.end_lineno]
-                n = sum(1 for line in code if line.strip() and not line.strip().startswith("#"))
-                if n > MAX_FUNCTION_LINES:
-                    out[f"{name}.{node.name}"] = n
-    return out
-
-
-def test_no_function_of_the_packages_is_over_80_lines():
-    found = long_functions(ROOT, PACKAGES)
-    assert not found, f"split these functions (over {MAX_FUNCTION_LINES} lines): {found}"
-
-
-def test_a_long_function_is_found(tmp_path):
-    (tmp_path / "pkg").mkdir()
-    body = "\n".join(f"    x{i} = {i}" for i in range(MAX_FUNCTION_LINES))
-    doc = '    """A docstring\n\n    of several lines.\n    """\n'
-    (tmp_path / "pkg" / "_a.py").write_text(
-        f"def short():\n{doc}{body}\n\n    # a comment\n\n\ndef long():\n{doc}{body}\n    return x0\n"
-    )
-    assert long_functions(tmp_path, ["pkg"]) == {"pkg._a.long": MAX_FUNCTION_LINES + 1}
 
 
 #: The public names predictors and simulators may use: nothing private of comcore.
